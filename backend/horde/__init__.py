@@ -1,0 +1,1 @@
+"""Horde Lab: many predictions learned at once with the Horde architecture."""

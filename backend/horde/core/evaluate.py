@@ -1,0 +1,152 @@
+"""The truth about a demon's question: Monte-Carlo returns, and exact answers on lattice worlds.
+
+Both freeze the Horde where it stands and follow the demon's own target policy. A question's answer
+does not stop where an episode is truncated, so rollouts ignore `max_steps` and run until the
+continuation has fallen to zero or until `cap` steps (named in the result).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from horde.core.horde import Horde, HordeState
+from horde.core.policies import sample
+from horde.core.questions import Program
+from horde.core.world import NUM_ACTIONS, PERPENDICULAR, Transition, World, WorldState
+
+# A rollout whose remaining continuation weight falls below this has finished.
+WEIGHT_FLOOR = 1e-12
+
+
+@dataclass(frozen=True)
+class Truth:
+    """Monte-Carlo estimate of a demon's answer from one state."""
+
+    mean: float
+    stderr: float
+    rollouts: int
+    cap: int
+    capped: int  # rollouts still running at the cap
+
+
+def _question_program(horde: Horde, name: str) -> Program:
+    demon = horde.demon_specs[horde.index[name]]
+    sensor_index = {s: i for i, s in enumerate(horde.spec.world.sensor_names())}
+    return Program([demon.cumulant, demon.outcome, demon.continuation], sensor_index, horde.index)
+
+
+def monte_carlo(
+    horde: Horde,
+    state: HordeState,
+    name: str,
+    start: tuple[float, float],
+    rollouts: int,
+    cap: int,
+    rng: np.random.Generator,
+) -> Truth:
+    """Average realised return of demon `name`'s question from `start`, following its target policy.
+
+    All rollouts run at once as one batch. The return is accumulated in expectation over the
+    continuation: G = sum_t (prod_{j<=t} gamma_j) (r_{t+1} + (1 - gamma_{t+1}) z_{t+1}), which equals the
+    return of a random stopping time with P(continue) = gamma and has lower variance.
+    """
+    world = World(horde.spec.world)
+    demon = horde.index[name]
+    discount = horde.demon_specs[demon].discount
+    program = _question_program(horde, name)
+    ws = world.reset(rng, rollouts)
+    ws = ws._replace(x=np.full(rollouts, start[0]), y=np.full(rollouts, start[1]))
+    total = np.zeros(rollouts)
+    weight = np.ones(rollouts)
+    alive = np.arange(rollouts)
+    forward = horde.forward(state, ws.x, ws.y)
+    for _ in range(cap):
+        pi = forward.pi[:, demon]  # [B, A]
+        actions = sample(pi, rng)
+        ws, transition = world.step(ws, actions, rng)
+        sensors = world.sensors(ws, transition)
+        forward = horde.forward(state, ws.x, ws.y)
+        r, z, gamma = program.evaluate(sensors, forward.prediction).T  # [B] each
+        gamma = np.where(transition.terminated, 0.0, np.clip(gamma, 0.0, 1.0) * discount)
+        total[alive] += weight * (r + (1.0 - gamma) * z)
+        weight = weight * gamma
+        running = weight > WEIGHT_FLOOR
+        if not running.all():
+            alive, weight = alive[running], weight[running]
+            ws = WorldState(*(a[running] for a in ws))
+            forward = type(forward)(
+                forward.prediction[running], forward.pi[running], forward.q[running],
+                tuple(f[running] for f in forward.features),
+            )  # fmt: skip
+        if len(alive) == 0:
+            break
+    stderr = float(total.std(ddof=1) / np.sqrt(rollouts)) if rollouts > 1 else float("nan")
+    return Truth(float(total.mean()), stderr, rollouts, cap, len(alive))
+
+
+@dataclass(frozen=True)
+class Lattice:
+    """The reachable lattice points of a world whose step divides it."""
+
+    x: np.ndarray  # [N]
+    y: np.ndarray  # [N]
+    value: np.ndarray  # [N] exact answer at each point
+
+
+def lattice_points(world: World) -> tuple[np.ndarray, np.ndarray]:
+    """All lattice points (multiples of step) that are neither blocked nor terminal."""
+    spec = world.spec
+    if spec.noise > 0 or len(spec.start) != 2:
+        raise ValueError("exact answers need a lattice world: no noise and a start point")
+    xs = spec.start[0] % spec.step + np.arange(0.0, spec.width, spec.step)
+    ys = spec.start[1] % spec.step + np.arange(0.0, spec.height, spec.step)
+    gx, gy = (a.ravel() for a in np.meshgrid(xs[xs < spec.width], ys[ys < spec.height], indexing="ij"))
+    blocked = world.blocked(gx, gy) | (world.inside(gx, gy) & world.is_terminal).any(axis=1)
+    return gx[~blocked], gy[~blocked]
+
+
+def exact(horde: Horde, state: HordeState, name: str) -> Lattice:
+    """Solve the linear system v = c + P_gamma v of demon `name`'s question under its frozen policy.
+
+    Requires a lattice world (no noise, step divides the world) without indicators, and a question
+    that does not read the `steps` sensor.
+    """
+    world = World(horde.spec.world)
+    if world.num_indicators:
+        raise ValueError("exact answers do not cover indicators (their colour is hidden state)")
+    demon = horde.index[name]
+    discount = horde.demon_specs[demon].discount
+    program = _question_program(horde, name)
+    xs, ys = lattice_points(world)
+    n = len(xs)
+    where = {(round(float(a), 6), round(float(b), 6)): i for i, (a, b) in enumerate(zip(xs, ys, strict=True))}
+    pi = horde.forward(state, xs, ys).pi[:, demon]  # [N, A]
+    slip = world.spec.slip
+    matrix = np.zeros((n, n))
+    reward = np.zeros(n)
+    for action in range(NUM_ACTIONS):
+        outcomes = [(action, 1.0 - slip)]
+        if slip > 0:
+            outcomes += [(int(PERPENDICULAR[action, 0]), slip / 2), (int(PERPENDICULAR[action, 1]), slip / 2)]
+        for moved, probability in outcomes:
+            nx, ny, bump = world.move(xs, ys, np.full(n, moved))
+            inside = world.inside(nx, ny)
+            terminated = (inside & world.is_terminal).any(axis=1)
+            colors = np.zeros((n, 0), dtype=np.int64)
+            step_reward = np.full(n, world.spec.transient_reward)
+            if terminated.any():
+                step_reward = step_reward + world._terminal_rewards(inside & world.is_terminal, colors)
+            after = WorldState(nx, ny, np.ones(n, dtype=np.int64), colors)
+            sensors = world.sensors(after, Transition(step_reward, bump, terminated, np.zeros(n, bool), inside))
+            predictions = horde.forward(state, nx, ny).prediction
+            r, z, gamma = program.evaluate(sensors, predictions).T
+            gamma = np.where(terminated, 0.0, np.clip(gamma, 0.0, 1.0) * discount)
+            p = pi[:, action] * probability  # [N]
+            reward += p * (r + (1.0 - gamma) * z)
+            for i in range(n):
+                if gamma[i] > 0.0:
+                    matrix[i, where[(round(float(nx[i]), 6), round(float(ny[i]), 6))]] += p[i] * gamma[i]
+    value = np.linalg.solve(np.eye(n) - matrix, reward)
+    return Lattice(xs, ys, value)

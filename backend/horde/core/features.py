@@ -1,0 +1,108 @@
+"""Tile coders: sparse binary state features, kept as arrays of active indices.
+
+Every coder has a fixed number `k` of active features in every state, so a batch of B states codes to
+an index array of shape [B, k]. State-action features (thesis Table 4.1) place the state features in
+the block of one action: index `a * n + i`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from horde.spec import FeatureSpec
+
+
+class StateCoder:
+    """A compiled `FeatureSpec`: maps positions (and a condition demon's prediction) to active indices.
+
+    Attributes:
+        n: number of state features (all condition blocks included).
+        k: number of active features in every state.
+        base_n: number of state features of one condition block.
+    """
+
+    def __init__(self, spec: FeatureSpec, width: float, height: float) -> None:
+        self.spec = spec
+        self.width = float(width)
+        self.height = float(height)
+        self.base_n = spec.base_size()
+        self.k = spec.active_count()
+        self.thresholds = np.asarray(spec.condition.thresholds if spec.condition else [], dtype=float)
+        self.n = self.base_n * (len(self.thresholds) + 1)
+        # tiles3-style asymmetric offsets: tiling t is shifted by t * (1, 3) / tilings of a tile.
+        t = np.arange(spec.tilings)
+        self._tile_offsets = np.stack([(t * 1 / spec.tilings) % 1.0, (t * 3 / spec.tilings) % 1.0], axis=1)
+
+    def active(self, x: np.ndarray, y: np.ndarray, condition: np.ndarray | None = None) -> np.ndarray:
+        """Active state features.
+
+        Args:
+            x, y: [B] positions.
+            condition: [B] the condition demon's prediction, required when the spec has a condition.
+
+        Returns:
+            [B, k] int64 indices in [0, n), distinct within each row.
+        """
+        idx = self._base_active(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+        if len(self.thresholds):
+            if condition is None:
+                raise ValueError("conditioned features need the condition demon's prediction")
+            block = np.searchsorted(self.thresholds, np.asarray(condition, dtype=float), side="right")  # [B]
+            idx = idx + (block * self.base_n)[:, None]
+        return idx
+
+    def block_of(self, condition: np.ndarray) -> np.ndarray:
+        """[B] which condition block a prediction selects (0 below the first threshold)."""
+        return np.searchsorted(self.thresholds, np.asarray(condition, dtype=float), side="right")
+
+    def _cells(self, u: np.ndarray, parts: int) -> np.ndarray:
+        """Index of the part of [0, 1) holding u, clipped into range."""
+        return np.clip(np.floor(u * parts).astype(np.int64), 0, parts - 1)
+
+    def _base_active(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        spec = self.spec
+        batch = len(x)
+        u, v = x / self.width, y / self.height
+        if spec.kind == "constant":
+            return np.zeros((batch, 1), dtype=np.int64)
+        if spec.kind == "grid":
+            i, j = self._cells(u, spec.tiles), self._cells(v, spec.tiles)
+            return (i * spec.tiles + j)[:, None]
+        if spec.kind == "stripes":
+            p = spec.parts
+            i, j = self._cells(u, p), self._cells(v, p)  # column, row
+            columns = i
+            rows = p + j
+            diagonals = 2 * p + (i + j)
+            anti_diagonals = 2 * p + (2 * p - 1) + (i - j + p - 1)
+            bias = np.full(batch, self.base_n - 1)
+            return np.stack([columns, rows, diagonals, anti_diagonals, bias], axis=1)
+        # tiles: `tilings` grids of (tiles + 1)^2, each shifted, plus a bias
+        side = spec.tiles + 1
+        su = u[:, None] * spec.tiles + self._tile_offsets[None, :, 0]  # [B, T]
+        sv = v[:, None] * spec.tiles + self._tile_offsets[None, :, 1]  # [B, T]
+        i = np.clip(np.floor(su).astype(np.int64), 0, spec.tiles)
+        j = np.clip(np.floor(sv).astype(np.int64), 0, spec.tiles)
+        tiling_base = np.arange(spec.tilings) * side * side  # [T]
+        tiles = tiling_base[None, :] + i * side + j  # [B, T]
+        bias = np.full((batch, 1), self.base_n - 1)
+        return np.concatenate([tiles, bias], axis=1)
+
+
+def state_action_indices(state_idx: np.ndarray, actions: np.ndarray, n: int) -> np.ndarray:
+    """Active indices of phi(s, a): the state features in the block of action a.
+
+    Args:
+        state_idx: [B, k] active state features.
+        actions: [B] action per row.
+        n: number of state features (block size).
+
+    Returns:
+        [B, k] indices into the [A * n] state-action vector.
+    """
+    return state_idx + (np.asarray(actions) * n)[:, None]
+
+
+def all_action_indices(state_idx: np.ndarray, n: int, num_actions: int) -> np.ndarray:
+    """[B, A, k]: the state features placed in every action block (the support of phi_bar)."""
+    return state_idx[:, None, :] + (np.arange(num_actions) * n)[None, :, None]

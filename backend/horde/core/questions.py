@@ -1,0 +1,136 @@
+"""Compile question expressions (cumulant, outcome, continuation) into one array program.
+
+All expressions of many demons compile once into a table of nodes (shared sub-expressions stored
+once), sorted into levels by height. Evaluating the program is a fixed handful of numpy operations
+per level (one gather for the sensors, one for the predictions, one `reduceat` per operator), for any
+number of demons: no Python work per demon per step.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from horde.spec import AddExpr, Expr, IfExpr, MaxExpr, MinExpr, MulExpr, PredictionExpr, SensorExpr
+
+_REDUCERS = {"add": np.add, "mul": np.multiply, "min": np.minimum, "max": np.maximum}
+
+
+@dataclass(frozen=True)
+class _Level:
+    """The operator nodes of one height, grouped by operator."""
+
+    reduce: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]] = field(default_factory=dict)
+    # op -> (output nodes [m], flattened children [c], segment starts [m])
+    branch: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
+    # (output nodes, condition nodes, then nodes, else nodes)
+
+
+class Program:
+    """A compiled list of expressions, evaluated on a batch of sensor vectors.
+
+    Args:
+        exprs: the expressions, one output column each.
+        sensor_index: sensor name -> column of the sensor vector.
+        demon_index: demon name -> column of the predictions vector.
+    """
+
+    def __init__(self, exprs: Sequence[Expr], sensor_index: dict[str, int], demon_index: dict[str, int]) -> None:
+        self._keys: dict[tuple[object, ...], int] = {}
+        self._kinds: list[str] = []
+        self._args: list[object] = []
+        self._heights: list[int] = []
+        self._sensor_index = sensor_index
+        self._demon_index = demon_index
+        self.outputs = np.array([self._node(e) for e in exprs], dtype=np.int64)  # [E]
+        self.num_nodes = len(self._kinds)
+        kinds = np.array(self._kinds, dtype=object)
+        self._const_nodes = np.nonzero(kinds == "const")[0]
+        self._const_values = np.array([self._args[i] for i in self._const_nodes], dtype=float)
+        self._sensor_nodes = np.nonzero(kinds == "sensor")[0]
+        self._sensor_columns = np.array([self._args[i] for i in self._sensor_nodes], dtype=np.int64)
+        self._prediction_nodes = np.nonzero(kinds == "prediction")[0]
+        self._prediction_columns = np.array([self._args[i] for i in self._prediction_nodes], dtype=np.int64)
+        self._levels = self._build_levels()
+        self.reads_predictions = len(self._prediction_nodes) > 0
+
+    def _node(self, expr: Expr) -> int:
+        """Add an expression's node (and its children) once; return its index."""
+        children: list[int] = []
+        arg: object
+        if isinstance(expr, bool | int | float):
+            kind, arg = "const", float(expr)
+        elif isinstance(expr, SensorExpr):
+            kind, arg = "sensor", self._sensor_index[expr.sensor]
+        elif isinstance(expr, PredictionExpr):
+            kind, arg = "prediction", self._demon_index[expr.prediction]
+        elif isinstance(expr, IfExpr):
+            kind, arg = "if", None
+            children = [self._node(expr.if_), self._node(expr.then), self._node(expr.else_)]
+        else:
+            kind, items = {
+                AddExpr: ("add", getattr(expr, "add", None)),
+                MulExpr: ("mul", getattr(expr, "mul", None)),
+                MinExpr: ("min", getattr(expr, "min", None)),
+                MaxExpr: ("max", getattr(expr, "max", None)),
+            }[type(expr)]
+            arg = None
+            children = [self._node(child) for child in items or []]
+        key = (kind, arg, tuple(children))
+        if key in self._keys:
+            return self._keys[key]
+        index = len(self._kinds)
+        self._keys[key] = index
+        self._kinds.append(kind)
+        self._args.append(children if children else arg)
+        self._heights.append(1 + max((self._heights[c] for c in children), default=-1))
+        return index
+
+    def _build_levels(self) -> list[_Level]:
+        heights = np.array(self._heights, dtype=np.int64)
+        levels = []
+        for height in range(1, int(heights.max(initial=0)) + 1):
+            level = _Level()
+            nodes = [i for i in range(len(self._kinds)) if heights[i] == height]
+            for op in _REDUCERS:
+                mine = [i for i in nodes if self._kinds[i] == op]
+                if not mine:
+                    continue
+                kids = [self._args[i] for i in mine]
+                flat = np.array([c for ks in kids for c in ks], dtype=np.int64)  # type: ignore[attr-defined]
+                starts = np.cumsum([0] + [len(ks) for ks in kids[:-1]]).astype(np.int64)  # type: ignore[arg-type]
+                level.reduce[op] = (np.array(mine, dtype=np.int64), flat, starts)
+            branches = [i for i in nodes if self._kinds[i] == "if"]
+            if branches:
+                c, t, e = (np.array([self._args[i][j] for i in branches]) for j in range(3))  # type: ignore[index]
+                level = _Level(level.reduce, (np.array(branches, dtype=np.int64), c, t, e))
+            levels.append(level)
+        return levels
+
+    def evaluate(self, sensors: np.ndarray, predictions: np.ndarray | None = None) -> np.ndarray:
+        """Values of every expression.
+
+        Args:
+            sensors: [B, S] sensor vectors of the next state.
+            predictions: [B, D] current predictions of all demons (needed if any expression reads one).
+
+        Returns:
+            [B, E] one column per compiled expression.
+        """
+        batch = sensors.shape[0]
+        values = np.empty((batch, self.num_nodes))  # [B, N]
+        values[:, self._const_nodes] = self._const_values
+        values[:, self._sensor_nodes] = sensors[:, self._sensor_columns]
+        if self.reads_predictions:
+            if predictions is None:
+                raise ValueError("these expressions read predictions; pass them")
+            values[:, self._prediction_nodes] = predictions[:, self._prediction_columns]
+        for level in self._levels:
+            for op, (nodes, children, starts) in level.reduce.items():
+                values[:, nodes] = _REDUCERS[op].reduceat(values[:, children], starts, axis=1)
+            if level.branch is not None:
+                nodes, cond, then, other = level.branch
+                values[:, nodes] = np.where(values[:, cond] != 0.0, values[:, then], values[:, other])
+        return values[:, self.outputs]

@@ -1,0 +1,595 @@
+"""The data model of Horde Lab: worlds, features, questions, demons, runs.
+
+Every model is frozen and forbids unknown keys, so a typo in a scenario file or an API request is a
+422 naming the field instead of a silently ignored setting. Every size is bounded (DESIGN section 8,
+security). The same models validate TOML scenario files and REST bodies.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+ACTIONS: tuple[str, ...] = ("up", "down", "left", "right")
+
+MAX_WORLD_SIZE = 1e6
+MAX_REGIONS = 64
+MAX_COLORS = 16
+MAX_DEMONS = 10_000
+MAX_FEATURES = 1_000_000
+MAX_EXPR_NODES = 256
+MAX_STEPS = 1_000_000
+MAX_EPISODES = 1_000_000
+MAX_TRIALS = 1_000
+
+Name = Annotated[str, Field(min_length=1, max_length=64, pattern=r"^[A-Za-z_][A-Za-z0-9_.-]*$")]
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+Probability = Annotated[float, Field(ge=0.0, le=1.0, allow_inf_nan=False)]
+PositiveSize = Annotated[float, Field(gt=0.0, le=MAX_WORLD_SIZE, allow_inf_nan=False)]
+
+
+class Model(BaseModel):
+    model_config = ConfigDict(frozen=True, extra="forbid", populate_by_name=True)
+
+
+# ----------------------------------------------------------------------------------------------
+# Expressions: cumulant, outcome, continuation (DESIGN section 4). Data, never eval.
+
+
+class SensorExpr(Model):
+    sensor: str = Field(min_length=1, max_length=80, description="a sensor name, e.g. in:goal")
+
+
+class PredictionExpr(Model):
+    prediction: Name = Field(description="another demon's current prediction")
+
+
+class AddExpr(Model):
+    add: list[Expr] = Field(min_length=1, max_length=32)
+
+
+class MulExpr(Model):
+    mul: list[Expr] = Field(min_length=1, max_length=32)
+
+
+class MinExpr(Model):
+    min: list[Expr] = Field(min_length=1, max_length=32)
+
+
+class MaxExpr(Model):
+    max: list[Expr] = Field(min_length=1, max_length=32)
+
+
+class IfExpr(Model):
+    if_: Expr = Field(alias="if", description="counts as true where it is not 0")
+    then: Expr
+    else_: Expr = Field(alias="else")
+
+
+Expr = Finite | SensorExpr | PredictionExpr | AddExpr | MulExpr | MinExpr | MaxExpr | IfExpr
+for _model in (AddExpr, MulExpr, MinExpr, MaxExpr, IfExpr):
+    _model.model_rebuild()
+
+
+def expr_children(expr: Expr) -> list[Expr]:
+    """The direct sub-expressions of an expression."""
+    if isinstance(expr, AddExpr):
+        return list(expr.add)
+    if isinstance(expr, MulExpr):
+        return list(expr.mul)
+    if isinstance(expr, MinExpr):
+        return list(expr.min)
+    if isinstance(expr, MaxExpr):
+        return list(expr.max)
+    if isinstance(expr, IfExpr):
+        return [expr.if_, expr.then, expr.else_]
+    return []
+
+
+def expr_size(expr: Expr) -> int:
+    return 1 + sum(expr_size(child) for child in expr_children(expr))
+
+
+def expr_predictions(expr: Expr) -> set[str]:
+    """Names of the demons whose predictions an expression reads."""
+    found = {expr.prediction} if isinstance(expr, PredictionExpr) else set()
+    for child in expr_children(expr):
+        found |= expr_predictions(child)
+    return found
+
+
+def expr_interval(expr: Expr, bounds: dict[str, tuple[float, float]]) -> tuple[float, float]:
+    """The range an expression can take, given each sensor's range (predictions are unbounded)."""
+    if isinstance(expr, float | int):
+        return float(expr), float(expr)
+    if isinstance(expr, SensorExpr):
+        return bounds.get(expr.sensor, (-math.inf, math.inf))
+    if isinstance(expr, PredictionExpr):
+        return -math.inf, math.inf
+    if isinstance(expr, IfExpr):
+        (a, b), (c, d) = expr_interval(expr.then, bounds), expr_interval(expr.else_, bounds)
+        return min(a, c), max(b, d)
+    parts = [expr_interval(child, bounds) for child in expr_children(expr)]
+    lo, hi = parts[0]
+    for a, b in parts[1:]:
+        if isinstance(expr, AddExpr):
+            lo, hi = lo + a, hi + b
+        elif isinstance(expr, MulExpr):
+            products = [p for p in (lo * a, lo * b, hi * a, hi * b) if not math.isnan(p)]
+            lo, hi = (min(products), max(products)) if products else (-math.inf, math.inf)
+        elif isinstance(expr, MinExpr):
+            lo, hi = min(lo, a), min(hi, b)
+        else:
+            lo, hi = max(lo, a), max(hi, b)
+    return lo, hi
+
+
+def expr_sensors(expr: Expr) -> set[str]:
+    found = {expr.sensor} if isinstance(expr, SensorExpr) else set()
+    for child in expr_children(expr):
+        found |= expr_sensors(child)
+    return found
+
+
+# ----------------------------------------------------------------------------------------------
+# The world (DESIGN section 2)
+
+Rect = Annotated[list[Finite], Field(min_length=4, max_length=4, description="[x0, y0, x1, y1]")]
+
+
+class Color(Model):
+    name: Name
+    value: Finite = Field(description="the value of the color:<indicator> sensor while inside")
+    probability: Probability
+
+
+class IndicatorReward(Model):
+    indicator: Name
+    values: dict[Name, Finite] = Field(description="terminal reward per colour of the indicator")
+
+
+class Region(Model):
+    name: Name
+    kind: Literal["obstacle", "terminal", "zone", "indicator"]
+    rect: Rect
+    reward: Finite | IndicatorReward | None = Field(
+        default=None, description="terminal regions only: a number or a reward per indicator colour"
+    )
+    colors: list[Color] | None = Field(
+        default=None, max_length=MAX_COLORS, description="indicator regions only"
+    )
+
+    @field_validator("rect")
+    @classmethod
+    def _ordered(cls, rect: list[float]) -> list[float]:
+        if not (rect[0] < rect[2] and rect[1] < rect[3]):
+            raise ValueError("rect must be [x0, y0, x1, y1] with x0 < x1 and y0 < y1")
+        return rect
+
+    @model_validator(mode="after")
+    def _kind_fields(self) -> Region:
+        if self.kind == "terminal" and self.reward is None:
+            raise ValueError(f"terminal region {self.name!r} needs a reward")
+        if self.kind != "terminal" and self.reward is not None:
+            raise ValueError(f"only terminal regions have a reward ({self.name!r} is {self.kind})")
+        if self.kind == "indicator":
+            if not self.colors:
+                raise ValueError(f"indicator {self.name!r} needs colors")
+            names = [c.name for c in self.colors]
+            if len(set(names)) != len(names):
+                raise ValueError(f"indicator {self.name!r} has repeated colour names")
+            if not math.isclose(sum(c.probability for c in self.colors), 1.0, abs_tol=1e-9):
+                raise ValueError(f"the colour probabilities of {self.name!r} must sum to 1")
+        elif self.colors is not None:
+            raise ValueError(f"only indicator regions have colors ({self.name!r} is {self.kind})")
+        return self
+
+
+class WorldSpec(Model):
+    """A continuous rectangle [0, width) x [0, height) with rectangular regions."""
+
+    name: Name | None = None
+    width: PositiveSize = 500.0
+    height: PositiveSize = 500.0
+    step: PositiveSize = 100.0
+    slip: Probability = Field(default=0.0, description="probability of a perpendicular move")
+    noise: Annotated[float, Field(ge=0.0, le=MAX_WORLD_SIZE)] = Field(
+        default=0.0, description="std of Gaussian noise added to every move"
+    )
+    start: Annotated[list[Finite], Field(min_length=2, max_length=4)] = Field(
+        default_factory=lambda: [0.0, 0.0], description="a point [x, y] or a rectangle [x0, y0, x1, y1]"
+    )
+    regions: list[Region] = Field(default_factory=list, max_length=MAX_REGIONS)
+    transient_reward: Finite = -0.01
+    max_steps: int = Field(default=100, ge=1, le=MAX_STEPS)
+
+    @field_validator("start")
+    @classmethod
+    def _start_shape(cls, start: list[float]) -> list[float]:
+        if len(start) == 3:
+            raise ValueError("start is a point [x, y] or a rectangle [x0, y0, x1, y1]")
+        if len(start) == 4 and not (start[0] < start[2] and start[1] < start[3]):
+            raise ValueError("a start rectangle needs x0 < x1 and y0 < y1")
+        return start
+
+    @model_validator(mode="after")
+    def _consistent(self) -> WorldSpec:
+        names = [r.name for r in self.regions]
+        dupes = sorted({n for n in names if names.count(n) > 1})
+        if dupes:
+            raise ValueError(f"region names must be unique: {', '.join(dupes)}")
+        by_name = {r.name: r for r in self.regions}
+        for region in self.regions:
+            if isinstance(region.reward, IndicatorReward):
+                indicator = by_name.get(region.reward.indicator)
+                if indicator is None or indicator.kind != "indicator":
+                    raise ValueError(
+                        f"terminal {region.name!r} names {region.reward.indicator!r}, which is no indicator"
+                    )
+                colors = {c.name for c in indicator.colors or []}
+                if set(region.reward.values) != colors:
+                    raise ValueError(
+                        f"terminal {region.name!r} needs a reward for exactly the colours "
+                        f"{sorted(colors)} of {indicator.name!r}"
+                    )
+        x, y = self.start[0], self.start[1]
+        if not (0 <= x < self.width and 0 <= y < self.height):
+            raise ValueError("start must lie inside the world")
+        if len(self.start) == 4 and not (self.start[2] <= self.width and self.start[3] <= self.height):
+            raise ValueError("the start rectangle must lie inside the world")
+        if len(self.start) == 2:
+            for region in self.regions:
+                x0, y0, x1, y1 = region.rect
+                if region.kind in ("obstacle", "terminal") and x0 <= x < x1 and y0 <= y < y1:
+                    raise ValueError(f"start lies inside {region.kind} {region.name!r}")
+        return self
+
+    def sensor_bounds(self) -> dict[str, tuple[float, float]]:
+        """The range of every sensor (for checking that continuations stay within [0, 1])."""
+        rewards = [0.0]
+        for region in self.regions:
+            if isinstance(region.reward, IndicatorReward):
+                rewards += list(region.reward.values.values())
+            elif region.reward is not None:
+                rewards.append(float(region.reward))
+        bounds = {
+            "x": (0.0, self.width),
+            "y": (0.0, self.height),
+            "bump": (0.0, 1.0),
+            "steps": (0.0, float(self.max_steps)),
+            "reward": (self.transient_reward + min(rewards), self.transient_reward + max(rewards)),
+            "terminal": (0.0, 1.0),
+        }
+        for region in self.regions:
+            bounds[f"in:{region.name}"] = (0.0, 1.0)
+            if region.kind == "indicator":
+                values = [0.0] + [c.value for c in region.colors or []]
+                bounds[f"color:{region.name}"] = (min(values), max(values))
+        return bounds
+
+    def sensor_names(self) -> list[str]:
+        """The sensor vector's names, in its fixed order (DESIGN section 2)."""
+        names = ["x", "y", "bump", "steps", "reward"]
+        names += [f"in:{r.name}" for r in self.regions]
+        names += [f"color:{r.name}" for r in self.regions if r.kind == "indicator"]
+        names.append("terminal")
+        return names
+
+
+# ----------------------------------------------------------------------------------------------
+# Features (DESIGN section 3)
+
+
+class Condition(Model):
+    demon: Name
+    thresholds: list[Finite] = Field(min_length=1, max_length=15)
+
+    @field_validator("thresholds")
+    @classmethod
+    def _sorted(cls, thresholds: list[float]) -> list[float]:
+        if any(b <= a for a, b in zip(thresholds, thresholds[1:], strict=False)):
+            raise ValueError("thresholds must be strictly increasing")
+        return thresholds
+
+
+class FeatureSpec(Model):
+    kind: Literal["stripes", "tiles", "grid", "constant"] = "stripes"
+    parts: int = Field(default=5, ge=1, le=1000, description="stripes: columns, rows, diagonals")
+    tilings: int = Field(default=8, ge=1, le=64, description="tiles: number of offset tilings")
+    tiles: int = Field(default=8, ge=1, le=1000, description="tiles, grid: tiles per dimension")
+    condition: Condition | None = None
+
+    @model_validator(mode="after")
+    def _bounded(self) -> FeatureSpec:
+        if self.state_size() > MAX_FEATURES:
+            raise ValueError(f"at most {MAX_FEATURES} state features (this spec has {self.state_size()})")
+        return self
+
+    def base_size(self) -> int:
+        """Number of state features before conditioning."""
+        if self.kind == "stripes":
+            return 2 * self.parts + 2 * (2 * self.parts - 1) + 1
+        if self.kind == "tiles":
+            return self.tilings * (self.tiles + 1) ** 2 + 1
+        if self.kind == "grid":
+            return self.tiles**2
+        return 1
+
+    def active_count(self) -> int:
+        """Number of active state features, the same in every state."""
+        return {"stripes": 5, "tiles": self.tilings + 1, "grid": 1, "constant": 1}[self.kind]
+
+    def state_size(self) -> int:
+        blocks = len(self.condition.thresholds) + 1 if self.condition else 1
+        return self.base_size() * blocks
+
+
+# ----------------------------------------------------------------------------------------------
+# Policies (DESIGN section 4)
+
+PolicyKind = Literal["uniform", "fixed", "greedy", "softmax", "epsilon_greedy", "of"]
+OWN_VALUE_POLICIES = ("greedy", "softmax", "epsilon_greedy")
+
+
+def _policy_shorthand(value: Any) -> Any:
+    """Accept "uniform", "softmax", {of = "base"} besides the full {kind = ...} form."""
+    if isinstance(value, str):
+        return {"kind": value}
+    if isinstance(value, dict) and "kind" not in value and set(value) == {"of"}:
+        return {"kind": "of", "demon": value["of"]}
+    return value
+
+
+class PolicySpec(Model):
+    """A target policy. Shorthands: "uniform", "greedy", "softmax", {of = "demon"}."""
+
+    kind: PolicyKind = "uniform"
+    probabilities: list[Probability] | None = Field(
+        default=None, min_length=4, max_length=4, description="fixed: [up, down, left, right]"
+    )
+    temperature: Annotated[float, Field(gt=0.0, le=1e6, allow_inf_nan=False)] = 1.0
+    epsilon: Probability = 0.1
+    demon: Name | None = Field(default=None, description="of: the demon whose policy this follows")
+
+    _shorthand = model_validator(mode="before")(_policy_shorthand)
+
+    @model_validator(mode="after")
+    def _fields(self) -> PolicySpec:
+        if self.kind == "fixed":
+            if self.probabilities is None:
+                raise ValueError("a fixed policy needs probabilities [up, down, left, right]")
+            if not math.isclose(sum(self.probabilities), 1.0, abs_tol=1e-9):
+                raise ValueError("fixed probabilities must sum to 1")
+        elif self.probabilities is not None:
+            raise ValueError("probabilities belong to fixed policies only")
+        if self.kind == "of" and self.demon is None:
+            raise ValueError("an 'of' policy names the demon it follows")
+        return self
+
+
+class BehaviourSpec(Model):
+    """The behaviour policy of a run: uniform, fixed, or greedy/softmax/epsilon_greedy over a control demon."""
+
+    kind: Literal["uniform", "fixed", "greedy", "softmax", "epsilon_greedy"] = "uniform"
+    demon: Name | None = None
+    probabilities: list[Probability] | None = Field(default=None, min_length=4, max_length=4)
+    temperature: Annotated[float, Field(gt=0.0, le=1e6, allow_inf_nan=False)] = 1.0
+    epsilon: Probability = 0.1
+
+    _shorthand = model_validator(mode="before")(_policy_shorthand)
+
+    @model_validator(mode="after")
+    def _fields(self) -> BehaviourSpec:
+        if self.kind in OWN_VALUE_POLICIES and self.demon is None:
+            raise ValueError(f"a {self.kind} behaviour names the control demon it acts on")
+        if self.kind in ("uniform", "fixed") and self.demon is not None:
+            raise ValueError(f"a {self.kind} behaviour needs no demon")
+        if self.kind == "fixed":
+            if self.probabilities is None or not math.isclose(sum(self.probabilities), 1.0, abs_tol=1e-9):
+                raise ValueError("a fixed behaviour needs probabilities [up, down, left, right] summing to 1")
+            if min(self.probabilities) <= 0.0:
+                raise ValueError("a fixed behaviour must give every action a positive probability")
+        return self
+
+
+# ----------------------------------------------------------------------------------------------
+# Demons and learning (DESIGN sections 4 and 5)
+
+Learner = Literal["gq", "gtd", "td"]
+
+
+class DemonSpec(Model):
+    """A question (policy, cumulant, outcome, continuation) and its answer (features, learner, step sizes)."""
+
+    name: Name
+    policy: PolicySpec = Field(default_factory=PolicySpec)
+    cumulant: Expr = 0.0
+    outcome: Expr = 0.0
+    continuation: Expr = 1.0
+    discount: Probability = 1.0
+    learner: Learner = Field(
+        default="gq", description="gq: action values (GQ(lambda)); gtd, td: state values (GTD(lambda), TD)"
+    )
+    features: FeatureSpec | None = Field(default=None, description="defaults to the run's features")
+    lambda_: Probability | None = Field(default=None, alias="lambda")
+    alpha: Annotated[float, Field(ge=0.0, le=10.0, allow_inf_nan=False)] | None = Field(
+        default=None, description="step size before division by the number of active features"
+    )
+    alpha_w: Annotated[float, Field(ge=0.0, le=10.0, allow_inf_nan=False)] | None = Field(
+        default=None, description="step size of the secondary weights, also divided by the active count"
+    )
+    reset: Literal["never", "episode"] = "never"
+
+    @model_validator(mode="after")
+    def _consistent(self) -> DemonSpec:
+        for field in ("cumulant", "outcome", "continuation"):
+            if expr_size(getattr(self, field)) > MAX_EXPR_NODES:
+                raise ValueError(f"{field} has more than {MAX_EXPR_NODES} nodes")
+        if self.learner != "gq" and self.policy.kind in OWN_VALUE_POLICIES:
+            raise ValueError(
+                f"a {self.policy.kind} target policy needs action values: use learner 'gq', not {self.learner!r}"
+            )
+        return self
+
+
+class LearningSpec(Model):
+    """Defaults for demons that do not set their own (chosen by experiment, see README)."""
+
+    lambda_: Probability = Field(default=0.9, alias="lambda")
+    alpha: Annotated[float, Field(ge=0.0, le=10.0, allow_inf_nan=False)] = 0.1
+    alpha_w: Annotated[float, Field(ge=0.0, le=10.0, allow_inf_nan=False)] = 0.001
+
+
+# ----------------------------------------------------------------------------------------------
+# Protocol (trials x episodes x max steps; evaluation; test runs)
+
+
+class StopRule(Model):
+    """Stop a trial early once no weight moved by more than `tolerance` over `window` episodes."""
+
+    window: int = Field(default=100, ge=1, le=MAX_EPISODES)
+    tolerance: Annotated[float, Field(gt=0.0, allow_inf_nan=False)] = 1e-3
+
+
+class EvaluationSpec(Model):
+    """Monte-Carlo truth at the start point after each trial."""
+
+    rollouts: int = Field(default=1000, ge=0, le=100_000)
+    cap: int = Field(default=10_000, ge=1, le=MAX_STEPS, description="rollout length limit")
+    demons: list[Name] | None = Field(default=None, description="which demons; default all prediction demons")
+
+
+class TestSpec(Model):
+    """Test runs after each trial: the behaviour below, no learning except reset-each-episode demons."""
+
+    runs: int = Field(default=100, ge=1, le=100_000)
+    behaviour: BehaviourSpec
+
+
+class ProtocolSpec(Model):
+    trials: int = Field(default=1, ge=1, le=MAX_TRIALS)
+    episodes: int = Field(default=1000, ge=0, le=MAX_EPISODES)
+    stop: StopRule | None = None
+    evaluation: EvaluationSpec = Field(default_factory=EvaluationSpec)
+    test: TestSpec | None = None
+
+
+class Counts(Model):
+    positive: int = Field(ge=0)
+    negative: int = Field(ge=0)
+    none: int = Field(ge=0)
+
+
+class ThesisResults(Model):
+    """The thesis's numbers, shown beside ours."""
+
+    predictions: dict[Name, Finite] = Field(default_factory=dict)
+    counts: Counts | None = None
+
+
+class RunSpec(Model):
+    name: Name | None = None
+    description: str = Field(default="", max_length=2000)
+    world: WorldSpec = Field(default_factory=WorldSpec)
+    features: FeatureSpec = Field(default_factory=FeatureSpec)
+    behaviour: BehaviourSpec = Field(default_factory=BehaviourSpec)
+    learning: LearningSpec = Field(default_factory=LearningSpec)
+    demons: list[DemonSpec] = Field(default_factory=list, max_length=MAX_DEMONS)
+    protocol: ProtocolSpec = Field(default_factory=ProtocolSpec)
+    thesis: ThesisResults = Field(default_factory=ThesisResults)
+    seed: int = Field(default=0, ge=0, le=2**63 - 1)
+
+    @model_validator(mode="after")
+    def _references(self) -> RunSpec:
+        check_demon_graph(self)
+        return self
+
+
+def demon_dependencies(demon: DemonSpec, default_features: FeatureSpec) -> set[str]:
+    """Names of the demons whose predictions or policies this demon reads."""
+    deps: set[str] = set()
+    for expr in (demon.cumulant, demon.outcome, demon.continuation):
+        deps |= expr_predictions(expr)
+    if demon.policy.kind == "of" and demon.policy.demon:
+        deps.add(demon.policy.demon)
+    features = demon.features or default_features
+    if features.condition:
+        deps.add(features.condition.demon)
+    return deps
+
+
+def check_demon_graph(spec: RunSpec) -> list[str]:
+    """Validate names, references and sensors; return the demons in dependency order.
+
+    Raises:
+        ValueError: a repeated name, a reference to an unknown demon or sensor, or a cycle.
+    """
+    by_name: dict[str, DemonSpec] = {}
+    for demon in spec.demons:
+        if demon.name in by_name:
+            raise ValueError(f"demon names must be unique: {demon.name!r} appears twice")
+        by_name[demon.name] = demon
+    sensors = set(spec.world.sensor_names())
+    deps: dict[str, set[str]] = {}
+    for demon in spec.demons:
+        deps[demon.name] = demon_dependencies(demon, spec.features)
+        for other in sorted(deps[demon.name]):
+            if other not in by_name:
+                raise ValueError(f"demon {demon.name!r} refers to unknown demon {other!r}")
+        for field in ("cumulant", "outcome", "continuation"):
+            for sensor in sorted(expr_sensors(getattr(demon, field))):
+                if sensor not in sensors:
+                    raise ValueError(
+                        f"demon {demon.name!r}: {field} reads unknown sensor {sensor!r} "
+                        f"(known: {', '.join(sorted(sensors))})"
+                    )
+        low, high = expr_interval(demon.continuation, spec.world.sensor_bounds())
+        if math.isfinite(low) and math.isfinite(high) and (low < 0.0 or high > 1.0):
+            raise ValueError(
+                f"demon {demon.name!r}: continuation can take values in [{low:g}, {high:g}]; it must stay in [0, 1]"
+            )
+        if demon.policy.kind == "of" and demon.policy.demon in by_name:
+            followed = by_name[demon.policy.demon]
+            if followed.learner != "gq" and followed.policy.kind in OWN_VALUE_POLICIES:
+                raise ValueError(f"demon {demon.name!r} follows {followed.name!r}, which has no policy")
+    if spec.behaviour.demon is not None:
+        control = by_name.get(spec.behaviour.demon)
+        if control is None:
+            raise ValueError(f"the behaviour refers to unknown demon {spec.behaviour.demon!r}")
+        if control.learner != "gq":
+            raise ValueError(f"the behaviour acts on {control.name!r}, which learns no action values")
+    if spec.protocol.test and spec.protocol.test.behaviour.demon is not None:
+        if spec.protocol.test.behaviour.demon not in by_name:
+            raise ValueError(f"the test behaviour refers to unknown demon {spec.protocol.test.behaviour.demon!r}")
+    total = sum((d.features or spec.features).state_size() * (4 if d.learner == "gq" else 1) for d in spec.demons)
+    if total > 50 * MAX_FEATURES:
+        raise ValueError(f"the demons' weights would hold {total} numbers, more than {50 * MAX_FEATURES}")
+    return topological_order(deps)
+
+
+def topological_order(deps: dict[str, set[str]]) -> list[str]:
+    """Order names so that every name comes after the names it depends on.
+
+    Raises:
+        ValueError: naming the demons of a cycle.
+    """
+    order: list[str] = []
+    state: dict[str, int] = {}  # 1 = visiting, 2 = done
+
+    def visit(name: str, path: list[str]) -> None:
+        if state.get(name) == 2:
+            return
+        if state.get(name) == 1:
+            cycle = [*path[path.index(name) :], name]
+            raise ValueError(f"demons depend on each other in a cycle: {' -> '.join(cycle)}")
+        state[name] = 1
+        for dep in sorted(deps[name]):
+            visit(dep, [*path, name])
+        state[name] = 2
+        order.append(name)
+
+    for name in deps:
+        visit(name, [])
+    return order
