@@ -80,6 +80,7 @@ def run_trial(spec: RunSpec, trial: int, progress: Callable[[int], None] | None 
     protocol = spec.protocol
     rng = np.random.default_rng([spec.seed, trial])
     sim = Simulation(spec, rng)
+    sim.with_metrics = False  # RUPEE / UDE are for watching; the protocol reports against the truth
     horde = sim.horde
     stop = protocol.stop
     reference = [lr.theta.copy() for lr in sim.horde_state.learners]

@@ -57,7 +57,7 @@ class StateCoder:
 
     def _cells(self, u: np.ndarray, parts: int) -> np.ndarray:
         """Index of the part of [0, 1) holding u, clipped into range."""
-        return np.clip(np.floor(u * parts).astype(np.int64), 0, parts - 1)
+        return np.minimum(np.maximum(np.floor(u * parts).astype(np.int64), 0), parts - 1)
 
     def _base_active(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         spec = self.spec
@@ -81,8 +81,8 @@ class StateCoder:
         side = spec.tiles + 1
         su = u[:, None] * spec.tiles + self._tile_offsets[None, :, 0]  # [B, T]
         sv = v[:, None] * spec.tiles + self._tile_offsets[None, :, 1]  # [B, T]
-        i = np.clip(np.floor(su).astype(np.int64), 0, spec.tiles)
-        j = np.clip(np.floor(sv).astype(np.int64), 0, spec.tiles)
+        i = np.minimum(np.maximum(np.floor(su).astype(np.int64), 0), spec.tiles)
+        j = np.minimum(np.maximum(np.floor(sv).astype(np.int64), 0), spec.tiles)
         tiling_base = np.arange(spec.tilings) * side * side  # [T]
         tiles = tiling_base[None, :] + i * side + j  # [B, T]
         bias = np.full((batch, 1), self.base_n - 1)

@@ -39,6 +39,8 @@ class Group:
     of_index: np.ndarray  # [Dg] global index of the demon followed (or -1)
     reset: np.ndarray  # [Dg] bool: forget the weights at every episode start
     condition: int  # global index of the condition demon, or -1
+    own_value: np.ndarray  # [Dg] bool: greedy / softmax / epsilon-greedy over own action values
+    follows: np.ndarray  # [Dg] bool: the policy of another demon
 
 
 @dataclass(frozen=True)
@@ -105,13 +107,17 @@ class Horde:
         world = spec.world
         stages = []
         for stage in range(max(stage_of.values(), default=-1) + 1):
-            keys: dict[tuple[FeatureSpec, bool], list[int]] = {}
+            keys: dict[tuple[str, bool], list[int]] = {}
+            features_of: dict[str, FeatureSpec] = {}
             for i, demon in enumerate(self.demon_specs):
                 if stage_of[demon.name] == stage:
-                    keys.setdefault((demon.features or spec.features, demon.learner == "gq"), []).append(i)
+                    features = demon.features or spec.features
+                    key = features.model_dump_json()
+                    features_of[key] = features
+                    keys.setdefault((key, demon.learner == "gq"), []).append(i)
             groups = tuple(
-                self._compile_group(spec, stage, features, action_values, members)
-                for (features, action_values), members in keys.items()
+                self._compile_group(spec, stage, features_of[key], action_values, members)
+                for (key, action_values), members in keys.items()
             )
             demons = np.concatenate([g.demons for g in groups])
             specs = [self.demon_specs[i] for i in demons]
@@ -146,6 +152,7 @@ class Horde:
             if d.policy.kind == "fixed" and d.policy.probabilities is not None:
                 fixed[row] = d.policy.probabilities
         condition = features.condition
+        policy_kind = np.array([KIND_CODES[d.policy.kind] for d in demons])
         return Group(
             stage=stage,
             demons=np.array(members, dtype=np.int64),
@@ -153,13 +160,15 @@ class Horde:
             action_values=action_values,
             num_features=coder.n * (NUM_ACTIONS if action_values else 1),
             params=params,
-            policy_kind=np.array([KIND_CODES[d.policy.kind] for d in demons]),
+            policy_kind=policy_kind,
             fixed=fixed,
             temperature=np.array([d.policy.temperature for d in demons]),
             epsilon=np.array([d.policy.epsilon for d in demons]),
             of_index=np.array([self.index[d.policy.demon] if d.policy.demon else -1 for d in demons]),
             reset=np.array([d.reset == "episode" for d in demons]),
             condition=self.index[condition.demon] if condition else -1,
+            own_value=np.isin(policy_kind, OWN_VALUE) & action_values,
+            follows=policy_kind == OF,
         )
 
     # ------------------------------------------------------------------------------------------
@@ -213,14 +222,12 @@ class Horde:
     def _group_policy(self, group: Group, values: np.ndarray, pi_all: np.ndarray) -> np.ndarray:
         """Target policies [B, Dg, A]; `pi_all` [B, D, A] holds the policies of earlier stages."""
         batch = values.shape[0]
-        pi = np.broadcast_to(group.fixed, (batch, *group.fixed.shape)).copy()  # [B, Dg, A]
-        if group.action_values:
-            own = np.isin(group.policy_kind, OWN_VALUE)
-            if own.any():
-                pi[:, own] = value_policy(
-                    values[:, own], group.policy_kind[own], group.temperature[own], group.epsilon[own]
-                )
-        follows = group.policy_kind == OF
+        own, follows = group.own_value, group.follows
+        if own.all():
+            return value_policy(values, group.policy_kind, group.temperature, group.epsilon)
+        pi = np.repeat(group.fixed[None], batch, axis=0)  # [B, Dg, A]
+        if own.any():
+            pi[:, own] = value_policy(values[:, own], group.policy_kind[own], group.temperature[own], group.epsilon[own])
         if follows.any():
             pi[:, follows] = pi_all[:, group.of_index[follows]]
         return pi
@@ -316,7 +323,7 @@ class Horde:
             answers = stage.program.evaluate(sensors, prediction)[0]  # [3 Ds]
             ds = len(stage.demons)
             r_stage, z_stage = answers[:ds], answers[ds : 2 * ds]
-            gamma_stage = np.clip(answers[2 * ds :], 0.0, 1.0) * stage.discount
+            gamma_stage = np.minimum(np.maximum(answers[2 * ds :], 0.0), 1.0) * stage.discount
             if terminated:
                 gamma_stage = np.zeros(ds)
             offset = 0
@@ -356,7 +363,7 @@ class Horde:
                     )
                 new_learners[g] = new
                 if with_metrics:
-                    new_metrics[g] = metrics.update(state.metrics[g], np.nan_to_num(delta_g), new.e, *x_t, group.coder.k)
+                    new_metrics[g] = metrics.update(state.metrics[g], delta_g, new.e, *x_t, group.coder.k)
                 values_new = self._group_values(group, new.theta, idx_tp1)
                 pi_new = self._group_policy(group, values_new, pi)  # [1, Dg, A]
                 pi[:, members] = pi_new
@@ -380,6 +387,51 @@ class Horde:
             diverged=diverged,
         )
 
+    def carry_over(self, old: Horde, old_state: HordeState, x: float, y: float) -> HordeState:
+        """A state for this Horde that keeps the weights of every demon `old` also had (by name).
+
+        Demons join and leave a live run this way without disturbing the others' weights; traces
+        restart, as at an episode start, and the Horde observes (x, y) afresh.
+        """
+        state = self.init_state()
+        new_learners = list(state.learners)
+        new_metrics = list(state.metrics)
+        for g, group in enumerate(self.groups):
+            theta, w = new_learners[g].theta.copy(), new_learners[g].w.copy()
+            metric = new_metrics[g]
+            h, delta_e = metric.h.copy(), metric.delta_e.copy()
+            for row, demon in enumerate(group.demons):
+                name = self.names[demon]
+                if name not in old.index:
+                    continue
+                og, orow = old.locate(name)
+                if old.groups[og].num_features != group.num_features:
+                    continue
+                theta[row] = old_state.learners[og].theta[orow]
+                w[row] = old_state.learners[og].w[orow]
+                h[row] = old_state.metrics[og].h[orow]
+                delta_e[row] = old_state.metrics[og].delta_e[orow]
+            new_learners[g] = learners.LearnerState(theta, w, np.zeros_like(theta))
+            new_metrics[g] = metric._replace(h=h, delta_e=delta_e)
+        diverged = np.array([bool(old_state.diverged[old.index[n]]) if n in old.index else False for n in self.names])
+        state = state._replace(learners=tuple(new_learners), metrics=tuple(new_metrics), diverged=diverged)
+        forward = self.forward(state, np.array([x]), np.array([y]))
+        return state._replace(
+            features=tuple(f[0] for f in forward.features),
+            pi=forward.pi[0],
+            q=forward.q[0],
+            prediction=forward.prediction[0],
+        )
+
+    def locate(self, name: str) -> tuple[int, int]:
+        """(group number, row) of a demon."""
+        i = self.index[name]
+        for g, group in enumerate(self.groups):
+            rows = np.nonzero(group.demons == i)[0]
+            if len(rows):
+                return g, int(rows[0])
+        raise KeyError(name)
+
     # ------------------------------------------------------------------------------------------
     # Reading out
 
@@ -397,12 +449,8 @@ class Horde:
 
     def weights(self, state: HordeState, name: str) -> np.ndarray:
         """The primary weights of one demon (a copy)."""
-        i = self.index[name]
-        for group, learner in zip(self.groups, state.learners, strict=True):
-            rows = np.nonzero(group.demons == i)[0]
-            if len(rows):
-                return learner.theta[rows[0]].copy()
-        raise KeyError(name)
+        g, row = self.locate(name)
+        return state.learners[g].theta[row].copy()
 
     def is_control(self, name: str) -> bool:
         demon = self.demon_specs[self.index[name]]

@@ -56,8 +56,10 @@ def value_policy(q: np.ndarray, kind: np.ndarray, temperature: np.ndarray, epsil
     Returns:
         [..., D, A] probabilities.
     """
-    probs = greedy(q)
     is_softmax = kind == SOFTMAX
+    if is_softmax.all():
+        return softmax(q, temperature)
+    probs = greedy(q)
     if is_softmax.any():
         probs = np.where(is_softmax[:, None], softmax(q, temperature), probs)
     is_eps = kind == EPSILON_GREEDY

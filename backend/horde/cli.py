@@ -1,0 +1,164 @@
+"""The `horde` command: `horde run | scenarios | serve | bench`."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TextIO
+
+from horde.core.experiment import ProtocolResult, run_protocol
+from horde.scenarios import ScenarioError, list_scenarios, load_scenario
+from horde.spec import RunSpec
+
+
+class ProgressBar:
+    """A one-line progress bar on a terminal stream (redrawn at most 10 times a second)."""
+
+    def __init__(self, label: str, stream: TextIO = sys.stderr, width: int = 30) -> None:
+        self.label = label
+        self.stream = stream
+        self.width = width
+        self.began = time.perf_counter()
+        self.last_draw = 0.0
+
+    def __call__(self, done: int, total: int) -> None:
+        now = time.perf_counter()
+        if done < total and now - self.last_draw < 0.1:
+            return
+        self.last_draw = now
+        fraction = done / total if total else 1.0
+        filled = int(self.width * fraction)
+        elapsed = now - self.began
+        eta = elapsed / fraction - elapsed if fraction > 0 else math.nan
+        bar = "#" * filled + "-" * (self.width - filled)
+        eta_text = f"{eta:5.0f}s left" if math.isfinite(eta) else "  ...  "
+        self.stream.write(f"\r{self.label} [{bar}] {done}/{total} episodes  {elapsed:5.0f}s  {eta_text}")
+        if done >= total:
+            self.stream.write("\n")
+        self.stream.flush()
+
+
+def _number(value: float | None, digits: int = 3) -> str:
+    return "-" if value is None or not math.isfinite(value) else f"{value:.{digits}f}"
+
+
+def format_results(spec: RunSpec, result: ProtocolResult) -> str:
+    """The results table of `horde run`: one row per demon, thesis numbers beside ours."""
+    header = ("demon", "prediction", "truth (MC)", "± stderr", "error", "error %", "thesis")
+    rows = []
+    for demon in result.demons:
+        relative = (
+            100 * demon.error / abs(demon.truth) if demon.error is not None and demon.truth else None
+        )
+        rows.append(
+            (
+                demon.name,
+                _number(demon.prediction),
+                _number(demon.truth),
+                _number(demon.truth_stderr),
+                _number(demon.error),
+                _number(relative, 1),
+                _number(demon.thesis),
+            )
+        )
+    widths = [max(len(r[i]) for r in [header, *rows]) for i in range(len(header))]
+    lines = ["  ".join(cell.rjust(w) if i else cell.ljust(w) for i, (cell, w) in enumerate(zip(r, widths, strict=True)))
+             for r in [header, *rows]]  # fmt: skip
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    for demon in result.demons:
+        if demon.counts is not None:
+            c = demon.counts
+            lines.append("")
+            lines.append(f"test runs of {demon.name}: positive {c.positive}, negative {c.negative}, none {c.none}")
+            if result.thesis_counts:
+                t = result.thesis_counts
+                lines.append(f"thesis:              positive {t.positive}, negative {t.negative}, none {t.none}")
+    protocol = spec.protocol
+    lines.append("")
+    lines.append(
+        f"{protocol.trials} trials x {protocol.episodes} episodes (max {spec.world.max_steps} steps), "
+        f"{result.steps} steps in {result.seconds:.1f} s ({result.steps_per_second:,.0f} steps/s); "
+        f"truth: {protocol.evaluation.rollouts} rollouts per trial, capped at {result.rollout_cap} steps"
+    )
+    return "\n".join(lines)
+
+
+def _override(spec: RunSpec, trials: int | None, episodes: int | None, seed: int | None) -> RunSpec:
+    protocol = spec.protocol.model_copy(
+        update={k: v for k, v in {"trials": trials, "episodes": episodes}.items() if v is not None}
+    )
+    data = spec.model_dump(by_alias=True)
+    data["protocol"] = protocol.model_dump(by_alias=True)
+    if seed is not None:
+        data["seed"] = seed
+    return RunSpec.model_validate(data)
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    try:
+        spec = load_scenario(args.scenario)
+        spec = _override(spec, args.trials, args.episodes, args.seed)
+    except ScenarioError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    except ValueError as exc:
+        print(f"error: {args.scenario}: {exc}", file=sys.stderr)
+        return 2
+    progress = ProgressBar(spec.name or Path(args.scenario).stem) if not args.quiet else None
+    result = run_protocol(spec, progress)
+    print(format_results(spec, result))
+    if args.json:
+        Path(args.json).write_text(json.dumps([d.as_dict() for d in result.demons], indent=2) + "\n")
+    return 0
+
+
+def cmd_scenarios(args: argparse.Namespace) -> int:
+    try:
+        scenarios = list_scenarios(Path(args.dir) if args.dir else None)
+    except ScenarioError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    width = max((len(s.name) for s in scenarios), default=0)
+    for scenario in scenarios:
+        print(f"{scenario.name.ljust(width)}  {scenario.description}")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="horde", description="Horde Lab: many predictions learned at once.")
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    run = sub.add_parser("run", help="run a scenario's protocol and compare predictions with the truth")
+    run.add_argument("scenario", help="a scenario file, e.g. scenarios/experiment1.toml")
+    run.add_argument("--trials", type=int, help="override the number of trials")
+    run.add_argument("--episodes", type=int, help="override the episodes per trial")
+    run.add_argument("--seed", type=int, help="override the seed")
+    run.add_argument("--json", metavar="PATH", help="also write the results as JSON")
+    run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.set_defaults(func=cmd_run)
+
+    scenarios = sub.add_parser("scenarios", help="list the scenarios with a one-line description each")
+    scenarios.add_argument("--dir", help="folder of scenario files (default: scenarios/)")
+    scenarios.set_defaults(func=cmd_scenarios)
+
+    try:
+        from horde.server.cli_serve import add_serve_parser
+    except ImportError:  # the server's dependencies are not installed
+        pass
+    else:
+        add_serve_parser(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    return int(args.func(args))
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,506 @@
+"""One live run: its simulation, owned by one learner thread, and the commands that reach it.
+
+Only the learner thread touches the simulation. Other threads talk to it in two ways:
+
+- commands (start, pause, step, add a demon, export a snapshot, ...) go through a queue and come
+  back as a result or an exception through a `Future`; the thread runs them between chunks of steps;
+- readers take `view`, an immutable `RunView` that the thread publishes after every chunk.
+
+At full speed (hz = None) the thread learns in chunks of about 20 ms and looks at its queue between
+them; with `hz` it paces its steps and waits on the queue in between, so a command is answered at once.
+A live run is the first trial of its protocol: it is seeded as `run_trial(spec, 0)` is and runs the same
+episode loop, and it finishes when the protocol's episodes are done (or its stopping rule fires);
+with `protocol.episodes = 0` it runs until paused. The learner thread never dies of bad input or a
+numerical accident: an exception while learning marks the run `failed` with the exception's message.
+"""
+
+from __future__ import annotations
+
+import logging
+import queue
+import threading
+import time
+from collections.abc import Callable
+from concurrent.futures import Future
+from dataclasses import dataclass
+from typing import Any, TypeVar
+
+import numpy as np
+from pydantic import ValidationError
+
+from horde.core.experiment import start_point
+from horde.core.horde import Horde
+from horde.core.simulation import Simulation
+from horde.errors import BusyError, ConflictError, NotFoundError, SpecError
+from horde.events import EventLog
+from horde.history import History
+from horde.run_setup import Limits, check_limits, new_simulation
+from horde.run_view import RunStatus, RunView, Summary
+from horde.snapshot import Snapshot, capture, to_bytes
+from horde.spec import BehaviourSpec, DemonSpec, RunSpec
+from horde.store import RunRecord, Store
+
+log = logging.getLogger(__name__)
+
+T = TypeVar("T")
+
+CHUNK_SECONDS = 0.02  # full speed: learn this long between looks at the command queue
+MAX_LAG = 0.1  # hz pacing: time lost beyond this is not caught up
+COMMAND_TIMEOUT = 600.0  # a command waits this long for the learner thread at most
+
+
+@dataclass
+class _Command:
+    action: Callable[[], Any]
+    future: Future[Any]
+
+
+class _Closing(Exception):
+    """Raised in the learner thread by the shutdown command to leave the loop."""
+
+
+class LiveRun:
+    """A run and its learner thread.
+
+    Args:
+        run_id: the run's id.
+        sim: the simulation (fresh, or restored from a snapshot); its spec is the run's spec.
+        limits: the server's size limits and timings.
+        store: where the run saves itself (None: nowhere).
+        status, hz, message, created_at, summary: the run's state when it is restored.
+        stop_reference: the stopping rule's reference weights (default: the current weights).
+    """
+
+    def __init__(
+        self,
+        run_id: str,
+        sim: Simulation,
+        limits: Limits,
+        store: Store | None = None,
+        *,
+        status: RunStatus = "created",
+        hz: float | None = None,
+        message: str = "",
+        created_at: float | None = None,
+        summary: Summary | None = None,
+        stop_reference: list[np.ndarray] | None = None,
+    ) -> None:
+        self.id = run_id
+        self.limits = limits
+        self._store = store
+        self._sim = sim
+        self._spec = sim.spec
+        self._status: RunStatus = status
+        self._hz = hz
+        self._message = message
+        self._created_at = created_at if created_at is not None else time.time()
+        self._summary = summary
+        self._stop_reference = stop_reference if stop_reference is not None else self._thetas()
+        self.history = History(sim.horde.names, limits.history, limits.history_every)
+        self.events = EventLog(limits.events)
+        self._commands: queue.SimpleQueue[_Command] = queue.SimpleQueue()
+        self._gate = threading.Lock()  # guards `_closed` against commands queued after shutdown
+        self._closed = False
+        self._thread = threading.Thread(target=self._loop, name=f"horde-run-{run_id}", daemon=True)
+        self._seq = 0
+        self._last_snapshot = time.monotonic()
+        self._next_step_at = 0.0
+        if status == "finished" and summary is None:
+            self._summary = self._summarize(stopped_early=False)
+        self.view = self._make_view()
+
+    # ------------------------------------------------------------------------------------------
+    # Life cycle (called from other threads)
+
+    def start_thread(self) -> None:
+        self._thread.start()
+
+    def save(self) -> None:
+        """Write the run and a snapshot to the store; only before `start_thread`."""
+        self._persist(snapshot=True)
+
+    def close(self, timeout: float = 60.0) -> None:
+        """Stop the learner thread; a running run is saved as paused with a fresh snapshot."""
+        if not self._thread.is_alive():
+            return
+        try:
+            self.call(self._shutdown, timeout)
+        except (NotFoundError, BusyError):
+            pass
+        self._thread.join(timeout)
+
+    def is_alive(self) -> bool:
+        return self._thread.is_alive()
+
+    def call(self, action: Callable[[], T], timeout: float | None = COMMAND_TIMEOUT) -> T:
+        """Run `action` in the learner thread and return its result (or raise its exception).
+
+        Raises:
+            NotFoundError: the run has been closed (deleted).
+            BusyError: the learner thread did not get to the command within `timeout`.
+        """
+        future: Future[Any] = Future()
+        with self._gate:
+            if self._closed:
+                raise NotFoundError(f"run {self.id!r} has been deleted")
+            self._commands.put(_Command(action, future))
+        try:
+            result: T = future.result(timeout)
+            return result
+        except TimeoutError:
+            raise BusyError(f"run {self.id!r} did not answer within {timeout} s") from None
+
+    # ------------------------------------------------------------------------------------------
+    # Commands (each runs in the learner thread through `call`)
+
+    def start(self) -> RunView:
+        return self.call(self._do_start)
+
+    def pause(self) -> RunView:
+        return self.call(self._do_pause)
+
+    def reset(self) -> RunView:
+        return self.call(self._do_reset)
+
+    def step(self, steps: int) -> RunView:
+        return self.call(lambda: self._do_step(steps))
+
+    def patch(self, *, set_hz: bool = False, hz: float | None = None, behaviour: BehaviourSpec | None = None) -> RunView:
+        """Change the speed (when `set_hz`; None is full speed) and/or the behaviour policy."""
+        return self.call(lambda: self._do_patch(set_hz, hz, behaviour))
+
+    def add_demon(self, demon: DemonSpec) -> RunView:
+        return self.call(lambda: self._do_add_demon(demon))
+
+    def remove_demon(self, name: str) -> RunView:
+        return self.call(lambda: self._do_remove_demon(name))
+
+    def snapshot(self) -> Snapshot:
+        return self.call(self._capture)
+
+    # ------------------------------------------------------------------------------------------
+    # The learner thread
+
+    def _loop(self) -> None:
+        while True:
+            try:
+                if self._status != "running":
+                    self._execute(self._commands.get())
+                elif self._hz is None:
+                    self._run_chunk()
+                else:
+                    self._run_paced()
+            except _Closing:
+                return
+            except Exception as exc:  # the learner thread never dies
+                self._fail(exc)
+
+    def _execute(self, command: _Command) -> None:
+        if not command.future.set_running_or_notify_cancel():
+            return
+        try:
+            result = command.action()
+        except _Closing:
+            command.future.set_result(None)
+            raise
+        except BaseException as exc:
+            command.future.set_exception(exc)
+        else:
+            command.future.set_result(result)
+
+    def _drain(self) -> None:
+        while True:
+            try:
+                command = self._commands.get_nowait()
+            except queue.Empty:
+                return
+            self._execute(command)
+
+    def _run_chunk(self) -> None:
+        """Full speed: commands first, then about CHUNK_SECONDS of learning."""
+        self._drain()
+        if self._status != "running" or self._hz is not None:
+            return
+        self._learn(None, time.monotonic() + CHUNK_SECONDS)
+        self._publish()
+        self._maybe_snapshot()
+
+    def _run_paced(self) -> None:
+        """hz pacing: wait for the next step's time (answering commands meanwhile), then step."""
+        wait = self._next_step_at - time.monotonic()
+        if wait > 0:
+            try:
+                command = self._commands.get(timeout=wait)
+            except queue.Empty:
+                pass
+            else:
+                self._execute(command)
+                return
+        self._drain()
+        if self._status != "running" or self._hz is None:
+            return
+        hz = self._hz
+        now = time.monotonic()
+        due = min(1 + int((now - self._next_step_at) * hz), max(1, int(hz * CHUNK_SECONDS)))
+        self._learn(due, None)
+        self._next_step_at = max(self._next_step_at + due / hz, now - MAX_LAG)
+        self._publish()
+        self._maybe_snapshot()
+
+    def _learn(self, steps: int | None, deadline: float | None) -> None:
+        """Take `steps` steps, or step until `deadline`, or until the run finishes; a failure marks it failed."""
+        sim = self._sim
+        behaviour = self._spec.behaviour
+        done = 0
+        try:
+            while True:
+                episode = sim.episode
+                sim.step(behaviour)
+                done += 1
+                if self.history.due(sim.total_steps):
+                    self._record()
+                if sim.episode != episode:
+                    self._episode_ended()
+                    if self._status == "finished":
+                        return
+                if steps is not None and done >= steps:
+                    return
+                if deadline is not None and done % 8 == 0 and time.monotonic() >= deadline:
+                    return
+        except Exception as exc:
+            self._fail(exc)
+
+    def _record(self) -> None:
+        hs, horde = self._sim.horde_state, self._sim.horde
+        self.history.record(self._sim.total_steps, hs.prediction, hs.cumulant, hs.delta, horde.rupee(hs), horde.ude(hs))
+
+    def _episode_ended(self) -> None:
+        """The protocol's episode loop, as `run_trial` runs it: the stopping rule, then the episode count."""
+        sim = self._sim
+        self.events.add(
+            sim.total_steps, sim.episode, "episode", f"episode {sim.episode} ended, return {sim.last_return:.4g}", sim.last_return
+        )
+        protocol = self._spec.protocol
+        if protocol.episodes == 0:
+            return
+        done = sim.episode
+        stop = protocol.stop
+        if stop is not None and done % stop.window == 0:
+            thetas = self._thetas()
+            change = max(
+                (float(np.abs(new - old).max()) for new, old in zip(thetas, self._stop_reference, strict=True)),
+                default=0.0,
+            )
+            if change < stop.tolerance:
+                self._finish(stopped_early=True)
+                return
+            self._stop_reference = thetas
+        if done >= protocol.episodes:
+            self._finish(stopped_early=False)
+
+    def _thetas(self) -> list[np.ndarray]:
+        return [lr.theta.copy() for lr in self._sim.horde_state.learners]
+
+    def _summarize(self, stopped_early: bool) -> Summary:
+        sim = self._sim
+        hs, horde = sim.horde_state, sim.horde
+        return Summary(
+            predictions=sim.predictions_at(*start_point(self._spec)),
+            rupee=dict(zip(horde.names, horde.rupee(hs).tolist(), strict=True)),
+            ude=dict(zip(horde.names, horde.ude(hs).tolist(), strict=True)),
+            episodes=sim.episode,
+            steps=sim.total_steps,
+            last_return=sim.last_return,
+            stopped_early=stopped_early,
+        )
+
+    def _finish(self, stopped_early: bool) -> None:
+        self._summary = self._summarize(stopped_early)
+        reason = "the stopping rule fired" if stopped_early else "its episodes are done"
+        self._set_status("finished", f"finished after {self._sim.episode} episodes: {reason}")
+        self._persist(snapshot=True)
+
+    def _fail(self, exc: Exception) -> None:
+        log.error("run %s failed", self.id, exc_info=exc)
+        self._set_status("failed", f"{type(exc).__name__}: {exc}", kind="error")
+        self._persist(snapshot=False)
+        self._publish()
+
+    def _set_status(self, status: RunStatus, message: str = "", kind: str = "status") -> None:
+        self._status = status
+        self._message = message
+        sim = self._sim
+        self.events.add(sim.total_steps, sim.episode, "error" if kind == "error" else "status", message or status)
+
+    def _require(self, allowed: tuple[RunStatus, ...], action: str) -> None:
+        if self._status not in allowed:
+            hint = {
+                "running": "pause it first",
+                "finished": "reset it to run again",
+                "failed": f"it failed ({self._message}); reset it",
+            }.get(self._status, "")
+            raise ConflictError(f"cannot {action} a {self._status} run" + (f": {hint}" if hint else ""))
+
+    def _do_start(self) -> RunView:
+        self._require(("created", "paused"), "start")
+        self._set_status("running", "running")
+        self._next_step_at = time.monotonic()
+        self._persist(snapshot=False)
+        return self._publish()
+
+    def _do_pause(self) -> RunView:
+        self._require(("running",), "pause")
+        self._set_status("paused", f"paused at step {self._sim.total_steps}")
+        self._persist(snapshot=True)
+        return self._publish()
+
+    def _do_reset(self) -> RunView:
+        self._sim = new_simulation(self._spec)
+        self._summary = None
+        self._stop_reference = self._thetas()
+        self.history = History(self._sim.horde.names, self.limits.history, self.limits.history_every)
+        self._set_status("created", "reset")
+        self._persist(snapshot=True)
+        return self._publish()
+
+    def _do_step(self, steps: int) -> RunView:
+        self._require(("created", "paused"), "step")
+        if self._status == "created":
+            self._set_status("paused", "stepped")
+        self._learn(min(steps, self.limits.max_step_request), None)
+        if self._status == "paused":
+            self._persist(snapshot=True)
+        return self._publish()
+
+    def _do_patch(self, set_hz: bool, hz: float | None, behaviour: BehaviourSpec | None) -> RunView:
+        if behaviour is not None:
+            spec = self._respec(behaviour=behaviour.model_dump(by_alias=True))
+            self._spec = spec
+            self._sim.spec = spec
+        if set_hz:
+            self._hz = hz
+            self._next_step_at = time.monotonic()
+        self._persist(snapshot=True)
+        return self._publish()
+
+    def _do_add_demon(self, demon: DemonSpec) -> RunView:
+        self._require(("created", "running", "paused"), "add demons to")
+        if demon.name in self._sim.horde.index:
+            raise ConflictError(f"the run already has a demon {demon.name!r}")
+        demons = [d.model_dump(by_alias=True) for d in self._spec.demons] + [demon.model_dump(by_alias=True)]
+        spec = self._respec(demons=demons)
+        check_limits(spec, self.limits)
+        return self._swap_horde(spec, f"demon {demon.name!r} joined")
+
+    def _do_remove_demon(self, name: str) -> RunView:
+        if name not in self._sim.horde.index:
+            raise NotFoundError(f"run {self.id!r} has no demon {name!r}")
+        self._require(("created", "running", "paused"), "remove demons from")
+        demons = [d.model_dump(by_alias=True) for d in self._spec.demons if d.name != name]
+        try:
+            spec = self._respec(demons=demons)
+        except SpecError as exc:
+            raise ConflictError(f"cannot remove demon {name!r}: {exc.problems[0].msg}") from None
+        return self._swap_horde(spec, f"demon {name!r} left")
+
+    def _respec(self, **changes: Any) -> RunSpec:
+        """The current spec with some top-level fields replaced, validated again."""
+        data = self._spec.model_dump(by_alias=True)
+        data.update(changes)
+        try:
+            return RunSpec.model_validate(data)
+        except ValidationError as exc:
+            raise SpecError.from_validation(exc, ("body",)) from None
+
+    def _swap_horde(self, spec: RunSpec, message: str) -> RunView:
+        """A new Horde for a changed set of demons, keeping every remaining demon's weights."""
+        sim = self._sim
+        horde = Horde(spec)
+        state = horde.carry_over(sim.horde, sim.horde_state, *sim.position)
+        sim.spec, sim.horde, sim.horde_state = spec, horde, state
+        self._spec = spec
+        self.history = self.history.remap(horde.names)
+        self._stop_reference = self._thetas()
+        self.events.add(sim.total_steps, sim.episode, "demon", message)
+        self._persist(snapshot=True)
+        return self._publish()
+
+    def _capture(self) -> Snapshot:
+        return capture(self._sim, self._spec, self._status, self._hz, self._stop_reference)
+
+    def _shutdown(self) -> None:
+        """Save the run (a running one as paused), refuse further commands, and leave the loop."""
+        if self._status == "running":
+            self._set_status("paused", f"paused at step {self._sim.total_steps} when the server stopped")
+        self._persist(snapshot=self._status != "failed")
+        self._publish()
+        with self._gate:
+            self._closed = True
+        while True:
+            try:
+                command = self._commands.get_nowait()
+            except queue.Empty:
+                break
+            if command.future.set_running_or_notify_cancel():
+                command.future.set_exception(NotFoundError(f"run {self.id!r} has been deleted"))
+        raise _Closing
+
+    # ------------------------------------------------------------------------------------------
+    # Publication and persistence
+
+    def _make_view(self) -> RunView:
+        sim = self._sim
+        self._seq += 1
+        return RunView(
+            id=self.id,
+            status=self._status,
+            message=self._message,
+            hz=self._hz,
+            spec=self._spec,
+            horde=sim.horde,
+            horde_state=sim.horde_state,
+            world_state=sim.world_state,
+            episode=sim.episode,
+            total_steps=sim.total_steps,
+            episode_return=sim.episode_return,
+            last_return=sim.last_return,
+            created_at=self._created_at,
+            updated_at=time.time(),
+            summary=self._summary,
+            seq=self._seq,
+        )
+
+    def _publish(self) -> RunView:
+        self.view = self._make_view()
+        return self.view
+
+    def _maybe_snapshot(self) -> None:
+        if self._status == "running" and time.monotonic() - self._last_snapshot >= self.limits.snapshot_every:
+            self._persist(snapshot=True)
+
+    def _persist(self, snapshot: bool) -> None:
+        """Save the run's record (and a snapshot) in one transaction; a storage error is logged, not raised."""
+        if snapshot:
+            self._last_snapshot = time.monotonic()
+        if self._store is None:
+            return
+        sim = self._sim
+        try:
+            record = RunRecord(
+                id=self.id,
+                name=self._spec.name,
+                status=self._status,
+                message=self._message,
+                hz=self._hz,
+                spec=self._spec.model_dump_json(by_alias=True),
+                episode=sim.episode,
+                steps=sim.total_steps,
+                created_at=self._created_at,
+                updated_at=time.time(),
+            )
+            data = to_bytes(self._capture()) if snapshot else None
+            summary = self._summary.to_json() if self._summary is not None else None
+            self._store.save_run(record, data, summary)
+        except Exception as exc:
+            log.error("could not save run %s", self.id, exc_info=exc)
+            self.events.add(sim.total_steps, sim.episode, "error", f"could not save the run: {exc}")

@@ -1,0 +1,85 @@
+"""Reading a run's knowledge without disturbing it: value maps and Monte-Carlo evaluations of a view."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from horde.core.evaluate import Truth, monte_carlo
+from horde.core.world import World
+from horde.errors import NotFoundError, SpecError
+from horde.run_view import RunView
+
+# Positions x demons x actions evaluated in one batch of a value map (bounds its memory).
+MAX_BATCH_NUMBERS = 2_000_000
+
+
+@dataclass(frozen=True)
+class ValueMap:
+    """A demon's prediction at the centres of an N x N grid over the world."""
+
+    xs: np.ndarray  # [N] cell centres along x
+    ys: np.ndarray  # [N] cell centres along y
+    values: np.ndarray  # [N, N]: values[j, i] is the prediction at (xs[i], ys[j])
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """A demon's prediction at a point and the Monte-Carlo truth of its question there."""
+
+    demon: str
+    start: tuple[float, float]
+    prediction: float
+    truth: Truth
+    seed: int
+
+
+def _demon_index(view: RunView, name: str) -> int:
+    if name not in view.horde.index:
+        raise NotFoundError(f"run {view.id!r} has no demon {name!r}")
+    return view.horde.index[name]
+
+
+def value_map(view: RunView, name: str, resolution: int) -> ValueMap:
+    """The demon's prediction over the world on a resolution x resolution grid, with frozen weights."""
+    demon = _demon_index(view, name)
+    world = view.spec.world
+    xs = (np.arange(resolution) + 0.5) * world.width / resolution  # [N]
+    ys = (np.arange(resolution) + 0.5) * world.height / resolution  # [N]
+    gx, gy = np.meshgrid(xs, ys)  # [N, N] each, rows along y
+    px, py = gx.ravel(), gy.ravel()  # [N * N]
+    batch = max(1, MAX_BATCH_NUMBERS // (4 * max(1, view.horde.num_demons)))
+    values = np.empty(len(px))
+    for begin in range(0, len(px), batch):
+        end = begin + batch
+        values[begin:end] = view.horde.forward(view.horde_state, px[begin:end], py[begin:end]).prediction[:, demon]
+    return ValueMap(xs, ys, values.reshape(resolution, resolution))
+
+
+def evaluate(
+    view: RunView, name: str, start: tuple[float, float], episodes: int, cap: int, seed: int | None = None
+) -> Evaluation:
+    """Roll the demon's target policy out `episodes` times from `start` (at most `cap` steps each).
+
+    The rollouts use their own generator (seeded from `seed`, by default from the run's seed and
+    step count), so an evaluation never changes the run's own random stream.
+
+    Raises:
+        NotFoundError: an unknown demon.
+        SpecError: a start outside the world or inside an obstacle (naming the field `from`).
+    """
+    demon = _demon_index(view, name)
+    x, y = start
+    world = World(view.spec.world)
+    if not (0.0 <= x < world.width and 0.0 <= y < world.height):
+        raise SpecError.at(("body", "from"), f"({x}, {y}) lies outside the world [0, {world.width}) x [0, {world.height})")
+    inside = world.inside(np.array([x]), np.array([y]))[0]  # [R]
+    blocked = [world.region_names[r] for r in np.nonzero(inside & world.is_obstacle)[0]]
+    if blocked:
+        raise SpecError.at(("body", "from"), f"({x}, {y}) lies inside obstacle {blocked[0]!r}")
+    seed = seed if seed is not None else int(view.spec.seed * 1_000_003 + view.total_steps) % 2**63
+    rng = np.random.default_rng(seed)
+    prediction = float(view.horde.forward(view.horde_state, np.array([x]), np.array([y])).prediction[0, demon])
+    truth = monte_carlo(view.horde, view.horde_state, name, (x, y), episodes, cap, rng)
+    return Evaluation(name, (x, y), prediction, truth, seed)

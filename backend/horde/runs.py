@@ -1,0 +1,192 @@
+"""The run manager: every live run of the server, created, imported, restored, deleted.
+
+Each run has its own learner thread (`LiveRun`). The manager keeps the table of runs, enforces the
+limits on their number and size, loads the stored runs at start-up (a run that was running when the
+server stopped comes back paused at its last snapshot) and closes every run at shutdown.
+"""
+
+from __future__ import annotations
+
+import logging
+import secrets
+import threading
+from collections.abc import Callable
+
+from horde.errors import BusyError, ConflictError, NotFoundError
+from horde.live_run import LiveRun
+from horde.readout import Evaluation, evaluate
+from horde.run_setup import Limits, check_limits, new_simulation
+from horde.run_view import STATUSES, RunStatus, RunView, Summary
+from horde.snapshot import Snapshot, from_bytes, restore
+from horde.spec import RunSpec
+from horde.store import RunRecord, Store
+
+log = logging.getLogger(__name__)
+
+MAX_EVALUATIONS = 2  # Monte-Carlo evaluations running at once
+
+
+class RunManager:
+    """The runs of one server.
+
+    Args:
+        store: where runs are saved and restored from (None: in memory only).
+        limits: sizes and timings.
+    """
+
+    def __init__(self, store: Store | None = None, limits: Limits | None = None) -> None:
+        self.store = store
+        self.limits = limits or Limits()
+        self._runs: dict[str, LiveRun] = {}
+        self._lock = threading.Lock()
+        self._evaluations = threading.BoundedSemaphore(MAX_EVALUATIONS)
+
+    # ------------------------------------------------------------------------------------------
+    # Life cycle
+
+    def start(self) -> None:
+        """Load the stored runs and start their learner threads."""
+        if self.store is None:
+            return
+        for record in self.store.list_runs():
+            run = self._revive(record)
+            with self._lock:
+                self._runs[run.id] = run
+            run.start_thread()
+
+    def stop(self) -> None:
+        """Close every run (running ones are saved as paused)."""
+        with self._lock:
+            runs = list(self._runs.values())
+            self._runs.clear()
+        for run in runs:
+            run.close()
+
+    def _revive(self, record: RunRecord) -> LiveRun:
+        """A stored run, back from its latest snapshot; a run that cannot be restored comes back failed."""
+        assert self.store is not None
+        summary_text = self.store.load_summary(record.id)
+        summary = Summary.from_json(summary_text) if summary_text else None
+        status: RunStatus = next((s for s in STATUSES if s == record.status), "failed")
+        try:
+            data = self.store.load_snapshot(record.id)
+            if data is None:
+                sim = new_simulation(RunSpec.model_validate_json(record.spec))
+                message = record.message if status == "created" else "no snapshot was saved; it starts afresh"
+                return LiveRun(record.id, sim, self.limits, self.store, message=message, created_at=record.created_at)
+            restored = restore(from_bytes(data))
+        except Exception as exc:
+            log.error("run %s could not be restored", record.id, exc_info=exc)
+            sim = new_simulation(RunSpec.model_validate_json(record.spec))
+            return LiveRun(
+                record.id,
+                sim,
+                self.limits,
+                self.store,
+                status="failed",
+                message=f"could not be restored: {exc}",
+                created_at=record.created_at,
+            )
+        message = record.message
+        if status == "running":
+            status, message = "paused", f"paused at step {restored.sim.total_steps}, its last snapshot, after a restart"
+        return LiveRun(
+            record.id,
+            restored.sim,
+            self.limits,
+            self.store,
+            status=status,
+            hz=record.hz,
+            message=message,
+            created_at=record.created_at,
+            summary=summary,
+            stop_reference=restored.stop_reference,
+        )
+
+    # ------------------------------------------------------------------------------------------
+    # The table of runs
+
+    def list(self) -> list[RunView]:
+        with self._lock:
+            runs = list(self._runs.values())
+        return [run.view for run in runs]
+
+    def get(self, run_id: str) -> LiveRun:
+        with self._lock:
+            run = self._runs.get(run_id)
+        if run is None:
+            raise NotFoundError(f"no run {run_id!r}")
+        return run
+
+    def create(self, spec: RunSpec, hz: float | None = None, start: bool = False) -> RunView:
+        """A new run of the spec (seeded as trial 0 of its protocol), started if asked.
+
+        Raises:
+            SpecError: the spec is larger than the limits allow, or cannot run.
+            ConflictError: there are as many runs as the limits allow.
+        """
+        check_limits(spec, self.limits)
+        sim = new_simulation(spec)
+        run = self._add(lambda run_id: LiveRun(run_id, sim, self.limits, self.store, hz=hz))
+        return run.start() if start else run.view
+
+    def import_snapshot(self, snapshot: Snapshot) -> RunView:
+        """A new run that continues exactly where the snapshot's run stood (paused, or finished)."""
+        check_limits(snapshot.spec, self.limits)
+        restored = restore(snapshot)
+        status = restored.status
+        if status != "finished":
+            status = "paused" if restored.sim.total_steps > 0 else "created"
+        run = self._add(
+            lambda run_id: LiveRun(
+                run_id,
+                restored.sim,
+                self.limits,
+                self.store,
+                status=status,
+                hz=restored.hz,
+                message="imported from a snapshot",
+                stop_reference=restored.stop_reference,
+            )
+        )
+        return run.view
+
+    def _add(self, make: Callable[[str], LiveRun]) -> LiveRun:
+        with self._lock:
+            if len(self._runs) >= self.limits.max_runs:
+                raise ConflictError(f"this server holds at most {self.limits.max_runs} runs; delete one first")
+            run_id = secrets.token_hex(6)
+            run = make(run_id)
+            self._runs[run_id] = run
+        run.save()
+        run.start_thread()
+        return run
+
+    def delete(self, run_id: str) -> None:
+        """Stop a run's thread and forget it, in memory and in the store."""
+        with self._lock:
+            run = self._runs.pop(run_id, None)
+        if run is None:
+            raise NotFoundError(f"no run {run_id!r}")
+        run.close()
+        if self.store is not None:
+            self.store.delete_run(run_id)
+
+    # ------------------------------------------------------------------------------------------
+    # Evaluation (outside the learner thread, on a frozen view)
+
+    def evaluate(
+        self, run_id: str, demon: str, start: tuple[float, float], episodes: int, cap: int, seed: int | None
+    ) -> Evaluation:
+        """Monte-Carlo truth of a demon's question from `start`, beside its prediction there.
+
+        Raises:
+            BusyError: MAX_EVALUATIONS evaluations are already running.
+        """
+        view = self.get(run_id).view
+        if not self._evaluations.acquire(blocking=False):
+            raise BusyError(f"{MAX_EVALUATIONS} evaluations are running already; try again when they are done")
+        try:
+            return evaluate(view, demon, start, episodes, cap, seed)
+        finally:
+            self._evaluations.release()

@@ -1,0 +1,106 @@
+"""TOML scenario files -> RunSpec, with errors that name the file and the line.
+
+A scenario is a RunSpec written in TOML (see scenarios/*.toml). Its name is the file's stem.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+from pydantic import ValidationError
+
+from horde.spec import RunSpec
+
+
+class ScenarioError(ValueError):
+    """A scenario file that cannot be read or does not validate; the message names file and line."""
+
+
+def scenario_dir() -> Path:
+    """`HORDE_SCENARIOS`, else the repository's scenarios/ folder, else ./scenarios."""
+    env = os.environ.get("HORDE_SCENARIOS")
+    if env:
+        return Path(env)
+    repo = Path(__file__).resolve().parents[2] / "scenarios"
+    return repo if repo.is_dir() else Path.cwd() / "scenarios"
+
+
+def _line_of(text: str, loc: tuple[int | str, ...]) -> int | None:
+    """Best guess of the line that holds the last named key of a validation error's location."""
+    keys = [str(part) for part in loc if isinstance(part, str) and not part.startswith(("function-", "is-"))]
+    lines = text.splitlines()
+    for key in reversed(keys):
+        pattern = re.compile(rf"(^|[\s{{,.\[])\"?{re.escape(key)}\"?\s*=|^\s*\[\[?{re.escape(key)}\]\]?")
+        for number, line in enumerate(lines, start=1):
+            if pattern.search(line.split("#", 1)[0]):
+                return number
+    return None
+
+
+def parse_scenario(text: str, source: str = "<scenario>") -> RunSpec:
+    """Validate TOML text as a RunSpec.
+
+    Raises:
+        ScenarioError: "source:line: field: message" for every problem found.
+    """
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"{source}: {exc}") from None
+    try:
+        return RunSpec.model_validate(data)
+    except ValidationError as exc:
+        messages = []
+        for error in exc.errors():
+            field = ".".join(str(p) for p in error["loc"]) or "(top level)"
+            line = _line_of(text, tuple(error["loc"]))
+            where = f"{source}:{line}" if line else source
+            messages.append(f"{where}: {field}: {error['msg']}")
+        raise ScenarioError("\n".join(messages)) from None
+
+
+def load_scenario(path: str | Path) -> RunSpec:
+    """Read and validate one scenario file; a missing `name` becomes the file's stem."""
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise ScenarioError(f"{path}: cannot read: {exc.strerror}") from None
+    spec = parse_scenario(text, str(path))
+    return spec if spec.name else spec.model_copy(update={"name": path.stem})
+
+
+@dataclass(frozen=True)
+class ScenarioInfo:
+    name: str
+    description: str
+    path: Path
+
+
+def list_scenarios(directory: Path | None = None) -> list[ScenarioInfo]:
+    """Every valid scenario in the folder, by name (invalid files raise: scenarios ship tested)."""
+    directory = directory or scenario_dir()
+    found = []
+    for path in sorted(directory.glob("*.toml")):
+        spec = load_scenario(path)
+        found.append(ScenarioInfo(path.stem, spec.description, path))
+    return found
+
+
+def find_scenario(name: str, directory: Path | None = None) -> RunSpec:
+    """Load scenario `name` (a file stem) from the folder.
+
+    Raises:
+        KeyError: no such scenario.
+    """
+    directory = directory or scenario_dir()
+    if not re.fullmatch(r"[A-Za-z0-9_.-]+", name) or name.startswith("."):
+        raise KeyError(name)
+    path = directory / f"{name}.toml"
+    if not path.is_file():
+        raise KeyError(name)
+    return load_scenario(path)

@@ -1,0 +1,251 @@
+"""Snapshots: everything a run needs to resume exactly where it stopped, as one JSON document.
+
+A snapshot holds the spec, the Horde's state (weights, traces, error-measure averages), the world's
+state, the generator's state (`rng.bit_generator.state`), the counters and the stopping rule's
+reference weights. Arrays travel as base64 of their little-endian bytes, so a restored run continues
+bit for bit: the same steps give the same predictions as if it had never stopped. The same document
+is the export format (GET /api/runs/{id}/snapshot), the import format (POST /api/runs/import) and
+what the store keeps on disk (zlib-compressed).
+"""
+
+from __future__ import annotations
+
+import base64
+import binascii
+import math
+import zlib
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import Annotated, Any, Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
+
+from horde.core.simulation import Simulation
+from horde.core.world import WorldState
+from horde.errors import SpecError
+from horde.run_setup import new_simulation
+from horde.run_view import RunStatus
+from horde.spec import RunSpec
+
+FORMAT: Literal["horde-snapshot/1"] = "horde-snapshot/1"
+DTYPES: dict[str, str] = {"float64": "<f8", "int64": "<i8", "bool": "|b1"}
+MAX_ARRAY_CHARS = 100_000_000  # base64 characters of one array (75 MB of data)
+
+
+class EncodedArray(BaseModel):
+    """A numpy array: its dtype, shape and the base64 of its little-endian bytes."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    dtype: Literal["float64", "int64", "bool"]
+    shape: list[Annotated[int, Field(ge=0, le=1_000_000_000)]] = Field(max_length=4)
+    data: str = Field(max_length=MAX_ARRAY_CHARS)
+
+
+class RngState(BaseModel):
+    """The state of a PCG64 generator; the two 128-bit numbers are decimal strings."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    bit_generator: Literal["PCG64"] = "PCG64"
+    state: str = Field(pattern=r"^[0-9]{1,40}$")
+    inc: str = Field(pattern=r"^[0-9]{1,40}$")
+    has_uint32: int = Field(ge=0, le=1)
+    uinteger: int = Field(ge=0, le=2**32 - 1)
+
+
+Number = Annotated[float, Field(allow_inf_nan=False)]
+
+
+class Snapshot(BaseModel):
+    """A run at one step, complete enough to resume it exactly."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    format: Literal["horde-snapshot/1"] = FORMAT
+    spec: RunSpec
+    status: RunStatus
+    hz: Annotated[float, Field(gt=0.0, le=10_000.0)] | None = None
+    episode: int = Field(ge=0)
+    total_steps: int = Field(ge=0)
+    episode_return: Number
+    last_return: Number
+    rng: RngState
+    world: dict[str, EncodedArray]
+    horde: dict[str, EncodedArray | Number]
+    stop_reference: list[EncodedArray] | None = Field(
+        default=None, description="weights at the stopping rule's last check, one array per demon group"
+    )
+
+
+@dataclass
+class Restored:
+    """A simulation rebuilt from a snapshot, with the run-level values that came with it."""
+
+    sim: Simulation
+    status: RunStatus
+    hz: float | None
+    stop_reference: list[np.ndarray] | None
+
+
+# ----------------------------------------------------------------------------------------------
+# Arrays and nested named tuples
+
+
+def encode(array: np.ndarray) -> EncodedArray:
+    name: Literal["float64", "int64", "bool"] = "float64"
+    if array.dtype == np.bool_:
+        name = "bool"
+    elif np.issubdtype(array.dtype, np.integer):
+        name = "int64"
+    data = np.ascontiguousarray(array, dtype=DTYPES[name]).tobytes()
+    return EncodedArray(dtype=name, shape=list(array.shape), data=base64.b64encode(data).decode("ascii"))
+
+
+def decode(encoded: EncodedArray, where: str) -> np.ndarray:
+    """The array back, writable.
+
+    Raises:
+        SpecError: bad base64, or data that does not fill the shape.
+    """
+    try:
+        raw = base64.b64decode(encoded.data, validate=True)
+    except (binascii.Error, ValueError):
+        raise SpecError.at(("body", where), "data is not valid base64") from None
+    dtype = np.dtype(DTYPES[encoded.dtype])
+    count = math.prod(encoded.shape)
+    if len(raw) != count * dtype.itemsize:
+        raise SpecError.at(("body", where), f"{len(raw)} bytes do not fill shape {encoded.shape} of {encoded.dtype}")
+    array = np.frombuffer(raw, dtype=dtype).reshape(encoded.shape)
+    return (array != 0) if encoded.dtype == "bool" else array.astype(dtype.newbyteorder("="), copy=True)
+
+
+def _leaves(value: Any, prefix: str = "") -> Iterator[tuple[str, Any]]:
+    """(dotted path, leaf) of a structure of named tuples and tuples whose leaves are arrays or numbers."""
+    if isinstance(value, tuple):
+        keys = value._fields if hasattr(value, "_fields") else [str(i) for i in range(len(value))]
+        for key, item in zip(keys, value, strict=True):
+            yield from _leaves(item, f"{prefix}.{key}" if prefix else key)
+    else:
+        yield prefix, value
+
+
+def _rebuild(template: Any, leaves: dict[str, Any], prefix: str = "") -> Any:
+    """The structure of `template` with its leaves taken from `leaves` by path."""
+    if isinstance(template, tuple):
+        keys = template._fields if hasattr(template, "_fields") else [str(i) for i in range(len(template))]
+        items = [_rebuild(item, leaves, f"{prefix}.{key}" if prefix else key) for key, item in zip(keys, template, strict=True)]
+        return type(template)(*items) if hasattr(template, "_fields") else tuple(items)
+    return leaves[prefix]
+
+
+def _encode_tree(tree: Any) -> dict[str, Any]:
+    return {path: encode(leaf) if isinstance(leaf, np.ndarray) else float(leaf) for path, leaf in _leaves(tree)}
+
+
+def _decode_tree(template: Any, encoded: dict[str, Any], where: str) -> Any:
+    """Decode every leaf of `template` from `encoded`, checking names, dtypes and shapes.
+
+    Raises:
+        SpecError: a missing, unexpected or misshapen entry.
+    """
+    expected = dict(_leaves(template))
+    unexpected = sorted(set(encoded) - set(expected))
+    if unexpected:
+        raise SpecError.at(("body", where, unexpected[0]), "not part of this spec's state")
+    leaves: dict[str, Any] = {}
+    for path, leaf in expected.items():
+        if path not in encoded:
+            raise SpecError.at(("body", where, path), "missing")
+        value = encoded[path]
+        if isinstance(leaf, np.ndarray):
+            if not isinstance(value, EncodedArray):
+                raise SpecError.at(("body", where, path), "expected an array")
+            array = decode(value, f"{where}.{path}")
+            if array.shape != leaf.shape or array.dtype.kind != leaf.dtype.kind:
+                raise SpecError.at(
+                    ("body", where, path),
+                    f"has shape {list(array.shape)} of {value.dtype}, the spec needs {list(leaf.shape)} of {leaf.dtype}",
+                )
+            leaves[path] = array
+        else:
+            if isinstance(value, EncodedArray):
+                raise SpecError.at(("body", where, path), "expected a number")
+            leaves[path] = float(value)
+    return _rebuild(template, leaves)
+
+
+# ----------------------------------------------------------------------------------------------
+# Capture and restore
+
+
+def capture(
+    sim: Simulation,
+    spec: RunSpec,
+    status: RunStatus,
+    hz: float | None,
+    stop_reference: list[np.ndarray] | None,
+) -> Snapshot:
+    """Everything needed to resume `sim` exactly (call it from the thread that owns `sim`)."""
+    rng = sim.rng.bit_generator.state
+    if rng.get("bit_generator") != "PCG64":
+        raise ValueError(f"snapshots support PCG64 generators only, not {rng.get('bit_generator')}")
+    return Snapshot(
+        spec=spec,
+        status=status,
+        hz=hz,
+        episode=sim.episode,
+        total_steps=sim.total_steps,
+        episode_return=sim.episode_return,
+        last_return=sim.last_return,
+        rng=RngState(
+            state=str(rng["state"]["state"]),
+            inc=str(rng["state"]["inc"]),
+            has_uint32=int(rng["has_uint32"]),
+            uinteger=int(rng["uinteger"]),
+        ),
+        world=_encode_tree(sim.world_state),
+        horde=_encode_tree(sim.horde_state),
+        stop_reference=[encode(a) for a in stop_reference] if stop_reference is not None else None,
+    )
+
+
+def restore(snapshot: Snapshot) -> Restored:
+    """Rebuild the simulation of a snapshot.
+
+    Raises:
+        SpecError: the arrays do not fit the snapshot's spec, or the agent stands outside the world.
+    """
+    spec = snapshot.spec
+    sim = new_simulation(spec)
+    world_state: WorldState = _decode_tree(sim.world_state, snapshot.world, "world")
+    x, y = float(world_state.x[0]), float(world_state.y[0])
+    if not (0.0 <= x < spec.world.width and 0.0 <= y < spec.world.height):
+        raise SpecError.at(("body", "world", "x"), f"the agent at ({x}, {y}) stands outside the world")
+    sim.world_state = world_state
+    sim.horde_state = _decode_tree(sim.horde_state, snapshot.horde, "horde")
+    sim.rng.bit_generator.state = {
+        "bit_generator": "PCG64",
+        "state": {"state": int(snapshot.rng.state), "inc": int(snapshot.rng.inc)},
+        "has_uint32": snapshot.rng.has_uint32,
+        "uinteger": snapshot.rng.uinteger,
+    }
+    sim.episode = snapshot.episode
+    sim.total_steps = snapshot.total_steps
+    sim.episode_return = snapshot.episode_return
+    sim.last_return = snapshot.last_return
+    reference = None
+    if snapshot.stop_reference is not None:
+        template = [lr.theta for lr in sim.horde_state.learners]
+        reference = list(_decode_tree(tuple(template), {str(i): a for i, a in enumerate(snapshot.stop_reference)}, "stop_reference"))
+    return Restored(sim, snapshot.status, snapshot.hz, reference)
+
+
+def to_bytes(snapshot: Snapshot) -> bytes:
+    """The compressed form kept in the store."""
+    return zlib.compress(snapshot.model_dump_json(by_alias=True).encode(), level=1)
+
+
+def from_bytes(data: bytes) -> Snapshot:
+    return Snapshot.model_validate_json(zlib.decompress(data))

@@ -1,0 +1,200 @@
+"""The SQLite store under the data directory: worlds, runs, run summaries and weight snapshots.
+
+One file, `horde.db`, in write-ahead-log mode. Every write is one transaction, so a crash (even
+SIGKILL) leaves either the old or the new row, never half of one; a run's record, its latest
+snapshot and its summary are written together. Only the latest snapshot of a run is kept.
+The store knows JSON text and bytes, not the objects they encode (the run manager does that).
+"""
+
+from __future__ import annotations
+
+import sqlite3
+import threading
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+DB_NAME = "horde.db"
+SCHEMA_VERSION = 1
+SCHEMA = """
+CREATE TABLE IF NOT EXISTS worlds (
+    name TEXT PRIMARY KEY,
+    spec TEXT NOT NULL,
+    created_at REAL NOT NULL,
+    updated_at REAL NOT NULL
+);
+CREATE TABLE IF NOT EXISTS runs (
+    id TEXT PRIMARY KEY,
+    name TEXT,
+    status TEXT NOT NULL,
+    message TEXT NOT NULL,
+    hz REAL,
+    spec TEXT NOT NULL,
+    episode INTEGER NOT NULL,
+    steps INTEGER NOT NULL,
+    created_at REAL NOT NULL,
+    updated_at REAL NOT NULL
+);
+CREATE TABLE IF NOT EXISTS summaries (
+    run_id TEXT PRIMARY KEY REFERENCES runs(id) ON DELETE CASCADE,
+    data TEXT NOT NULL
+);
+CREATE TABLE IF NOT EXISTS snapshots (
+    run_id TEXT PRIMARY KEY REFERENCES runs(id) ON DELETE CASCADE,
+    steps INTEGER NOT NULL,
+    created_at REAL NOT NULL,
+    data BLOB NOT NULL
+);
+"""
+
+
+@dataclass(frozen=True)
+class WorldRecord:
+    name: str
+    spec: str  # WorldSpec JSON
+    created_at: float
+    updated_at: float
+
+
+@dataclass(frozen=True)
+class RunRecord:
+    id: str
+    name: str | None
+    status: str
+    message: str
+    hz: float | None
+    spec: str  # RunSpec JSON
+    episode: int
+    steps: int
+    created_at: float
+    updated_at: float
+
+
+class Store:
+    """A thread-safe handle on the database (one connection, one lock).
+
+    Args:
+        directory: the data directory (created if missing).
+    """
+
+    def __init__(self, directory: Path) -> None:
+        directory.mkdir(parents=True, exist_ok=True)
+        self.path = directory / DB_NAME
+        self._lock = threading.Lock()
+        self._db = sqlite3.connect(self.path, check_same_thread=False, isolation_level=None, timeout=30.0)
+        self._db.execute("PRAGMA journal_mode=WAL")
+        self._db.execute("PRAGMA synchronous=FULL")
+        self._db.execute("PRAGMA foreign_keys=ON")
+        with self._transaction() as db:
+            for statement in SCHEMA.split(";"):
+                if statement.strip():
+                    db.execute(statement)
+            db.execute(f"PRAGMA user_version={SCHEMA_VERSION}")
+
+    def close(self) -> None:
+        with self._lock:
+            self._db.close()
+
+    @contextmanager
+    def _transaction(self) -> Iterator[sqlite3.Connection]:
+        """BEGIN IMMEDIATE ... COMMIT under the lock; ROLLBACK on any error."""
+        with self._lock:
+            self._db.execute("BEGIN IMMEDIATE")
+            try:
+                yield self._db
+            except BaseException:
+                self._db.execute("ROLLBACK")
+                raise
+            self._db.execute("COMMIT")
+
+    def _read(self, sql: str, args: tuple[object, ...] = ()) -> list[Any]:
+        with self._lock:
+            return list(self._db.execute(sql, args).fetchall())
+
+    def integrity_check(self) -> str:
+        """SQLite's verdict on the file: "ok" when sound."""
+        return str(self._read("PRAGMA integrity_check")[0][0])
+
+    # ------------------------------------------------------------------------------------------
+    # Worlds
+
+    def list_worlds(self) -> list[WorldRecord]:
+        rows = self._read("SELECT name, spec, created_at, updated_at FROM worlds ORDER BY name")
+        return [WorldRecord(*row) for row in rows]
+
+    def get_world(self, name: str) -> WorldRecord | None:
+        rows = self._read("SELECT name, spec, created_at, updated_at FROM worlds WHERE name = ?", (name,))
+        return WorldRecord(*rows[0]) if rows else None
+
+    def count_worlds(self) -> int:
+        return int(self._read("SELECT COUNT(*) FROM worlds")[0][0])
+
+    def put_world(self, name: str, spec: str) -> bool:
+        """Insert or replace a world; True when it is new."""
+        now = time.time()
+        with self._transaction() as db:
+            exists = db.execute("SELECT 1 FROM worlds WHERE name = ?", (name,)).fetchone() is not None
+            if exists:
+                db.execute("UPDATE worlds SET spec = ?, updated_at = ? WHERE name = ?", (spec, now, name))
+            else:
+                db.execute("INSERT INTO worlds VALUES (?, ?, ?, ?)", (name, spec, now, now))
+        return not exists
+
+    def delete_world(self, name: str) -> bool:
+        with self._transaction() as db:
+            return db.execute("DELETE FROM worlds WHERE name = ?", (name,)).rowcount > 0
+
+    # ------------------------------------------------------------------------------------------
+    # Runs, summaries, snapshots
+
+    def list_runs(self) -> list[RunRecord]:
+        rows = self._read(
+            "SELECT id, name, status, message, hz, spec, episode, steps, created_at, updated_at FROM runs ORDER BY created_at"
+        )
+        return [RunRecord(*row) for row in rows]
+
+    def save_run(self, record: RunRecord, snapshot: bytes | None = None, summary: str | None = None) -> None:
+        """Write a run's record, and with it (in the same transaction) its snapshot and summary if given."""
+        with self._transaction() as db:
+            db.execute(
+                "INSERT INTO runs VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?) ON CONFLICT(id) DO UPDATE SET "
+                "name = excluded.name, status = excluded.status, message = excluded.message, hz = excluded.hz, "
+                "spec = excluded.spec, episode = excluded.episode, steps = excluded.steps, "
+                "updated_at = excluded.updated_at",
+                (
+                    record.id,
+                    record.name,
+                    record.status,
+                    record.message,
+                    record.hz,
+                    record.spec,
+                    record.episode,
+                    record.steps,
+                    record.created_at,
+                    record.updated_at,
+                ),
+            )
+            if snapshot is not None:
+                db.execute(
+                    "INSERT OR REPLACE INTO snapshots VALUES (?, ?, ?, ?)",
+                    (record.id, record.steps, record.updated_at, snapshot),
+                )
+            if summary is not None:
+                db.execute("INSERT OR REPLACE INTO summaries VALUES (?, ?)", (record.id, summary))
+            elif record.status != "finished":
+                db.execute("DELETE FROM summaries WHERE run_id = ?", (record.id,))
+
+    def delete_run(self, run_id: str) -> None:
+        with self._transaction() as db:
+            db.execute("DELETE FROM runs WHERE id = ?", (run_id,))
+
+    def load_snapshot(self, run_id: str) -> bytes | None:
+        rows = self._read("SELECT data FROM snapshots WHERE run_id = ?", (run_id,))
+        return bytes(rows[0][0]) if rows else None
+
+    def load_summary(self, run_id: str) -> str | None:
+        rows = self._read("SELECT data FROM summaries WHERE run_id = ?", (run_id,))
+        return str(rows[0][0]) if rows else None
