@@ -19,9 +19,9 @@ from horde.spec import RunSpec
 class ProgressBar:
     """A one-line progress bar on a terminal stream (redrawn at most 10 times a second)."""
 
-    def __init__(self, label: str, stream: TextIO = sys.stderr, width: int = 30) -> None:
+    def __init__(self, label: str, stream: TextIO | None = None, width: int = 30) -> None:
         self.label = label
-        self.stream = stream
+        self.stream = stream or sys.stderr
         self.width = width
         self.began = time.perf_counter()
         self.last_draw = 0.0
@@ -52,9 +52,7 @@ def format_results(spec: RunSpec, result: ProtocolResult) -> str:
     header = ("demon", "prediction", "truth (MC)", "± stderr", "error", "error %", "thesis")
     rows = []
     for demon in result.demons:
-        relative = (
-            100 * demon.error / abs(demon.truth) if demon.error is not None and demon.truth else None
-        )
+        relative = 100 * demon.error / abs(demon.truth) if demon.error is not None and demon.truth else None
         rows.append(
             (
                 demon.name,

@@ -50,7 +50,10 @@ def parse_scenario(text: str, source: str = "<scenario>") -> RunSpec:
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise ScenarioError(f"{source}: {exc}") from None
+        message = str(exc)
+        found = re.search(r"\(at line (\d+), column \d+\)", message)
+        number = int(found.group(1)) if found else max(len(text.splitlines()), 1)
+        raise ScenarioError(f"{source}:{number}: invalid TOML: {message}") from None
     try:
         return RunSpec.model_validate(data)
     except ValidationError as exc:

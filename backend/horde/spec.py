@@ -7,6 +7,7 @@ security). The same models validate TOML scenario files and REST bodies.
 
 from __future__ import annotations
 
+import itertools
 import math
 from typing import Annotated, Any, Literal
 
@@ -157,9 +158,7 @@ class Region(Model):
     reward: Finite | IndicatorReward | None = Field(
         default=None, description="terminal regions only: a number or a reward per indicator colour"
     )
-    colors: list[Color] | None = Field(
-        default=None, max_length=MAX_COLORS, description="indicator regions only"
-    )
+    colors: list[Color] | None = Field(default=None, max_length=MAX_COLORS, description="indicator regions only")
 
     @field_validator("rect")
     @classmethod
@@ -289,7 +288,7 @@ class Condition(Model):
     @field_validator("thresholds")
     @classmethod
     def _sorted(cls, thresholds: list[float]) -> list[float]:
-        if any(b <= a for a, b in zip(thresholds, thresholds[1:], strict=False)):
+        if any(b <= a for a, b in itertools.pairwise(thresholds)):
             raise ValueError("thresholds must be strictly increasing")
         return thresholds
 
@@ -560,9 +559,9 @@ def check_demon_graph(spec: RunSpec) -> list[str]:
             raise ValueError(f"the behaviour refers to unknown demon {spec.behaviour.demon!r}")
         if control.learner != "gq":
             raise ValueError(f"the behaviour acts on {control.name!r}, which learns no action values")
-    if spec.protocol.test and spec.protocol.test.behaviour.demon is not None:
-        if spec.protocol.test.behaviour.demon not in by_name:
-            raise ValueError(f"the test behaviour refers to unknown demon {spec.protocol.test.behaviour.demon!r}")
+    test = spec.protocol.test
+    if test and test.behaviour.demon is not None and test.behaviour.demon not in by_name:
+        raise ValueError(f"the test behaviour refers to unknown demon {test.behaviour.demon!r}")
     total = sum((d.features or spec.features).state_size() * (4 if d.learner == "gq" else 1) for d in spec.demons)
     if total > 50 * MAX_FEATURES:
         raise ValueError(f"the demons' weights would hold {total} numbers, more than {50 * MAX_FEATURES}")

@@ -92,7 +92,10 @@ def run_trial(spec: RunSpec, trial: int, progress: Callable[[int], None] | None 
             progress(episodes)
         if stop and episodes % stop.window == 0:
             change = max(
-                (float(np.abs(lr.theta - old).max()) for lr, old in zip(sim.horde_state.learners, reference, strict=True)),
+                (
+                    float(np.abs(lr.theta - old).max())
+                    for lr, old in zip(sim.horde_state.learners, reference, strict=True)
+                ),
                 default=0.0,
             )
             if change < stop.tolerance:
@@ -165,7 +168,5 @@ def aggregate(spec: RunSpec, trials: list[TrialResult]) -> list[DemonResult]:
                 negative=sum(t.counts.negative for t in trials if t.counts),
                 none=sum(t.counts.none for t in trials if t.counts),
             )
-        results.append(
-            DemonResult(name, prediction, truth, stderr, error, spec.thesis.predictions.get(name), counts)
-        )
+        results.append(DemonResult(name, prediction, truth, stderr, error, spec.thesis.predictions.get(name), counts))
     return results

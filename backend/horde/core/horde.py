@@ -197,7 +197,7 @@ class Horde:
             theta, w = learner.theta, learner.w
             if group.reset.any():
                 keep = ~group.reset[:, None]
-                theta, w = theta * keep, w * keep
+                theta, w = np.where(keep, theta, 0.0), np.where(keep, w, 0.0)
             new_learners.append(learners.LearnerState(theta, w, np.zeros_like(learner.e)))
         state = state._replace(learners=tuple(new_learners))
         forward = self.forward(state, np.array([x]), np.array([y]))
@@ -227,7 +227,9 @@ class Horde:
             return value_policy(values, group.policy_kind, group.temperature, group.epsilon)
         pi = np.repeat(group.fixed[None], batch, axis=0)  # [B, Dg, A]
         if own.any():
-            pi[:, own] = value_policy(values[:, own], group.policy_kind[own], group.temperature[own], group.epsilon[own])
+            pi[:, own] = value_policy(
+                values[:, own], group.policy_kind[own], group.temperature[own], group.epsilon[own]
+            )
         if follows.any():
             pi[:, follows] = pi_all[:, group.of_index[follows]]
         return pi

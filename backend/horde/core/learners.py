@@ -84,7 +84,7 @@ def update(
         (new state, delta_t [D]).
     """
     theta, w, e = state
-    num_demons, num_features = theta.shape
+    num_demons = theta.shape[0]
     idx, val = x_t
     bar_idx, bar_val = x_bar_tp1
     for name, array in (("r_tp1", r_tp1), ("z_tp1", z_tp1), ("gamma_t", gamma_t), ("gamma_tp1", gamma_tp1)):
@@ -93,7 +93,10 @@ def update(
     _check("x_t values", val, idx.shape)
 
     delta = (
-        r_tp1 + (1.0 - gamma_tp1) * z_tp1 + gamma_tp1 * dot_sparse(theta, bar_idx, bar_val) - dot_sparse(theta, idx, val)
+        r_tp1
+        + (1.0 - gamma_tp1) * z_tp1
+        + gamma_tp1 * dot_sparse(theta, bar_idx, bar_val)
+        - dot_sparse(theta, idx, val)
     )  # [D]
     trace_scale = np.where(params.rho_in_trace > 0.0, rho_t, 1.0)  # [D]
     e = e * (gamma_t * params.lam * rho_t)[:, None]  # [D, n]

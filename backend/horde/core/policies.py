@@ -71,5 +71,5 @@ def value_policy(q: np.ndarray, kind: np.ndarray, temperature: np.ndarray, epsil
 def sample(probs: np.ndarray, rng: np.random.Generator) -> np.ndarray:
     """One action per row of [B, A] probabilities, drawn with the caller's generator: [B] int64."""
     cdf = np.cumsum(probs, axis=-1)
-    u = rng.random(probs.shape[0])[:, None] * cdf[:, -1:]
+    u = np.asarray(rng.random(probs.shape[0]))[:, None] * cdf[:, -1:]
     return np.minimum((u >= cdf).sum(axis=-1), probs.shape[-1] - 1).astype(np.int64)

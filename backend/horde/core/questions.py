@@ -13,8 +13,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from horde.spec import AddExpr, Expr, IfExpr, MaxExpr, MinExpr, MulExpr, PredictionExpr, SensorExpr
+from horde.spec import AddExpr, Expr, IfExpr, MaxExpr, MinExpr, MulExpr, PredictionExpr, SensorExpr, expr_children
 
+NODE_KINDS = ("const", "sensor", "prediction", "add", "mul", "min", "max", "if")
+_OPERATORS: dict[type, str] = {AddExpr: "add", MulExpr: "mul", MinExpr: "min", MaxExpr: "max"}
 _REDUCERS = {"add": np.add, "mul": np.multiply, "min": np.minimum, "max": np.maximum}
 
 
@@ -70,14 +72,9 @@ class Program:
             kind, arg = "if", None
             children = [self._node(expr.if_), self._node(expr.then), self._node(expr.else_)]
         else:
-            kind, items = {
-                AddExpr: ("add", getattr(expr, "add", None)),
-                MulExpr: ("mul", getattr(expr, "mul", None)),
-                MinExpr: ("min", getattr(expr, "min", None)),
-                MaxExpr: ("max", getattr(expr, "max", None)),
-            }[type(expr)]
+            kind = _OPERATORS[type(expr)]
             arg = None
-            children = [self._node(child) for child in items or []]
+            children = [self._node(child) for child in expr_children(expr)]
         key = (kind, arg, tuple(children))
         if key in self._keys:
             return self._keys[key]
@@ -108,6 +105,21 @@ class Program:
                 level = _Level(level.reduce, (np.array(branches, dtype=np.int64), c, t, e))
             levels.append(level)
         return levels
+
+    def table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The node table for compiled kernels: (kind codes [N], argument [N], child starts [N + 1],
+        children [C]). Children always come before their parent; kind codes index NODE_KINDS."""
+        kinds = np.array([NODE_KINDS.index(k) for k in self._kinds], dtype=np.int64)
+        argument = np.zeros(self.num_nodes)
+        children: list[int] = []
+        starts = [0]
+        for i, (kind, arg) in enumerate(zip(self._kinds, self._args, strict=True)):
+            if kind in ("const", "sensor", "prediction"):
+                argument[i] = float(arg)  # type: ignore[arg-type]
+            else:
+                children.extend(arg)  # type: ignore[arg-type]
+            starts.append(len(children))
+        return kinds, argument, np.array(starts, dtype=np.int64), np.array(children, dtype=np.int64)
 
     def evaluate(self, sensors: np.ndarray, predictions: np.ndarray | None = None) -> np.ndarray:
         """Values of every expression.

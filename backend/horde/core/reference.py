@@ -212,7 +212,9 @@ class ReferenceHorde:
             lam = d.lambda_ if d.lambda_ is not None else spec.learning.lambda_
             alpha = (d.alpha if d.alpha is not None else spec.learning.alpha) / k
             alpha_w = (d.alpha_w if d.alpha_w is not None else spec.learning.alpha_w) / k
-            self.demons[d.name] = ReferenceDemon(d, features, lam, alpha, alpha_w, np.zeros(n), np.zeros(n), np.zeros(n))
+            self.demons[d.name] = ReferenceDemon(
+                d, features, lam, alpha, alpha_w, np.zeros(n), np.zeros(n), np.zeros(n)
+            )
 
     def _phi_state(self, demon: ReferenceDemon, x: float, y: float) -> np.ndarray:
         condition = demon.features.condition
@@ -256,7 +258,9 @@ class ReferenceHorde:
             demon.pi_t = self._policy(demon, demon.phi_state_t)
             demon.prediction = self._prediction(demon, demon.phi_state_t, demon.pi_t)
 
-    def learn(self, action: int, b_prob: float, x: float, y: float, sensors: dict[str, float], terminated: bool) -> None:
+    def learn(
+        self, action: int, b_prob: float, x: float, y: float, sensors: dict[str, float], terminated: bool
+    ) -> None:
         """One transition for every demon, in dependency order."""
         predictions = {name: d.prediction for name, d in self.demons.items()}
         for name in self.order:

@@ -58,9 +58,7 @@ class World:
         indicator_slot = {regions[i].name: slot for slot, i in enumerate(self.indicator_regions)}
         self.color_names = [[c.name for c in regions[i].colors or []] for i in self.indicator_regions]
         self.color_values = [np.array([c.value for c in regions[i].colors or []]) for i in self.indicator_regions]
-        self.color_probs = [
-            np.array([c.probability for c in regions[i].colors or []]) for i in self.indicator_regions
-        ]
+        self.color_probs = [np.array([c.probability for c in regions[i].colors or []]) for i in self.indicator_regions]
         # Terminal rewards: a constant, or a table over one indicator's colours.
         num_regions = len(regions)
         max_colors = max((len(v) for v in self.color_values), default=1)
@@ -145,9 +143,7 @@ class World:
                 return x, y
         raise ValueError("the start rectangle is (almost) entirely blocked or terminal")
 
-    def step(
-        self, state: WorldState, actions: np.ndarray, rng: np.random.Generator
-    ) -> tuple[WorldState, Transition]:
+    def step(self, state: WorldState, actions: np.ndarray, rng: np.random.Generator) -> tuple[WorldState, Transition]:
         """One transition for every agent: slip, noise, blocking, rewards, termination, truncation."""
         actions = np.asarray(actions, dtype=np.int64)
         batch = len(actions)
@@ -201,9 +197,7 @@ class World:
             np.where(transition.inside[:, region], self.color_values[slot][state.colors[:, slot]], 0.0)
             for slot, region in enumerate(self.indicator_regions)
         ]
-        return np.column_stack(
-            [*columns, inside, *color_columns, transition.terminated.astype(float)]
-        )  # [B, S]
+        return np.column_stack([*columns, inside, *color_columns, transition.terminated.astype(float)])  # [B, S]
 
     def start_sensors(self, state: WorldState) -> np.ndarray:
         """Sensors at an episode's first state (no transition yet: bump, reward and terminal are 0)."""
