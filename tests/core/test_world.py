@@ -1,4 +1,4 @@
-"""The continuous grid world (DESIGN section 2): moves, blocking, termination, colours, slip, noise, sensors."""
+"""The continuous grid world (DESIGN section 2): moves, walls, termination, colours, slip, noise, sensors."""
 
 from __future__ import annotations
 
@@ -31,7 +31,13 @@ REGIONS = [
 
 
 def make_world(**overrides: object) -> World:
-    fields: dict[str, object] = {"width": 500, "height": 500, "step": 100, "start": [0, 0], "regions": REGIONS}
+    fields: dict[str, object] = {
+        "width": 500,
+        "height": 500,
+        "step": 100,
+        "start": [0, 0],
+        "regions": REGIONS,
+    }
     fields.update(overrides)
     return World(WorldSpec.model_validate(fields))
 
@@ -75,7 +81,12 @@ def test_moving_into_an_obstacle_bumps_and_stays():
     # The wall is [100, 200, 200, 300]; (200, 200) is outside it (x1 is exclusive).
     state = at(world, [(100, 100), (0, 200), (200, 200), (200, 100)])
     nxt, tr = world.step(state, np.array([UP, RIGHT, LEFT, UP]), np.random.default_rng(0))
-    assert list(zip(nxt.x.tolist(), nxt.y.tolist(), strict=True)) == [(100, 100), (0, 200), (200, 200), (200, 200)]
+    assert list(zip(nxt.x.tolist(), nxt.y.tolist(), strict=True)) == [
+        (100, 100),
+        (0, 200),
+        (200, 200),
+        (200, 200),
+    ]
     assert tr.bump.tolist() == [1, 1, 1, 0]
 
 
@@ -98,7 +109,7 @@ def test_terminated_and_truncated_are_kept_apart():
     # agent 2 enters the goal early; agent 3 moves without ending anything.
     state = at(world, [(400, 300), (0, 0), (400, 300), (0, 0)])
     state = state._replace(steps=np.array([2, 2, 0, 0]))
-    nxt, tr = world.step(state, np.array([UP, RIGHT, UP, RIGHT]), rng)
+    _, tr = world.step(state, np.array([UP, RIGHT, UP, RIGHT]), rng)
     assert tr.terminated.tolist() == [True, False, True, False]
     assert tr.truncated.tolist() == [False, True, False, False]
     assert tr.reward.tolist() == pytest.approx([-0.01 + 1.0, -0.01, -0.01 + 1.0, -0.01])
@@ -157,7 +168,7 @@ def test_slip_goes_to_each_perpendicular_action_half_of_the_time(action: int, ex
     world = make_world(slip=0.3, regions=[])
     n = 40_000
     state = at(world, [(200, 200)] * n)
-    nxt, tr = world.step(state, np.full(n, action), np.random.default_rng(3))
+    nxt, _ = world.step(state, np.full(n, action), np.random.default_rng(3))
     dx, dy = nxt.x - 200, nxt.y - 200
     moved = {UP: (dx == 0) & (dy == 100), DOWN: (dx == 0) & (dy == -100)}
     moved |= {LEFT: (dx == -100) & (dy == 0), RIGHT: (dx == 100) & (dy == 0)}
@@ -204,7 +215,9 @@ def _trajectory(seed: int, steps: int = 200) -> np.ndarray:
         done = tr.terminated | tr.truncated
         if done.any():
             fresh = world.reset(rng, 3)
-            state = type(state)(*(np.where(done if a.ndim == 1 else done[:, None], f, a) for a, f in zip(state, fresh, strict=True)))
+            state = type(state)(
+                *(np.where(done if a.ndim == 1 else done[:, None], f, a) for a, f in zip(state, fresh, strict=True))
+            )
     return np.array(out)
 
 

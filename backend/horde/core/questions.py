@@ -24,8 +24,8 @@ _REDUCERS = {"add": np.add, "mul": np.multiply, "min": np.minimum, "max": np.max
 class _Level:
     """The operator nodes of one height, grouped by operator."""
 
-    reduce: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]] = field(default_factory=dict)
-    # op -> (output nodes [m], flattened children [c], segment starts [m])
+    reduce: dict[tuple[str, int], tuple[np.ndarray, list[np.ndarray]]] = field(default_factory=dict)
+    # (op, arity) -> (output nodes [m], for each child position j the j-th children [m])
     branch: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
     # (output nodes, condition nodes, then nodes, else nodes)
 
@@ -85,20 +85,23 @@ class Program:
         self._heights.append(1 + max((self._heights[c] for c in children), default=-1))
         return index
 
+    def _children(self, node: int) -> list[int]:
+        arg = self._args[node]
+        return arg if isinstance(arg, list) else []
+
     def _build_levels(self) -> list[_Level]:
         heights = np.array(self._heights, dtype=np.int64)
         levels = []
         for height in range(1, int(heights.max(initial=0)) + 1):
             level = _Level()
             nodes = [i for i in range(len(self._kinds)) if heights[i] == height]
-            for op in _REDUCERS:
-                mine = [i for i in nodes if self._kinds[i] == op]
-                if not mine:
-                    continue
-                kids = [self._args[i] for i in mine]
-                flat = np.array([c for ks in kids for c in ks], dtype=np.int64)  # type: ignore[attr-defined]
-                starts = np.cumsum([0] + [len(ks) for ks in kids[:-1]]).astype(np.int64)  # type: ignore[arg-type]
-                level.reduce[op] = (np.array(mine, dtype=np.int64), flat, starts)
+            by_shape: dict[tuple[str, int], list[int]] = {}
+            for i in nodes:
+                if self._kinds[i] in _REDUCERS:
+                    by_shape.setdefault((self._kinds[i], len(self._children(i))), []).append(i)
+            for (op, arity), mine in by_shape.items():
+                columns = [np.array([self._children(i)[j] for i in mine], dtype=np.int64) for j in range(arity)]
+                level.reduce[(op, arity)] = (np.array(mine, dtype=np.int64), columns)
             branches = [i for i in nodes if self._kinds[i] == "if"]
             if branches:
                 c, t, e = (np.array([self._args[i][j] for i in branches]) for j in range(3))  # type: ignore[index]
@@ -140,8 +143,12 @@ class Program:
                 raise ValueError("these expressions read predictions; pass them")
             values[:, self._prediction_nodes] = predictions[:, self._prediction_columns]
         for level in self._levels:
-            for op, (nodes, children, starts) in level.reduce.items():
-                values[:, nodes] = _REDUCERS[op].reduceat(values[:, children], starts, axis=1)
+            for (op, _), (nodes, columns) in level.reduce.items():
+                # A left fold, child by child, so that sums add in the order written (as the reference does).
+                acc = values[:, columns[0]]
+                for column in columns[1:]:
+                    acc = _REDUCERS[op](acc, values[:, column])
+                values[:, nodes] = acc
             if level.branch is not None:
                 nodes, cond, then, other = level.branch
                 values[:, nodes] = np.where(values[:, cond] != 0.0, values[:, then], values[:, other])
