@@ -30,7 +30,7 @@ class History:
     Args:
         names: the demons, in the Horde's order.
         capacity: rows asked for (reduced to fit `BUDGET` when there are many demons).
-        every: record one row every `every` steps.
+        every: at least this many steps between two rows.
     """
 
     def __init__(self, names: list[str], capacity: int, every: int = 1) -> None:
@@ -42,10 +42,6 @@ class History:
         self._steps = np.zeros(self.rows, dtype=np.int64)  # [T]
         self._data = np.full((len(QUANTITIES), self.rows, len(self.names)), np.nan)  # [Q, T, D]
         self._count = 0  # rows written so far (the next row goes to count % rows)
-
-    def due(self, step: int) -> bool:
-        """Whether the row of this step should be recorded."""
-        return step % self.every == 0
 
     def record(self, step: int, *values: np.ndarray) -> None:
         """Write one row: `values` are [D] arrays in the order of QUANTITIES."""

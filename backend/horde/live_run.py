@@ -16,6 +16,7 @@ numerical accident: an exception while learning marks the run `failed` with the 
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import queue
 import threading
@@ -29,13 +30,14 @@ import numpy as np
 from pydantic import ValidationError
 
 from horde.core.experiment import start_point
-from horde.core.horde import Horde
 from horde.core.simulation import Simulation
+from horde.core.world import WorldState
 from horde.errors import BusyError, ConflictError, NotFoundError, SpecError
 from horde.events import EventLog
 from horde.history import History
 from horde.run_setup import Limits, check_limits, new_simulation
 from horde.run_view import RunStatus, RunView, Summary
+from horde.sim_tools import freeze, rebuild
 from horde.snapshot import Snapshot, capture, to_bytes
 from horde.spec import BehaviourSpec, DemonSpec, RunSpec
 from horde.store import RunRecord, Store
@@ -45,6 +47,11 @@ log = logging.getLogger(__name__)
 T = TypeVar("T")
 
 CHUNK_SECONDS = 0.02  # full speed: learn this long between looks at the command queue
+# One call into the simulation takes about this long. The compiled loop holds the GIL for a whole call,
+# so this bounds how long the server's event loop (requests, streams) can wait for it.
+BATCH_SECONDS = 0.002
+MAX_BATCH = 100_000
+PUBLISH_INTERVAL = 1.0 / 60.0  # while running, views are published at most this often
 MAX_LAG = 0.1  # hz pacing: time lost beyond this is not caught up
 COMMAND_TIMEOUT = 600.0  # a command waits this long for the learner thread at most
 
@@ -55,7 +62,7 @@ class _Command:
     future: Future[Any]
 
 
-class _Closing(Exception):
+class _ShutdownError(Exception):
     """Raised in the learner thread by the shutdown command to leave the loop."""
 
 
@@ -103,6 +110,10 @@ class LiveRun:
         self._closed = False
         self._thread = threading.Thread(target=self._loop, name=f"horde-run-{run_id}", daemon=True)
         self._seq = 0
+        self._batch = 1
+        self._last_row = -(2**62)
+        self._next_row = 0.0
+        self._next_publish = 0.0
         self._last_snapshot = time.monotonic()
         self._next_step_at = 0.0
         if status == "finished" and summary is None:
@@ -123,10 +134,8 @@ class LiveRun:
         """Stop the learner thread; a running run is saved as paused with a fresh snapshot."""
         if not self._thread.is_alive():
             return
-        try:
+        with contextlib.suppress(NotFoundError, BusyError):
             self.call(self._shutdown, timeout)
-        except (NotFoundError, BusyError):
-            pass
         self._thread.join(timeout)
 
     def is_alive(self) -> bool:
@@ -165,7 +174,9 @@ class LiveRun:
     def step(self, steps: int) -> RunView:
         return self.call(lambda: self._do_step(steps))
 
-    def patch(self, *, set_hz: bool = False, hz: float | None = None, behaviour: BehaviourSpec | None = None) -> RunView:
+    def patch(
+        self, *, set_hz: bool = False, hz: float | None = None, behaviour: BehaviourSpec | None = None
+    ) -> RunView:
         """Change the speed (when `set_hz`; None is full speed) and/or the behaviour policy."""
         return self.call(lambda: self._do_patch(set_hz, hz, behaviour))
 
@@ -190,7 +201,7 @@ class LiveRun:
                     self._run_chunk()
                 else:
                     self._run_paced()
-            except _Closing:
+            except _ShutdownError:
                 return
             except Exception as exc:  # the learner thread never dies
                 self._fail(exc)
@@ -200,7 +211,7 @@ class LiveRun:
             return
         try:
             result = command.action()
-        except _Closing:
+        except _ShutdownError:
             command.future.set_result(None)
             raise
         except BaseException as exc:
@@ -222,7 +233,7 @@ class LiveRun:
         if self._status != "running" or self._hz is not None:
             return
         self._learn(None, time.monotonic() + CHUNK_SECONDS)
-        self._publish()
+        self._publish(force=False)
         self._maybe_snapshot()
 
     def _run_paced(self) -> None:
@@ -244,20 +255,31 @@ class LiveRun:
         due = min(1 + int((now - self._next_step_at) * hz), max(1, int(hz * CHUNK_SECONDS)))
         self._learn(due, None)
         self._next_step_at = max(self._next_step_at + due / hz, now - MAX_LAG)
-        self._publish()
+        self._publish(force=False)
         self._maybe_snapshot()
 
     def _learn(self, steps: int | None, deadline: float | None) -> None:
-        """Take `steps` steps, or step until `deadline`, or until the run finishes; a failure marks it failed."""
+        """Take `steps` steps, or step until `deadline`, or until the run finishes; a failure marks it failed.
+
+        Steps go in batches (`Simulation.run`) that end at every episode end, so the protocol's episode
+        loop sees each episode as `run_trial` does; batches are sized to take about BATCH_SECONDS. A
+        history row is taken after a batch when `history.every` steps and `limits.history_interval`
+        seconds have passed since the last row: every step of a run paced by hz (up to 1/interval
+        steps per second), a sample of a run at full speed.
+        """
         sim = self._sim
         behaviour = self._spec.behaviour
         done = 0
         try:
             while True:
-                episode = sim.episode
-                sim.step(behaviour)
-                done += 1
-                if self.history.due(sim.total_steps):
+                batch = self._batch if steps is None else min(self._batch, steps - done)
+                episode, before = sim.episode, sim.total_steps
+                began = time.perf_counter()
+                sim.run(batch, 1, behaviour)
+                taken = sim.total_steps - before
+                self._adapt_batch(taken, time.perf_counter() - began)
+                done += taken
+                if sim.total_steps - self._last_row >= self.history.every and time.monotonic() >= self._next_row:
                     self._record()
                 if sim.episode != episode:
                     self._episode_ended()
@@ -265,20 +287,31 @@ class LiveRun:
                         return
                 if steps is not None and done >= steps:
                     return
-                if deadline is not None and done % 8 == 0 and time.monotonic() >= deadline:
+                if deadline is not None and time.monotonic() >= deadline:
                     return
         except Exception as exc:
             self._fail(exc)
 
+    def _adapt_batch(self, taken: int, seconds: float) -> None:
+        if taken > 0 and seconds > 0.0:
+            self._batch = max(1, min(MAX_BATCH, int(taken / seconds * BATCH_SECONDS)))
+
     def _record(self) -> None:
-        hs, horde = self._sim.horde_state, self._sim.horde
-        self.history.record(self._sim.total_steps, hs.prediction, hs.cumulant, hs.delta, horde.rupee(hs), horde.ude(hs))
+        sim = self._sim
+        hs, horde = sim.horde_state, sim.horde
+        self.history.record(sim.total_steps, hs.prediction, hs.cumulant, hs.delta, horde.rupee(hs), horde.ude(hs))
+        self._last_row = sim.total_steps
+        self._next_row = time.monotonic() + self.limits.history_interval
 
     def _episode_ended(self) -> None:
         """The protocol's episode loop, as `run_trial` runs it: the stopping rule, then the episode count."""
         sim = self._sim
         self.events.add(
-            sim.total_steps, sim.episode, "episode", f"episode {sim.episode} ended, return {sim.last_return:.4g}", sim.last_return
+            sim.total_steps,
+            sim.episode,
+            "episode",
+            f"episode {sim.episode} ended, return {sim.last_return:.4g}",
+            sim.last_return,
         )
         protocol = self._spec.protocol
         if protocol.episodes == 0:
@@ -356,6 +389,7 @@ class LiveRun:
 
     def _do_reset(self) -> RunView:
         self._sim = new_simulation(self._spec)
+        self._last_row = -(2**62)
         self._summary = None
         self._stop_reference = self._thetas()
         self.history = History(self._sim.horde.names, self.limits.history, self.limits.history_every)
@@ -414,12 +448,9 @@ class LiveRun:
 
     def _swap_horde(self, spec: RunSpec, message: str) -> RunView:
         """A new Horde for a changed set of demons, keeping every remaining demon's weights."""
-        sim = self._sim
-        horde = Horde(spec)
-        state = horde.carry_over(sim.horde, sim.horde_state, *sim.position)
-        sim.spec, sim.horde, sim.horde_state = spec, horde, state
+        sim = self._sim = rebuild(self._sim, spec)
         self._spec = spec
-        self.history = self.history.remap(horde.names)
+        self.history = self.history.remap(sim.horde.names)
         self._stop_reference = self._thetas()
         self.events.add(sim.total_steps, sim.episode, "demon", message)
         self._persist(snapshot=True)
@@ -443,7 +474,7 @@ class LiveRun:
                 break
             if command.future.set_running_or_notify_cancel():
                 command.future.set_exception(NotFoundError(f"run {self.id!r} has been deleted"))
-        raise _Closing
+        raise _ShutdownError
 
     # ------------------------------------------------------------------------------------------
     # Publication and persistence
@@ -458,8 +489,10 @@ class LiveRun:
             hz=self._hz,
             spec=self._spec,
             horde=sim.horde,
-            horde_state=sim.horde_state,
-            world_state=sim.world_state,
+            horde_state=(state := freeze(sim.horde_state)),
+            rupee=sim.horde.rupee(state),
+            ude=sim.horde.ude(state),
+            world_state=WorldState(*(np.array(a, copy=True) for a in sim.world_state)),
             episode=sim.episode,
             total_steps=sim.total_steps,
             episode_return=sim.episode_return,
@@ -470,8 +503,13 @@ class LiveRun:
             seq=self._seq,
         )
 
-    def _publish(self) -> RunView:
-        self.view = self._make_view()
+    def _publish(self, force: bool = True) -> RunView:
+        """Make the current state visible to readers (while running: at most every PUBLISH_INTERVAL)."""
+        began = time.monotonic()
+        if force or began >= self._next_publish or self._status != self.view.status:
+            self.view = self._make_view()
+            # Copying a large Horde takes time: keep it under about 5 % of the learner thread's.
+            self._next_publish = began + max(PUBLISH_INTERVAL, 20 * (time.monotonic() - began))
         return self.view
 
     def _maybe_snapshot(self) -> None:

@@ -73,7 +73,9 @@ def evaluate(
     x, y = start
     world = World(view.spec.world)
     if not (0.0 <= x < world.width and 0.0 <= y < world.height):
-        raise SpecError.at(("body", "from"), f"({x}, {y}) lies outside the world [0, {world.width}) x [0, {world.height})")
+        raise SpecError.at(
+            ("body", "from"), f"({x}, {y}) lies outside the world [0, {world.width}) x [0, {world.height})"
+        )
     inside = world.inside(np.array([x]), np.array([y]))[0]  # [R]
     blocked = [world.region_names[r] for r in np.nonzero(inside & world.is_obstacle)[0]]
     if blocked:

@@ -17,10 +17,11 @@ class Limits:
 
     max_runs: int = 32
     max_demons: int = 1_000
-    max_weights: int = 5_000_000  # numbers in one weight array of all demons together (theta; w, e, h alike)
+    max_weights: int = 2_000_000  # numbers in one weight array of all demons together (theta; w, e, h alike)
     max_step_request: int = 10_000  # steps of one POST /step
     history: int = 10_000  # rows of each run's history
-    history_every: int = 1
+    history_every: int = 1  # steps between two history rows at least
+    history_interval: float = 0.005  # seconds between two history rows at least
     snapshot_every: float = 30.0  # seconds between snapshots of a running run
     events: int = 256
 

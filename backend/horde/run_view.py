@@ -10,6 +10,8 @@ import json
 from dataclasses import asdict, dataclass
 from typing import Literal
 
+import numpy as np
+
 from horde.core.horde import Horde, HordeState
 from horde.core.world import WorldState
 from horde.spec import RunSpec
@@ -48,7 +50,9 @@ class RunView:
     hz: float | None
     spec: RunSpec
     horde: Horde
-    horde_state: HordeState
+    horde_state: HordeState  # a copy, never changed
+    rupee: np.ndarray  # [D]
+    ude: np.ndarray  # [D]
     world_state: WorldState
     episode: int  # episodes completed
     total_steps: int

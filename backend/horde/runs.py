@@ -89,7 +89,10 @@ class RunManager:
             )
         message = record.message
         if status == "running":
-            status, message = "paused", f"paused at step {restored.sim.total_steps}, its last snapshot, after a restart"
+            status, message = (
+                "paused",
+                f"paused at step {restored.sim.total_steps}, its last snapshot, after a restart",
+            )
         return LiveRun(
             record.id,
             restored.sim,

@@ -26,6 +26,7 @@ from horde.core.world import WorldState
 from horde.errors import SpecError
 from horde.run_setup import new_simulation
 from horde.run_view import RunStatus
+from horde.sim_tools import set_returns
 from horde.spec import RunSpec
 
 FORMAT: Literal["horde-snapshot/1"] = "horde-snapshot/1"
@@ -103,7 +104,7 @@ def encode(array: np.ndarray) -> EncodedArray:
     return EncodedArray(dtype=name, shape=list(array.shape), data=base64.b64encode(data).decode("ascii"))
 
 
-def decode(encoded: EncodedArray, where: str) -> np.ndarray:
+def decode(encoded: EncodedArray, loc: tuple[str | int, ...]) -> np.ndarray:
     """The array back, writable.
 
     Raises:
@@ -112,11 +113,11 @@ def decode(encoded: EncodedArray, where: str) -> np.ndarray:
     try:
         raw = base64.b64decode(encoded.data, validate=True)
     except (binascii.Error, ValueError):
-        raise SpecError.at(("body", where), "data is not valid base64") from None
+        raise SpecError.at(loc, "data is not valid base64") from None
     dtype = np.dtype(DTYPES[encoded.dtype])
     count = math.prod(encoded.shape)
     if len(raw) != count * dtype.itemsize:
-        raise SpecError.at(("body", where), f"{len(raw)} bytes do not fill shape {encoded.shape} of {encoded.dtype}")
+        raise SpecError.at(loc, f"{len(raw)} bytes do not fill shape {encoded.shape} of {encoded.dtype}")
     array = np.frombuffer(raw, dtype=dtype).reshape(encoded.shape)
     return (array != 0) if encoded.dtype == "bool" else array.astype(dtype.newbyteorder("="), copy=True)
 
@@ -135,7 +136,10 @@ def _rebuild(template: Any, leaves: dict[str, Any], prefix: str = "") -> Any:
     """The structure of `template` with its leaves taken from `leaves` by path."""
     if isinstance(template, tuple):
         keys = template._fields if hasattr(template, "_fields") else [str(i) for i in range(len(template))]
-        items = [_rebuild(item, leaves, f"{prefix}.{key}" if prefix else key) for key, item in zip(keys, template, strict=True)]
+        items = [
+            _rebuild(item, leaves, f"{prefix}.{key}" if prefix else key)
+            for key, item in zip(keys, template, strict=True)
+        ]
         return type(template)(*items) if hasattr(template, "_fields") else tuple(items)
     return leaves[prefix]
 
@@ -162,11 +166,12 @@ def _decode_tree(template: Any, encoded: dict[str, Any], where: str) -> Any:
         if isinstance(leaf, np.ndarray):
             if not isinstance(value, EncodedArray):
                 raise SpecError.at(("body", where, path), "expected an array")
-            array = decode(value, f"{where}.{path}")
+            array = decode(value, ("body", where, path))
             if array.shape != leaf.shape or array.dtype.kind != leaf.dtype.kind:
                 raise SpecError.at(
                     ("body", where, path),
-                    f"has shape {list(array.shape)} of {value.dtype}, the spec needs {list(leaf.shape)} of {leaf.dtype}",
+                    f"has shape {list(array.shape)} of {value.dtype}, "
+                    f"the spec needs {list(leaf.shape)} of {leaf.dtype}",
                 )
             leaves[path] = array
         else:
@@ -233,12 +238,13 @@ def restore(snapshot: Snapshot) -> Restored:
     }
     sim.episode = snapshot.episode
     sim.total_steps = snapshot.total_steps
-    sim.episode_return = snapshot.episode_return
-    sim.last_return = snapshot.last_return
+    set_returns(sim, snapshot.episode_return, snapshot.last_return)
     reference = None
     if snapshot.stop_reference is not None:
         template = [lr.theta for lr in sim.horde_state.learners]
-        reference = list(_decode_tree(tuple(template), {str(i): a for i, a in enumerate(snapshot.stop_reference)}, "stop_reference"))
+        reference = list(
+            _decode_tree(tuple(template), {str(i): a for i, a in enumerate(snapshot.stop_reference)}, "stop_reference")
+        )
     return Restored(sim, snapshot.status, snapshot.hz, reference)
 
 

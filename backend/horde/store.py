@@ -151,9 +151,8 @@ class Store:
     # Runs, summaries, snapshots
 
     def list_runs(self) -> list[RunRecord]:
-        rows = self._read(
-            "SELECT id, name, status, message, hz, spec, episode, steps, created_at, updated_at FROM runs ORDER BY created_at"
-        )
+        columns = "id, name, status, message, hz, spec, episode, steps, created_at, updated_at"
+        rows = self._read(f"SELECT {columns} FROM runs ORDER BY created_at")
         return [RunRecord(*row) for row in rows]
 
     def save_run(self, record: RunRecord, snapshot: bytes | None = None, summary: str | None = None) -> None:

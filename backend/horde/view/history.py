@@ -29,8 +29,6 @@ class Ring:
     def columns(self, demons: list[int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Copies, oldest first: steps [t], predictions [t, d] and RUPEE [t, d] of the given demons."""
         length = len(self.steps)
-        if self.count <= length:
-            order = np.arange(self.count)
-        else:
-            order = (np.arange(length) + self.count) % length  # oldest row first
+        full = self.count > length
+        order = (np.arange(length) + self.count) % length if full else np.arange(self.count)  # oldest first
         return self.steps[order], self.predictions[order][:, demons], self.rupee[order][:, demons]

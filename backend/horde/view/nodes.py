@@ -23,7 +23,7 @@ class Node:
     - lines / arrows: points [N, 2, 3] (start and end of each segment or arrow), color,
       size[0] (line thickness in pixels, or arrow shaft radius in scene units).
     - image: position (centre), size (width, height, 0), image [H, W, 4] RGBA uint8, row 0 at the top.
-    - mesh: points [V, 3] vertices, faces [F, 3], vertex_colors [V, 3] uint8.
+    - mesh: points [V, 3] vertices, faces [F, 3], vertex_colors [V, 4] RGBA uint8.
     """
 
     name: str
@@ -48,6 +48,4 @@ def _same_value(a: object, b: object) -> bool:
 
 def same_content(a: Node, b: Node, ignore: tuple[str, ...] = ()) -> bool:
     """Whether two nodes draw the same thing (arrays compared by value), apart from `ignore`d fields."""
-    return all(
-        _same_value(getattr(a, f.name), getattr(b, f.name)) for f in fields(Node) if f.name not in ignore
-    )
+    return all(_same_value(getattr(a, f.name), getattr(b, f.name)) for f in fields(Node) if f.name not in ignore)

@@ -142,19 +142,18 @@ class SimulationSource:
 
     def snapshot(self, run_id: str, demons: Sequence[str] | None = None) -> ViewSnapshot:
         run = self._run(run_id)
-        with run.lock:
+        with run.lock:  # references and small copies only; the core never changes its state objects
             sim = run.sim
             state: HordeState = sim.horde_state
             world_state = sim.world_state
-            names = list(sim.horde.names if demons is None else demons)
-            columns = [sim.horde.index[name] for name in names]
-            steps, predictions, rupee = run.ring.columns(columns)
-            copied = (sim.episode, int(world_state.steps[0]), sim.total_steps, sim.episode_return)
+            index = sim.horde.index
+            names = list(sim.horde.names) if demons is None else [name for name in demons if name in index]
+            columns = [index[name] for name in names]
+            steps, predictions, rupee = run.ring.columns(columns)  # [T], [T, d], [T, d]
+            episode, total_steps, episode_return = sim.episode, sim.total_steps, sim.episode_return
             trail = tuple(run.trail)
             status, hz = run.status, run.hz
         world = sim.world
-        current = state.prediction[columns]  # [d]
-        current_rupee = sim.horde.rupee(state)[columns]  # [d]
         colors = {
             world.region_names[region]: world.color_names[slot][int(world_state.colors[0, slot])]
             for slot, region in enumerate(world.indicator_regions)
@@ -165,14 +164,14 @@ class SimulationSource:
             x=float(world_state.x[0]),
             y=float(world_state.y[0]),
             trail=trail,
-            episode=copied[0],
-            episode_step=copied[1],
-            total_steps=copied[2],
-            episode_return=copied[3],
+            episode=episode,
+            episode_step=int(world_state.steps[0]),
+            total_steps=total_steps,
+            episode_return=episode_return,
             status=status,
             hz=hz,
-            predictions=dict(zip(names, current.tolist(), strict=True)),
-            rupee=dict(zip(names, current_rupee.tolist(), strict=True)),
+            predictions=dict(zip(names, state.prediction[columns].tolist(), strict=True)),
+            rupee=dict(zip(names, sim.horde.rupee(state)[columns].tolist(), strict=True)),
             indicator_colors=colors,
             history=History(
                 steps=steps,

@@ -87,7 +87,8 @@ class ViewSource(Protocol):
         ...
 
     def snapshot(self, run_id: str, demons: Sequence[str] | None = None) -> ViewSnapshot:
-        """The run's current state; `predictions`, `rupee` and `history` hold only `demons` if given."""
+        """The run's current state; `predictions`, `rupee` and `history` hold only `demons` if given
+        (names the run does not have, say a demon that just left it, are left out)."""
         ...
 
     def value_map(self, run_id: str, demon: str, resolution: int) -> np.ndarray:
@@ -112,7 +113,7 @@ class ViewSource(Protocol):
         ...
 
     def reset(self, run_id: str) -> None:
-        """Back to the run's start: fresh weights, episode 0, paused."""
+        """Back to the run's start: fresh weights, episode 0, not stepping (status created)."""
         ...
 
     def set_hz(self, run_id: str, hz: float | None) -> None:

@@ -1,0 +1,73 @@
+"""The FastAPI application factory.
+
+`create_app(settings)` builds the app; its `lifespan` opens the store, starts the run manager (which
+loads the stored runs) and sets the interpreter's GIL switch interval (HORDE_SWITCH_INTERVAL, short
+so that the event loop gets the GIL soon while learner threads compute); on the way out it stops the
+streams and every learner thread (running runs are saved as paused) and closes the store. Tests build
+the app with their own settings (a temporary data directory) and enter the lifespan with
+`TestClient(app)` as a context manager; nested lifespans share the first one's store and manager.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+
+from fastapi import FastAPI
+
+from horde.runs import RunManager
+from horde.server.catalog import ScenarioCatalog
+from horde.server.responses import add_error_handlers
+from horde.server.routes import ROUTERS
+from horde.server.settings import Settings
+from horde.server.stream import StreamHub
+from horde.store import Store
+
+DESCRIPTION = """\
+Learn many predictions at once with the Horde architecture. Define worlds and runs, add demons to live
+runs, step or run them, read their predictions, value maps and histories, evaluate them against
+Monte-Carlo truth, and export or import snapshots. Errors: 404 unknown, 409 wrong state, 422 invalid
+spec (naming the field). When HORDE_TOKEN is set, every POST, PUT, PATCH and DELETE needs
+`Authorization: Bearer <token>`.
+"""
+
+
+def create_app(settings: Settings | None = None) -> FastAPI:
+    """The Horde Lab server.
+
+    Args:
+        settings: defaults to `Settings()`, read from HORDE_* environment variables.
+    """
+    settings = settings or Settings()
+
+    @asynccontextmanager
+    async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        app.state.lifespans += 1
+        if app.state.lifespans == 1:  # nested lifespans (test clients inside test clients) share the first
+            store = Store(settings.data)
+            manager = RunManager(store, settings.limits())
+            app.state.store = store
+            app.state.manager = manager
+            app.state.hub = StreamHub(manager, rate=settings.stream_rate)
+            app.state.switch_interval = sys.getswitchinterval()
+            sys.setswitchinterval(settings.switch_interval)
+            manager.start()
+        try:
+            yield
+        finally:
+            app.state.lifespans -= 1
+            if app.state.lifespans == 0:
+                await app.state.hub.close()
+                app.state.manager.stop()
+                app.state.store.close()
+                sys.setswitchinterval(app.state.switch_interval)
+
+    app = FastAPI(title="Horde Lab", description=DESCRIPTION, version="0.1.0", lifespan=lifespan)
+    app.state.settings = settings
+    app.state.lifespans = 0
+    app.state.catalog = ScenarioCatalog(settings.scenarios)
+    add_error_handlers(app)
+    for router in ROUTERS:
+        app.include_router(router, prefix="/api")
+    return app

@@ -1,0 +1,79 @@
+"""`horde serve`: run the server with uvicorn, printing where it listens.
+
+`add_serve_parser(subparsers)` adds the `serve` subcommand to the CLI's argparse parser and sets
+`handler=serve` on it; `python -m horde.server` takes the same options.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Any
+
+from horde.server.settings import Settings
+
+
+def add_serve_arguments(parser: argparse.ArgumentParser) -> None:
+    """--host, --port, --data (each defaults to its HORDE_* variable, then to the built-in default)."""
+    parser.add_argument("--host", default=None, help="address to bind (default: HORDE_HOST or 127.0.0.1)")
+    parser.add_argument("--port", type=int, default=None, help="port (default: HORDE_PORT or 8000)")
+    parser.add_argument("--data", type=Path, default=None, help="data directory (default: HORDE_DATA or ./.horde)")
+    parser.add_argument("--log-level", default="info", choices=["critical", "error", "warning", "info", "debug"])
+    # A later --viser-port (the 3-D view's port) goes here.
+
+
+def add_serve_parser(subparsers: Any) -> argparse.ArgumentParser:
+    """Add `serve` to an argparse subparsers object; the parsed args carry `handler=serve`."""
+    parser: argparse.ArgumentParser = subparsers.add_parser(
+        "serve",
+        help="run the web server (REST API, streams, dashboard)",
+        description="Serve the Horde Lab API. Set HORDE_TOKEN to require a bearer token on every change.",
+    )
+    add_serve_arguments(parser)
+    parser.set_defaults(handler=serve)
+    return parser
+
+
+def settings_from_args(args: argparse.Namespace) -> Settings:
+    overrides = {key: getattr(args, key, None) for key in ("host", "port", "data")}
+    return Settings(**{key: value for key, value in overrides.items() if value is not None})
+
+
+def urls(settings: Settings) -> dict[str, str]:
+    host = f"[{settings.host}]" if ":" in settings.host else settings.host
+    base = f"http://{host}:{settings.port}"
+    return {"API": f"{base}/api", "API docs": f"{base}/docs"}
+
+
+def security_warning(settings: Settings) -> str | None:
+    """A warning when the server listens beyond this machine without a token, else None."""
+    if settings.is_loopback() or settings.token is not None:
+        return None
+    return (
+        f"WARNING: binding {settings.host}, which other machines can reach, without HORDE_TOKEN: "
+        "anyone who reaches it can create, change and delete runs. Set HORDE_TOKEN or bind 127.0.0.1."
+    )
+
+
+def serve(args: argparse.Namespace) -> int:
+    """Run the server until interrupted; returns the exit code."""
+    import uvicorn
+
+    from horde.server.app import create_app
+
+    settings = settings_from_args(args)
+    warning = security_warning(settings)
+    if warning:
+        print(warning, file=sys.stderr)
+    print(f"Horde Lab serving (data in {settings.data.resolve()}):")
+    for label, url in urls(settings).items():
+        print(f"  {label + ':':10} {url}")
+    sys.stdout.flush()
+    uvicorn.run(
+        create_app(settings),
+        host=settings.host,
+        port=settings.port,
+        log_level=getattr(args, "log_level", "info"),
+    )
+    return 0

@@ -1,0 +1,188 @@
+"""Run-layer objects (views, histories, evaluations) into the API's output models."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from datetime import UTC, datetime
+
+import numpy as np
+
+from horde.events import Event
+from horde.history import Series
+from horde.readout import Evaluation, ValueMap
+from horde.run_view import RunView, Summary
+from horde.server.schemas import (
+    AgentOut,
+    DemonMetricsOut,
+    DemonOut,
+    EvaluationOut,
+    EventOut,
+    HistoryOut,
+    RunBriefOut,
+    RunOut,
+    StateOut,
+    SummaryOut,
+    ValuesOut,
+)
+
+
+def finite(value: float) -> float | None:
+    """The number, or None where it is NaN or infinite (JSON has no such numbers)."""
+    value = float(value)
+    return value if math.isfinite(value) else None
+
+
+def finite_list(values: Iterable[float]) -> list[float | None]:
+    return [finite(v) for v in values]
+
+
+def finite_dict(values: dict[str, float]) -> dict[str, float | None]:
+    return {k: finite(v) for k, v in values.items()}
+
+
+def timestamp(seconds: float) -> datetime:
+    return datetime.fromtimestamp(seconds, UTC)
+
+
+def summary_out(summary: Summary) -> SummaryOut:
+    return SummaryOut(
+        predictions=finite_dict(summary.predictions),
+        rupee=finite_dict(summary.rupee),
+        ude=finite_dict(summary.ude),
+        episodes=summary.episodes,
+        steps=summary.steps,
+        last_return=finite(summary.last_return),
+        stopped_early=summary.stopped_early,
+    )
+
+
+def run_brief(view: RunView) -> RunBriefOut:
+    return RunBriefOut(**_brief_fields(view))
+
+
+def run_out(view: RunView) -> RunOut:
+    summary = summary_out(view.summary) if view.summary is not None else None
+    return RunOut(**_brief_fields(view), spec=view.spec, summary=summary)
+
+
+def _brief_fields(view: RunView) -> dict[str, object]:
+    return {
+        "id": view.id,
+        "name": view.spec.name,
+        "status": view.status,
+        "message": view.message,
+        "hz": view.hz,
+        "episode": view.episode,
+        "step": view.total_steps,
+        "demons": list(view.horde.names),
+        "created_at": timestamp(view.created_at),
+        "updated_at": timestamp(view.updated_at),
+    }
+
+
+def demon_metrics(view: RunView) -> dict[str, DemonMetricsOut]:
+    hs, rupee, ude = view.horde_state, view.rupee, view.ude
+    return {
+        name: DemonMetricsOut(
+            rupee=finite(rupee[i]),
+            ude=finite(ude[i]),
+            delta=finite(hs.delta[i]),
+            cumulant=finite(hs.cumulant[i]),
+            diverged=bool(hs.diverged[i]),
+        )
+        for i, name in enumerate(view.horde.names)
+    }
+
+
+def event_out(event: Event) -> EventOut:
+    value = finite(event.value) if event.value is not None else None
+    return EventOut(
+        seq=event.seq,
+        step=event.step,
+        episode=event.episode,
+        kind=event.kind,
+        message=event.message,
+        value=value,
+    )
+
+
+def state_out(view: RunView, events: list[Event]) -> StateOut:
+    x, y = view.position
+    return StateOut(
+        run=view.id,
+        status=view.status,
+        message=view.message,
+        hz=view.hz,
+        agent=AgentOut(x=x, y=y),
+        episode=view.episode,
+        step=view.total_steps,
+        episode_step=view.episode_step,
+        episode_return=finite(view.episode_return),
+        last_return=finite(view.last_return),
+        predictions=dict(zip(view.horde.names, finite_list(view.horde_state.prediction), strict=True)),
+        metrics=demon_metrics(view),
+        events=[event_out(e) for e in events],
+    )
+
+
+def demons_out(view: RunView) -> list[DemonOut]:
+    metrics = demon_metrics(view)
+    prediction = view.horde_state.prediction
+    return [
+        DemonOut(
+            name=spec.name,
+            spec=spec,
+            control=view.horde.is_control(spec.name),
+            prediction=finite(prediction[view.horde.index[spec.name]]),
+            metrics=metrics[spec.name],
+        )
+        for spec in view.horde.demon_specs
+    ]
+
+
+def values_out(view: RunView, demon: str, values: ValueMap) -> ValuesOut:
+    grid = values.values
+    finite_cells = grid[np.isfinite(grid)]
+    return ValuesOut(
+        demon=demon,
+        resolution=len(values.xs),
+        width=view.spec.world.width,
+        height=view.spec.world.height,
+        x=values.xs.tolist(),
+        y=values.ys.tolist(),
+        values=[finite_list(row) for row in grid],
+        min=float(finite_cells.min()) if finite_cells.size else None,
+        max=float(finite_cells.max()) if finite_cells.size else None,
+    )
+
+
+def history_out(demon: str, series: Series, every: int, capacity: int) -> HistoryOut:
+    v = series.values
+    return HistoryOut(
+        demon=demon,
+        every=every,
+        capacity=capacity,
+        step=series.steps.tolist(),
+        prediction=finite_list(v["prediction"]),
+        cumulant=finite_list(v["cumulant"]),
+        delta=finite_list(v["delta"]),
+        rupee=finite_list(v["rupee"]),
+        ude=finite_list(v["ude"]),
+    )
+
+
+def evaluation_out(evaluation: Evaluation) -> EvaluationOut:
+    truth = evaluation.truth
+    return EvaluationOut(
+        demon=evaluation.demon,
+        from_=list(evaluation.start),
+        prediction=finite(evaluation.prediction),
+        truth=finite(truth.mean),
+        stderr=finite(truth.stderr),
+        error=finite(evaluation.prediction - truth.mean),
+        episodes=truth.rollouts,
+        cap=truth.cap,
+        capped=truth.capped,
+        seed=evaluation.seed,
+    )

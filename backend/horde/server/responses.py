@@ -1,0 +1,36 @@
+"""The error responses that routes document in the OpenAPI schema, and the handlers that produce them."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from fastapi import FastAPI, Request
+from fastapi.responses import JSONResponse
+
+from horde.errors import BusyError, ConflictError, NotFoundError, RunError, SpecError
+from horde.server.schemas import ErrorOut
+
+Responses = dict[int | str, dict[str, Any]]
+
+BAD_BODY: Responses = {400: {"model": ErrorOut, "description": "The body cannot be parsed (not JSON, not UTF-8)"}}
+NOT_FOUND: Responses = {404: {"model": ErrorOut, "description": "Unknown run, demon, world or scenario"}}
+CONFLICT: Responses = {409: {"model": ErrorOut, "description": "The resource's state forbids this request"}}
+UNAUTHORIZED: Responses = {
+    401: {"model": ErrorOut, "description": "HORDE_TOKEN is set and the bearer token is missing or wrong"}
+}
+BUSY: Responses = {429: {"model": ErrorOut, "description": "Too many evaluations at once, or the run is busy"}}
+
+STATUS: dict[type[RunError], int] = {NotFoundError: 404, ConflictError: 409, BusyError: 429}
+
+
+async def _run_error(request: Request, exc: Exception) -> JSONResponse:
+    if isinstance(exc, SpecError):
+        detail = [{"loc": list(p.loc), "msg": p.msg, "type": p.type} for p in exc.problems]
+        return JSONResponse(status_code=422, content={"detail": detail})
+    status = next((code for kind, code in STATUS.items() if isinstance(exc, kind)), 409)
+    return JSONResponse(status_code=status, content={"detail": str(exc)})
+
+
+def add_error_handlers(app: FastAPI) -> None:
+    """404, 409, 429 with {"detail": message}; 422 in FastAPI's own {"detail": [{loc, msg, type}]} form."""
+    app.add_exception_handler(RunError, _run_error)

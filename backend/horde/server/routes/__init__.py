@@ -1,0 +1,17 @@
+"""One APIRouter per resource, all mounted under /api."""
+
+from fastapi import APIRouter
+
+from horde.server.routes import demons, health, runs, scenarios, snapshots, stream, worlds
+
+ROUTERS: tuple[APIRouter, ...] = (
+    health.router,
+    scenarios.router,
+    worlds.router,
+    snapshots.router,  # before runs: POST /runs/import must not be taken for a run id
+    runs.router,
+    demons.router,
+    stream.router,
+)
+
+__all__ = ["ROUTERS"]

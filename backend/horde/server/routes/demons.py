@@ -1,0 +1,120 @@
+"""A run's demons: list, join, leave, value maps, history and Monte-Carlo evaluation."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import APIRouter, Query, status
+
+from horde.errors import NotFoundError
+from horde.readout import value_map
+from horde.run_view import RunView
+from horde.server.convert import demons_out, evaluation_out, history_out, values_out
+from horde.server.deps import DemonName, ManagerDep, RunDep, WriteAccess
+from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND, UNAUTHORIZED
+from horde.server.schemas import (
+    MAX_EVAL_CAP,
+    MAX_RESOLUTION,
+    DemonOut,
+    EvaluateIn,
+    EvaluationOut,
+    HistoryOut,
+    ValuesOut,
+)
+from horde.spec import DemonSpec
+
+router = APIRouter(prefix="/runs/{run_id}", tags=["demons"])
+
+
+def _demon(view: RunView, name: str) -> DemonOut:
+    for demon in demons_out(view):
+        if demon.name == name:
+            return demon
+    raise NotFoundError(f"run {view.id!r} has no demon {name!r}")
+
+
+@router.get("/demons", summary="A run's demons", responses={**NOT_FOUND})
+def list_demons(run: RunDep) -> list[DemonOut]:
+    return demons_out(run.view)
+
+
+@router.post(
+    "/demons",
+    summary="Add a demon to a run (live runs too)",
+    status_code=status.HTTP_201_CREATED,
+    dependencies=[WriteAccess],
+    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **CONFLICT},
+    description=(
+        "The other demons keep their weights; traces restart. 409 when the name is taken or the run is "
+        "finished or failed; 422 when the demon does not fit the run (unknown demon or sensor, a cycle)."
+    ),
+)
+def add_demon(run: RunDep, demon: DemonSpec) -> DemonOut:
+    return _demon(run.add_demon(demon), demon.name)
+
+
+@router.get("/demons/{name}", summary="One demon", responses={**NOT_FOUND})
+def get_demon(run: RunDep, name: DemonName) -> DemonOut:
+    return _demon(run.view, name)
+
+
+@router.delete(
+    "/demons/{name}",
+    summary="Remove a demon from a run",
+    status_code=status.HTTP_204_NO_CONTENT,
+    dependencies=[WriteAccess],
+    responses={**UNAUTHORIZED, **NOT_FOUND, **CONFLICT},
+    description="409 when other demons or the behaviour depend on it, or the run is finished or failed.",
+)
+def remove_demon(run: RunDep, name: DemonName) -> None:
+    run.remove_demon(name)
+
+
+@router.get(
+    "/demons/{name}/values",
+    summary="A demon's prediction over the world",
+    responses={**NOT_FOUND},
+    description="The prediction at the centres of a resolution x resolution grid, with the current weights.",
+)
+def get_values(
+    run: RunDep,
+    name: DemonName,
+    resolution: Annotated[int, Query(ge=2, le=MAX_RESOLUTION)] = 32,
+) -> ValuesOut:
+    view = run.view
+    return values_out(view, name, value_map(view, name, resolution))
+
+
+@router.get(
+    "/demons/{name}/history",
+    summary="A demon's prediction, cumulant, TD error, RUPEE and UDE over time",
+    responses={**NOT_FOUND},
+)
+def get_history(
+    run: RunDep,
+    name: DemonName,
+    limit: Annotated[int | None, Query(ge=1, le=1_000_000, description="the last rows only")] = None,
+) -> HistoryOut:
+    history = run.history
+    try:
+        series = history.series(name, limit)
+    except KeyError:
+        raise NotFoundError(f"run {run.id!r} has no demon {name!r}") from None
+    return history_out(name, series, history.every, history.rows)
+
+
+@router.post(
+    "/evaluate",
+    summary="Monte-Carlo truth of a demon's question vs its prediction",
+    dependencies=[WriteAccess],
+    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **BUSY},
+    description=(
+        "Rolls the demon's target policy out from `from` with frozen weights (its own generator: the run "
+        "is not disturbed). 422 when `from` lies outside the world or in an obstacle; 429 when two "
+        "evaluations are running already."
+    ),
+)
+def evaluate(run: RunDep, evaluation: EvaluateIn, manager: ManagerDep) -> EvaluationOut:
+    cap = evaluation.cap or min(run.view.spec.protocol.evaluation.cap, MAX_EVAL_CAP)
+    start = (evaluation.from_[0], evaluation.from_[1])
+    return evaluation_out(manager.evaluate(run.id, evaluation.demon, start, evaluation.episodes, cap, evaluation.seed))

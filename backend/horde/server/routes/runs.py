@@ -1,0 +1,132 @@
+"""Runs and their control: /api/runs, /api/runs/{id}, start | pause | reset | step, and the live state."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import APIRouter, Body, Query, status
+
+from horde.server.convert import run_brief, run_out, state_out
+from horde.server.deps import CatalogDep, ManagerDep, RunDep, RunId, StoreDep, WriteAccess
+from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND, UNAUTHORIZED
+from horde.server.schemas import (
+    Hz,
+    RunBriefOut,
+    RunCreate,
+    RunOut,
+    RunPatchIn,
+    RunTemplateIn,
+    StateOut,
+    StepIn,
+)
+from horde.server.spec_builder import build_spec
+
+router = APIRouter(prefix="/runs", tags=["runs"])
+
+RECENT_EVENTS = 20
+
+
+@router.get("", summary="List the runs")
+def list_runs(manager: ManagerDep) -> list[RunBriefOut]:
+    return [run_brief(v) for v in sorted(manager.list(), key=lambda v: v.created_at)]
+
+
+@router.post(
+    "",
+    summary="Create a run",
+    status_code=status.HTTP_201_CREATED,
+    dependencies=[WriteAccess],
+    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **CONFLICT},
+    description=(
+        "The body is a RunSpec, or a template: {scenario, world, seed, ...overrides} (a body with a "
+        "`scenario` key, or whose `world` is a string naming a stored world). The run is the first trial "
+        "of its protocol, seeded as `horde run` seeds it. 404: unknown scenario or world; 409: too many runs."
+    ),
+)
+def create_run(
+    body: Annotated[RunCreate, Body()],
+    manager: ManagerDep,
+    catalog: CatalogDep,
+    store: StoreDep,
+    hz: Annotated[Hz | None, Query(description="steps per second; leave out for full speed")] = None,
+    start: Annotated[bool, Query(description="start running at once")] = False,
+) -> RunOut:
+    spec = build_spec(body, catalog, store) if isinstance(body, RunTemplateIn) else body
+    return run_out(manager.create(spec, hz=hz, start=start))
+
+
+@router.get("/{run_id}", summary="A run", responses={**NOT_FOUND})
+def get_run(run: RunDep) -> RunOut:
+    return run_out(run.view)
+
+
+@router.delete(
+    "/{run_id}",
+    summary="Delete a run",
+    status_code=status.HTTP_204_NO_CONTENT,
+    dependencies=[WriteAccess],
+    responses={**UNAUTHORIZED, **NOT_FOUND},
+)
+def delete_run(run_id: RunId, manager: ManagerDep) -> None:
+    manager.delete(run_id)
+
+
+@router.patch(
+    "/{run_id}",
+    summary="Change a run's speed or behaviour policy",
+    dependencies=[WriteAccess],
+    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND},
+    description="`hz: null` runs as fast as possible; a field left out is unchanged.",
+)
+def patch_run(run: RunDep, patch: RunPatchIn) -> RunOut:
+    return run_out(run.patch(set_hz="hz" in patch.model_fields_set, hz=patch.hz, behaviour=patch.behaviour))
+
+
+@router.post(
+    "/{run_id}/start",
+    summary="Start (or resume) a run",
+    dependencies=[WriteAccess],
+    responses={**UNAUTHORIZED, **NOT_FOUND, **CONFLICT},
+    description="409 unless the run is created or paused.",
+)
+def start_run(run: RunDep) -> RunOut:
+    return run_out(run.start())
+
+
+@router.post(
+    "/{run_id}/pause",
+    summary="Pause a running run",
+    dependencies=[WriteAccess],
+    responses={**UNAUTHORIZED, **NOT_FOUND, **CONFLICT},
+    description="Takes a snapshot. 409 unless the run is running.",
+)
+def pause_run(run: RunDep) -> RunOut:
+    return run_out(run.pause())
+
+
+@router.post(
+    "/{run_id}/reset",
+    summary="Reset a run to its first step",
+    dependencies=[WriteAccess],
+    responses={**UNAUTHORIZED, **NOT_FOUND},
+    description="Fresh weights and generator, the current demons; the status becomes created.",
+)
+def reset_run(run: RunDep) -> RunOut:
+    return run_out(run.reset())
+
+
+@router.post(
+    "/{run_id}/step",
+    summary="Take steps on a run that is not running",
+    dependencies=[WriteAccess],
+    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **CONFLICT},
+    description="Default 1 step. 409 when the run is running, finished or failed.",
+)
+def step_run(run: RunDep, step: Annotated[StepIn | None, Body()] = None) -> StateOut:
+    view = run.step((step or StepIn()).steps)
+    return state_out(view, run.events.recent(RECENT_EVENTS))
+
+
+@router.get("/{run_id}/state", summary="The live state of a run", responses={**NOT_FOUND})
+def get_state(run: RunDep) -> StateOut:
+    return state_out(run.view, run.events.recent(RECENT_EVENTS))

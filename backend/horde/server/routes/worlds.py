@@ -1,0 +1,102 @@
+"""Stored worlds: GET|POST /api/worlds, GET|PUT|DELETE /api/worlds/{name}.
+
+Runs copy their world when they are created (POST /api/runs {"world": "name", ...}), so changing or
+deleting a stored world never changes a run.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import APIRouter, Path, Response, status
+
+from horde.errors import ConflictError, NotFoundError, SpecError
+from horde.server.convert import timestamp
+from horde.server.deps import SettingsDep, StoreDep, WriteAccess
+from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND, UNAUTHORIZED
+from horde.server.schemas import WorldCreate, WorldOut
+from horde.spec import WorldSpec
+from horde.store import WorldRecord
+
+router = APIRouter(prefix="/worlds", tags=["worlds"])
+
+WorldName = Annotated[
+    str,
+    Path(min_length=1, max_length=64, pattern=r"^[A-Za-z_][A-Za-z0-9_.-]*$", description="the world's name"),
+]
+
+
+def _out(record: WorldRecord) -> WorldOut:
+    return WorldOut(
+        name=record.name,
+        world=WorldSpec.model_validate_json(record.spec),
+        created_at=timestamp(record.created_at),
+        updated_at=timestamp(record.updated_at),
+    )
+
+
+def _get(store: StoreDep, name: str) -> WorldRecord:
+    record = store.get_world(name)
+    if record is None:
+        raise NotFoundError(f"no world {name!r}")
+    return record
+
+
+@router.get("", summary="List the stored worlds")
+def list_worlds(store: StoreDep) -> list[WorldOut]:
+    return [_out(r) for r in store.list_worlds()]
+
+
+@router.post(
+    "",
+    summary="Store a new world",
+    status_code=status.HTTP_201_CREATED,
+    dependencies=[WriteAccess],
+    responses={**BAD_BODY, **UNAUTHORIZED, **CONFLICT},
+    description="409 when a world of that name exists already, or the store holds as many worlds as allowed.",
+)
+def create_world(world: WorldCreate, store: StoreDep, settings: SettingsDep) -> WorldOut:
+    if store.get_world(world.name) is not None:
+        raise ConflictError(f"a world named {world.name!r} exists already; PUT /api/worlds/{world.name} replaces it")
+    if store.count_worlds() >= settings.max_worlds:
+        raise ConflictError(f"the store holds at most {settings.max_worlds} worlds; delete one first")
+    store.put_world(world.name, world.model_dump_json(by_alias=True))
+    return _out(_get(store, world.name))
+
+
+@router.get("/{name}", summary="A stored world", responses={**NOT_FOUND})
+def get_world(name: WorldName, store: StoreDep) -> WorldOut:
+    return _out(_get(store, name))
+
+
+@router.put(
+    "/{name}",
+    summary="Create or replace a stored world",
+    dependencies=[WriteAccess],
+    responses={**BAD_BODY, **UNAUTHORIZED, **CONFLICT, 201: {"model": WorldOut, "description": "Created"}},
+    description="200 when it replaced a world, 201 when it created one. The body's name, if given, must match.",
+)
+def put_world(
+    name: WorldName, world: WorldSpec, store: StoreDep, settings: SettingsDep, response: Response
+) -> WorldOut:
+    if world.name is not None and world.name != name:
+        raise SpecError.at(("body", "name"), f"the body names {world.name!r} but the path names {name!r}")
+    exists = store.get_world(name) is not None
+    if not exists and store.count_worlds() >= settings.max_worlds:
+        raise ConflictError(f"the store holds at most {settings.max_worlds} worlds; delete one first")
+    created = store.put_world(name, world.model_copy(update={"name": name}).model_dump_json(by_alias=True))
+    if created:
+        response.status_code = status.HTTP_201_CREATED
+    return _out(_get(store, name))
+
+
+@router.delete(
+    "/{name}",
+    summary="Delete a stored world",
+    status_code=status.HTTP_204_NO_CONTENT,
+    dependencies=[WriteAccess],
+    responses={**UNAUTHORIZED, **NOT_FOUND},
+)
+def delete_world(name: WorldName, store: StoreDep) -> None:
+    if not store.delete_world(name):
+        raise NotFoundError(f"no world {name!r}")

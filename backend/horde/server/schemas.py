@@ -1,0 +1,254 @@
+"""The wire format of the REST API: input models (…In) and output models (…Out).
+
+Specs (RunSpec, WorldSpec, DemonSpec, BehaviourSpec) are the core's own pydantic models and are
+used as they are; the snapshot format lives with its code in `horde.snapshot`. Numbers that can be
+non-finite (a diverged demon's prediction) travel as null.
+"""
+
+from __future__ import annotations
+
+from datetime import datetime
+from typing import Annotated, Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag
+
+from horde.events import EventKind
+from horde.run_view import RunStatus
+from horde.spec import BehaviourSpec, DemonSpec, Name, RunSpec, WorldSpec
+
+MAX_RESOLUTION = 256
+MAX_EVAL_EPISODES = 5_000
+MAX_EVAL_CAP = 10_000
+MAX_HZ = 10_000.0
+
+Hz = Annotated[float, Field(gt=0.0, le=MAX_HZ, description="steps per second; null: as fast as possible")]
+MaybeFloat = float | None
+
+
+class In(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
+
+
+class Out(BaseModel):
+    model_config = ConfigDict(frozen=True, populate_by_name=True)
+
+
+class ErrorOut(Out):
+    """A refused request: 401, 404, 409 and 429 carry one message."""
+
+    detail: str
+
+
+# ----------------------------------------------------------------------------------------------
+# Inputs
+
+
+class WorldCreate(WorldSpec):
+    """A world to store under its name (POST /api/worlds)."""
+
+    name: Name
+
+
+class RunTemplateIn(In):
+    """A run from a scenario and/or a stored world, with overrides merged into it.
+
+    Objects (world, features, behaviour, learning, protocol, thesis) are merged key by key into the
+    scenario's; lists (demons) and plain values replace it. Without a scenario the base is the default
+    RunSpec. `world` names a stored world, or is an object merged into the scenario's world.
+    """
+
+    scenario: Name | None = Field(default=None, description="a scenario name (GET /api/scenarios)")
+    world: Name | dict[str, Any] | None = Field(default=None, description="a stored world's name, or overrides")
+    seed: int | None = Field(default=None, ge=0, le=2**63 - 1)
+    name: Name | None = None
+    description: str | None = Field(default=None, max_length=2000)
+    features: dict[str, Any] | None = None
+    behaviour: dict[str, Any] | str | None = None
+    learning: dict[str, Any] | None = None
+    demons: list[dict[str, Any]] | None = Field(default=None, max_length=10_000)
+    protocol: dict[str, Any] | None = None
+    thesis: dict[str, Any] | None = None
+
+
+def _run_form(value: Any) -> str:
+    if isinstance(value, dict):
+        return "RunTemplate" if "scenario" in value or isinstance(value.get("world"), str) else "RunSpec"
+    return "RunTemplate" if isinstance(value, RunTemplateIn) else "RunSpec"
+
+
+RunCreate = Annotated[
+    Annotated[RunSpec, Tag("RunSpec")] | Annotated[RunTemplateIn, Tag("RunTemplate")],
+    Discriminator(_run_form),
+]
+
+
+class RunPatchIn(In):
+    """Change a run's speed and/or behaviour policy; a field left out stays as it is."""
+
+    hz: Hz | None = None
+    behaviour: BehaviourSpec | None = None
+
+
+class StepIn(In):
+    steps: int = Field(default=1, ge=1, le=10_000)
+
+
+class EvaluateIn(In):
+    """A Monte-Carlo evaluation of one demon's question from one point."""
+
+    demon: Name
+    from_: list[Annotated[float, Field(allow_inf_nan=False)]] = Field(
+        alias="from", min_length=2, max_length=2, description="[x, y]"
+    )
+    episodes: int = Field(default=100, ge=1, le=MAX_EVAL_EPISODES, description="rollouts")
+    cap: int | None = Field(
+        default=None, ge=1, le=MAX_EVAL_CAP, description="steps per rollout at most (default: the protocol's)"
+    )
+    seed: int | None = Field(default=None, ge=0, le=2**63 - 1)
+
+
+# ----------------------------------------------------------------------------------------------
+# Outputs
+
+
+class HealthOut(Out):
+    status: Literal["ok"] = "ok"
+    version: str
+    runs: int
+
+
+class ScenarioOut(Out):
+    name: str
+    description: str
+    error: str | None = Field(default=None, description="why the file does not load, if it does not")
+
+
+class WorldOut(Out):
+    name: str
+    world: WorldSpec
+    created_at: datetime
+    updated_at: datetime
+
+
+class SummaryOut(Out):
+    """How a finished run ended; predictions are read at the world's start point."""
+
+    predictions: dict[str, MaybeFloat]
+    rupee: dict[str, MaybeFloat]
+    ude: dict[str, MaybeFloat]
+    episodes: int
+    steps: int
+    last_return: MaybeFloat
+    stopped_early: bool
+
+
+class RunBriefOut(Out):
+    id: str
+    name: str | None
+    status: RunStatus
+    message: str
+    hz: float | None
+    episode: int = Field(description="episodes completed")
+    step: int = Field(description="steps taken in all")
+    demons: list[str]
+    created_at: datetime
+    updated_at: datetime
+
+
+class RunOut(RunBriefOut):
+    spec: RunSpec
+    summary: SummaryOut | None
+
+
+class AgentOut(Out):
+    x: float
+    y: float
+
+
+class DemonMetricsOut(Out):
+    rupee: MaybeFloat
+    ude: MaybeFloat
+    delta: MaybeFloat
+    cumulant: MaybeFloat
+    diverged: bool
+
+
+class EventOut(Out):
+    seq: int
+    step: int
+    episode: int
+    kind: EventKind
+    message: str
+    value: MaybeFloat = None
+
+
+class StateOut(Out):
+    """The live state of a run; also the message of its WebSocket stream."""
+
+    type: Literal["state"] = "state"
+    run: str
+    status: RunStatus
+    message: str
+    hz: float | None
+    agent: AgentOut
+    episode: int
+    step: int
+    episode_step: int
+    episode_return: MaybeFloat
+    last_return: MaybeFloat
+    predictions: dict[str, MaybeFloat] = Field(description="each demon's prediction at the agent's state")
+    metrics: dict[str, DemonMetricsOut]
+    events: list[EventOut] = Field(description="recent events (a stream message: those since the last message)")
+
+
+class DemonOut(Out):
+    name: str
+    spec: DemonSpec
+    control: bool = Field(description="a control demon (its target policy acts on its own action values)")
+    prediction: MaybeFloat
+    metrics: DemonMetricsOut
+
+
+class ValuesOut(Out):
+    """values[j][i] is the demon's prediction at (x[i], y[j]), the centres of an N x N grid."""
+
+    demon: str
+    resolution: int
+    width: float
+    height: float
+    x: list[float]
+    y: list[float]
+    values: list[list[MaybeFloat]]
+    min: MaybeFloat
+    max: MaybeFloat
+
+
+class HistoryOut(Out):
+    """A demon's recent history, oldest first (null before the demon joined).
+
+    Rows are sampled: at most one per `every` steps and one per HORDE_HISTORY_INTERVAL seconds (default
+    5 ms), so a run paced by hz has a row per step and a run at full speed a row every few milliseconds.
+    """
+
+    demon: str
+    every: int = Field(description="steps between two rows, at least")
+    capacity: int = Field(description="rows kept at most")
+    step: list[int]
+    prediction: list[MaybeFloat]
+    cumulant: list[MaybeFloat]
+    delta: list[MaybeFloat]
+    rupee: list[MaybeFloat]
+    ude: list[MaybeFloat]
+
+
+class EvaluationOut(Out):
+    demon: str
+    from_: list[float] = Field(alias="from")
+    prediction: MaybeFloat
+    truth: MaybeFloat = Field(description="mean realised return over the rollouts")
+    stderr: MaybeFloat
+    error: MaybeFloat = Field(description="prediction - truth")
+    episodes: int
+    cap: int
+    capped: int = Field(description="rollouts still running at the cap")
+    seed: int

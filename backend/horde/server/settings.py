@@ -1,0 +1,65 @@
+"""The server's settings, one BaseSettings read from HORDE_* environment variables."""
+
+from __future__ import annotations
+
+import ipaddress
+from pathlib import Path
+
+from pydantic import Field, SecretStr, field_validator
+from pydantic_settings import BaseSettings, SettingsConfigDict
+
+from horde.run_setup import Limits
+
+
+class Settings(BaseSettings):
+    """Where the server keeps its data, who may change it, where it listens, and how much it holds.
+
+    Every field reads the environment variable HORDE_<FIELD> (HORDE_DATA, HORDE_TOKEN, HORDE_PORT, ...).
+    """
+
+    model_config = SettingsConfigDict(env_prefix="HORDE_", extra="ignore")
+
+    data: Path = Field(default=Path(".horde"), description="data directory: the SQLite store lives here")
+    token: SecretStr | None = Field(default=None, description="when set, mutating requests need 'Bearer <token>'")
+    host: str = Field(default="127.0.0.1", description="address to bind (loopback by default)")
+    port: int = Field(default=8000, ge=0, le=65535)
+    scenarios: Path | None = Field(default=None, description="scenario folder (default: the repository's)")
+    max_runs: int = Field(default=32, ge=1, le=1000)
+    max_worlds: int = Field(default=256, ge=1, le=100_000)
+    max_demons: int = Field(default=1000, ge=1, le=10_000)
+    max_weights: int = Field(default=2_000_000, ge=1, le=100_000_000)
+    history: int = Field(default=10_000, ge=16, le=1_000_000, description="rows of each run's history buffer")
+    history_every: int = Field(default=1, ge=1, le=1_000_000, description="steps between history rows, at least")
+    history_interval: float = Field(
+        default=0.005, ge=0.0, le=60.0, description="seconds between history rows, at least (a full-speed run samples)"
+    )
+    snapshot_every: float = Field(default=30.0, gt=0.0, description="seconds between snapshots of a running run")
+    switch_interval: float = Field(
+        default=0.001, gt=0.0, le=0.1, description="sys.setswitchinterval of the server process (seconds)"
+    )
+    stream_rate: float = Field(default=30.0, gt=0.0, le=120.0, description="stream messages per second per client")
+
+    @field_validator("token", mode="before")
+    @classmethod
+    def _empty_is_none(cls, value: object) -> object:
+        return None if value == "" else value
+
+    def limits(self) -> Limits:
+        return Limits(
+            max_runs=self.max_runs,
+            max_demons=self.max_demons,
+            max_weights=self.max_weights,
+            history=self.history,
+            history_every=self.history_every,
+            history_interval=self.history_interval,
+            snapshot_every=self.snapshot_every,
+        )
+
+    def is_loopback(self) -> bool:
+        """Whether `host` only listens on this machine."""
+        if self.host == "localhost":
+            return True
+        try:
+            return ipaddress.ip_address(self.host).is_loopback
+        except ValueError:
+            return False

@@ -1,0 +1,90 @@
+"""`SceneApplier`: puts `Node` descriptions into a viser scene, sending only what changed."""
+
+from __future__ import annotations
+
+import numpy as np
+import trimesh
+import viser
+
+from horde.view.nodes import Node, same_content
+
+
+def add_node(scene: viser.SceneApi, node: Node) -> viser.SceneNodeHandle:
+    """Create (or replace) the viser node that draws `node`."""
+    name, position = node.name, node.position
+    if node.kind == "box":
+        return scene.add_box(
+            name,
+            color=node.color,
+            dimensions=node.size,
+            opacity=node.opacity,
+            position=position,
+            cast_shadow=False,
+        )
+    if node.kind == "sphere":
+        return scene.add_icosphere(name, radius=node.size[0], color=node.color, position=position, subdivisions=3)
+    if node.kind == "label":
+        anchor = node.anchor
+        return scene.add_label(name, node.text, position=position, anchor=anchor)  # type: ignore[arg-type]
+    if node.kind == "lines":
+        assert node.points is not None
+        return scene.add_line_segments(
+            name, node.points, node.color, thickness=node.size[0], thickness_units="screen", position=position
+        )
+    if node.kind == "arrows":
+        assert node.points is not None
+        shaft, head, head_length = node.size
+        return scene.add_arrows(
+            name,
+            node.points,
+            node.color,
+            shaft_radius=shaft,
+            head_radius=head,
+            head_length=head_length,
+            position=position,
+        )
+    if node.kind == "image":
+        assert node.image is not None
+        return scene.add_image(
+            name, node.image, node.size[0], node.size[1], format="png", position=position, cast_shadow=False
+        )
+    if node.kind == "mesh":
+        assert node.points is not None and node.faces is not None
+        mesh = trimesh.Trimesh(node.points, node.faces, vertex_colors=node.vertex_colors, process=False)
+        return scene.add_mesh_trimesh(name, mesh, position=position)
+    raise ValueError(f"unknown node kind {node.kind!r}")
+
+
+class SceneApplier:
+    """The nodes drawn so far, by name and by owner (a part of the scene refreshed on its own).
+
+    `apply(nodes, owner)` adds the new nodes, moves the ones whose position alone changed, replaces the
+    ones that changed otherwise, and removes the owner's nodes that are no longer listed. Call it
+    inside `server.atomic()` so that a client sees one consistent frame.
+    """
+
+    def __init__(self, scene: viser.SceneApi) -> None:
+        self.scene = scene
+        self.drawn: dict[str, tuple[Node, viser.SceneNodeHandle, str]] = {}
+
+    def apply(self, nodes: list[Node], owner: str) -> None:
+        listed = {node.name for node in nodes}
+        for name, (_, handle, node_owner) in list(self.drawn.items()):
+            if node_owner == owner and name not in listed:
+                handle.remove()
+                del self.drawn[name]
+        for node in nodes:
+            old = self.drawn.get(node.name)
+            if old is not None and same_content(old[0], node):
+                continue
+            if old is not None and same_content(old[0], node, ignore=("position",)):
+                old[1].position = np.asarray(node.position)
+                self.drawn[node.name] = (node, old[1], owner)
+                continue
+            self.drawn[node.name] = (node, add_node(self.scene, node), owner)
+
+    def clear(self) -> None:
+        """Remove every node drawn."""
+        for _, handle, _ in self.drawn.values():
+            handle.remove()
+        self.drawn.clear()

@@ -1,0 +1,223 @@
+"""`LiveView`: one viser server that shows a run's world, agent and predictions as they happen.
+
+The view owns a thread that samples the source at most `fps` times a second, builds the scene with
+the pure functions of scene.py and applies the changes inside `server.atomic()`. Value maps are
+recomputed `map_hz` times a second while the run moves, charts `chart_hz` times a second. The
+thread only reads snapshots, so a slow browser slows the view, never the learner.
+
+Start and stop it explicitly (the server's lifespan does)::
+
+    view = LiveView(source, host="127.0.0.1", port=8081)
+    view.start()
+    print(view.url)
+    ...
+    view.stop()
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+
+import numpy as np
+import viser
+
+from horde.spec import RunSpec
+from horde.view import camera, scene
+from horde.view.apply import SceneApplier
+from horde.view.gui import ControlPanel
+from horde.view.source import ViewSnapshot, ViewSource
+
+log = logging.getLogger(__name__)
+
+RUN_LIST_PERIOD = 1.0  # seconds between looks at the list of runs
+
+
+class LiveView:
+    """The viser live view of the runs of a `ViewSource`.
+
+    Args:
+        source: the runs to show.
+        host: the address to bind (loopback by default).
+        port: the port asked for; viser moves to the next free one, read `port` after `start`.
+        fps: most scene updates per second.
+        map_hz: value map refreshes per second while the run moves (at least 2).
+        chart_hz: chart refreshes per second.
+        resolution: cells per side of the value map.
+    """
+
+    def __init__(
+        self,
+        source: ViewSource,
+        host: str = "127.0.0.1",
+        port: int = 8080,
+        *,
+        fps: float = 30.0,
+        map_hz: float = 3.0,
+        chart_hz: float = 4.0,
+        resolution: int = 32,
+    ) -> None:
+        self.source = source
+        self.host = host
+        self.requested_port = port
+        self.fps, self.map_hz, self.chart_hz = fps, map_hz, chart_hz
+        self.resolution = resolution
+        self._server: viser.ViserServer | None = None
+        self._thread: threading.Thread | None = None
+        self._stop = threading.Event()
+        self._shown_run: str | None = None
+        self._demon_names: tuple[str, ...] = ()
+        self._spec: RunSpec | None = None
+        self._map_key: tuple[object, ...] | None = None
+        self._map_time = 0.0
+        self._chart_time = 0.0
+        self._runs_time = -RUN_LIST_PERIOD
+
+    # ------------------------------------------------------------------------------------------
+    # Lifecycle
+
+    @property
+    def server(self) -> viser.ViserServer:
+        if self._server is None:
+            raise RuntimeError("the live view is not started")
+        return self._server
+
+    @property
+    def port(self) -> int:
+        """The port the server listens on (after `start`)."""
+        return self.server.get_port()
+
+    @property
+    def url(self) -> str:
+        return f"http://{self.host}:{self.port}/"
+
+    def start(self) -> None:
+        """Start the viser server and the view thread."""
+        if self._server is not None:
+            return
+        server = viser.ViserServer(host=self.host, port=self.requested_port, verbose=False)
+        self._server = server
+        server.scene.world_axes.visible = False
+        self.applier = SceneApplier(server.scene)
+        self.panel = ControlPanel(server, self.source, self._set_view_mode)
+        self._stop.clear()
+        self._thread = threading.Thread(target=self._loop, name="horde-live-view", daemon=True)
+        self._thread.start()
+
+    def stop(self) -> None:
+        """Stop the view thread and the viser server."""
+        self._stop.set()
+        self.panel_changed()
+        if self._thread is not None:
+            self._thread.join(timeout=5.0)
+            self._thread = None
+        if self._server is not None:
+            self._server.stop()
+            self._server = None
+
+    def panel_changed(self) -> None:
+        if self._server is not None:
+            self.panel.changed.set()
+
+    # ------------------------------------------------------------------------------------------
+    # The view thread
+
+    def _loop(self) -> None:
+        """Frames at most `fps` a second, and one at once after a GUI change."""
+        period = 1.0 / self.fps
+        last_error = ""
+        while not self._stop.is_set():
+            started = time.monotonic()
+            try:
+                self.refresh()
+                last_error = ""
+            except Exception as exc:  # a run that vanished, a client that left: log once, go on
+                if repr(exc) != last_error:
+                    log.exception("live view refresh failed")
+                last_error = repr(exc)
+            remaining = period - (time.monotonic() - started)
+            if remaining > 0 and self.panel.changed.wait(remaining):
+                self.panel.changed.clear()
+
+    def refresh(self) -> None:
+        """One frame: sample the chosen run and send what changed."""
+        now = time.monotonic()
+        panel = self.panel
+        if now - self._runs_time >= RUN_LIST_PERIOD:
+            self._runs_time = now
+            panel.set_runs(self.source.list_runs())
+        run_id = panel.run_id
+        if run_id is None:
+            self._show_nothing()
+            return
+        snapshot = self.source.snapshot(run_id, panel.shown)
+        names = tuple(demon.name for demon in snapshot.spec.demons)
+        if run_id != self._shown_run or names != self._demon_names:
+            self._switch_run(snapshot, names)
+            snapshot = self.source.snapshot(run_id, panel.shown)
+        with self.server.atomic():
+            self.applier.apply(scene.world_nodes(snapshot.spec.world, snapshot.indicator_colors), "world")
+            self.applier.apply(scene.agent_nodes(snapshot, panel.shown), "agent")
+            self._refresh_map(snapshot, now)
+        panel.show_state(snapshot)
+        if now - self._chart_time >= 1.0 / self.chart_hz:
+            self._chart_time = now
+            panel.show_charts(snapshot, panel.shown)
+
+    def _show_nothing(self) -> None:
+        if self._shown_run is not None:
+            self.applier.clear()
+            self._shown_run, self._demon_names = None, ()
+
+    def _switch_run(self, snapshot: ViewSnapshot, names: tuple[str, ...]) -> None:
+        """A newly chosen run, or demons that joined or left the run shown: new demon widgets."""
+        if snapshot.run_id != self._shown_run:
+            self.applier.clear()
+        self._shown_run, self._demon_names, self._map_key = snapshot.run_id, names, None
+        self.panel.set_demons(names)
+        if self._spec is None or self._spec.world != snapshot.spec.world:
+            self._spec = snapshot.spec
+            self._set_view_mode(self.panel.three_d)
+        self._spec = snapshot.spec
+
+    def _refresh_map(self, snapshot: ViewSnapshot, now: float) -> None:
+        demon = self.panel.value_demon
+        if demon is None:
+            self.applier.apply([], "value_map")
+            return
+        key = (snapshot.run_id, demon, self.panel.three_d, snapshot.total_steps, snapshot.episode)
+        if key == self._map_key:
+            return
+        selection_changed = self._map_key is None or key[:3] != self._map_key[:3]
+        if not selection_changed and now - self._map_time < 1.0 / self.map_hz:
+            return
+        world = snapshot.spec.world
+        values = self.source.value_map(snapshot.run_id, demon, self.resolution)
+        greedy = self.source.greedy_actions(snapshot.run_id, demon, scene.arrow_resolution(world))
+        self.applier.apply(
+            scene.value_map_nodes(world, demon, np.asarray(values), greedy, self.panel.three_d), "value_map"
+        )
+        self._map_key, self._map_time = key, now
+
+    # ------------------------------------------------------------------------------------------
+    # Camera
+
+    def _set_view_mode(self, three_d: bool) -> None:
+        """Point the initial camera and every connected client's camera at the world."""
+        if self._spec is None:
+            return
+        world = self._spec.world
+        pose = camera.tilted(world) if three_d else camera.top_down(world)
+        initial = self.server.initial_camera
+        initial.fov = pose.fov
+        initial.position = pose.position
+        initial.look_at = pose.look_at
+        initial.up = pose.up
+        for client in self.server.get_clients().values():
+            with client.atomic():
+                client.camera.fov = pose.fov
+                client.camera.up_direction = pose.up
+                client.camera.position = pose.position
+                client.camera.look_at = pose.look_at
+        self.panel_changed()

@@ -1,0 +1,116 @@
+"""The live view in a real browser: headless Chromium (Debian's) driven by Playwright.
+
+The test reads the agent's position from the viser client's own test hook: the client exposes its
+mutable viewer state as `window.__viserMutable`, whose `nodeRefFromName[name]` is the THREE.Object3D
+of a scene node; `.position` is the node's position in its parent frame (here the world frame).
+"""
+
+from __future__ import annotations
+
+import shutil
+import socket
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from horde.scenarios import load_scenario
+from horde.view import LiveView, SimulationSource
+from horde.view.scene import agent_radius, scene_scale
+
+CHROMIUM = Path("/usr/bin/chromium")
+ROOT = Path(__file__).resolve().parents[2]
+ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--use-angle=swiftshader",
+    "--enable-unsafe-swiftshader",
+]
+AGENT_POSITION = """() => {
+    const node = window.__viserMutable?.nodeRefFromName?.["/agent"];
+    return node ? [node.position.x, node.position.y, node.position.z] : null;
+}"""
+AGENT_AT = """([x, y]) => {
+    const node = window.__viserMutable?.nodeRefFromName?.["/agent"];
+    return !!node && Math.abs(node.position.x - x) < 1e-4 && Math.abs(node.position.y - y) < 1e-4;
+}"""
+
+pytestmark = [
+    pytest.mark.e2e,
+    pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium at /usr/bin/chromium"),
+]
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@pytest.fixture
+def live() -> Iterator[tuple[LiveView, SimulationSource]]:
+    source = SimulationSource([load_scenario(ROOT / "scenarios" / "experiment1.toml")], hz=10.0)
+    view = LiveView(source, host="127.0.0.1", port=free_port())
+    view.start()
+    yield view, source
+    view.stop()
+    source.close()
+
+
+def test_the_agent_moves_in_the_browser_when_the_run_steps(live: tuple[LiveView, SimulationSource]) -> None:
+    from playwright.sync_api import sync_playwright
+
+    view, source = live
+    run = source.list_runs()[0][0]
+    spec = source.snapshot(run).spec
+    scale = scene_scale(spec.world)
+    errors: list[str] = []
+    with sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=ARGS)
+        try:
+            page = browser.new_page(viewport={"width": 1280, "height": 800})
+            page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+            page.on("pageerror", lambda e: errors.append(str(e)))
+            page.goto(view.url)
+            page.wait_for_function(AGENT_POSITION, timeout=30_000)
+            x, y, z = page.evaluate(AGENT_POSITION)
+            assert (x, y) == pytest.approx((0.0, 0.0))  # experiment1 starts at (0, 0)
+            assert z == pytest.approx(agent_radius(spec.world))
+
+            # Step with the GUI's button until the agent has left its start (a bump leaves it there).
+            step = page.get_by_role("button", name="Step", exact=True)
+            for _ in range(30):
+                before = source.snapshot(run).total_steps
+                step.click()
+                deadline = time.monotonic() + 5.0
+                while source.snapshot(run).total_steps == before and time.monotonic() < deadline:
+                    time.sleep(0.02)
+                snap = source.snapshot(run)
+                if (snap.x, snap.y) != (0.0, 0.0):
+                    break
+            assert (snap.x, snap.y) != (0.0, 0.0)
+            page.wait_for_function(AGENT_AT, arg=[snap.x * scale, snap.y * scale], timeout=10_000)
+
+            # Learn a while, so that the picture shows a value map worth seeing.
+            source.step(run, 2000)
+            snap = source.snapshot(run)
+            page.wait_for_function(AGENT_AT, arg=[snap.x * scale, snap.y * scale], timeout=10_000)
+            page.wait_for_timeout(1500)  # a value map refresh and a chart refresh
+            for close in page.locator(".mantine-Notification-root button").all():
+                close.click()  # the "software WebGL" notice of a GPU-less browser
+            page.wait_for_timeout(300)
+            artifacts = ROOT / "test-artifacts"
+            artifacts.mkdir(exist_ok=True)
+            page.screenshot(path=str(artifacts / "view.png"))
+        finally:
+            browser.close()
+    (ROOT / "docs").mkdir(exist_ok=True)
+    shutil.copyfile(ROOT / "test-artifacts" / "view.png", ROOT / "docs" / "view.png")
+    assert errors == []

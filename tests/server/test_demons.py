@@ -1,0 +1,152 @@
+"""A run's demons: list, add to a live run, remove, values, history, evaluate; with their errors."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+from fastapi.testclient import TestClient
+
+from horde.server import Settings, create_app
+
+from .helpers import locs, make_spec, messages, wait_for
+
+BUMP = {"name": "bump", "policy": "uniform", "cumulant": {"sensor": "bump"}, "learner": "gtd"}
+
+
+def test_list_and_get(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_id = create_run()
+    demons = client.get(f"/api/runs/{run_id}/demons").json()
+    assert [d["name"] for d in demons] == ["base", "steps"]
+    assert [d["control"] for d in demons] == [True, False]
+    one = client.get(f"/api/runs/{run_id}/demons/steps").json()
+    assert one["spec"]["policy"]["kind"] == "of" and one["metrics"]["diverged"] is False
+    assert client.get(f"/api/runs/{run_id}/demons/ghost").status_code == 404
+    assert client.get("/api/runs/nope/demons").status_code == 404
+
+
+def test_a_demon_joins_without_disturbing_the_others(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_id = create_run()
+    client.post(f"/api/runs/{run_id}/step", json={"steps": 500})
+    before = {
+        n: client.get(f"/api/runs/{run_id}/demons/{n}/values?resolution=6").json()["values"] for n in ("base", "steps")
+    }
+    response = client.post(f"/api/runs/{run_id}/demons", json=BUMP)
+    assert response.status_code == 201 and response.json()["name"] == "bump"
+    after = {
+        n: client.get(f"/api/runs/{run_id}/demons/{n}/values?resolution=6").json()["values"] for n in ("base", "steps")
+    }
+    assert after == before  # weights carried over exactly
+    assert client.get(f"/api/runs/{run_id}").json()["demons"] == ["base", "steps", "bump"]
+    state = client.post(f"/api/runs/{run_id}/step", json={"steps": 200}).json()
+    assert state["step"] == 700 and "bump" in state["predictions"]
+
+
+def test_a_demon_joins_a_running_run(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_id = create_run(make_spec(), start="true")
+    time.sleep(0.1)
+    assert client.post(f"/api/runs/{run_id}/demons", json=BUMP).status_code == 201
+    time.sleep(0.2)
+    state = client.get(f"/api/runs/{run_id}/state").json()
+    assert state["status"] == "running" and "bump" in state["predictions"]
+    assert client.delete(f"/api/runs/{run_id}/demons/bump").status_code == 204
+    assert "bump" not in client.get(f"/api/runs/{run_id}/state").json()["predictions"]
+    client.post(f"/api/runs/{run_id}/pause")
+
+
+def test_add_errors(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_id = create_run()
+    duplicate = client.post(f"/api/runs/{run_id}/demons", json={**BUMP, "name": "steps"})
+    assert duplicate.status_code == 409 and "already" in duplicate.json()["detail"]
+    assert ["body", "lambda"] in locs(client.post(f"/api/runs/{run_id}/demons", json={**BUMP, "lambda": 2}))
+    ghost = {**BUMP, "cumulant": {"prediction": "ghost"}}
+    assert "unknown demon 'ghost'" in messages(client.post(f"/api/runs/{run_id}/demons", json=ghost))
+    sensor = {**BUMP, "cumulant": {"sensor": "in:nowhere"}}
+    assert "unknown sensor 'in:nowhere'" in messages(client.post(f"/api/runs/{run_id}/demons", json=sensor))
+    assert client.post("/api/runs/nope/demons", json=BUMP).status_code == 404
+    assert [d["name"] for d in client.get(f"/api/runs/{run_id}/demons").json()] == ["base", "steps"]
+
+
+def test_finished_runs_take_no_new_demons(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_id = create_run(make_spec(episodes=1), start="true")
+    wait_for(client, run_id, "finished")
+    assert client.post(f"/api/runs/{run_id}/demons", json=BUMP).status_code == 409
+    assert client.delete(f"/api/runs/{run_id}/demons/steps").status_code == 409
+
+
+def test_remove_errors(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_id = create_run()
+    followed = client.delete(f"/api/runs/{run_id}/demons/base")
+    assert followed.status_code == 409 and "base" in followed.json()["detail"]
+    assert client.delete(f"/api/runs/{run_id}/demons/ghost").status_code == 404
+    assert client.delete("/api/runs/nope/demons/base").status_code == 404
+    assert client.delete(f"/api/runs/{run_id}/demons/steps").status_code == 204
+
+
+def test_values(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_id = create_run()
+    client.post(f"/api/runs/{run_id}/step", json={"steps": 300})
+    body = client.get(f"/api/runs/{run_id}/demons/steps/values", params={"resolution": 5}).json()
+    assert body["resolution"] == 5 and body["x"] == [50, 150, 250, 350, 450] and body["y"] == body["x"]
+    assert len(body["values"]) == 5 and all(len(row) == 5 for row in body["values"])
+    assert body["min"] <= body["values"][0][0] <= body["max"]
+    prediction = client.get(f"/api/runs/{run_id}/state").json()
+    assert prediction["step"] == 300
+
+
+def test_values_errors(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_id = create_run()
+    assert ["query", "resolution"] in locs(client.get(f"/api/runs/{run_id}/demons/steps/values?resolution=1"))
+    assert ["query", "resolution"] in locs(client.get(f"/api/runs/{run_id}/demons/steps/values?resolution=100000"))
+    assert client.get(f"/api/runs/{run_id}/demons/ghost/values").status_code == 404
+    assert client.get("/api/runs/nope/demons/steps/values").status_code == 404
+
+
+def test_history(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_id = create_run(make_spec(), start="true", hz=100)
+    time.sleep(0.4)
+    steps = client.post(f"/api/runs/{run_id}/pause").json()["step"]
+    body = client.get(f"/api/runs/{run_id}/demons/steps/history").json()
+    assert body["every"] == 1 and body["capacity"] == 2000
+    assert len(body["step"]) >= steps // 2 and body["step"][-1] == steps  # paced: about a row a step
+    assert body["step"] == sorted(set(body["step"]))
+    assert len(body["prediction"]) == len(body["rupee"]) == len(body["ude"]) == len(body["step"])
+    assert set(body["cumulant"]) == {1.0}
+    last = client.get(f"/api/runs/{run_id}/demons/steps/history", params={"limit": 2}).json()
+    assert last["step"] == body["step"][-2:]
+    assert client.get(f"/api/runs/{run_id}/demons/ghost/history").status_code == 404
+    assert ["query", "limit"] in locs(client.get(f"/api/runs/{run_id}/demons/steps/history?limit=0"))
+
+
+def test_history_is_a_bounded_ring(settings: Settings) -> None:
+    settings = settings.model_copy(update={"history": 50, "history_interval": 0.0})
+    with TestClient(create_app(settings)) as client:
+        run_id = client.post("/api/runs", json=make_spec()).json()["id"]
+        for _ in range(5):
+            client.post(f"/api/runs/{run_id}/step", json={"steps": 2000})
+        body = client.get(f"/api/runs/{run_id}/demons/base/history").json()
+        assert len(body["step"]) == 50 and body["step"][-1] == 10_000
+        assert body["step"] == sorted(body["step"])
+
+
+def test_evaluate(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_id = create_run()
+    client.post(f"/api/runs/{run_id}/step", json={"steps": 2000})
+    request = {"demon": "steps", "from": [0, 0], "episodes": 50, "cap": 2000, "seed": 1}
+    body = client.post(f"/api/runs/{run_id}/evaluate", json=request).json()
+    assert body["episodes"] == 50 and body["cap"] == 2000 and body["from"] == [0, 0]
+    assert body["truth"] > 0 and body["stderr"] > 0
+    assert abs(body["error"] - (body["prediction"] - body["truth"])) < 1e-9
+    assert client.post(f"/api/runs/{run_id}/evaluate", json=request).json() == body  # seeded: repeatable
+    assert client.get(f"/api/runs/{run_id}/state").json()["step"] == 2000  # the run did not move
+
+
+def test_evaluate_errors(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_id = create_run()
+    url = f"/api/runs/{run_id}/evaluate"
+    assert client.post(url, json={"demon": "ghost", "from": [0, 0]}).status_code == 404
+    assert client.post("/api/runs/nope/evaluate", json={"demon": "steps", "from": [0, 0]}).status_code == 404
+    assert ["body", "from"] in locs(client.post(url, json={"demon": "steps", "from": [900, 0]}))
+    assert "obstacle 'wall'" in messages(client.post(url, json={"demon": "steps", "from": [150, 250]}))
+    assert ["body", "episodes"] in locs(client.post(url, json={"demon": "steps", "from": [0, 0], "episodes": 10**6}))
+    assert ["body", "from"] in locs(client.post(url, json={"demon": "steps", "from": [0]}))

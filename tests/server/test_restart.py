@@ -1,0 +1,116 @@
+"""The server as a subprocess, killed hard (SIGKILL) mid-run and restarted on the same data directory.
+
+Every world and finished run is still there, the database passes PRAGMA integrity_check, the paused
+run resumes from its snapshot exactly, and the run that was running comes back paused at its last
+periodic snapshot.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import socket
+import sqlite3
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+import httpx
+
+from .helpers import WORLD, make_spec
+
+STARTUP_TIMEOUT = 120.0  # the first start may compile the learning kernels
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@contextmanager
+def server(data: Path, log: Path) -> Iterator[tuple[subprocess.Popen[bytes], httpx.Client]]:
+    """`python -m horde.server` on a free loopback port; killed (if still alive) on the way out."""
+    port = free_port()
+    env = {k: v for k, v in os.environ.items() if not k.startswith("HORDE_")}
+    env["HORDE_SNAPSHOT_EVERY"] = "0.2"
+    command = [sys.executable, "-m", "horde.server", "--host", "127.0.0.1", "--port", str(port), "--data", str(data)]
+    with log.open("ab") as out:
+        process = subprocess.Popen([*command, "--log-level", "warning"], env=env, stdout=out, stderr=out)
+    client = httpx.Client(base_url=f"http://127.0.0.1:{port}", timeout=30.0)
+    try:
+        deadline = time.monotonic() + STARTUP_TIMEOUT
+        while True:
+            assert process.poll() is None, log.read_text()
+            try:
+                if client.get("/api/health").status_code == 200:
+                    break
+            except httpx.TransportError:
+                pass
+            assert time.monotonic() < deadline, "the server did not start"
+            time.sleep(0.1)
+        yield process, client
+    finally:
+        client.close()
+        if process.poll() is None:
+            process.kill()
+        process.wait(timeout=30)
+
+
+def wait_status(client: httpx.Client, run_id: str, status: str, timeout: float = 60.0) -> dict:
+    deadline = time.monotonic() + timeout
+    while (body := client.get(f"/api/runs/{run_id}").json())["status"] != status:
+        assert time.monotonic() < deadline, body
+        time.sleep(0.05)
+    return body
+
+
+def test_sigkill_mid_run_loses_nothing(tmp_path: Path) -> None:
+    data, log = tmp_path / "data", tmp_path / "server.log"
+    with server(data, log) as (process, client):
+        for name in ("room", "hall"):
+            assert client.post("/api/worlds", json={**WORLD, "name": name}).status_code == 201
+        finished = client.post("/api/runs", json=make_spec(episodes=3), params={"start": "true"}).json()["id"]
+        finished_body = wait_status(client, finished, "finished")
+
+        paused = client.post("/api/runs", json=make_spec(), params={"start": "true"}).json()["id"]
+        time.sleep(0.3)
+        paused_body = client.post(f"/api/runs/{paused}/pause").json()
+        paused_state = client.get(f"/api/runs/{paused}/state").json()
+        twin = client.post("/api/runs/import", json=client.get(f"/api/runs/{paused}/snapshot").json()).json()["id"]
+
+        running = client.post("/api/runs", json=make_spec(), params={"start": "true"}).json()["id"]
+        time.sleep(1.0)  # several periodic snapshots
+        running_steps = client.get(f"/api/runs/{running}").json()["step"]
+        assert running_steps > 0
+
+        process.send_signal(signal.SIGKILL)
+        process.wait(timeout=30)
+
+    with sqlite3.connect(data / "horde.db") as db:
+        assert db.execute("PRAGMA integrity_check").fetchone()[0] == "ok"
+
+    with server(data, log) as (_, client):
+        assert {w["name"] for w in client.get("/api/worlds").json()} == {"room", "hall"}
+        runs = {r["id"]: r for r in client.get("/api/runs").json()}
+        assert set(runs) == {finished, paused, twin, running}
+
+        again = client.get(f"/api/runs/{finished}").json()
+        assert again["status"] == "finished" and again["summary"] == finished_body["summary"]
+
+        assert runs[paused]["status"] == "paused" and runs[paused]["step"] == paused_body["step"]
+        assert client.get(f"/api/runs/{paused}/state").json()["predictions"] == paused_state["predictions"]
+        resumed = client.post(f"/api/runs/{paused}/step", json={"steps": 500}).json()
+        reference = client.post(f"/api/runs/{twin}/step", json={"steps": 500}).json()
+        assert resumed["predictions"] == reference["predictions"] and resumed["step"] == paused_body["step"] + 500
+
+        assert runs[running]["status"] == "paused" and 0 < runs[running]["step"] <= running_steps
+        assert client.post(f"/api/runs/{running}/start").json()["status"] == "running"
+        time.sleep(0.2)
+        assert client.post(f"/api/runs/{running}/pause").json()["step"] > runs[running]["step"]
+
+        with sqlite3.connect(data / "horde.db") as db:
+            assert db.execute("PRAGMA integrity_check").fetchone()[0] == "ok"

@@ -1,0 +1,98 @@
+"""GET /api/runs/{id}/snapshot and POST /api/runs/import: a run resumes exactly where it stopped."""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Callable
+
+from fastapi.testclient import TestClient
+
+from horde.server import Settings, create_app
+
+from .helpers import BASE_DEMON, locs, make_spec
+
+
+def test_import_resumes_exactly(client: TestClient, create_run: Callable[..., str]) -> None:
+    """Run A for n + m steps; snapshot A at n, import it as B, step B m times: identical predictions."""
+    run_a = create_run()
+    client.post(f"/api/runs/{run_a}/step", json={"steps": 700})
+    snapshot = client.get(f"/api/runs/{run_a}/snapshot").json()
+    assert snapshot["format"] == "horde-snapshot/1" and snapshot["total_steps"] == 700
+    state_a = client.post(f"/api/runs/{run_a}/step", json={"steps": 900}).json()
+
+    imported = client.post("/api/runs/import", json=snapshot)
+    assert imported.status_code == 201
+    run_b = imported.json()["id"]
+    assert run_b != run_a and imported.json()["status"] == "paused" and imported.json()["step"] == 700
+    state_b = client.post(f"/api/runs/{run_b}/step", json={"steps": 900}).json()
+
+    assert state_b["predictions"] == state_a["predictions"]
+    assert state_b["agent"] == state_a["agent"] and state_b["episode"] == state_a["episode"]
+    assert state_b["metrics"] == state_a["metrics"]
+
+
+def test_import_after_a_demon_joined_resumes_exactly(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_a = create_run()
+    client.post(f"/api/runs/{run_a}/step", json={"steps": 300})
+    client.post(f"/api/runs/{run_a}/demons", json={"name": "odd", "policy": "uniform", "cumulant": {"sensor": "x"}})
+    client.post(f"/api/runs/{run_a}/step", json={"steps": 100})
+    snapshot = client.get(f"/api/runs/{run_a}/snapshot").json()
+    state_a = client.post(f"/api/runs/{run_a}/step", json={"steps": 300}).json()
+    run_b = client.post("/api/runs/import", json=snapshot).json()["id"]
+    assert client.post(f"/api/runs/{run_b}/step", json={"steps": 300}).json()["predictions"] == state_a["predictions"]
+
+
+def test_a_finished_run_imports_as_finished(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_a = create_run(make_spec(episodes=1))
+    while client.get(f"/api/runs/{run_a}").json()["status"] != "finished":
+        client.post(f"/api/runs/{run_a}/step", json={"steps": 50})
+    snapshot = client.get(f"/api/runs/{run_a}/snapshot").json()
+    imported = client.post("/api/runs/import", json=snapshot).json()
+    assert imported["status"] == "finished"
+    assert imported["summary"]["predictions"] == client.get(f"/api/runs/{run_a}").json()["summary"]["predictions"]
+
+
+def test_bad_snapshots_are_422_naming_the_field(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_id = create_run()
+    client.post(f"/api/runs/{run_id}/step", json={"steps": 10})
+    snapshot = client.get(f"/api/runs/{run_id}/snapshot").json()
+
+    def spoiled(change: Callable[[dict], None]) -> dict:
+        copied = copy.deepcopy(snapshot)
+        change(copied)
+        return copied
+
+    bad_base64 = spoiled(lambda s: s["horde"]["pi"].update(data="***"))
+    assert ["body", "horde", "pi"] in locs(client.post("/api/runs/import", json=bad_base64))
+    wrong_shape = spoiled(lambda s: s["horde"]["pi"].update(shape=[4, 2]))
+    assert ["body", "horde", "pi"] in locs(client.post("/api/runs/import", json=wrong_shape))
+    missing = spoiled(lambda s: s["horde"].pop("prediction"))
+    assert ["body", "horde", "prediction"] in locs(client.post("/api/runs/import", json=missing))
+    other_spec = spoiled(lambda s: s["spec"].update(demons=[BASE_DEMON]))
+    assert locs(client.post("/api/runs/import", json=other_spec))[0][:2] == ["body", "horde"]
+    wrong_format = spoiled(lambda s: s.update(format="v0"))
+    assert ["body", "format"] in locs(client.post("/api/runs/import", json=wrong_format))
+    outside = spoiled(lambda s: s["world"].update(x=snapshot_array([1e6])))
+    assert ["body", "world", "x"] in locs(client.post("/api/runs/import", json=outside))
+    assert len(client.get("/api/runs").json()) == 1  # nothing half-imported
+
+
+def snapshot_array(values: list[float]) -> dict:
+    import base64
+
+    import numpy as np
+
+    data = base64.b64encode(np.array(values, dtype="<f8").tobytes()).decode()
+    return {"dtype": "float64", "shape": [len(values)], "data": data}
+
+
+def test_export_of_an_unknown_run_is_404(client: TestClient) -> None:
+    assert client.get("/api/runs/nope/snapshot").status_code == 404
+
+
+def test_import_is_bounded_by_the_number_of_runs(settings: Settings) -> None:
+    settings = settings.model_copy(update={"max_runs": 1})
+    with TestClient(create_app(settings)) as client:
+        run_id = client.post("/api/runs", json=make_spec()).json()["id"]
+        snapshot = client.get(f"/api/runs/{run_id}/snapshot").json()
+        assert client.post("/api/runs/import", json=snapshot).status_code == 409

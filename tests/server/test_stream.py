@@ -1,0 +1,114 @@
+"""WS /api/runs/{id}/stream: state messages, at most ~30 a second, and slow or dead clients dropped."""
+
+from __future__ import annotations
+
+import asyncio
+import time
+from collections.abc import Callable
+from typing import Any
+
+import pytest
+from fastapi.testclient import TestClient
+from starlette.websockets import WebSocketDisconnect, WebSocketState
+
+from horde.runs import RunManager
+from horde.server.stream import CLOSE_RUN_DELETED, CLOSE_TOO_SLOW, CLOSE_UNKNOWN_RUN, StreamHub
+from horde.spec import RunSpec
+
+from .helpers import make_spec
+
+
+def test_messages_carry_the_state_and_new_events(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_id = create_run()
+    with client.websocket_connect(f"/api/runs/{run_id}/stream") as ws:
+        first = ws.receive_json()
+        assert first["type"] == "state" and first["run"] == run_id and first["step"] == 0
+        client.post(f"/api/runs/{run_id}/step", json={"steps": 300})
+        message = ws.receive_json()
+        assert message["step"] == 300 and set(message["predictions"]) == {"base", "steps"}
+        assert "episode" in {e["kind"] for e in message["events"]}
+
+
+def test_at_most_about_30_messages_a_second(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_id = create_run(make_spec(), start="true")
+    with client.websocket_connect(f"/api/runs/{run_id}/stream") as ws:
+        ws.receive_json()
+        began = time.monotonic()
+        count, steps = 0, []
+        while time.monotonic() - began < 1.0:
+            steps.append(ws.receive_json()["step"])
+            count += 1
+    client.post(f"/api/runs/{run_id}/pause")
+    assert 3 <= count <= 34  # the upper bound is the point; a busy machine may deliver fewer
+    assert steps == sorted(steps) and steps[-1] > steps[0]
+
+
+def test_unknown_run_closes_with_4404(client: TestClient) -> None:
+    with (
+        client.websocket_connect("/api/runs/nope/stream") as ws,
+        pytest.raises(WebSocketDisconnect) as closed,
+    ):
+        ws.receive_json()
+    assert closed.value.code == CLOSE_UNKNOWN_RUN
+
+
+def test_deleting_the_run_closes_its_streams(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_id = create_run(make_spec(), start="true")
+    with client.websocket_connect(f"/api/runs/{run_id}/stream") as ws:
+        ws.receive_json()
+        assert client.delete(f"/api/runs/{run_id}").status_code == 204
+        with pytest.raises(WebSocketDisconnect) as closed:
+            for _ in range(200):
+                ws.receive_json()
+    assert closed.value.code == CLOSE_RUN_DELETED
+
+
+class FakeSocket:
+    """A client that takes `send_delay` seconds per message (forever when None after the first)."""
+
+    def __init__(self, send_delay: float | None) -> None:
+        self.send_delay = send_delay
+        self.sent = 0
+        self.closed: tuple[int, str] | None = None
+        self.application_state = WebSocketState.CONNECTING
+        self.client_state = WebSocketState.CONNECTED
+        self._gone = asyncio.Event()
+
+    async def accept(self) -> None:
+        self.application_state = WebSocketState.CONNECTED
+
+    async def send_text(self, text: str) -> None:
+        self.sent += 1
+        if self.sent > 1:
+            await asyncio.sleep(self.send_delay if self.send_delay is not None else 3600)
+
+    async def receive(self) -> dict[str, Any]:
+        await self._gone.wait()
+        return {"type": "websocket.disconnect", "code": 1000}
+
+    async def close(self, code: int = 1000, reason: str = "") -> None:
+        self.closed = (code, reason)
+        self.application_state = WebSocketState.DISCONNECTED
+        self._gone.set()  # a polite client answers the close
+
+
+@pytest.mark.parametrize(("send_delay", "reason"), [(None, "timed out"), (0.2, "behind")])
+def test_slow_or_stuck_clients_are_dropped_and_learning_goes_on(send_delay: float | None, reason: str) -> None:
+    manager = RunManager()
+    view = manager.create(RunSpec.model_validate(make_spec()), start=True)
+    run = manager.get(view.id)
+    hub = StreamHub(manager, rate=100.0, backlog=4, send_timeout=0.5)
+    socket = FakeSocket(send_delay)
+
+    async def stream() -> None:
+        await asyncio.wait_for(hub.serve(socket, view.id), timeout=10)  # type: ignore[arg-type]
+
+    try:
+        before = run.view.total_steps
+        asyncio.run(stream())
+        time.sleep(0.1)
+        assert socket.closed is not None and socket.closed[0] == CLOSE_TOO_SLOW and reason in socket.closed[1]
+        assert hub.clients == 0
+        assert run.view.status == "running" and run.view.total_steps > before
+    finally:
+        manager.stop()

@@ -1,0 +1,167 @@
+"""LiveView without a browser: its port, one refresh of its scene and panel, the camera, the applier."""
+
+from __future__ import annotations
+
+import socket
+import urllib.request
+from collections.abc import Iterator, Sequence
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from horde.scenarios import load_scenario
+from horde.spec import RunSpec
+from horde.view import LiveView, SimulationSource, camera
+from horde.view.apply import SceneApplier
+from horde.view.nodes import Node
+from horde.view.source import ViewSnapshot
+
+SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+def started_by_hand(source: SimulationSource) -> LiveView:
+    """A started view whose frames the test draws itself (`refresh`), its thread stopped."""
+    view = LiveView(source, port=free_port())
+    view.start()
+    view._stop.set()
+    view.panel_changed()
+    assert view._thread is not None
+    view._thread.join(timeout=5.0)
+    return view
+
+
+@pytest.fixture
+def source() -> Iterator[SimulationSource]:
+    source = SimulationSource([load_scenario(SCENARIOS / "experiment1.toml")], hz=50.0)
+    yield source
+    source.close()
+
+
+def test_the_view_reports_the_port_it_really_got(source: SimulationSource) -> None:
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = int(taken.getsockname()[1])
+        view = LiveView(source, port=port)
+        view.start()
+        try:
+            assert view.port != port
+            assert view.url == f"http://127.0.0.1:{view.port}/"
+            with urllib.request.urlopen(view.url, timeout=10) as response:
+                assert response.status == 200
+        finally:
+            view.stop()
+    with pytest.raises(RuntimeError):
+        _ = view.port
+
+
+def test_one_refresh_draws_the_chosen_run(source: SimulationSource) -> None:
+    view = started_by_hand(source)
+    try:
+        source.step("experiment1-1", 5)
+        view.refresh()
+        snap = source.snapshot("experiment1-1")
+        drawn = view.applier.drawn
+        assert {"/world/floor", "/regions/goal", "/agent", "/predictions", "/value_map/texture"} <= set(drawn)
+        assert "/value_map/arrows" in drawn  # the first demon, base, is a control demon
+        assert drawn["/agent"][0].position[:2] == pytest.approx((snap.x / 50, snap.y / 50))
+        assert view.panel.run_id == "experiment1-1"
+        assert view.panel.value_demon == "base"
+        assert view.panel.shown == ("base", "steps_to_end")
+        assert view.panel.total.value == 5
+        initial = view.server.initial_camera
+        assert initial.up is not None and tuple(initial.up) == (0.0, 1.0, 0.0)
+    finally:
+        view.stop()
+
+
+def test_the_default_camera_looks_straight_down_with_y_up_and_the_tilt_keeps_z_up() -> None:
+    world = load_scenario(SCENARIOS / "experiment1.toml").world
+    top = camera.top_down(world)
+    assert top.position[:2] == top.look_at[:2] and top.position[2] > 0.0 and top.look_at[2] == 0.0
+    assert top.up == (0.0, 1.0, 0.0)
+    tilted = camera.tilted(world)
+    assert tilted.up == (0.0, 0.0, 1.0)
+    assert tilted.position[1] < tilted.look_at[1] and tilted.position[2] > 0.0
+
+
+class FakeHandle:
+    def __init__(self, log: list[tuple[str, str]], name: str) -> None:
+        self.log, self.name = log, name
+
+    def remove(self) -> None:
+        self.log.append(("remove", self.name))
+
+    def __setattr__(self, key: str, value: Any) -> None:
+        if key == "position":
+            self.log.append(("move", self.name))
+        object.__setattr__(self, key, value)
+
+
+class FakeScene:
+    def __init__(self) -> None:
+        self.log: list[tuple[str, str]] = []
+
+    def add_box(self, name: str, **_: Any) -> FakeHandle:
+        self.log.append(("add", name))
+        return FakeHandle(self.log, name)
+
+    add_icosphere = add_box
+
+
+def test_the_applier_sends_only_what_changed() -> None:
+    fake = FakeScene()
+    applier = SceneApplier(fake)  # type: ignore[arg-type]
+    box = Node("/a", "box", (0.0, 0.0, 0.0), (1.0, 1.0, 1.0), (1, 2, 3))
+    sphere = Node("/b", "sphere", (0.0, 0.0, 0.0), (1.0, 0.0, 0.0))
+    applier.apply([box, sphere], "world")
+    applier.apply([box, sphere], "world")
+    assert fake.log == [("add", "/a"), ("add", "/b")]
+    fake.log.clear()
+    moved = Node("/b", "sphere", (1.0, 0.0, 0.0), (1.0, 0.0, 0.0))
+    recoloured = Node("/a", "box", (0.0, 0.0, 0.0), (1.0, 1.0, 1.0), (9, 9, 9))
+    applier.apply([recoloured, moved], "world")
+    assert fake.log == [("add", "/a"), ("move", "/b")]
+    fake.log.clear()
+    applier.apply([], "other")  # another owner's nodes stay
+    applier.apply([moved], "world")
+    assert fake.log == [("remove", "/a")]
+    assert np.allclose(applier.drawn["/b"][0].position, (1.0, 0.0, 0.0))
+
+
+class JoiningSource(SimulationSource):
+    """A SimulationSource whose run can be made to report another spec (demons joining a live run)."""
+
+    spec_override: RunSpec | None = None
+
+    def snapshot(self, run_id: str, demons: Sequence[str] | None = None) -> ViewSnapshot:
+        snap = super().snapshot(run_id, demons)
+        return snap if self.spec_override is None else replace(snap, spec=self.spec_override)
+
+
+def test_demons_joining_the_run_shown_keep_the_choices_still_possible() -> None:
+    spec = load_scenario(SCENARIOS / "experiment1.toml")
+    source = JoiningSource([spec])
+    view = started_by_hand(source)
+    try:
+        view.refresh()
+        view.panel._set_value_demon("steps_to_end")
+        extra = spec.demons[1].model_copy(update={"name": "extra"})
+        source.spec_override = spec.model_copy(update={"demons": [*spec.demons, extra]})
+        view.refresh()
+        assert view.panel.value_demon == "steps_to_end"
+        assert view.panel.shown == ("base", "steps_to_end")
+        assert list(view.panel._checkboxes) == ["base", "steps_to_end", "extra"]
+        assert "/value_map/arrows" not in view.applier.drawn  # steps_to_end is no control demon
+    finally:
+        view.stop()
+        source.close()
