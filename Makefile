@@ -4,7 +4,15 @@ VENV := .venv
 BIN := $(VENV)/bin
 INSTALLED := $(VENV)/.installed
 
-.PHONY: serve test lint typecheck pytest setup clean
+# The dashboard: npm installs from package-lock.json (npm ci) into node_modules, whose hidden lockfile
+# (node_modules/.package-lock.json) marks when; Vite builds frontend/dist from the sources.
+FRONTEND := frontend
+NODE_MODULES := $(FRONTEND)/node_modules/.package-lock.json
+DIST := $(FRONTEND)/dist/index.html
+FRONTEND_SOURCES := $(shell find $(FRONTEND)/src -type f 2>/dev/null) \
+	$(addprefix $(FRONTEND)/,index.html vite.config.ts tsconfig.json package.json)
+
+.PHONY: serve test lint typecheck pytest vitest setup frontend api-types clean
 
 setup: $(INSTALLED)
 
@@ -14,20 +22,40 @@ $(INSTALLED): pyproject.toml
 	$(BIN)/python -m pip install --quiet -e '.[dev]'
 	touch $(INSTALLED)
 
-serve: $(INSTALLED)
+# npm ci only when package.json or package-lock.json is newer than the last install.
+$(NODE_MODULES): $(FRONTEND)/package.json $(FRONTEND)/package-lock.json
+	cd $(FRONTEND) && npm ci --no-audit --no-fund
+	touch $(NODE_MODULES)
+
+$(DIST): $(NODE_MODULES) $(FRONTEND_SOURCES)
+	cd $(FRONTEND) && npm run build
+
+frontend: $(DIST)
+
+# Regenerate the dashboard's API types (frontend/src/api/schema.d.ts) after changing the server's models.
+api-types: $(INSTALLED) $(NODE_MODULES)
+	cd $(FRONTEND) && PYTHON=$(CURDIR)/$(BIN)/python npm run gen:api
+
+serve: $(INSTALLED) $(DIST)
 	$(BIN)/horde serve
 
-lint: $(INSTALLED)
+lint: $(INSTALLED) $(NODE_MODULES)
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
+	cd $(FRONTEND) && npm run lint
 
 typecheck: $(INSTALLED)
 	$(BIN)/mypy
 
-pytest: $(INSTALLED)
+vitest: $(NODE_MODULES)
+	cd $(FRONTEND) && npm test
+
+# Needs the built dashboard for the browser tests; tests/test_api_types.py checks that the committed
+# API types match the server's OpenAPI schema.
+pytest: $(INSTALLED) $(DIST)
 	$(BIN)/python -m pytest
 
-test: lint typecheck pytest
+test: lint typecheck vitest pytest
 
 clean:
-	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache
+	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache $(FRONTEND)/node_modules $(FRONTEND)/dist

@@ -1,0 +1,2896 @@
+/**
+ * The Horde Lab API, generated from the server's OpenAPI schema by `npm run gen:api`.
+ * Do not edit: change the pydantic models in backend/horde and regenerate.
+ */
+
+export interface paths {
+    "/api/health": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Server health */
+        get: operations["health_api_health_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/runs": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** List the runs */
+        get: operations["list_runs_api_runs_get"];
+        put?: never;
+        /**
+         * Create a run
+         * @description The body is a RunSpec, or a template: {scenario, world, seed, ...overrides} (a body with a `scenario` key, or whose `world` is a string naming a stored world). The run is the first trial of its protocol, seeded as `horde run` seeds it. 404: unknown scenario or world; 409: too many runs.
+         */
+        post: operations["create_run_api_runs_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/runs/import": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Import a snapshot as a new run
+         * @description The new run continues exactly where the snapshot was taken (paused, or finished). 422 when the arrays do not fit the spec; 409 when the server holds as many runs as it allows.
+         */
+        post: operations["import_snapshot_api_runs_import_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/runs/{run_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** A run */
+        get: operations["get_run_api_runs__run_id__get"];
+        put?: never;
+        post?: never;
+        /** Delete a run */
+        delete: operations["delete_run_api_runs__run_id__delete"];
+        options?: never;
+        head?: never;
+        /**
+         * Change a run's speed or behaviour policy
+         * @description `hz: null` runs as fast as possible; a field left out is unchanged.
+         */
+        patch: operations["patch_run_api_runs__run_id__patch"];
+        trace?: never;
+    };
+    "/api/runs/{run_id}/demons": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** A run's demons */
+        get: operations["list_demons_api_runs__run_id__demons_get"];
+        put?: never;
+        /**
+         * Add a demon to a run (live runs too)
+         * @description The other demons keep their weights; traces restart. 409 when the name is taken or the run is finished or failed; 422 when the demon does not fit the run (unknown demon or sensor, a cycle).
+         */
+        post: operations["add_demon_api_runs__run_id__demons_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/runs/{run_id}/demons/{name}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** One demon */
+        get: operations["get_demon_api_runs__run_id__demons__name__get"];
+        put?: never;
+        post?: never;
+        /**
+         * Remove a demon from a run
+         * @description 409 when other demons or the behaviour depend on it, or the run is finished or failed.
+         */
+        delete: operations["remove_demon_api_runs__run_id__demons__name__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/runs/{run_id}/demons/{name}/history": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** A demon's prediction, cumulant, TD error, RUPEE and UDE over time */
+        get: operations["get_history_api_runs__run_id__demons__name__history_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/runs/{run_id}/demons/{name}/values": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * A demon's prediction over the world
+         * @description The prediction at the centres of a resolution x resolution grid, with the current weights.
+         */
+        get: operations["get_values_api_runs__run_id__demons__name__values_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/runs/{run_id}/evaluate": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Monte-Carlo truth of a demon's question vs its prediction
+         * @description Rolls the demon's target policy out from `from` with frozen weights (its own generator: the run is not disturbed). 422 when `from` lies outside the world or in an obstacle; 429 when two evaluations are running already.
+         */
+        post: operations["evaluate_api_runs__run_id__evaluate_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/runs/{run_id}/pause": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Pause a running run
+         * @description Takes a snapshot. 409 unless the run is running.
+         */
+        post: operations["pause_run_api_runs__run_id__pause_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/runs/{run_id}/reset": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Reset a run to its first step
+         * @description Fresh weights and generator, the current demons; the status becomes created.
+         */
+        post: operations["reset_run_api_runs__run_id__reset_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/runs/{run_id}/snapshot": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Export a run: weights, traces, generator state, counters, world state */
+        get: operations["export_snapshot_api_runs__run_id__snapshot_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/runs/{run_id}/start": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Start (or resume) a run
+         * @description 409 unless the run is created or paused.
+         */
+        post: operations["start_run_api_runs__run_id__start_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/runs/{run_id}/state": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The live state of a run */
+        get: operations["get_state_api_runs__run_id__state_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/runs/{run_id}/step": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Take steps on a run that is not running
+         * @description Default 1 step. 409 when the run is running, finished or failed.
+         */
+        post: operations["step_run_api_runs__run_id__step_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/scenarios": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** List the scenarios */
+        get: operations["list_scenarios_api_scenarios_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/scenarios/{name}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * A scenario's RunSpec
+         * @description 409 when the file exists but does not load (the message names file, line and field).
+         */
+        get: operations["get_scenario_api_scenarios__name__get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/worlds": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** List the stored worlds */
+        get: operations["list_worlds_api_worlds_get"];
+        put?: never;
+        /**
+         * Store a new world
+         * @description 409 when a world of that name exists already, or the store holds as many worlds as allowed.
+         */
+        post: operations["create_world_api_worlds_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/worlds/{name}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** A stored world */
+        get: operations["get_world_api_worlds__name__get"];
+        /**
+         * Create or replace a stored world
+         * @description 200 when it replaced a world, 201 when it created one. The body's name, if given, must match.
+         */
+        put: operations["put_world_api_worlds__name__put"];
+        post?: never;
+        /** Delete a stored world */
+        delete: operations["delete_world_api_worlds__name__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+}
+export type webhooks = Record<string, never>;
+export interface components {
+    schemas: {
+        /** AddExpr */
+        "AddExpr-Input": {
+            /** Add */
+            add: (number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Input"] | components["schemas"]["MulExpr-Input"] | components["schemas"]["MinExpr-Input"] | components["schemas"]["MaxExpr-Input"] | components["schemas"]["IfExpr-Input"])[];
+        };
+        /** AddExpr */
+        "AddExpr-Output": {
+            /** Add */
+            add: (number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Output"] | components["schemas"]["MulExpr-Output"] | components["schemas"]["MinExpr-Output"] | components["schemas"]["MaxExpr-Output"] | components["schemas"]["IfExpr-Output"])[];
+        };
+        /** AgentOut */
+        AgentOut: {
+            /** X */
+            x: number;
+            /** Y */
+            y: number;
+        };
+        /**
+         * BehaviourSpec
+         * @description The behaviour policy of a run: uniform, fixed, or greedy/softmax/epsilon_greedy over a control demon.
+         */
+        BehaviourSpec: {
+            /** Demon */
+            demon?: string | null;
+            /**
+             * Epsilon
+             * @default 0.1
+             */
+            epsilon: number;
+            /**
+             * Kind
+             * @default uniform
+             * @enum {string}
+             */
+            kind: "uniform" | "fixed" | "greedy" | "softmax" | "epsilon_greedy";
+            /** Probabilities */
+            probabilities?: number[] | null;
+            /**
+             * Temperature
+             * @default 1
+             */
+            temperature: number;
+        };
+        /** Color */
+        Color: {
+            /** Name */
+            name: string;
+            /** Probability */
+            probability: number;
+            /**
+             * Value
+             * @description the value of the color:<indicator> sensor while inside
+             */
+            value: number;
+        };
+        /** Condition */
+        Condition: {
+            /** Demon */
+            demon: string;
+            /** Thresholds */
+            thresholds: number[];
+        };
+        /** Counts */
+        Counts: {
+            /** Negative */
+            negative: number;
+            /** None */
+            none: number;
+            /** Positive */
+            positive: number;
+        };
+        /** DemonMetricsOut */
+        DemonMetricsOut: {
+            /** Cumulant */
+            cumulant: number | null;
+            /** Delta */
+            delta: number | null;
+            /** Diverged */
+            diverged: boolean;
+            /** Rupee */
+            rupee: number | null;
+            /** Ude */
+            ude: number | null;
+        };
+        /** DemonOut */
+        DemonOut: {
+            /**
+             * Control
+             * @description a control demon (its target policy acts on its own action values)
+             */
+            control: boolean;
+            metrics: components["schemas"]["DemonMetricsOut"];
+            /** Name */
+            name: string;
+            /** Prediction */
+            prediction: number | null;
+            spec: components["schemas"]["DemonSpec-Output"];
+        };
+        /**
+         * DemonSpec
+         * @description A question (policy, cumulant, outcome, continuation) and its answer (features, learner, step sizes).
+         */
+        "DemonSpec-Input": {
+            /**
+             * Alpha
+             * @description step size before division by the number of active features
+             */
+            alpha?: number | null;
+            /**
+             * Alpha W
+             * @description step size of the secondary weights, also divided by the active count
+             */
+            alpha_w?: number | null;
+            /**
+             * Continuation
+             * @default 1
+             */
+            continuation: number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Input"] | components["schemas"]["MulExpr-Input"] | components["schemas"]["MinExpr-Input"] | components["schemas"]["MaxExpr-Input"] | components["schemas"]["IfExpr-Input"];
+            /**
+             * Cumulant
+             * @default 0
+             */
+            cumulant: number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Input"] | components["schemas"]["MulExpr-Input"] | components["schemas"]["MinExpr-Input"] | components["schemas"]["MaxExpr-Input"] | components["schemas"]["IfExpr-Input"];
+            /**
+             * Discount
+             * @default 1
+             */
+            discount: number;
+            /** @description defaults to the run's features */
+            features?: components["schemas"]["FeatureSpec"] | null;
+            /** Lambda */
+            lambda?: number | null;
+            /**
+             * Learner
+             * @description gq: action values (GQ(lambda)); gtd, td: state values (GTD(lambda), TD)
+             * @default gq
+             * @enum {string}
+             */
+            learner: "gq" | "gtd" | "td";
+            /** Name */
+            name: string;
+            /**
+             * Outcome
+             * @default 0
+             */
+            outcome: number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Input"] | components["schemas"]["MulExpr-Input"] | components["schemas"]["MinExpr-Input"] | components["schemas"]["MaxExpr-Input"] | components["schemas"]["IfExpr-Input"];
+            policy?: components["schemas"]["PolicySpec"];
+            /**
+             * Reset
+             * @default never
+             * @enum {string}
+             */
+            reset: "never" | "episode";
+        };
+        /**
+         * DemonSpec
+         * @description A question (policy, cumulant, outcome, continuation) and its answer (features, learner, step sizes).
+         */
+        "DemonSpec-Output": {
+            /**
+             * Alpha
+             * @description step size before division by the number of active features
+             */
+            alpha?: number | null;
+            /**
+             * Alpha W
+             * @description step size of the secondary weights, also divided by the active count
+             */
+            alpha_w?: number | null;
+            /**
+             * Continuation
+             * @default 1
+             */
+            continuation: number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Output"] | components["schemas"]["MulExpr-Output"] | components["schemas"]["MinExpr-Output"] | components["schemas"]["MaxExpr-Output"] | components["schemas"]["IfExpr-Output"];
+            /**
+             * Cumulant
+             * @default 0
+             */
+            cumulant: number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Output"] | components["schemas"]["MulExpr-Output"] | components["schemas"]["MinExpr-Output"] | components["schemas"]["MaxExpr-Output"] | components["schemas"]["IfExpr-Output"];
+            /**
+             * Discount
+             * @default 1
+             */
+            discount: number;
+            /** @description defaults to the run's features */
+            features?: components["schemas"]["FeatureSpec"] | null;
+            /** Lambda */
+            lambda?: number | null;
+            /**
+             * Learner
+             * @description gq: action values (GQ(lambda)); gtd, td: state values (GTD(lambda), TD)
+             * @default gq
+             * @enum {string}
+             */
+            learner: "gq" | "gtd" | "td";
+            /** Name */
+            name: string;
+            /**
+             * Outcome
+             * @default 0
+             */
+            outcome: number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Output"] | components["schemas"]["MulExpr-Output"] | components["schemas"]["MinExpr-Output"] | components["schemas"]["MaxExpr-Output"] | components["schemas"]["IfExpr-Output"];
+            policy?: components["schemas"]["PolicySpec"];
+            /**
+             * Reset
+             * @default never
+             * @enum {string}
+             */
+            reset: "never" | "episode";
+        };
+        /**
+         * EncodedArray
+         * @description A numpy array: its dtype, shape and the base64 of its little-endian bytes.
+         */
+        EncodedArray: {
+            /** Data */
+            data: string;
+            /**
+             * Dtype
+             * @enum {string}
+             */
+            dtype: "float64" | "int64" | "bool";
+            /** Shape */
+            shape: number[];
+        };
+        /**
+         * ErrorOut
+         * @description A refused request: 401, 404, 409 and 429 carry one message.
+         */
+        ErrorOut: {
+            /** Detail */
+            detail: string;
+        };
+        /**
+         * EvaluateIn
+         * @description A Monte-Carlo evaluation of one demon's question from one point.
+         */
+        EvaluateIn: {
+            /**
+             * Cap
+             * @description steps per rollout at most (default: the protocol's)
+             */
+            cap?: number | null;
+            /** Demon */
+            demon: string;
+            /**
+             * Episodes
+             * @description rollouts
+             * @default 100
+             */
+            episodes: number;
+            /**
+             * From
+             * @description [x, y]
+             */
+            from: number[];
+            /** Seed */
+            seed?: number | null;
+        };
+        /** EvaluationOut */
+        EvaluationOut: {
+            /** Cap */
+            cap: number;
+            /**
+             * Capped
+             * @description rollouts still running at the cap
+             */
+            capped: number;
+            /** Demon */
+            demon: string;
+            /** Episodes */
+            episodes: number;
+            /**
+             * Error
+             * @description prediction - truth
+             */
+            error: number | null;
+            /** From */
+            from: number[];
+            /** Prediction */
+            prediction: number | null;
+            /** Seed */
+            seed: number;
+            /** Stderr */
+            stderr: number | null;
+            /**
+             * Truth
+             * @description mean realised return over the rollouts
+             */
+            truth: number | null;
+        };
+        /**
+         * EvaluationSpec
+         * @description Monte-Carlo truth at the start point after each trial.
+         */
+        EvaluationSpec: {
+            /**
+             * Cap
+             * @description rollout length limit
+             * @default 10000
+             */
+            cap: number;
+            /**
+             * Demons
+             * @description which demons; default all prediction demons
+             */
+            demons?: string[] | null;
+            /**
+             * Rollouts
+             * @default 1000
+             */
+            rollouts: number;
+        };
+        /** EventOut */
+        EventOut: {
+            /** Episode */
+            episode: number;
+            /**
+             * Kind
+             * @enum {string}
+             */
+            kind: "status" | "episode" | "demon" | "error";
+            /** Message */
+            message: string;
+            /** Seq */
+            seq: number;
+            /** Step */
+            step: number;
+            /** Value */
+            value?: number | null;
+        };
+        /** FeatureSpec */
+        FeatureSpec: {
+            condition?: components["schemas"]["Condition"] | null;
+            /**
+             * Kind
+             * @default stripes
+             * @enum {string}
+             */
+            kind: "stripes" | "tiles" | "grid" | "constant";
+            /**
+             * Parts
+             * @description stripes: columns, rows, diagonals
+             * @default 5
+             */
+            parts: number;
+            /**
+             * Tiles
+             * @description tiles, grid: tiles per dimension
+             * @default 8
+             */
+            tiles: number;
+            /**
+             * Tilings
+             * @description tiles: number of offset tilings
+             * @default 8
+             */
+            tilings: number;
+        };
+        /** HTTPValidationError */
+        HTTPValidationError: {
+            /** Detail */
+            detail?: components["schemas"]["ValidationError"][];
+        };
+        /** HealthOut */
+        HealthOut: {
+            /** Runs */
+            runs: number;
+            /**
+             * Status
+             * @default ok
+             * @constant
+             */
+            status: "ok";
+            /** Version */
+            version: string;
+        };
+        /**
+         * HistoryOut
+         * @description A demon's recent history, oldest first (null before the demon joined).
+         *
+         *     Rows are sampled: at most one per `every` steps and one per HORDE_HISTORY_INTERVAL seconds (default
+         *     5 ms), so a run paced by hz has a row per step and a run at full speed a row every few milliseconds.
+         */
+        HistoryOut: {
+            /**
+             * Capacity
+             * @description rows kept at most
+             */
+            capacity: number;
+            /** Cumulant */
+            cumulant: (number | null)[];
+            /** Delta */
+            delta: (number | null)[];
+            /** Demon */
+            demon: string;
+            /**
+             * Every
+             * @description steps between two rows, at least
+             */
+            every: number;
+            /** Prediction */
+            prediction: (number | null)[];
+            /** Rupee */
+            rupee: (number | null)[];
+            /** Step */
+            step: number[];
+            /** Ude */
+            ude: (number | null)[];
+        };
+        /** IfExpr */
+        "IfExpr-Input": {
+            /** Else */
+            else: number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Input"] | components["schemas"]["MulExpr-Input"] | components["schemas"]["MinExpr-Input"] | components["schemas"]["MaxExpr-Input"] | components["schemas"]["IfExpr-Input"];
+            /**
+             * If
+             * @description counts as true where it is not 0
+             */
+            if: number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Input"] | components["schemas"]["MulExpr-Input"] | components["schemas"]["MinExpr-Input"] | components["schemas"]["MaxExpr-Input"] | components["schemas"]["IfExpr-Input"];
+            /** Then */
+            then: number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Input"] | components["schemas"]["MulExpr-Input"] | components["schemas"]["MinExpr-Input"] | components["schemas"]["MaxExpr-Input"] | components["schemas"]["IfExpr-Input"];
+        };
+        /** IfExpr */
+        "IfExpr-Output": {
+            /** Else */
+            else: number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Output"] | components["schemas"]["MulExpr-Output"] | components["schemas"]["MinExpr-Output"] | components["schemas"]["MaxExpr-Output"] | components["schemas"]["IfExpr-Output"];
+            /**
+             * If
+             * @description counts as true where it is not 0
+             */
+            if: number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Output"] | components["schemas"]["MulExpr-Output"] | components["schemas"]["MinExpr-Output"] | components["schemas"]["MaxExpr-Output"] | components["schemas"]["IfExpr-Output"];
+            /** Then */
+            then: number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Output"] | components["schemas"]["MulExpr-Output"] | components["schemas"]["MinExpr-Output"] | components["schemas"]["MaxExpr-Output"] | components["schemas"]["IfExpr-Output"];
+        };
+        /** IndicatorReward */
+        IndicatorReward: {
+            /** Indicator */
+            indicator: string;
+            /**
+             * Values
+             * @description terminal reward per colour of the indicator
+             */
+            values: {
+                [key: string]: number;
+            };
+        };
+        /**
+         * LearningSpec
+         * @description Defaults for demons that do not set their own (chosen by experiment, see README).
+         */
+        LearningSpec: {
+            /**
+             * Alpha
+             * @default 0.1
+             */
+            alpha: number;
+            /**
+             * Alpha W
+             * @default 0.001
+             */
+            alpha_w: number;
+            /**
+             * Lambda
+             * @default 0.9
+             */
+            lambda: number;
+        };
+        /** MaxExpr */
+        "MaxExpr-Input": {
+            /** Max */
+            max: (number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Input"] | components["schemas"]["MulExpr-Input"] | components["schemas"]["MinExpr-Input"] | components["schemas"]["MaxExpr-Input"] | components["schemas"]["IfExpr-Input"])[];
+        };
+        /** MaxExpr */
+        "MaxExpr-Output": {
+            /** Max */
+            max: (number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Output"] | components["schemas"]["MulExpr-Output"] | components["schemas"]["MinExpr-Output"] | components["schemas"]["MaxExpr-Output"] | components["schemas"]["IfExpr-Output"])[];
+        };
+        /** MinExpr */
+        "MinExpr-Input": {
+            /** Min */
+            min: (number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Input"] | components["schemas"]["MulExpr-Input"] | components["schemas"]["MinExpr-Input"] | components["schemas"]["MaxExpr-Input"] | components["schemas"]["IfExpr-Input"])[];
+        };
+        /** MinExpr */
+        "MinExpr-Output": {
+            /** Min */
+            min: (number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Output"] | components["schemas"]["MulExpr-Output"] | components["schemas"]["MinExpr-Output"] | components["schemas"]["MaxExpr-Output"] | components["schemas"]["IfExpr-Output"])[];
+        };
+        /** MulExpr */
+        "MulExpr-Input": {
+            /** Mul */
+            mul: (number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Input"] | components["schemas"]["MulExpr-Input"] | components["schemas"]["MinExpr-Input"] | components["schemas"]["MaxExpr-Input"] | components["schemas"]["IfExpr-Input"])[];
+        };
+        /** MulExpr */
+        "MulExpr-Output": {
+            /** Mul */
+            mul: (number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Output"] | components["schemas"]["MulExpr-Output"] | components["schemas"]["MinExpr-Output"] | components["schemas"]["MaxExpr-Output"] | components["schemas"]["IfExpr-Output"])[];
+        };
+        /**
+         * PolicySpec
+         * @description A target policy. Shorthands: "uniform", "greedy", "softmax", {of = "demon"}.
+         */
+        PolicySpec: {
+            /**
+             * Demon
+             * @description of: the demon whose policy this follows
+             */
+            demon?: string | null;
+            /**
+             * Epsilon
+             * @default 0.1
+             */
+            epsilon: number;
+            /**
+             * Kind
+             * @default uniform
+             * @enum {string}
+             */
+            kind: "uniform" | "fixed" | "greedy" | "softmax" | "epsilon_greedy" | "of";
+            /**
+             * Probabilities
+             * @description fixed: [up, down, left, right]
+             */
+            probabilities?: number[] | null;
+            /**
+             * Temperature
+             * @default 1
+             */
+            temperature: number;
+        };
+        /** PredictionExpr */
+        PredictionExpr: {
+            /**
+             * Prediction
+             * @description another demon's current prediction
+             */
+            prediction: string;
+        };
+        /** ProtocolSpec */
+        ProtocolSpec: {
+            /**
+             * Episodes
+             * @default 1000
+             */
+            episodes: number;
+            evaluation?: components["schemas"]["EvaluationSpec"];
+            stop?: components["schemas"]["StopRule"] | null;
+            test?: components["schemas"]["TestSpec"] | null;
+            /**
+             * Trials
+             * @default 1
+             */
+            trials: number;
+        };
+        /** Region */
+        Region: {
+            /**
+             * Colors
+             * @description indicator regions only
+             */
+            colors?: components["schemas"]["Color"][] | null;
+            /**
+             * Kind
+             * @enum {string}
+             */
+            kind: "obstacle" | "terminal" | "zone" | "indicator";
+            /** Name */
+            name: string;
+            /**
+             * Rect
+             * @description [x0, y0, x1, y1]
+             */
+            rect: number[];
+            /**
+             * Reward
+             * @description terminal regions only: a number or a reward per indicator colour
+             */
+            reward?: number | components["schemas"]["IndicatorReward"] | null;
+        };
+        /**
+         * RngState
+         * @description The state of a PCG64 generator; the two 128-bit numbers are decimal strings.
+         */
+        RngState: {
+            /**
+             * Bit Generator
+             * @default PCG64
+             * @constant
+             */
+            bit_generator: "PCG64";
+            /** Has Uint32 */
+            has_uint32: number;
+            /** Inc */
+            inc: string;
+            /** State */
+            state: string;
+            /** Uinteger */
+            uinteger: number;
+        };
+        /** RunBriefOut */
+        RunBriefOut: {
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /** Demons */
+            demons: string[];
+            /**
+             * Episode
+             * @description episodes completed
+             */
+            episode: number;
+            /** Hz */
+            hz: number | null;
+            /** Id */
+            id: string;
+            /** Message */
+            message: string;
+            /** Name */
+            name: string | null;
+            /**
+             * Status
+             * @enum {string}
+             */
+            status: "created" | "running" | "paused" | "finished" | "failed";
+            /**
+             * Step
+             * @description steps taken in all
+             */
+            step: number;
+            /**
+             * Updated At
+             * Format: date-time
+             */
+            updated_at: string;
+        };
+        /** RunOut */
+        RunOut: {
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /** Demons */
+            demons: string[];
+            /**
+             * Episode
+             * @description episodes completed
+             */
+            episode: number;
+            /** Hz */
+            hz: number | null;
+            /** Id */
+            id: string;
+            /** Message */
+            message: string;
+            /** Name */
+            name: string | null;
+            spec: components["schemas"]["RunSpec-Output"];
+            /**
+             * Status
+             * @enum {string}
+             */
+            status: "created" | "running" | "paused" | "finished" | "failed";
+            /**
+             * Step
+             * @description steps taken in all
+             */
+            step: number;
+            summary: components["schemas"]["SummaryOut"] | null;
+            /**
+             * Updated At
+             * Format: date-time
+             */
+            updated_at: string;
+        };
+        /**
+         * RunPatchIn
+         * @description Change a run's speed and/or behaviour policy; a field left out stays as it is.
+         */
+        RunPatchIn: {
+            behaviour?: components["schemas"]["BehaviourSpec"] | null;
+            /** Hz */
+            hz?: number | null;
+        };
+        /** RunSpec */
+        "RunSpec-Input": {
+            behaviour?: components["schemas"]["BehaviourSpec"];
+            /** Demons */
+            demons?: components["schemas"]["DemonSpec-Input"][];
+            /**
+             * Description
+             * @default
+             */
+            description: string;
+            features?: components["schemas"]["FeatureSpec"];
+            learning?: components["schemas"]["LearningSpec"];
+            /** Name */
+            name?: string | null;
+            protocol?: components["schemas"]["ProtocolSpec"];
+            /**
+             * Seed
+             * @default 0
+             */
+            seed: number;
+            thesis?: components["schemas"]["ThesisResults"];
+            world?: components["schemas"]["WorldSpec"];
+        };
+        /** RunSpec */
+        "RunSpec-Output": {
+            behaviour?: components["schemas"]["BehaviourSpec"];
+            /** Demons */
+            demons?: components["schemas"]["DemonSpec-Output"][];
+            /**
+             * Description
+             * @default
+             */
+            description: string;
+            features?: components["schemas"]["FeatureSpec"];
+            learning?: components["schemas"]["LearningSpec"];
+            /** Name */
+            name?: string | null;
+            protocol?: components["schemas"]["ProtocolSpec"];
+            /**
+             * Seed
+             * @default 0
+             */
+            seed: number;
+            thesis?: components["schemas"]["ThesisResults"];
+            world?: components["schemas"]["WorldSpec"];
+        };
+        /**
+         * RunTemplateIn
+         * @description A run from a scenario and/or a stored world, with overrides merged into it.
+         *
+         *     Objects (world, features, behaviour, learning, protocol, thesis) are merged key by key into the
+         *     scenario's; lists (demons) and plain values replace it. Without a scenario the base is the default
+         *     RunSpec. `world` names a stored world, or is an object merged into the scenario's world.
+         */
+        RunTemplateIn: {
+            /** Behaviour */
+            behaviour?: {
+                [key: string]: unknown;
+            } | string | null;
+            /** Demons */
+            demons?: {
+                [key: string]: unknown;
+            }[] | null;
+            /** Description */
+            description?: string | null;
+            /** Features */
+            features?: {
+                [key: string]: unknown;
+            } | null;
+            /** Learning */
+            learning?: {
+                [key: string]: unknown;
+            } | null;
+            /** Name */
+            name?: string | null;
+            /** Protocol */
+            protocol?: {
+                [key: string]: unknown;
+            } | null;
+            /**
+             * Scenario
+             * @description a scenario name (GET /api/scenarios)
+             */
+            scenario?: string | null;
+            /** Seed */
+            seed?: number | null;
+            /** Thesis */
+            thesis?: {
+                [key: string]: unknown;
+            } | null;
+            /**
+             * World
+             * @description a stored world's name, or overrides
+             */
+            world?: string | {
+                [key: string]: unknown;
+            } | null;
+        };
+        /** ScenarioOut */
+        ScenarioOut: {
+            /** Description */
+            description: string;
+            /**
+             * Error
+             * @description why the file does not load, if it does not
+             */
+            error?: string | null;
+            /** Name */
+            name: string;
+        };
+        /** SensorExpr */
+        SensorExpr: {
+            /**
+             * Sensor
+             * @description a sensor name, e.g. in:goal
+             */
+            sensor: string;
+        };
+        /**
+         * Snapshot
+         * @description A run at one step, complete enough to resume it exactly.
+         */
+        "Snapshot-Input": {
+            /** Episode */
+            episode: number;
+            /** Episode Return */
+            episode_return: number;
+            /**
+             * Format
+             * @default horde-snapshot/1
+             * @constant
+             */
+            format: "horde-snapshot/1";
+            /** Horde */
+            horde: {
+                [key: string]: components["schemas"]["EncodedArray"] | number;
+            };
+            /** Hz */
+            hz?: number | null;
+            /** Last Return */
+            last_return: number;
+            rng: components["schemas"]["RngState"];
+            spec: components["schemas"]["RunSpec-Input"];
+            /**
+             * Status
+             * @enum {string}
+             */
+            status: "created" | "running" | "paused" | "finished" | "failed";
+            /**
+             * Stop Reference
+             * @description weights at the stopping rule's last check, one array per demon group
+             */
+            stop_reference?: components["schemas"]["EncodedArray"][] | null;
+            /** Total Steps */
+            total_steps: number;
+            /** World */
+            world: {
+                [key: string]: components["schemas"]["EncodedArray"];
+            };
+        };
+        /**
+         * Snapshot
+         * @description A run at one step, complete enough to resume it exactly.
+         */
+        "Snapshot-Output": {
+            /** Episode */
+            episode: number;
+            /** Episode Return */
+            episode_return: number;
+            /**
+             * Format
+             * @default horde-snapshot/1
+             * @constant
+             */
+            format: "horde-snapshot/1";
+            /** Horde */
+            horde: {
+                [key: string]: components["schemas"]["EncodedArray"] | number;
+            };
+            /** Hz */
+            hz?: number | null;
+            /** Last Return */
+            last_return: number;
+            rng: components["schemas"]["RngState"];
+            spec: components["schemas"]["RunSpec-Output"];
+            /**
+             * Status
+             * @enum {string}
+             */
+            status: "created" | "running" | "paused" | "finished" | "failed";
+            /**
+             * Stop Reference
+             * @description weights at the stopping rule's last check, one array per demon group
+             */
+            stop_reference?: components["schemas"]["EncodedArray"][] | null;
+            /** Total Steps */
+            total_steps: number;
+            /** World */
+            world: {
+                [key: string]: components["schemas"]["EncodedArray"];
+            };
+        };
+        /**
+         * StateOut
+         * @description The live state of a run; also the message of its WebSocket stream.
+         */
+        StateOut: {
+            agent: components["schemas"]["AgentOut"];
+            /** Episode */
+            episode: number;
+            /** Episode Return */
+            episode_return: number | null;
+            /** Episode Step */
+            episode_step: number;
+            /**
+             * Events
+             * @description recent events (a stream message: those since the last message)
+             */
+            events: components["schemas"]["EventOut"][];
+            /** Hz */
+            hz: number | null;
+            /** Last Return */
+            last_return: number | null;
+            /** Message */
+            message: string;
+            /** Metrics */
+            metrics: {
+                [key: string]: components["schemas"]["DemonMetricsOut"];
+            };
+            /**
+             * Predictions
+             * @description each demon's prediction at the agent's state
+             */
+            predictions: {
+                [key: string]: number | null;
+            };
+            /** Run */
+            run: string;
+            /**
+             * Status
+             * @enum {string}
+             */
+            status: "created" | "running" | "paused" | "finished" | "failed";
+            /** Step */
+            step: number;
+            /**
+             * Type
+             * @default state
+             * @constant
+             */
+            type: "state";
+        };
+        /** StepIn */
+        StepIn: {
+            /**
+             * Steps
+             * @default 1
+             */
+            steps: number;
+        };
+        /**
+         * StopRule
+         * @description Stop a trial early once no weight moved by more than `tolerance` over `window` episodes.
+         */
+        StopRule: {
+            /**
+             * Tolerance
+             * @default 0.001
+             */
+            tolerance: number;
+            /**
+             * Window
+             * @default 100
+             */
+            window: number;
+        };
+        /**
+         * SummaryOut
+         * @description How a finished run ended; predictions are read at the world's start point.
+         */
+        SummaryOut: {
+            /** Episodes */
+            episodes: number;
+            /** Last Return */
+            last_return: number | null;
+            /** Predictions */
+            predictions: {
+                [key: string]: number | null;
+            };
+            /** Rupee */
+            rupee: {
+                [key: string]: number | null;
+            };
+            /** Steps */
+            steps: number;
+            /** Stopped Early */
+            stopped_early: boolean;
+            /** Ude */
+            ude: {
+                [key: string]: number | null;
+            };
+        };
+        /**
+         * TestSpec
+         * @description Test runs after each trial: the behaviour below, no learning except reset-each-episode demons.
+         */
+        TestSpec: {
+            behaviour: components["schemas"]["BehaviourSpec"];
+            /**
+             * Runs
+             * @default 100
+             */
+            runs: number;
+        };
+        /**
+         * ThesisResults
+         * @description The thesis's numbers, shown beside ours.
+         */
+        ThesisResults: {
+            counts?: components["schemas"]["Counts"] | null;
+            /** Predictions */
+            predictions?: {
+                [key: string]: number;
+            };
+        };
+        /** ValidationError */
+        ValidationError: {
+            /** Context */
+            ctx?: Record<string, never>;
+            /** Input */
+            input?: unknown;
+            /** Location */
+            loc: (string | number)[];
+            /** Message */
+            msg: string;
+            /** Error Type */
+            type: string;
+        };
+        /**
+         * ValuesOut
+         * @description values[j][i] is the demon's prediction at (x[i], y[j]), the centres of an N x N grid.
+         */
+        ValuesOut: {
+            /** Demon */
+            demon: string;
+            /** Height */
+            height: number;
+            /** Max */
+            max: number | null;
+            /** Min */
+            min: number | null;
+            /** Resolution */
+            resolution: number;
+            /** Values */
+            values: (number | null)[][];
+            /** Width */
+            width: number;
+            /** X */
+            x: number[];
+            /** Y */
+            y: number[];
+        };
+        /**
+         * WorldCreate
+         * @description A world to store under its name (POST /api/worlds).
+         */
+        WorldCreate: {
+            /**
+             * Height
+             * @default 500
+             */
+            height: number;
+            /**
+             * Max Steps
+             * @default 100
+             */
+            max_steps: number;
+            /** Name */
+            name: string;
+            /**
+             * Noise
+             * @description std of Gaussian noise added to every move
+             * @default 0
+             */
+            noise: number;
+            /** Regions */
+            regions?: components["schemas"]["Region"][];
+            /**
+             * Slip
+             * @description probability of a perpendicular move
+             * @default 0
+             */
+            slip: number;
+            /**
+             * Start
+             * @description a point [x, y] or a rectangle [x0, y0, x1, y1]
+             */
+            start?: number[];
+            /**
+             * Step
+             * @default 100
+             */
+            step: number;
+            /**
+             * Transient Reward
+             * @default -0.01
+             */
+            transient_reward: number;
+            /**
+             * Width
+             * @default 500
+             */
+            width: number;
+        };
+        /** WorldOut */
+        WorldOut: {
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /** Name */
+            name: string;
+            /**
+             * Updated At
+             * Format: date-time
+             */
+            updated_at: string;
+            world: components["schemas"]["WorldSpec"];
+        };
+        /**
+         * WorldSpec
+         * @description A continuous rectangle [0, width) x [0, height) with rectangular regions.
+         */
+        WorldSpec: {
+            /**
+             * Height
+             * @default 500
+             */
+            height: number;
+            /**
+             * Max Steps
+             * @default 100
+             */
+            max_steps: number;
+            /** Name */
+            name?: string | null;
+            /**
+             * Noise
+             * @description std of Gaussian noise added to every move
+             * @default 0
+             */
+            noise: number;
+            /** Regions */
+            regions?: components["schemas"]["Region"][];
+            /**
+             * Slip
+             * @description probability of a perpendicular move
+             * @default 0
+             */
+            slip: number;
+            /**
+             * Start
+             * @description a point [x, y] or a rectangle [x0, y0, x1, y1]
+             */
+            start?: number[];
+            /**
+             * Step
+             * @default 100
+             */
+            step: number;
+            /**
+             * Transient Reward
+             * @default -0.01
+             */
+            transient_reward: number;
+            /**
+             * Width
+             * @default 500
+             */
+            width: number;
+        };
+    };
+    responses: never;
+    parameters: never;
+    requestBodies: never;
+    headers: never;
+    pathItems: never;
+}
+export type $defs = Record<string, never>;
+export interface operations {
+    health_api_health_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HealthOut"];
+                };
+            };
+        };
+    };
+    list_runs_api_runs_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RunBriefOut"][];
+                };
+            };
+        };
+    };
+    create_run_api_runs_post: {
+        parameters: {
+            query?: {
+                /** @description steps per second; leave out for full speed */
+                hz?: number | null;
+                /** @description start running at once */
+                start?: boolean;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["RunSpec-Input"] | components["schemas"]["RunTemplateIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RunOut"];
+                };
+            };
+            /** @description The body cannot be parsed (not JSON, not UTF-8) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    import_snapshot_api_runs_import_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["Snapshot-Input"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RunOut"];
+                };
+            };
+            /** @description The body cannot be parsed (not JSON, not UTF-8) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    get_run_api_runs__run_id__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RunOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    delete_run_api_runs__run_id__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    patch_run_api_runs__run_id__patch: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["RunPatchIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RunOut"];
+                };
+            };
+            /** @description The body cannot be parsed (not JSON, not UTF-8) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    list_demons_api_runs__run_id__demons_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DemonOut"][];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    add_demon_api_runs__run_id__demons_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["DemonSpec-Input"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DemonOut"];
+                };
+            };
+            /** @description The body cannot be parsed (not JSON, not UTF-8) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    get_demon_api_runs__run_id__demons__name__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the demon's name */
+                name: string;
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DemonOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    remove_demon_api_runs__run_id__demons__name__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the demon's name */
+                name: string;
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    get_history_api_runs__run_id__demons__name__history_get: {
+        parameters: {
+            query?: {
+                /** @description the last rows only */
+                limit?: number | null;
+            };
+            header?: never;
+            path: {
+                /** @description the demon's name */
+                name: string;
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HistoryOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    get_values_api_runs__run_id__demons__name__values_get: {
+        parameters: {
+            query?: {
+                resolution?: number;
+            };
+            header?: never;
+            path: {
+                /** @description the demon's name */
+                name: string;
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ValuesOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    evaluate_api_runs__run_id__evaluate_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["EvaluateIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["EvaluationOut"];
+                };
+            };
+            /** @description The body cannot be parsed (not JSON, not UTF-8) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+            /** @description Too many evaluations at once, or the run is busy */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+        };
+    };
+    pause_run_api_runs__run_id__pause_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RunOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    reset_run_api_runs__run_id__reset_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RunOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    export_snapshot_api_runs__run_id__snapshot_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Snapshot-Output"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    start_run_api_runs__run_id__start_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RunOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    get_state_api_runs__run_id__state_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["StateOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    step_run_api_runs__run_id__step_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: {
+            content: {
+                "application/json": components["schemas"]["StepIn"] | null;
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["StateOut"];
+                };
+            };
+            /** @description The body cannot be parsed (not JSON, not UTF-8) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    list_scenarios_api_scenarios_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ScenarioOut"][];
+                };
+            };
+        };
+    };
+    get_scenario_api_scenarios__name__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                name: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RunSpec-Output"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    list_worlds_api_worlds_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["WorldOut"][];
+                };
+            };
+        };
+    };
+    create_world_api_worlds_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["WorldCreate"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["WorldOut"];
+                };
+            };
+            /** @description The body cannot be parsed (not JSON, not UTF-8) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    get_world_api_worlds__name__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the world's name */
+                name: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["WorldOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    put_world_api_worlds__name__put: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the world's name */
+                name: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["WorldSpec"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["WorldOut"];
+                };
+            };
+            /** @description Created */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["WorldOut"];
+                };
+            };
+            /** @description The body cannot be parsed (not JSON, not UTF-8) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    delete_world_api_worlds__name__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the world's name */
+                name: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+}

@@ -1,0 +1,30 @@
+/**
+ * Short names for the generated API types (schema.d.ts). Aliases only: every shape is defined once,
+ * by the server's pydantic models; `npm run gen:api` regenerates the schema when they change.
+ */
+import type { components } from "./schema";
+
+type Schemas = components["schemas"];
+
+export type RunBrief = Schemas["RunBriefOut"];
+export type Run = Schemas["RunOut"];
+export type RunStatus = RunBrief["status"];
+export type RunSpec = Schemas["RunSpec-Output"];
+export type RunTemplate = Schemas["RunTemplateIn"];
+export type RunState = Schemas["StateOut"];
+export type DemonMetrics = Schemas["DemonMetricsOut"];
+export type Demon = Schemas["DemonOut"];
+export type DemonSpec = Schemas["DemonSpec-Input"];
+export type PolicySpec = Schemas["PolicySpec"];
+export type FeatureSpec = Schemas["FeatureSpec"];
+export type Expr = DemonSpec["cumulant"];
+export type WorldSpec = Schemas["WorldSpec"];
+export type WorldRecord = Schemas["WorldOut"];
+export type Region = Schemas["Region"];
+export type RegionKind = Region["kind"];
+export type Color = Schemas["Color"];
+export type Scenario = Schemas["ScenarioOut"];
+export type Evaluation = Schemas["EvaluationOut"];
+export type History = Schemas["HistoryOut"];
+export type Summary = Schemas["SummaryOut"];
+export type ValidationProblem = Schemas["ValidationError"];

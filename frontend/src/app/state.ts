@@ -1,0 +1,47 @@
+/** What the dashboard knows at one moment; the single store all views read. */
+import type { Demon, Evaluation, Run, RunBrief, RunState, Scenario, WorldRecord } from "../api/types";
+import { Store } from "./store";
+
+export type Tab = "live" | "world" | "demon";
+
+export interface Notice {
+  text: string;
+  kind: "info" | "error";
+}
+
+export interface AppState {
+  runs: RunBrief[];
+  selectedRunId: string | null;
+  /** the selected run in full (its spec: world, demons, thesis numbers) */
+  run: Run | null;
+  /** the selected run's demons: their specs and which are control demons */
+  demons: Demon[];
+  /** the newest stream message of the selected run */
+  live: RunState | null;
+  /** Monte-Carlo evaluations of the selected run's demons, by demon */
+  evaluations: Record<string, Evaluation>;
+  /** demons of the selected run shown on the charts */
+  charted: string[];
+  scenarios: Scenario[];
+  worlds: WorldRecord[];
+  tab: Tab;
+  notice: Notice | null;
+}
+
+export function createStore(): Store<AppState> {
+  return new Store<AppState>({
+    runs: [],
+    selectedRunId: null,
+    run: null,
+    demons: [],
+    live: null,
+    evaluations: {},
+    charted: [],
+    scenarios: [],
+    worlds: [],
+    tab: "live",
+    notice: null,
+  });
+}
+
+export type AppStore = Store<AppState>;

@@ -1,0 +1,59 @@
+/** How numbers, counts and statuses read on the dashboard: one place, so every table agrees. */
+import type { RunStatus } from "../api/types";
+
+export const MISSING = "–";
+
+/** A number with `digits` decimals; very large or very small magnitudes in exponent form. */
+export function formatNumber(value: number | null | undefined, digits = 3): string {
+  if (value === null || value === undefined || !Number.isFinite(value)) return MISSING;
+  const magnitude = Math.abs(value);
+  if (magnitude !== 0 && (magnitude >= 1e6 || magnitude < 10 ** -digits)) return value.toExponential(2);
+  // Magnitudes below 10^-digits took the exponent form above, so no "-0.000" can come out here.
+  return value.toFixed(digits);
+}
+
+/** A whole count with thousands separators: 12,345. */
+export function formatCount(value: number | null | undefined): string {
+  if (value === null || value === undefined || !Number.isFinite(value)) return MISSING;
+  return Math.round(value).toLocaleString("en-US");
+}
+
+/** A Monte-Carlo mean with its standard error: "39.012 ± 0.210". */
+export function formatEstimate(mean: number | null | undefined, stderr: number | null | undefined, digits = 3): string {
+  if (mean === null || mean === undefined || !Number.isFinite(mean)) return MISSING;
+  if (stderr === null || stderr === undefined || !Number.isFinite(stderr)) return formatNumber(mean, digits);
+  return `${formatNumber(mean, digits)} ± ${formatNumber(stderr, digits)}`;
+}
+
+/** prediction - truth relative to |truth|, in percent with one decimal ("+4.2 %"). */
+export function formatRelativeError(prediction: number | null | undefined, truth: number | null | undefined): string {
+  if (prediction == null || truth == null || !Number.isFinite(prediction) || !Number.isFinite(truth) || truth === 0) {
+    return MISSING;
+  }
+  const percent = (100 * (prediction - truth)) / Math.abs(truth);
+  return `${percent >= 0 ? "+" : "−"}${Math.abs(percent).toFixed(1)} %`;
+}
+
+/** A run's speed: "20 steps/s", or "full speed" when it has no limit. */
+export function formatHz(hz: number | null | undefined): string {
+  if (hz === null || hz === undefined) return "full speed";
+  return `${formatNumber(hz, hz >= 10 ? 0 : 1)} steps/s`;
+}
+
+const STATUS_LABELS: Record<RunStatus, string> = {
+  created: "created",
+  running: "running",
+  paused: "paused",
+  finished: "finished",
+  failed: "failed",
+};
+
+export function formatStatus(status: RunStatus): string {
+  return STATUS_LABELS[status] ?? status;
+}
+
+/** A short label for a run: its name and the first characters of its id. */
+export function runLabel(run: { id: string; name?: string | null }): string {
+  const short = run.id.slice(0, 6);
+  return run.name ? `${run.name} · ${short}` : short;
+}

@@ -1,0 +1,29 @@
+/** Histories of several demons as one uPlot data table, thinned to what a chart can show. */
+import type { History } from "../api/types";
+
+export type Metric = "prediction" | "rupee" | "ude" | "delta" | "cumulant";
+
+/** [x, y_1, ..., y_n]: uPlot's column layout; null leaves a gap. */
+export type ChartData = [number[], ...(number | null)[][]];
+
+/**
+ * One metric of each history against the steps. The histories come from the same run buffer, so
+ * their rows line up from the newest back; a history that is longer (read a moment later) is cut.
+ */
+export function alignHistories(histories: readonly History[], metric: Metric, maxPoints = 800): ChartData {
+  if (histories.length === 0) return [[]];
+  const length = Math.min(...histories.map((h) => h.step.length));
+  const first = histories[0] as History;
+  const steps = first.step.slice(first.step.length - length);
+  const columns = histories.map((h) => h[metric].slice(h[metric].length - length));
+  const keep = strideIndices(length, maxPoints);
+  return [keep.map((i) => steps[i] as number), ...columns.map((c) => keep.map((i) => c[i] ?? null))];
+}
+
+/** Indices 0..length-1 thinned to at most maxPoints, evenly spread, always keeping the newest. */
+export function strideIndices(length: number, maxPoints: number): number[] {
+  if (length <= 0) return [];
+  if (length <= maxPoints) return Array.from({ length }, (_, i) => i);
+  const stride = (length - 1) / (maxPoints - 1);
+  return Array.from({ length: maxPoints }, (_, k) => Math.round(k * stride));
+}

@@ -1,0 +1,55 @@
+/**
+ * The Horde Lab dashboard: runs and the scenario launcher on the left; the live demon table, results,
+ * charts and the viser view, the world editor and the demon editor in tabs on the right.
+ */
+import "./styles.css";
+import { attempt, loadCatalog } from "./app/actions";
+import { createStore } from "./app/state";
+import { watchRuns, watchSelectedRun } from "./app/watch";
+import { h } from "./ui/dom";
+import { charts } from "./views/charts";
+import { demonEditor } from "./views/demon-editor";
+import { demonTable } from "./views/demon-table";
+import { header } from "./views/header";
+import { launcher } from "./views/launcher";
+import { runResults } from "./views/run-results";
+import { runsPanel } from "./views/runs-panel";
+import { tabs } from "./views/tabs";
+import { viserEmbed } from "./views/viser-embed";
+import { worldEditor } from "./views/world-editor";
+
+const store = createStore();
+
+const live = h(
+  "div",
+  { class: "live" },
+  demonTable(store),
+  runResults(store),
+  h("div", { class: "live-bottom" }, charts(store), viserEmbed()),
+);
+
+const app = h(
+  "div",
+  { class: "app" },
+  h("a", { href: "#main", class: "skip-link" }, "Skip to the main view"),
+  header(store),
+  h(
+    "div",
+    { class: "layout" },
+    h("aside", { class: "sidebar", "aria-label": "Runs" }, launcher(store), runsPanel(store)),
+    h(
+      "main",
+      { id: "main", tabindex: "-1" },
+      tabs(store, [
+        { tab: "live", label: "Live", panel: live },
+        { tab: "world", label: "World editor", panel: worldEditor(store) },
+        { tab: "demon", label: "Demon editor", panel: demonEditor(store) },
+      ]),
+    ),
+  ),
+);
+
+document.getElementById("app")?.replaceWith(app);
+void attempt(store, () => loadCatalog(store));
+watchRuns(store);
+watchSelectedRun(store);

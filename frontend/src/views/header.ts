@@ -1,0 +1,94 @@
+/**
+ * The top bar: the title, the selected run's status, episode and step (from its stream), the notice
+ * line, a "large text" switch for projectors, and the token field for servers that require one.
+ */
+import type { AppState, AppStore } from "../app/state";
+import { readToken, writeToken } from "../api/token";
+import { formatCount, formatNumber, formatStatus, runLabel } from "../lib/format";
+import { h, setText } from "../ui/dom";
+
+const LARGE_KEY = "horde-lab-large-text";
+
+export function header(store: AppStore): HTMLElement {
+  const runName = h("span", { class: "run-name" });
+  const status = h("span", { class: "badge" });
+  const episode = h("span", { dataset: { testid: "episode" } });
+  const step = h("span", { dataset: { testid: "step" } });
+  const ret = h("span", {});
+  const runStatus = h(
+    "div",
+    { class: "run-status", "aria-label": "Selected run" },
+    runName,
+    status,
+    episode,
+    step,
+    ret,
+  );
+  const notice = h("p", { class: "notice", role: "status" });
+
+  const large = h("button", { type: "button", "aria-pressed": "false" }, "Large text");
+  const setLarge = (on: boolean) => {
+    document.documentElement.classList.toggle("large", on);
+    large.setAttribute("aria-pressed", String(on));
+    try {
+      localStorage.setItem(LARGE_KEY, on ? "1" : "");
+    } catch {
+      // storage disabled: the switch still works for this page
+    }
+  };
+  large.addEventListener("click", () => setLarge(large.getAttribute("aria-pressed") !== "true"));
+  let storedLarge = false;
+  try {
+    storedLarge = localStorage.getItem(LARGE_KEY) === "1";
+  } catch {
+    // see above
+  }
+  setLarge(storedLarge);
+
+  const token = h("input", {
+    type: "password",
+    value: readToken(),
+    autocomplete: "off",
+    id: "token",
+    placeholder: "HORDE_TOKEN",
+  });
+  token.addEventListener("change", () => writeToken(token.value.trim()));
+  const tokenBox = h(
+    "details",
+    { class: "token" },
+    h("summary", {}, "Token"),
+    h("label", { for: "token" }, "Bearer token for changes"),
+    token,
+  );
+
+  const render = ({ run, live, runs, selectedRunId, notice: message }: Readonly<AppState>) => {
+    const brief = runs.find((r) => r.id === selectedRunId);
+    runStatus.hidden = run === null;
+    if (run) {
+      setText(runName, runLabel(run));
+      const current = live?.status ?? brief?.status ?? run.status;
+      setText(status, formatStatus(current));
+      status.className = `badge status-${current}`;
+      setText(episode, `episode ${formatCount(live?.episode ?? brief?.episode ?? run.episode)}`);
+      setText(step, `step ${formatCount(live?.step ?? brief?.step ?? run.step)}`);
+      setText(ret, live ? `return ${formatNumber(live.episode_return, 2)}` : "");
+    }
+    notice.hidden = message === null;
+    if (message) {
+      setText(notice, message.text);
+      notice.className = `notice ${message.kind}`;
+      notice.setAttribute("role", message.kind === "error" ? "alert" : "status");
+    }
+  };
+  store.subscribe(render, ["run", "live", "runs", "selectedRunId", "notice"]);
+  render(store.state);
+
+  return h(
+    "header",
+    { class: "topbar" },
+    h("h1", {}, "Horde Lab"),
+    runStatus,
+    notice,
+    h("div", { class: "tools" }, large, tokenBox),
+  );
+}

@@ -1,0 +1,90 @@
+/**
+ * The results of a run's protocol, like `horde run`'s table: once the run has finished, per demon the
+ * prediction at the start state, the Monte-Carlo truth (when evaluated in the demon table) with its
+ * error, and the thesis's number. The server keeps no results of the protocol's evaluation and test
+ * runs for a live run, so the truth comes from the dashboard's own evaluations.
+ */
+import type { AppState, AppStore } from "../app/state";
+import { formatCount, formatEstimate, formatNumber, formatRelativeError } from "../lib/format";
+import { h, replaceChildren } from "../ui/dom";
+
+export function runResults(store: AppStore): HTMLElement {
+  const body = h("div", {});
+  const element = h(
+    "section",
+    { class: "panel results-panel", "aria-labelledby": "results-title", hidden: true },
+    h("h2", { id: "results-title" }, "Results"),
+    body,
+  );
+
+  const render = ({ run, evaluations }: Readonly<AppState>) => {
+    const summary = run?.summary;
+    element.hidden = !run || !summary;
+    if (!run || !summary) return;
+    const thesis = run.spec.thesis ?? {};
+    const names = Object.keys(summary.predictions);
+    const counts = thesis.counts;
+    replaceChildren(
+      body,
+      h(
+        "p",
+        {},
+        `${run.status === "failed" ? "Failed" : "Finished"} after ${formatCount(summary.episodes)} episodes (${formatCount(summary.steps)} steps)`,
+        summary.stopped_early ? ", stopped early by the stopping rule" : "",
+        `; last return ${formatNumber(summary.last_return)}.`,
+      ),
+      h(
+        "table",
+        { class: "results-table" },
+        h("caption", { class: "visually-hidden" }, "Predictions at the start state against the truth and the thesis"),
+        h(
+          "thead",
+          {},
+          h(
+            "tr",
+            {},
+            ...["demon", "prediction", "truth (MC) ± se", "error", "thesis"].map((label, i) =>
+              h("th", { scope: "col", class: i ? "num" : "" }, label),
+            ),
+          ),
+        ),
+        h(
+          "tbody",
+          {},
+          names.map((name) => {
+            const prediction = summary.predictions[name];
+            const evaluation = evaluations[name];
+            return h(
+              "tr",
+              {},
+              h("th", { scope: "row" }, name),
+              h("td", { class: "num" }, formatNumber(prediction)),
+              h(
+                "td",
+                { class: "num" },
+                evaluation ? formatEstimate(evaluation.truth, evaluation.stderr) : "evaluate in the table",
+              ),
+              h("td", { class: "num" }, evaluation ? formatRelativeError(prediction, evaluation.truth) : "–"),
+              h("td", { class: "num" }, formatNumber(thesis.predictions?.[name])),
+            );
+          }),
+        ),
+      ),
+      counts
+        ? h(
+            "p",
+            {},
+            `The thesis's greedy test runs: positive ${counts.positive}, negative ${counts.negative}, none ${counts.none}. `,
+            h(
+              "span",
+              { class: "muted" },
+              "(This run's test-run counts are printed by `horde run`; the server does not serve them yet.)",
+            ),
+          )
+        : null,
+    );
+  };
+  store.subscribe(render, ["run", "evaluations"]);
+  render(store.state);
+  return element;
+}

@@ -1,0 +1,152 @@
+/**
+ * The list of runs: status, episode and step of each, and its commands (start or pause, step, reset,
+ * delete). Rows are kept and updated in place, so the focus stays on a button while the list refreshes.
+ */
+import { attempt, commandRun, deleteRun, notify, selectRun, stepRun } from "../app/actions";
+import type { AppStore } from "../app/state";
+import type { RunBrief } from "../api/types";
+import { formatCount, formatHz, formatStatus, runLabel } from "../lib/format";
+import { h, options, setText } from "../ui/dom";
+
+const STEP_SIZES = ["1", "10", "100", "1000"];
+const DELETE_CONFIRM_MS = 4000;
+
+interface Row {
+  item: HTMLLIElement;
+  select: HTMLButtonElement;
+  status: HTMLElement;
+  counters: HTMLElement;
+  toggle: HTMLButtonElement;
+  step: HTMLButtonElement;
+  reset: HTMLButtonElement;
+  remove: HTMLButtonElement;
+  run: RunBrief;
+  confirmUntil: number;
+}
+
+export function runsPanel(store: AppStore): HTMLElement {
+  const stepSize = h("select", { id: "step-size" }, options(STEP_SIZES, "1"));
+  const list = h("ul", { class: "run-list", "aria-label": "Runs" });
+  const empty = h("p", { class: "muted" }, "No runs yet: launch a scenario above.");
+  const rows = new Map<string, Row>();
+
+  const makeRow = (run: RunBrief): Row => {
+    const row = {} as Row;
+    row.run = run;
+    row.confirmUntil = 0;
+    row.select = h("button", {
+      type: "button",
+      class: "run-select",
+      onclick: () => void attempt(store, () => selectRun(store, row.run.id)),
+    });
+    row.status = h("span", { class: "badge" });
+    row.counters = h("span", { class: "counters", dataset: { testid: "run-counters" } });
+    row.toggle = h("button", {
+      type: "button",
+      onclick: () => {
+        const command = row.run.status === "running" ? "pause" : "start";
+        void attempt(store, () => commandRun(store, row.run.id, command));
+      },
+    });
+    row.step = h("button", {
+      type: "button",
+      onclick: () => void attempt(store, () => stepRun(store, row.run.id, Number(stepSize.value))),
+    });
+    row.reset = h(
+      "button",
+      { type: "button", onclick: () => void attempt(store, () => commandRun(store, row.run.id, "reset")) },
+      "Reset",
+    );
+    row.remove = h("button", { type: "button", class: "danger", onclick: () => onDelete(row) });
+    row.item = h(
+      "li",
+      { class: "run-item", dataset: { run: run.id } },
+      h("div", { class: "run-head" }, row.select, row.status),
+      row.counters,
+      h("div", { class: "run-actions" }, row.toggle, row.step, row.reset, row.remove),
+    );
+    return row;
+  };
+
+  // Deleting takes two presses, so a stray click or key cannot throw a run away.
+  const onDelete = (row: Row) => {
+    if (Date.now() < row.confirmUntil) {
+      void attempt(store, async () => {
+        await deleteRun(store, row.run.id);
+        notify(store, `Deleted run ${runLabel(row.run)}.`);
+      });
+      return;
+    }
+    row.confirmUntil = Date.now() + DELETE_CONFIRM_MS;
+    updateRow(row, row.run, store.state.selectedRunId);
+    window.setTimeout(() => updateRow(row, row.run, store.state.selectedRunId), DELETE_CONFIRM_MS + 50);
+  };
+
+  const render = () => {
+    const { runs, selectedRunId, live } = store.state;
+    empty.hidden = runs.length > 0;
+    const seen = new Set<string>();
+    for (const brief of runs) {
+      seen.add(brief.id);
+      // The selected run's stream is fresher than the list's once-a-second reading.
+      const run =
+        live && live.run === brief.id
+          ? { ...brief, status: live.status, step: live.step, episode: live.episode }
+          : brief;
+      let row = rows.get(run.id);
+      if (!row) {
+        row = makeRow(run);
+        rows.set(run.id, row);
+      }
+      updateRow(row, run, selectedRunId);
+      list.appendChild(row.item); // keeps the server's order; moving a node keeps its focus
+    }
+    for (const [id, row] of rows) {
+      if (!seen.has(id)) {
+        row.item.remove();
+        rows.delete(id);
+      }
+    }
+  };
+  store.subscribe(render, ["runs", "selectedRunId", "live"]);
+  render();
+
+  return h(
+    "section",
+    { class: "panel runs-panel", "aria-labelledby": "runs-title" },
+    h(
+      "div",
+      { class: "panel-head" },
+      h("h2", { id: "runs-title" }, "Runs"),
+      h("label", { for: "step-size", class: "inline" }, "Steps per Step ", stepSize),
+    ),
+    empty,
+    list,
+  );
+}
+
+function updateRow(row: Row, run: RunBrief, selectedRunId: string | null): void {
+  row.run = run;
+  const label = runLabel(run);
+  const selected = run.id === selectedRunId;
+  row.item.classList.toggle("selected", selected);
+  setText(row.select, label);
+  row.select.setAttribute("aria-pressed", String(selected));
+  row.select.title = `Show run ${run.id}`;
+  setText(row.status, formatStatus(run.status));
+  row.status.className = `badge status-${run.status}`;
+  setText(row.counters, `episode ${formatCount(run.episode)} · step ${formatCount(run.step)} · ${formatHz(run.hz)}`);
+  const running = run.status === "running";
+  const done = run.status === "finished" || run.status === "failed";
+  setText(row.toggle, running ? "Pause" : "Start");
+  row.toggle.setAttribute("aria-label", `${running ? "Pause" : "Start"} run ${label}`);
+  row.toggle.disabled = done;
+  row.toggle.className = running ? "" : "primary";
+  setText(row.step, "Step");
+  row.step.setAttribute("aria-label", `Step run ${label}`);
+  row.step.disabled = running || done;
+  row.reset.setAttribute("aria-label", `Reset run ${label}`);
+  const confirming = Date.now() < row.confirmUntil;
+  setText(row.remove, confirming ? "Really delete?" : "Delete");
+  row.remove.setAttribute("aria-label", confirming ? `Really delete run ${label}?` : `Delete run ${label}`);
+}

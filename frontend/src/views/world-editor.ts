@@ -1,0 +1,230 @@
+/**
+ * The world editor: a form for the world and its regions beside a live drawing of it, loaded from the
+ * library, a scenario or the selected run, and saved to the library (PUT /api/worlds/{name}). The
+ * server's 422s appear at the fields they concern.
+ */
+import { attempt, notify, refreshWorlds } from "../app/actions";
+import type { AppStore } from "../app/state";
+import { ApiError, api, toApiError, unwrap } from "../api/client";
+import type { Region, WorldSpec } from "../api/types";
+import { InputError } from "../lib/input-error";
+import { formatList, readNumber, readNumberList } from "../lib/parse";
+import { h, options, replaceChildren } from "../ui/dom";
+import { FormErrors, field, numberInput, textInput } from "../ui/form";
+import { type RegionFields, type RegionText, regionFields, regionText } from "./region-fields";
+import { worldDrawing } from "./world-drawing";
+
+const NEW_WORLD: WorldSpec = {
+  width: 500,
+  height: 500,
+  step: 100,
+  slip: 0,
+  noise: 0,
+  start: [0, 0],
+  transient_reward: -0.01,
+  max_steps: 100,
+  regions: [{ name: "goal", kind: "terminal", rect: [400, 400, 500, 500], reward: 1 }],
+};
+
+const NEW_REGION: RegionText = { name: "", kind: "zone", rect: "0, 0, 100, 100", reward: "", colors: "" };
+
+export function worldEditor(store: AppStore): HTMLElement {
+  const errors = new FormErrors();
+  const drawing = worldDrawing();
+
+  const source = h("select", { id: "world-source" });
+  const load = h("button", { type: "button" }, "Load");
+  const name = textInput("my-world", { name: "name" });
+  const width = numberInput(null, { name: "width" });
+  const height = numberInput(null, { name: "height" });
+  const step = numberInput(null, { name: "step" });
+  const slip = numberInput(null, { name: "slip" });
+  const noise = numberInput(null, { name: "noise" });
+  const start = textInput("", { name: "start" });
+  const transient = numberInput(null, { name: "transient_reward" });
+  const maxSteps = numberInput(null, { name: "max_steps" });
+  const regionList = h("div", { class: "region-list" });
+  const addRegion = h("button", { type: "button" }, "Add region");
+  const save = h("button", { type: "submit", class: "primary" }, "Save to library");
+  let regions: RegionFields[] = [];
+
+  const setRegions = (texts: RegionText[]) => {
+    errors.unregister("regions");
+    regions = texts.map((text, i) =>
+      regionFields(text, `regions.${i}`, errors, redraw, () => {
+        setRegions(regions.filter((_, j) => j !== i).map((r) => r.text()));
+        redraw();
+        addRegion.focus();
+      }),
+    );
+    replaceChildren(
+      regionList,
+      regions.map((r) => r.element),
+    );
+  };
+
+  const fill = (world: WorldSpec, worldName: string) => {
+    errors.clear();
+    name.value = worldName;
+    width.value = String(world.width);
+    height.value = String(world.height);
+    step.value = String(world.step);
+    slip.value = String(world.slip);
+    noise.value = String(world.noise);
+    start.value = formatList(world.start ?? [0, 0]);
+    transient.value = String(world.transient_reward);
+    maxSteps.value = String(world.max_steps);
+    setRegions((world.regions ?? []).map(regionText));
+    redraw();
+  };
+
+  const readFields = (): WorldSpec => ({
+    name: name.value.trim(),
+    width: readNumber(width.value),
+    height: readNumber(height.value),
+    step: readNumber(step.value),
+    slip: readNumber(slip.value),
+    noise: readNumber(noise.value),
+    start: readNumberList(start.value),
+    transient_reward: readNumber(transient.value),
+    max_steps: readNumber(maxSteps.value),
+  });
+  /** The world the form describes; throws InputError where a field cannot be read at all. */
+  const read = (): WorldSpec => ({ ...readFields(), regions: regions.map((r) => r.read()) });
+
+  // The drawing follows every keystroke; a field that does not read (yet) leaves its region out.
+  function redraw(): void {
+    const readable: Region[] = [];
+    for (const region of regions) {
+      try {
+        readable.push(region.read());
+      } catch {
+        // half-typed JSON reward: the region is drawn once it reads
+      }
+    }
+    drawing.draw({ ...readFields(), regions: readable });
+  }
+
+  const renderSources = () => {
+    const chosen = source.value;
+    const { worlds, scenarios, run } = store.state;
+    replaceChildren(
+      source,
+      options(
+        [
+          ["new", "a new world"],
+          ...(run ? [["run", `the selected run's world (${run.name ?? run.id.slice(0, 6)})`] as const] : []),
+          ...worlds.map((w) => [`library:${w.name}`, `library: ${w.name}`] as const),
+          ...scenarios.filter((s) => !s.error).map((s) => [`scenario:${s.name}`, `scenario: ${s.name}`] as const),
+        ],
+        chosen,
+      ),
+    );
+  };
+
+  const loadChosen = () =>
+    attempt(store, async () => {
+      const [kind, key = ""] = source.value.split(/:(.*)/s);
+      if (kind === "library") {
+        const record = await unwrap(api.GET("/api/worlds/{name}", { params: { path: { name: key } } }));
+        fill(record.world, record.name);
+      } else if (kind === "scenario") {
+        const spec = await unwrap(api.GET("/api/scenarios/{name}", { params: { path: { name: key } } }));
+        fill(spec.world ?? NEW_WORLD, spec.world?.name ?? `${key}-world`);
+      } else if (kind === "run" && store.state.run) {
+        const run = store.state.run;
+        fill(run.spec.world ?? NEW_WORLD, run.spec.world?.name ?? `${run.spec.name ?? "run"}-world`);
+      } else {
+        fill(NEW_WORLD, "my-world");
+      }
+    });
+  load.addEventListener("click", () => void loadChosen());
+
+  addRegion.addEventListener("click", () => {
+    const texts = regions.map((r) => r.text());
+    setRegions([...texts, { ...NEW_REGION, name: `region${texts.length + 1}` }]);
+    redraw();
+    regions.at(-1)?.element.querySelector("input")?.focus();
+  });
+
+  const onSubmit = async (event: Event) => {
+    event.preventDefault();
+    errors.clear();
+    let world: WorldSpec;
+    try {
+      world = read();
+    } catch (error) {
+      if (error instanceof InputError) errors.showField(error.path, error.message);
+      return;
+    }
+    const worldName = world.name ?? "";
+    save.disabled = true;
+    try {
+      const { data, error, response } = await api.PUT("/api/worlds/{name}", {
+        params: { path: { name: worldName } },
+        body: world,
+      });
+      if (!response.ok || !data) throw toApiError(response.status, error);
+      notify(
+        store,
+        `${response.status === 201 ? "Saved the new" : "Replaced the"} world '${data.name}' in the library.`,
+      );
+      await refreshWorlds(store);
+      source.value = `library:${data.name}`;
+    } catch (error) {
+      if (error instanceof ApiError && error.problems.length > 0) errors.showProblems(error.problems);
+      else errors.showGeneral(error instanceof Error ? error.message : String(error));
+    } finally {
+      save.disabled = false;
+    }
+  };
+
+  store.subscribe(renderSources, ["worlds", "scenarios", "run"]);
+  renderSources();
+  fill(NEW_WORLD, "my-world");
+
+  const form = h(
+    "form",
+    { class: "world-form", novalidate: true, onsubmit: onSubmit, oninput: redraw, "aria-label": "World" },
+    h("div", { class: "row load-row" }, field("Start from", source), load),
+    h(
+      "fieldset",
+      {},
+      h("legend", {}, "World"),
+      h(
+        "div",
+        { class: "row" },
+        field("Name", name, { path: "name", errors }),
+        field("Start", start, { path: "start", errors, hint: "x, y or x0, y0, x1, y1" }),
+      ),
+      h(
+        "div",
+        { class: "row" },
+        field("Width", width, { path: "width", errors }),
+        field("Height", height, { path: "height", errors }),
+        field("Step", step, { path: "step", errors }),
+        field("Max steps", maxSteps, { path: "max_steps", errors }),
+      ),
+      h(
+        "div",
+        { class: "row" },
+        field("Slip", slip, { path: "slip", errors, hint: "chance of a sideways move" }),
+        field("Noise", noise, { path: "noise", errors, hint: "std of each move" }),
+        field("Reward per step", transient, { path: "transient_reward", errors }),
+      ),
+    ),
+    h("h3", {}, "Regions"),
+    errors.register("regions", null),
+    regionList,
+    h("div", { class: "actions" }, addRegion),
+    errors.general,
+    h("div", { class: "actions sticky-actions" }, save),
+  );
+
+  return h(
+    "div",
+    { class: "editor-grid" },
+    form,
+    h("aside", { class: "drawing-column", "aria-label": "Drawing of the world" }, drawing.element),
+  );
+}

@@ -1,0 +1,61 @@
+import { describe, expect, it } from "vitest";
+import {
+  MISSING,
+  formatCount,
+  formatEstimate,
+  formatHz,
+  formatNumber,
+  formatRelativeError,
+  runLabel,
+} from "../src/lib/format";
+
+describe("formatNumber", () => {
+  it("shows a fixed number of decimals", () => {
+    expect(formatNumber(30.7)).toBe("30.700");
+    expect(formatNumber(0.906, 2)).toBe("0.91");
+    expect(formatNumber(-1)).toBe("-1.000");
+  });
+  it("shows missing, NaN and infinite values as a dash", () => {
+    expect(formatNumber(null)).toBe(MISSING);
+    expect(formatNumber(undefined)).toBe(MISSING);
+    expect(formatNumber(Number.NaN)).toBe(MISSING);
+    expect(formatNumber(Number.POSITIVE_INFINITY)).toBe(MISSING);
+  });
+  it("writes tiny and huge magnitudes in exponent form, and zero plainly", () => {
+    expect(formatNumber(1.5e-7)).toBe("1.50e-7");
+    expect(formatNumber(2.5e8)).toBe("2.50e+8");
+    expect(formatNumber(0)).toBe("0.000");
+  });
+  it("never rounds a small value to a (negative) zero", () => {
+    expect(formatNumber(-0.0004, 2)).toBe("-4.00e-4");
+    expect(formatNumber(-0.001, 2)).toBe("-1.00e-3");
+    expect(formatNumber(-0, 2)).toBe("0.00");
+  });
+});
+
+describe("counts, estimates, errors and speeds", () => {
+  it("separates thousands", () => {
+    expect(formatCount(12345)).toBe("12,345");
+    expect(formatCount(null)).toBe(MISSING);
+  });
+  it("writes a mean with its standard error", () => {
+    expect(formatEstimate(39.0123, 0.21)).toBe("39.012 ± 0.210");
+    expect(formatEstimate(39, null)).toBe("39.000");
+    expect(formatEstimate(null, 0.2)).toBe(MISSING);
+  });
+  it("gives the relative error with its sign", () => {
+    expect(formatRelativeError(30.7, 39)).toBe("−21.3 %");
+    expect(formatRelativeError(0.21, 0.2)).toBe("+5.0 %");
+    expect(formatRelativeError(1, 0)).toBe(MISSING);
+    expect(formatRelativeError(null, 1)).toBe(MISSING);
+  });
+  it("names the speed", () => {
+    expect(formatHz(null)).toBe("full speed");
+    expect(formatHz(20)).toBe("20 steps/s");
+    expect(formatHz(2.5)).toBe("2.5 steps/s");
+  });
+  it("labels runs by name and short id", () => {
+    expect(runLabel({ id: "abcdef123456", name: "experiment1" })).toBe("experiment1 · abcdef");
+    expect(runLabel({ id: "abcdef123456", name: null })).toBe("abcdef");
+  });
+});

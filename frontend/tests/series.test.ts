@@ -1,0 +1,63 @@
+import { describe, expect, it } from "vitest";
+import type { History } from "../src/api/types";
+import { alignHistories, strideIndices } from "../src/lib/series";
+
+function history(demon: string, steps: number[], prediction: (number | null)[]): History {
+  const zeros = steps.map(() => 0);
+  return {
+    demon,
+    every: 1,
+    capacity: 100,
+    step: steps,
+    prediction,
+    cumulant: zeros,
+    delta: zeros,
+    rupee: zeros,
+    ude: zeros,
+  };
+}
+
+describe("strideIndices", () => {
+  it("keeps everything that fits", () => {
+    expect(strideIndices(3, 10)).toEqual([0, 1, 2]);
+    expect(strideIndices(0, 10)).toEqual([]);
+  });
+  it("thins evenly and keeps the first and the newest row", () => {
+    const kept = strideIndices(1001, 11);
+    expect(kept).toHaveLength(11);
+    expect(kept[0]).toBe(0);
+    expect(kept.at(-1)).toBe(1000);
+    expect(kept[5]).toBe(500);
+  });
+});
+
+describe("alignHistories", () => {
+  it("puts one column per demon against the steps", () => {
+    const data = alignHistories(
+      [history("a", [1, 2, 3], [0.1, 0.2, 0.3]), history("b", [1, 2, 3], [null, 1, 2])],
+      "prediction",
+    );
+    expect(data).toEqual([
+      [1, 2, 3],
+      [0.1, 0.2, 0.3],
+      [null, 1, 2],
+    ]);
+  });
+  it("cuts a longer history from the oldest end", () => {
+    const data = alignHistories([history("a", [1, 2], [1, 2]), history("b", [1, 2, 3], [1, 2, 3])], "prediction");
+    expect(data).toEqual([
+      [1, 2],
+      [1, 2],
+      [2, 3],
+    ]);
+  });
+  it("thins long histories", () => {
+    const steps = Array.from({ length: 5000 }, (_, i) => i);
+    const data = alignHistories([history("a", steps, steps)], "prediction", 100);
+    expect(data[0]).toHaveLength(100);
+    expect(data[0].at(-1)).toBe(4999);
+  });
+  it("is empty without histories", () => {
+    expect(alignHistories([], "rupee")).toEqual([[]]);
+  });
+});
