@@ -37,7 +37,6 @@ from horde.events import EventLog
 from horde.history import History
 from horde.run_setup import Limits, check_limits, new_simulation
 from horde.run_view import RunStatus, RunView, Summary
-from horde.sim_tools import freeze, rebuild
 from horde.snapshot import Snapshot, capture, to_bytes
 from horde.spec import BehaviourSpec, DemonSpec, RunSpec
 from horde.store import RunRecord, Store
@@ -448,7 +447,7 @@ class LiveRun:
 
     def _swap_horde(self, spec: RunSpec, message: str) -> RunView:
         """A new Horde for a changed set of demons, keeping every remaining demon's weights."""
-        sim = self._sim = rebuild(self._sim, spec)
+        sim = self._sim = self._sim.with_spec(spec)
         self._spec = spec
         self.history = self.history.remap(sim.horde.names)
         self._stop_reference = self._thetas()
@@ -489,7 +488,7 @@ class LiveRun:
             hz=self._hz,
             spec=self._spec,
             horde=sim.horde,
-            horde_state=(state := freeze(sim.horde_state)),
+            horde_state=(state := sim.horde_state),  # a copy: the learner never changes it
             rupee=sim.horde.rupee(state),
             ude=sim.horde.ude(state),
             world_state=WorldState(*(np.array(a, copy=True) for a in sim.world_state)),

@@ -26,7 +26,6 @@ from horde.core.world import WorldState
 from horde.errors import SpecError
 from horde.run_setup import new_simulation
 from horde.run_view import RunStatus
-from horde.sim_tools import set_returns
 from horde.spec import RunSpec
 
 FORMAT: Literal["horde-snapshot/1"] = "horde-snapshot/1"
@@ -238,7 +237,7 @@ def restore(snapshot: Snapshot) -> Restored:
     }
     sim.episode = snapshot.episode
     sim.total_steps = snapshot.total_steps
-    set_returns(sim, snapshot.episode_return, snapshot.last_return)
+    sim.set_returns(snapshot.episode_return, snapshot.last_return)
     reference = None
     if snapshot.stop_reference is not None:
         template = [lr.theta for lr in sim.horde_state.learners]

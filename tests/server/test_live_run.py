@@ -11,7 +11,6 @@ from horde.errors import NotFoundError
 from horde.history import History
 from horde.run_setup import new_simulation
 from horde.runs import RunManager
-from horde.sim_tools import rebuild
 from horde.spec import DemonSpec, RunSpec
 
 from .helpers import make_spec
@@ -62,7 +61,7 @@ def test_rebuild_keeps_weights_generator_and_counters() -> None:
     weights = {name: sim.horde.weights(sim.horde_state, name) for name in sim.horde.names}
     rng_state = sim.rng.bit_generator.state
     extra = DemonSpec.model_validate({"name": "bump", "policy": "uniform", "cumulant": {"sensor": "bump"}})
-    grown = rebuild(sim, spec.model_copy(update={"demons": [*spec.demons, extra]}))
+    grown = sim.with_spec(spec.model_copy(update={"demons": [*spec.demons, extra]}))
     assert grown.horde.names == ["base", "steps", "bump"]
     for name, theta in weights.items():
         np.testing.assert_array_equal(grown.horde.weights(grown.horde_state, name), theta)

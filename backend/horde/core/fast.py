@@ -437,7 +437,7 @@ def _learn(
             feat[g, j] = idx_tp1[j]
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)  # releases the GIL: the server's other threads go on while a run learns
 def _run(
     max_steps, max_episodes, rng, result, returns,
     wp, rects, is_obstacle, is_terminal, term_reward, term_ind, term_table, ind_region, color_values, color_cdf,

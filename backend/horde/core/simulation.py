@@ -119,6 +119,30 @@ class Simulation:
         """The return of the last finished episode."""
         return float(self._loop.returns[1]) if self._loop is not None else self._numpy_return[1]
 
+    def set_returns(self, episode_return: float, last_return: float) -> None:
+        """Restore the return of the episode under way and of the last finished one (snapshots)."""
+        if self._loop is not None:
+            self._loop.returns[:] = (episode_return, last_return)
+        else:
+            self._numpy_return = [episode_return, last_return]
+
+    def with_spec(self, spec: RunSpec) -> Simulation:
+        """The same agent under a changed set of demons: same world state, generator and counters.
+
+        Every demon that this simulation also has keeps its weights (`Horde.carry_over`); traces restart
+        as at an episode start. The generator's state is left exactly as it was.
+        """
+        rng_state = self.rng.bit_generator.state
+        new = Simulation(spec, self.rng, self.engine)  # draws a start: the generator is put back below
+        self.rng.bit_generator.state = rng_state
+        new.world_state = self.world_state
+        new.horde_state = new.horde.carry_over(self.horde, self.horde_state, *self.position)
+        new.episode = self.episode
+        new.total_steps = self.total_steps
+        new.with_metrics = self.with_metrics
+        new.set_returns(self.episode_return, self.last_return)
+        return new
+
     # ------------------------------------------------------------------------------------------
     # Acting
 
