@@ -21,13 +21,21 @@ def parse(argv: list[str]) -> argparse.Namespace:
 def test_defaults_and_overrides(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     monkeypatch.delenv("HORDE_PORT", raising=False)
     monkeypatch.delenv("HORDE_HOST", raising=False)
+    monkeypatch.delenv("HORDE_VISER_PORT", raising=False)
     args = parse(["serve"])
     assert args.handler is serve
     settings = settings_from_args(args)
     assert (settings.host, settings.port) == ("127.0.0.1", 8000)
     settings = settings_from_args(parse(["serve", "--host", "::1", "--port", "9001", "--data", str(tmp_path)]))
     assert (settings.host, settings.port, settings.data) == ("::1", 9001, tmp_path)
-    assert urls(settings) == {"API": "http://[::1]:9001/api", "API docs": "http://[::1]:9001/docs"}
+    assert urls(settings) == {
+        "Dashboard": "http://[::1]:9001/",
+        "API": "http://[::1]:9001/api",
+        "API docs": "http://[::1]:9001/docs",
+    }
+    assert settings.viser_port == 8080, "serve starts the live view on 8080 by default"
+    assert settings_from_args(parse(["serve", "--viser-port", "9100"])).viser_port == 9100
+    assert settings_from_args(parse(["serve", "--no-view"])).viser_port is None
 
 
 def test_serve_prints_its_urls_and_warns_when_exposed(
@@ -39,6 +47,7 @@ def test_serve_prints_its_urls_and_warns_when_exposed(
     assert serve(parse(["serve", "--port", "9002", "--data", str(tmp_path)])) == 0
     out = capsys.readouterr()
     assert "http://127.0.0.1:9002/api" in out.out and "http://127.0.0.1:9002/docs" in out.out
+    assert "Dashboard: http://127.0.0.1:9002/" in out.out
     assert "WARNING" not in out.err
     assert calls == [{"host": "127.0.0.1", "port": 9002, "log_level": "info"}]
 

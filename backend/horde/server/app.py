@@ -6,23 +6,28 @@ so that the event loop gets the GIL soon while learner threads compute); on the 
 streams and every learner thread (running runs are saved as paused) and closes the store. Tests build
 the app with their own settings (a temporary data directory) and enter the lifespan with
 `TestClient(app)` as a context manager; nested lifespans share the first one's store and manager.
+The viser live view starts only when `settings.viser_port` is set (`horde serve` sets it), so tests
+leave it out unless they ask for it. The built dashboard is served at `/`.
 """
 
 from __future__ import annotations
 
 import sys
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, Callable
 from contextlib import asynccontextmanager
 
 from fastapi import FastAPI
 
 from horde.runs import RunManager
 from horde.server.catalog import ScenarioCatalog
+from horde.server.frontend import DIST_DIR, mount_frontend
 from horde.server.responses import add_error_handlers
 from horde.server.routes import ROUTERS
 from horde.server.settings import Settings
 from horde.server.stream import StreamHub
 from horde.store import Store
+from horde.view.live import LiveView
+from horde.view.manager_source import ManagerSource
 
 DESCRIPTION = """\
 Learn many predictions at once with the Horde architecture. Define worlds and runs, add demons to live
@@ -33,11 +38,13 @@ spec (naming the field). When HORDE_TOKEN is set, every POST, PUT, PATCH and DEL
 """
 
 
-def create_app(settings: Settings | None = None) -> FastAPI:
+def create_app(settings: Settings | None = None, announce: Callable[[str], None] | None = None) -> FastAPI:
     """The Horde Lab server.
 
     Args:
         settings: defaults to `Settings()`, read from HORDE_* environment variables.
+        announce: called with the live view's address once it listens (viser may move to the next
+            free port, so the address is known only then); `horde serve` prints it.
     """
     settings = settings or Settings()
 
@@ -53,12 +60,20 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             app.state.switch_interval = sys.getswitchinterval()
             sys.setswitchinterval(settings.switch_interval)
             manager.start()
+            if settings.viser_port is not None:
+                app.state.live_view = LiveView(ManagerSource(manager), host=settings.host, port=settings.viser_port)
+                app.state.live_view.start()
+                if announce is not None:
+                    announce(app.state.live_view.url)
         try:
             yield
         finally:
             app.state.lifespans -= 1
             if app.state.lifespans == 0:
                 await app.state.hub.close()
+                if app.state.live_view is not None:
+                    app.state.live_view.stop()
+                    app.state.live_view = None
                 app.state.manager.stop()
                 app.state.store.close()
                 sys.setswitchinterval(app.state.switch_interval)
@@ -66,8 +81,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app = FastAPI(title="Horde Lab", description=DESCRIPTION, version="0.1.0", lifespan=lifespan)
     app.state.settings = settings
     app.state.lifespans = 0
+    app.state.live_view = None
     app.state.catalog = ScenarioCatalog(settings.scenarios)
     add_error_handlers(app)
     for router in ROUTERS:
         app.include_router(router, prefix="/api")
+    mount_frontend(app, settings.frontend or DIST_DIR)
     return app

@@ -13,14 +13,19 @@ from typing import Any
 
 from horde.server.settings import Settings
 
+DEFAULT_VISER_PORT = 8080
+
 
 def add_serve_arguments(parser: argparse.ArgumentParser) -> None:
     """--host, --port, --data (each defaults to its HORDE_* variable, then to the built-in default)."""
     parser.add_argument("--host", default=None, help="address to bind (default: HORDE_HOST or 127.0.0.1)")
     parser.add_argument("--port", type=int, default=None, help="port (default: HORDE_PORT or 8000)")
     parser.add_argument("--data", type=Path, default=None, help="data directory (default: HORDE_DATA or ./.horde)")
+    parser.add_argument(
+        "--viser-port", type=int, default=None, help="port of the viser live view (default: HORDE_VISER_PORT or 8080)"
+    )
+    parser.add_argument("--no-view", action="store_true", help="do not start the viser live view")
     parser.add_argument("--log-level", default="info", choices=["critical", "error", "warning", "info", "debug"])
-    # A later --viser-port (the 3-D view's port) goes here.
 
 
 def add_serve_parser(subparsers: Any) -> argparse.ArgumentParser:
@@ -31,19 +36,24 @@ def add_serve_parser(subparsers: Any) -> argparse.ArgumentParser:
         description="Serve the Horde Lab API. Set HORDE_TOKEN to require a bearer token on every change.",
     )
     add_serve_arguments(parser)
-    parser.set_defaults(handler=serve)
+    parser.set_defaults(handler=serve, func=serve)
     return parser
 
 
 def settings_from_args(args: argparse.Namespace) -> Settings:
-    overrides = {key: getattr(args, key, None) for key in ("host", "port", "data")}
-    return Settings(**{key: value for key, value in overrides.items() if value is not None})
+    overrides = {key: getattr(args, key, None) for key in ("host", "port", "data", "viser_port")}
+    settings = Settings(**{key: value for key, value in overrides.items() if value is not None})
+    if getattr(args, "no_view", False):
+        return settings.model_copy(update={"viser_port": None})
+    if settings.viser_port is None:  # serve starts the live view unless told not to
+        return settings.model_copy(update={"viser_port": DEFAULT_VISER_PORT})
+    return settings
 
 
 def urls(settings: Settings) -> dict[str, str]:
     host = f"[{settings.host}]" if ":" in settings.host else settings.host
     base = f"http://{host}:{settings.port}"
-    return {"API": f"{base}/api", "API docs": f"{base}/docs"}
+    return {"Dashboard": f"{base}/", "API": f"{base}/api", "API docs": f"{base}/docs"}
 
 
 def security_warning(settings: Settings) -> str | None:
@@ -70,8 +80,12 @@ def serve(args: argparse.Namespace) -> int:
     for label, url in urls(settings).items():
         print(f"  {label + ':':10} {url}")
     sys.stdout.flush()
+
+    def announce(view_url: str) -> None:
+        print(f"  {'Live view:':10} {view_url}", flush=True)
+
     uvicorn.run(
-        create_app(settings),
+        create_app(settings, announce),
         host=settings.host,
         port=settings.port,
         log_level=getattr(args, "log_level", "info"),

@@ -117,6 +117,19 @@ class HealthOut(Out):
     runs: int
 
 
+class ViewOut(Out):
+    """Where the viser live view listens, and which run it shows."""
+
+    url: str = Field(description="the viser client's address (embed it in an iframe or open it)")
+    run: str | None = Field(description="the run it shows now, if any")
+
+
+class ViewIn(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    run: str = Field(min_length=1, max_length=64, description="the run the live view should show")
+
+
 class ScenarioOut(Out):
     name: str
     description: str

@@ -23,6 +23,12 @@ class Settings(BaseSettings):
     token: SecretStr | None = Field(default=None, description="when set, mutating requests need 'Bearer <token>'")
     host: str = Field(default="127.0.0.1", description="address to bind (loopback by default)")
     port: int = Field(default=8000, ge=0, le=65535)
+    viser_port: int | None = Field(
+        default=None, ge=0, le=65535, description="port of the viser live view (None: no live view; serve uses 8080)"
+    )
+    frontend: Path | None = Field(
+        default=None, description="the built dashboard (default: the repository's frontend/dist)"
+    )
     scenarios: Path | None = Field(default=None, description="scenario folder (default: the repository's)")
     max_runs: int = Field(default=32, ge=1, le=1000)
     max_worlds: int = Field(default=256, ge=1, le=100_000)

@@ -122,6 +122,10 @@ class ControlPanel:
         else:
             _set(self.run, current)
 
+    def select_run(self, run_id: str) -> None:
+        """Show this run (the dashboard asks for the run it has selected)."""
+        self._select_run(run_id)
+
     def _select_run(self, run_id: str | None) -> None:
         if run_id == self.run_id:
             return

@@ -116,6 +116,22 @@ class LiveView:
             self._server.stop()
             self._server = None
 
+    def show(self, run_id: str) -> None:
+        """Switch the view (every connected browser) to this run.
+
+        Raises:
+            KeyError: the source has no such run.
+        """
+        runs = self.source.list_runs()
+        if run_id not in {r for r, _ in runs}:
+            raise KeyError(run_id)
+        self.panel.set_runs(runs)
+        self.panel.select_run(run_id)
+
+    @property
+    def shown_run(self) -> str | None:
+        return self.panel.run_id if self._server is not None else None
+
     def panel_changed(self) -> None:
         if self._server is not None:
             self.panel.changed.set()

@@ -2,7 +2,7 @@
 
 from fastapi import APIRouter
 
-from horde.server.routes import demons, health, runs, scenarios, snapshots, stream, worlds
+from horde.server.routes import demons, health, runs, scenarios, snapshots, stream, view, worlds
 
 ROUTERS: tuple[APIRouter, ...] = (
     health.router,
@@ -12,6 +12,7 @@ ROUTERS: tuple[APIRouter, ...] = (
     runs.router,
     demons.router,
     stream.router,
+    view.router,
 )
 
 __all__ = ["ROUTERS"]

@@ -1,0 +1,146 @@
+"""The server's runs as the live view sees them: `RunManager` behind the `ViewSource` protocol.
+
+Everything the view reads comes from a run's published `RunView` (an immutable copy) and its
+history buffer, so the view never touches a learner's mutable state; commands go through the run's
+command queue like REST requests do. The agent's trail is sampled from the views the live view
+takes (about 30 a second), which is every step when watching and a sample at full speed.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import threading
+from collections import deque
+from collections.abc import Sequence
+
+import numpy as np
+
+from horde.errors import NotFoundError, RunError
+from horde.readout import value_map
+from horde.run_view import RunView
+from horde.runs import RunManager
+from horde.view.source import History, ViewSnapshot
+
+TRAIL_POINTS = 500  # most positions kept of one episode's trail
+HISTORY_ROWS = 400  # most rows of a demon's history sent to the charts
+
+
+class ManagerSource:
+    """`ViewSource` over a `RunManager`.
+
+    Args:
+        manager: the server's runs.
+    """
+
+    def __init__(self, manager: RunManager) -> None:
+        self.manager = manager
+        self._lock = threading.Lock()
+        self._trails: dict[str, tuple[int, deque[tuple[float, float]]]] = {}  # run -> (episode, points)
+
+    def _view(self, run_id: str) -> RunView:
+        try:
+            return self.manager.get(run_id).view
+        except NotFoundError:
+            raise KeyError(run_id) from None
+
+    def list_runs(self) -> list[tuple[str, str]]:
+        views = sorted(self.manager.list(), key=lambda v: v.created_at)
+        return [(v.id, v.spec.name or "") for v in views]
+
+    def _trail(self, view: RunView) -> tuple[tuple[float, float], ...]:
+        with self._lock:
+            episode, points = self._trails.get(view.id, (-1, deque(maxlen=TRAIL_POINTS)))
+            if episode != view.episode:
+                points = deque(maxlen=TRAIL_POINTS)
+            if not points or points[-1] != view.position:
+                points.append(view.position)
+            self._trails[view.id] = (view.episode, points)
+            return tuple(points)
+
+    def snapshot(self, run_id: str, demons: Sequence[str] | None = None) -> ViewSnapshot:
+        view = self._view(run_id)
+        names = [n for n in (demons if demons is not None else view.horde.names) if n in view.horde.index]
+        index = [view.horde.index[n] for n in names]
+        world = view.horde.spec.world
+        colors = {}
+        for slot, region in enumerate(r for r in world.regions if r.kind == "indicator"):
+            colors[region.name] = (region.colors or [])[int(view.world_state.colors[0, slot])].name
+        return ViewSnapshot(
+            run_id=view.id,
+            spec=view.spec,
+            x=view.position[0],
+            y=view.position[1],
+            trail=self._trail(view),
+            episode=view.episode,
+            episode_step=view.episode_step,
+            total_steps=view.total_steps,
+            episode_return=view.episode_return,
+            status=view.status,
+            hz=view.hz,
+            predictions={n: float(view.horde_state.prediction[i]) for n, i in zip(names, index, strict=True)},
+            rupee={n: float(view.rupee[i]) for n, i in zip(names, index, strict=True)},
+            indicator_colors=colors,
+            history=self._history(run_id, names),
+        )
+
+    def _history(self, run_id: str, names: Sequence[str]) -> History:
+        history = self.manager.get(run_id).history
+        predictions, rupee = {}, {}
+        steps = np.zeros(0)
+        for name in names:
+            try:
+                series = history.series(name, HISTORY_ROWS)
+            except KeyError:
+                continue
+            steps = series.steps
+            predictions[name] = series.values["prediction"]
+            rupee[name] = series.values["rupee"]
+        return History(steps=steps, predictions=predictions, rupee=rupee)
+
+    def value_map(self, run_id: str, demon: str, resolution: int) -> np.ndarray:
+        view = self._view(run_id)
+        if demon not in view.horde.index:
+            raise KeyError(demon)
+        return value_map(view, demon, resolution).values
+
+    def greedy_actions(self, run_id: str, demon: str, resolution: int) -> np.ndarray | None:
+        view = self._view(run_id)
+        if demon not in view.horde.index:
+            raise KeyError(demon)
+        if not view.horde.is_control(demon):
+            return None
+        world = view.spec.world
+        xs = (np.arange(resolution) + 0.5) * world.width / resolution
+        ys = (np.arange(resolution) + 0.5) * world.height / resolution
+        gx, gy = np.meshgrid(xs, ys)  # [N, N] each, rows along y
+        q = view.horde.forward(view.horde_state, gx.ravel(), gy.ravel()).q[:, view.horde.index[demon]]  # [N*N, A]
+        return np.argmax(q, axis=1).reshape(resolution, resolution)
+
+    def _command(self, run_id: str, name: str, *args: object) -> None:
+        try:
+            run = self.manager.get(run_id)
+        except NotFoundError:
+            raise KeyError(run_id) from None
+        # A command the run's state refuses (say, play when finished) is ignored, as the GUI's buttons are.
+        with contextlib.suppress(RunError):
+            getattr(run, name)(*args)
+
+    def play(self, run_id: str) -> None:
+        self._command(run_id, "start")
+
+    def pause(self, run_id: str) -> None:
+        self._command(run_id, "pause")
+
+    def step(self, run_id: str, n: int = 1) -> None:
+        self._command(run_id, "step", n)
+
+    def reset(self, run_id: str) -> None:
+        self._command(run_id, "reset")
+
+    def set_hz(self, run_id: str, hz: float | None) -> None:
+        try:
+            self.manager.get(run_id).patch(set_hz=True, hz=hz)
+        except NotFoundError:
+            raise KeyError(run_id) from None
+        except RunError:
+            pass
