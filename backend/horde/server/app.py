@@ -18,6 +18,7 @@ from contextlib import asynccontextmanager
 
 from fastapi import FastAPI
 
+from horde.protocols import ProtocolJobs
 from horde.runs import RunManager
 from horde.server.catalog import ScenarioCatalog
 from horde.server.frontend import DIST_DIR, mount_frontend
@@ -57,6 +58,7 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
             app.state.store = store
             app.state.manager = manager
             app.state.hub = StreamHub(manager, rate=settings.stream_rate)
+            app.state.protocols = ProtocolJobs()
             app.state.switch_interval = sys.getswitchinterval()
             sys.setswitchinterval(settings.switch_interval)
             manager.start()
@@ -71,6 +73,7 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
             app.state.lifespans -= 1
             if app.state.lifespans == 0:
                 await app.state.hub.close()
+                app.state.protocols.stop()
                 if app.state.live_view is not None:
                     app.state.live_view.stop()
                     app.state.live_view = None

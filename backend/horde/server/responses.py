@@ -18,7 +18,9 @@ CONFLICT: Responses = {409: {"model": ErrorOut, "description": "The resource's s
 UNAUTHORIZED: Responses = {
     401: {"model": ErrorOut, "description": "HORDE_TOKEN is set and the bearer token is missing or wrong"}
 }
-BUSY: Responses = {429: {"model": ErrorOut, "description": "Too many evaluations at once, or the run is busy"}}
+BUSY: Responses = {
+    429: {"model": ErrorOut, "description": "Too many evaluations or protocols at once, or the run is busy"}
+}
 
 STATUS: dict[type[RunError], int] = {NotFoundError: 404, ConflictError: 409, BusyError: 429}
 

@@ -117,6 +117,44 @@ class HealthOut(Out):
     runs: int
 
 
+class CountsOut(Out):
+    positive: int
+    negative: int
+    none: int
+
+
+class DemonResultOut(Out):
+    """One demon's line of a protocol's results (as `horde run --json` writes it)."""
+
+    name: str
+    prediction: float = Field(description="the prediction at the start, mean over trials")
+    truth: float | None = Field(description="Monte-Carlo truth at the start, mean over trials")
+    truth_stderr: float | None
+    error: float | None = Field(description="prediction - truth")
+    thesis: float | None = Field(description="the thesis's number, where it has one")
+    counts: CountsOut | None = Field(default=None, description="where the test runs ended (control protocols)")
+
+
+class ProtocolOut(Out):
+    """A protocol job: a scenario's trials x episodes, truth and test runs, in the background."""
+
+    id: str
+    name: str | None
+    status: Literal["running", "finished", "failed", "cancelled"]
+    episodes_done: int
+    episodes_total: int
+    trials: int
+    episodes: int
+    max_steps: int
+    rollouts: int
+    seconds: float | None = Field(description="learning and evaluation time, once finished")
+    steps: int | None
+    results: list[DemonResultOut] | None
+    thesis_counts: CountsOut | None
+    error: str
+    created_at: datetime
+
+
 class ViewOut(Out):
     """Where the viser live view listens, and which run it shows."""
 

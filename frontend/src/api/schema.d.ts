@@ -21,6 +21,45 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/protocols": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The protocol jobs (running and recent) */
+        get: operations["list_protocols_api_protocols_get"];
+        put?: never;
+        /**
+         * Run a scenario's protocol in the background
+         * @description The body is a RunSpec, or a template {scenario, seed, protocol: {trials, episodes}, ...}. One protocol runs at a time (429 while one runs). Poll GET /api/protocols/{id} for progress and results.
+         */
+        post: operations["start_protocol_api_protocols_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/protocols/{job_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** A protocol job: progress, then results */
+        get: operations["get_protocol_api_protocols__job_id__get"];
+        put?: never;
+        post?: never;
+        /** Cancel a running protocol job, or forget a finished one */
+        delete: operations["cancel_protocol_api_protocols__job_id__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/runs": {
         parameters: {
             query?: never;
@@ -470,6 +509,15 @@ export interface components {
             /** Positive */
             positive: number;
         };
+        /** CountsOut */
+        CountsOut: {
+            /** Negative */
+            negative: number;
+            /** None */
+            none: number;
+            /** Positive */
+            positive: number;
+        };
         /** DemonMetricsOut */
         DemonMetricsOut: {
             /** Cumulant */
@@ -496,6 +544,38 @@ export interface components {
             /** Prediction */
             prediction: number | null;
             spec: components["schemas"]["DemonSpec-Output"];
+        };
+        /**
+         * DemonResultOut
+         * @description One demon's line of a protocol's results (as `horde run --json` writes it).
+         */
+        DemonResultOut: {
+            /** @description where the test runs ended (control protocols) */
+            counts?: components["schemas"]["CountsOut"] | null;
+            /**
+             * Error
+             * @description prediction - truth
+             */
+            error: number | null;
+            /** Name */
+            name: string;
+            /**
+             * Prediction
+             * @description the prediction at the start, mean over trials
+             */
+            prediction: number;
+            /**
+             * Thesis
+             * @description the thesis's number, where it has one
+             */
+            thesis: number | null;
+            /**
+             * Truth
+             * @description Monte-Carlo truth at the start, mean over trials
+             */
+            truth: number | null;
+            /** Truth Stderr */
+            truth_stderr: number | null;
         };
         /**
          * DemonSpec
@@ -935,6 +1015,50 @@ export interface components {
              * @description another demon's current prediction
              */
             prediction: string;
+        };
+        /**
+         * ProtocolOut
+         * @description A protocol job: a scenario's trials x episodes, truth and test runs, in the background.
+         */
+        ProtocolOut: {
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /** Episodes */
+            episodes: number;
+            /** Episodes Done */
+            episodes_done: number;
+            /** Episodes Total */
+            episodes_total: number;
+            /** Error */
+            error: string;
+            /** Id */
+            id: string;
+            /** Max Steps */
+            max_steps: number;
+            /** Name */
+            name: string | null;
+            /** Results */
+            results: components["schemas"]["DemonResultOut"][] | null;
+            /** Rollouts */
+            rollouts: number;
+            /**
+             * Seconds
+             * @description learning and evaluation time, once finished
+             */
+            seconds: number | null;
+            /**
+             * Status
+             * @enum {string}
+             */
+            status: "running" | "finished" | "failed" | "cancelled";
+            /** Steps */
+            steps: number | null;
+            thesis_counts: components["schemas"]["CountsOut"] | null;
+            /** Trials */
+            trials: number;
         };
         /** ProtocolSpec */
         ProtocolSpec: {
@@ -1619,6 +1743,186 @@ export interface operations {
             };
         };
     };
+    list_protocols_api_protocols_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ProtocolOut"][];
+                };
+            };
+        };
+    };
+    start_protocol_api_protocols_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["RunSpec-Input"] | components["schemas"]["RunTemplateIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            202: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ProtocolOut"];
+                };
+            };
+            /** @description The body cannot be parsed (not JSON, not UTF-8) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+            /** @description Too many evaluations or protocols at once, or the run is busy */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+        };
+    };
+    get_protocol_api_protocols__job_id__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the protocol job's id */
+                job_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ProtocolOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    cancel_protocol_api_protocols__job_id__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the protocol job's id */
+                job_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ProtocolOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
     list_runs_api_runs_get: {
         parameters: {
             query?: never;
@@ -2292,7 +2596,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description Too many evaluations at once, or the run is busy */
+            /** @description Too many evaluations or protocols at once, or the run is busy */
             429: {
                 headers: {
                     [name: string]: unknown;

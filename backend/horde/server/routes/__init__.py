@@ -2,7 +2,7 @@
 
 from fastapi import APIRouter
 
-from horde.server.routes import demons, health, runs, scenarios, snapshots, stream, view, worlds
+from horde.server.routes import demons, health, protocols, runs, scenarios, snapshots, stream, view, worlds
 
 ROUTERS: tuple[APIRouter, ...] = (
     health.router,
@@ -13,6 +13,7 @@ ROUTERS: tuple[APIRouter, ...] = (
     demons.router,
     stream.router,
     view.router,
+    protocols.router,
 )
 
 __all__ = ["ROUTERS"]

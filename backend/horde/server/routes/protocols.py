@@ -1,0 +1,107 @@
+"""Protocol jobs: POST /api/protocols (run a scenario's protocol), GET /api/protocols[/{id}], DELETE.
+
+The protocol is `horde run`'s: trials x episodes from scratch, each demon's prediction at the start
+beside its Monte-Carlo truth and the thesis's number, and for control protocols where the test runs
+ended. It runs in the background; poll GET /api/protocols/{id} for its progress and results.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated
+
+from fastapi import APIRouter, Body, Path, Request, status
+
+from horde.protocols import ProtocolJob, ProtocolJobs
+from horde.server.convert import timestamp
+from horde.server.deps import CatalogDep, StoreDep, WriteAccess
+from horde.server.responses import BAD_BODY, BUSY, NOT_FOUND, UNAUTHORIZED
+from horde.server.schemas import CountsOut, DemonResultOut, ProtocolOut, RunCreate, RunTemplateIn
+from horde.server.spec_builder import build_spec
+
+router = APIRouter(prefix="/protocols", tags=["protocols"])
+
+JobId = Annotated[str, Path(min_length=1, max_length=64, description="the protocol job's id")]
+
+
+def _jobs(request: Request) -> ProtocolJobs:
+    jobs: ProtocolJobs = request.app.state.protocols
+    return jobs
+
+
+def _finite(value: float | None) -> float | None:
+    return value if value is not None and math.isfinite(value) else None
+
+
+def _out(job: ProtocolJob) -> ProtocolOut:
+    result = job.result
+    protocol = job.spec.protocol
+    counts = job.spec.thesis.counts
+    return ProtocolOut(
+        id=job.id,
+        name=job.spec.name,
+        status=job.status,
+        episodes_done=job.episodes_done,
+        episodes_total=job.episodes_total,
+        trials=protocol.trials,
+        episodes=protocol.episodes,
+        max_steps=job.spec.world.max_steps,
+        rollouts=protocol.evaluation.rollouts,
+        seconds=result.seconds if result else None,
+        steps=result.steps if result else None,
+        results=[
+            DemonResultOut(
+                name=d.name,
+                prediction=d.prediction,
+                truth=_finite(d.truth),
+                truth_stderr=_finite(d.truth_stderr),
+                error=_finite(d.error),
+                thesis=d.thesis,
+                counts=CountsOut(**d.counts.model_dump()) if d.counts else None,
+            )
+            for d in result.demons
+        ]
+        if result
+        else None,
+        thesis_counts=CountsOut(**counts.model_dump()) if counts else None,
+        error=job.error,
+        created_at=timestamp(job.created_at),
+    )
+
+
+@router.get("", summary="The protocol jobs (running and recent)")
+def list_protocols(request: Request) -> list[ProtocolOut]:
+    return [_out(job) for job in _jobs(request).list()]
+
+
+@router.post(
+    "",
+    summary="Run a scenario's protocol in the background",
+    status_code=status.HTTP_202_ACCEPTED,
+    dependencies=[WriteAccess],
+    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **BUSY},
+    description=(
+        "The body is a RunSpec, or a template {scenario, seed, protocol: {trials, episodes}, ...}. One protocol "
+        "runs at a time (429 while one runs). Poll GET /api/protocols/{id} for progress and results."
+    ),
+)
+def start_protocol(
+    body: Annotated[RunCreate, Body()], request: Request, catalog: CatalogDep, store: StoreDep
+) -> ProtocolOut:
+    spec = build_spec(body, catalog, store) if isinstance(body, RunTemplateIn) else body
+    return _out(_jobs(request).start(spec))
+
+
+@router.get("/{job_id}", summary="A protocol job: progress, then results", responses=NOT_FOUND)
+def get_protocol(job_id: JobId, request: Request) -> ProtocolOut:
+    return _out(_jobs(request).get(job_id))
+
+
+@router.delete(
+    "/{job_id}",
+    summary="Cancel a running protocol job, or forget a finished one",
+    dependencies=[WriteAccess],
+    responses={**NOT_FOUND, **UNAUTHORIZED},
+)
+def cancel_protocol(job_id: JobId, request: Request) -> ProtocolOut:
+    return _out(_jobs(request).cancel(job_id))
