@@ -365,6 +365,8 @@ class PolicySpec(Model):
             raise ValueError("probabilities belong to fixed policies only")
         if self.kind == "of" and self.demon is None:
             raise ValueError("an 'of' policy names the demon it follows")
+        if self.kind != "of" and self.demon is not None:
+            raise ValueError(f"only 'of' policies name a demon (this one is {self.kind!r})")
         return self
 
 

@@ -239,3 +239,10 @@ def test_models_are_frozen():
     demon = DemonSpec(name="a")
     with pytest.raises(ValidationError):
         demon.name = "b"  # type: ignore[misc]
+
+
+def test_only_of_policies_name_a_demon() -> None:
+    """Found by schemathesis: {"demon": "A"} with the default kind once reached the engine."""
+    with pytest.raises(ValidationError, match="only 'of' policies name a demon"):
+        PolicySpec.model_validate({"demon": "A"})
+    assert PolicySpec.model_validate({"of": "A"}).demon == "A"

@@ -36,14 +36,17 @@ def viewing(tmp_path: Path) -> Iterator[tuple[TestClient, list[str]]]:
 
 def test_the_view_is_off_unless_asked_for(client: TestClient) -> None:
     response = client.get("/api/view")
-    assert response.status_code == 404
-    assert "live view is off" in response.json()["detail"]
-    assert client.post("/api/view", json={"run": "abc"}).status_code == 404
+    assert response.status_code == 200
+    assert response.json() == {"enabled": False, "url": None, "run": None}
+    refused = client.post("/api/view", json={"run": "abc"})
+    assert refused.status_code == 409
+    assert "live view is off" in refused.json()["detail"]
 
 
 def test_the_view_listens_where_it_says_and_shows_the_chosen_run(viewing: tuple[TestClient, list[str]]) -> None:
     client, announced = viewing
     view = client.get("/api/view").json()
+    assert view["enabled"] is True
     assert announced == [view["url"]], "serve prints the address the view really listens on"
     assert view["url"].startswith("http://127.0.0.1:")
     page = httpx.get(view["url"], timeout=10)

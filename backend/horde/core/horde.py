@@ -164,7 +164,9 @@ class Horde:
             fixed=fixed,
             temperature=np.array([d.policy.temperature for d in demons]),
             epsilon=np.array([d.policy.epsilon for d in demons]),
-            of_index=np.array([self.index[d.policy.demon] if d.policy.demon else -1 for d in demons]),
+            of_index=np.array(
+                [self.index[d.policy.demon] if d.policy.kind == "of" and d.policy.demon else -1 for d in demons]
+            ),
             reset=np.array([d.reset == "episode" for d in demons]),
             condition=self.index[condition.demon] if condition else -1,
             own_value=np.isin(policy_kind, OWN_VALUE) & action_values,

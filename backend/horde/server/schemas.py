@@ -156,9 +156,10 @@ class ProtocolOut(Out):
 
 
 class ViewOut(Out):
-    """Where the viser live view listens, and which run it shows."""
+    """Whether the viser live view runs, where it listens, and which run it shows."""
 
-    url: str = Field(description="the viser client's address (embed it in an iframe or open it)")
+    enabled: bool = Field(description="false when the server runs without the live view (`horde serve --no-view`)")
+    url: str | None = Field(description="the viser client's address (embed it in an iframe or open it)")
     run: str | None = Field(description="the run it shows now, if any")
 
 

@@ -380,7 +380,7 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** Where the live view listens */
+        /** Whether and where the live view listens */
         get: operations["get_view_api_view_get"];
         put?: never;
         /** Show a run in the live view (every connected browser) */
@@ -1580,9 +1580,14 @@ export interface components {
         };
         /**
          * ViewOut
-         * @description Where the viser live view listens, and which run it shows.
+         * @description Whether the viser live view runs, where it listens, and which run it shows.
          */
         ViewOut: {
+            /**
+             * Enabled
+             * @description false when the server runs without the live view (`horde serve --no-view`)
+             */
+            enabled: boolean;
             /**
              * Run
              * @description the run it shows now, if any
@@ -1592,7 +1597,7 @@ export interface components {
              * Url
              * @description the viser client's address (embed it in an iframe or open it)
              */
-            url: string;
+            url: string | null;
         };
         /**
          * WorldCreate
@@ -3016,15 +3021,6 @@ export interface operations {
                     "application/json": components["schemas"]["ViewOut"];
                 };
             };
-            /** @description Unknown run, demon, world or scenario */
-            404: {
-                headers: {
-                    [name: string]: unknown;
-                };
-                content: {
-                    "application/json": components["schemas"]["ErrorOut"];
-                };
-            };
         };
     };
     show_run_api_view_post: {
@@ -3069,6 +3065,15 @@ export interface operations {
             };
             /** @description Unknown run, demon, world or scenario */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
                 headers: {
                     [name: string]: unknown;
                 };
