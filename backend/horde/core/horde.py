@@ -201,14 +201,17 @@ class Horde:
                 keep = ~group.reset[:, None]
                 theta, w = np.where(keep, theta, 0.0), np.where(keep, w, 0.0)
             new_learners.append(learners.LearnerState(theta, w, np.zeros_like(learner.e)))
-        state = state._replace(learners=tuple(new_learners))
+        state = state._replace(learners=tuple(new_learners), gamma=np.zeros(self.num_demons))
+        return self.observe(state, x, y)
+
+    def observe(self, state: HordeState, x: float, y: float) -> HordeState:
+        """The state with every demon's features, policy, action values and prediction at (x, y)."""
         forward = self.forward(state, np.array([x]), np.array([y]))
         return state._replace(
             features=tuple(f[0] for f in forward.features),
             pi=forward.pi[0],
             q=forward.q[0],
             prediction=forward.prediction[0],
-            gamma=np.zeros(self.num_demons),
         )
 
     # ------------------------------------------------------------------------------------------
@@ -419,13 +422,7 @@ class Horde:
             new_metrics[g] = metric._replace(h=h, delta_e=delta_e)
         diverged = np.array([bool(old_state.diverged[old.index[n]]) if n in old.index else False for n in self.names])
         state = state._replace(learners=tuple(new_learners), metrics=tuple(new_metrics), diverged=diverged)
-        forward = self.forward(state, np.array([x]), np.array([y]))
-        return state._replace(
-            features=tuple(f[0] for f in forward.features),
-            pi=forward.pi[0],
-            q=forward.q[0],
-            prediction=forward.prediction[0],
-        )
+        return self.observe(state, x, y)
 
     def locate(self, name: str) -> tuple[int, int]:
         """(group number, row) of a demon."""
