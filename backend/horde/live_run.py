@@ -38,7 +38,7 @@ from horde.history import History
 from horde.run_setup import Limits, check_limits, new_simulation
 from horde.run_view import RunStatus, RunView, Summary
 from horde.snapshot import Snapshot, capture, to_bytes
-from horde.spec import BehaviourSpec, DemonSpec, RunSpec
+from horde.spec import BehaviourSpec, DemonSpec, RunSpec, demon_dependencies
 from horde.store import RunRecord, Store
 
 log = logging.getLogger(__name__)
@@ -429,6 +429,16 @@ class LiveRun:
         if name not in self._sim.horde.index:
             raise NotFoundError(f"run {self.id!r} has no demon {name!r}")
         self._require(("created", "running", "paused"), "remove demons from")
+        readers = sorted(
+            d.name for d in self._spec.demons if d.name != name and name in demon_dependencies(d, self._spec.features)
+        )
+        if readers:
+            raise ConflictError(
+                f"cannot remove demon {name!r}: {', '.join(repr(r) for r in readers)} read its prediction or "
+                "policy; remove those first"
+            )
+        if self._spec.behaviour.demon == name:
+            raise ConflictError(f"cannot remove demon {name!r}: the behaviour policy acts on it")
         demons = [d.model_dump(by_alias=True) for d in self._spec.demons if d.name != name]
         try:
             spec = self._respec(demons=demons)

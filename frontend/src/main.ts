@@ -1,17 +1,18 @@
 /**
  * The Horde Lab dashboard: runs and the scenario launcher on the left; the live demon table, results,
- * charts and the viser view, the world editor and the demon editor in tabs on the right.
+ * charts and the viser view, the protocol runner, the world editor and the demon editor in tabs on the right.
  */
 import "./styles.css";
-import { attempt, loadCatalog } from "./app/actions";
+import { attempt, loadCatalog, loadLiveView, loadProtocols } from "./app/actions";
 import { createStore } from "./app/state";
-import { watchRuns, watchSelectedRun } from "./app/watch";
+import { watchProtocol, watchRuns, watchSelectedRun } from "./app/watch";
 import { h } from "./ui/dom";
 import { charts } from "./views/charts";
 import { demonEditor } from "./views/demon-editor";
 import { demonTable } from "./views/demon-table";
 import { header } from "./views/header";
 import { launcher } from "./views/launcher";
+import { protocolPanel } from "./views/protocol-panel";
 import { runResults } from "./views/run-results";
 import { runsPanel } from "./views/runs-panel";
 import { tabs } from "./views/tabs";
@@ -25,7 +26,7 @@ const live = h(
   { class: "live" },
   demonTable(store),
   runResults(store),
-  h("div", { class: "live-bottom" }, charts(store), viserEmbed()),
+  h("div", { class: "live-bottom" }, charts(store), viserEmbed(store)),
 );
 
 const app = h(
@@ -42,6 +43,7 @@ const app = h(
       { id: "main", tabindex: "-1" },
       tabs(store, [
         { tab: "live", label: "Live", panel: live },
+        { tab: "protocol", label: "Protocol", panel: protocolPanel(store) },
         { tab: "world", label: "World editor", panel: worldEditor(store) },
         { tab: "demon", label: "Demon editor", panel: demonEditor(store) },
       ]),
@@ -51,5 +53,8 @@ const app = h(
 
 document.getElementById("app")?.replaceWith(app);
 void attempt(store, () => loadCatalog(store));
+void attempt(store, () => loadProtocols(store));
+void loadLiveView(store);
 watchRuns(store);
 watchSelectedRun(store);
+watchProtocol(store);

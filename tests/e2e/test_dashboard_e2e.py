@@ -2,7 +2,7 @@
 server (uvicorn in a background thread, a temporary HORDE_DATA) serving the built frontend/dist.
 
 Each test starts from a fresh page and fails on any error in the browser's console. The screenshots
-of the main screens land in docs/ (dashboard.png, demon-editor.png, world-editor.png).
+of the main screens land in docs/ (dashboard.png, demon-editor.png, world-editor.png, protocol.png).
 """
 
 from __future__ import annotations
@@ -12,6 +12,7 @@ import socket
 import threading
 import time
 from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -75,9 +76,9 @@ class Server:
         return str(response.json()["id"])
 
 
-@pytest.fixture(scope="module")
-def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
-    settings = Settings(data=tmp_path_factory.mktemp("horde-data"), token=None, snapshot_every=3600.0, history=2000)
+@contextmanager
+def serve(settings: Settings) -> Iterator[Server]:
+    """The app with the built dashboard, served by uvicorn in a background thread."""
     app = create_app(settings)
     mount_frontend(app, DIST)
     port = free_port()
@@ -90,10 +91,19 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
         assert thread.is_alive(), "the server thread died"
         time.sleep(0.02)
     url = f"http://127.0.0.1:{port}"
-    with httpx.Client(base_url=url, timeout=30) as client:
-        yield Server(url, client)
-    uv.should_exit = True
-    thread.join(timeout=20)
+    try:
+        with httpx.Client(base_url=url, timeout=30) as client:
+            yield Server(url, client)
+    finally:
+        uv.should_exit = True
+        thread.join(timeout=20)
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
+    settings = Settings(data=tmp_path_factory.mktemp("horde-data"), token=None, snapshot_every=3600.0, history=2000)
+    with serve(settings) as running:
+        yield running
 
 
 @pytest.fixture(scope="module")
@@ -126,8 +136,9 @@ def console() -> Console:
     return Console()
 
 
-@pytest.fixture
-def page(browser: Browser, server: Server, console: Console) -> Iterator[Page]:
+@contextmanager
+def open_page(browser: Browser, console: Console) -> Iterator[Page]:
+    """A fresh page whose console errors and uncaught exceptions go to `console`."""
     context = browser.new_context(viewport=VIEWPORT)
     page = context.new_page()
     page.set_default_timeout(TIMEOUT_MS)
@@ -138,10 +149,18 @@ def page(browser: Browser, server: Server, console: Console) -> Iterator[Page]:
 
     page.on("console", on_console)
     page.on("pageerror", lambda error: console.errors.append(f"uncaught: {error}"))
-    page.goto(server.url)
-    page.get_by_role("heading", name="Horde Lab").wait_for()
-    yield page
-    context.close()
+    try:
+        yield page
+    finally:
+        context.close()
+
+
+@pytest.fixture
+def page(browser: Browser, server: Server, console: Console) -> Iterator[Page]:
+    with open_page(browser, console) as page:
+        page.goto(server.url)
+        page.get_by_role("heading", name="Horde Lab").wait_for()
+        yield page
     assert console.unexpected() == [], "errors in the browser console"
 
 
@@ -315,17 +334,210 @@ def test_world_editor_draws_validates_and_saves(page: Page, server: Server, cons
     )
 
 
-def test_the_viser_view_is_embedded_where_the_server_offers_it(page: Page, server: Server) -> None:
-    # This server has no GET /api/view yet: the page says so instead of showing a broken frame.
-    assert "no GET /api/view" in page.get_by_test_id("viser-note").inner_text()
+def test_the_viser_view_is_embedded_and_follows_the_selected_run(page: Page, server: Server) -> None:
+    # This server runs without the live view: the page says so instead of showing a broken frame.
+    assert "this server runs without it" in page.get_by_test_id("viser-note").inner_text()
 
-    # A server that lists the route and answers it: the view appears in a frame (stand-ins via routing).
+    # A server with the live view (a stand-in via routing): the view appears in a frame, and selecting
+    # a run switches it to that run (POST /api/view).
     view_url = f"{server.url}/viser-stand-in"
-    page.route("**/openapi.json", lambda route: route.fulfill(json={"paths": {"/api/view": {}}}))
-    page.route("**/api/view", lambda route: route.fulfill(json={"url": view_url}))
+    shown: list[Any] = []
+
+    def view_route(route: Any) -> None:
+        if route.request.method == "POST":
+            shown.append(route.request.post_data_json)
+            route.fulfill(json={"enabled": True, "url": view_url, "run": shown[-1]["run"]})
+        else:
+            route.fulfill(json={"enabled": True, "url": view_url, "run": None})
+
+    page.route("**/api/view", view_route)
     page.route("**/viser-stand-in", lambda route: route.fulfill(content_type="text/html", body="<p>viser here</p>"))
     page.reload()
     frame = page.locator("iframe.viser-frame")
     frame.wait_for()
     assert frame.get_attribute("src") == view_url
     assert page.frame_locator("iframe.viser-frame").get_by_text("viser here").is_visible()
+    run_id = server.create_run()
+    select_run(page, run_id)
+    wait_until(lambda: shown == [{"run": run_id}], what="POST /api/view with the selected run")
+
+
+def test_the_live_view_of_a_real_server_follows_the_selected_run(
+    browser: Browser, console: Console, tmp_path: Path
+) -> None:
+    settings = Settings(data=tmp_path, token=None, snapshot_every=3600.0, viser_port=free_port())
+    with serve(settings) as live, open_page(browser, console) as page:
+        first, second = live.create_run(hz=5.0), live.create_run("experiment3", hz=5.0)
+        view_url = live.client.get("/api/view").json()["url"]
+        # The viser client itself is tested in test_view_e2e.py; here a stand-in answers at its address.
+        page.route(f"{view_url}**", lambda route: route.fulfill(content_type="text/html", body="<p>viser</p>"))
+        page.goto(live.url)
+        assert page.locator("iframe.viser-frame").get_attribute("src") == view_url
+        for run_id in (first, second, first):
+            select_run(page, run_id)
+            wait_until(
+                lambda run_id=run_id: live.client.get("/api/view").json()["run"] == run_id,
+                what=f"the view to show {run_id}",
+            )
+    assert console.unexpected() == [], "errors in the browser console"
+
+
+def test_remove_a_demon_from_a_live_run(page: Page, server: Server, console: Console) -> None:
+    run_id = server.create_run()
+    select_run(page, run_id)
+    page.locator('table.demon-table tr[data-demon="steps_to_end"]').wait_for()
+
+    # The base control demon is followed by steps_to_end and drives the behaviour: the server refuses
+    # (409) and says why; the demon stays.
+    console.expect(r"status of 409")
+    page.get_by_role("button", name="Remove base", exact=True).click()
+    page.get_by_role("button", name="Really remove base?", exact=True).click()
+    page.get_by_role("alert").filter(has_text="base").wait_for()
+    assert page.locator('table.demon-table tr[data-demon="base"]').is_visible()
+
+    # Removing takes two presses; the button keeps the focus while the stream updates the table, so the
+    # second press can be a key. Then the row goes and the run learns on without it.
+    page.get_by_role("button", name="Remove steps_to_end", exact=True).click()
+    really = page.get_by_role("button", name="Really remove steps_to_end?", exact=True)
+    really.wait_for()
+    page.wait_for_timeout(300)  # several stream messages
+    assert really.evaluate("button => document.activeElement === button")
+    assert server.client.get(f"/api/runs/{run_id}/demons/steps_to_end").status_code == 200
+    page.keyboard.press("Enter")
+    page.get_by_role("status").filter(has_text="Removed demon 'steps_to_end'").wait_for()
+    page.locator('table.demon-table tr[data-demon="steps_to_end"]').wait_for(state="detached")
+    assert [d["name"] for d in server.client.get(f"/api/runs/{run_id}/demons").json()] == ["base"]
+    step = server.client.get(f"/api/runs/{run_id}").json()["step"]
+    wait_until(lambda: server.client.get(f"/api/runs/{run_id}").json()["step"] > step, what="the run to go on")
+
+
+def test_delete_a_stored_world(page: Page, server: Server) -> None:
+    world = {"width": 300, "height": 300, "step": 100, "regions": []}
+    assert server.client.put("/api/worlds/doomed", json=world).status_code == 201
+    page.reload()  # the page reads the library when it loads
+    page.get_by_role("tab", name="World editor").click()
+    editor = page.locator("form.world-form")
+    delete = editor.get_by_role("button", name=re.compile("^Delete"))
+    assert delete.is_disabled()  # only a library world can be deleted
+    editor.get_by_label("Start from").select_option("library:doomed")
+    editor.get_by_role("button", name="Delete world doomed from the library").click()
+    assert server.client.get("/api/worlds/doomed").status_code == 200  # one press only asks
+    editor.get_by_role("button", name="Really delete world doomed from the library?").click()
+    page.get_by_role("status").filter(has_text="Deleted world 'doomed'").wait_for()
+    assert server.client.get("/api/worlds/doomed").status_code == 404
+    editor.get_by_label("Start from").locator("option", has_text="library: doomed").wait_for(state="detached")
+    launcher_world = page.locator("section.launcher").get_by_label("World")
+    assert launcher_world.locator("option", has_text="library: doomed").count() == 0
+
+
+def protocol_panel(page: Page, server: Server, scenario: str) -> Any:
+    """The Protocol tab with `scenario` chosen, once its own trials, episodes and seed have filled the fields."""
+    page.get_by_role("tab", name="Protocol").click()
+    panel = page.locator("section.protocol-panel")
+    panel.get_by_label("Scenario").select_option(scenario)
+    spec = server.client.get(f"/api/scenarios/{scenario}").json()
+    expected = [str(spec["protocol"]["trials"]), str(spec["protocol"]["episodes"]), str(spec["seed"])]
+    fields = [panel.get_by_label(label) for label in ("Trials", "Episodes per trial", "Seed")]
+    wait_until(lambda: [f.input_value() for f in fields] == expected, what="the scenario's protocol and seed")
+    return panel
+
+
+# Every state the job section shows, as "status | episodes", recorded in the page as it changes.
+RECORD_JOB = """() => {
+    window.__jobSeen = [];
+    const job = document.querySelector("section.protocol-job");
+    const note = () => window.__jobSeen.push(
+        job.querySelector(".badge").textContent + " | " + job.querySelector(".progress-count").textContent);
+    new MutationObserver(note).observe(job, {subtree: true, childList: true, characterData: true, attributes: true});
+}"""
+
+
+def test_run_experiment3_from_the_protocol_tab(page: Page, server: Server, console: Console) -> None:
+    panel = protocol_panel(page, server, "experiment3")
+
+    # No trials at all: the server's 422 appears at the Trials field.
+    console.expect(r"status of 422")
+    panel.get_by_label("Trials").fill("0")
+    panel.get_by_role("button", name="Run").click()
+    message = panel.locator(".field", has=page.get_by_label("Trials")).locator(".field-error")
+    message.wait_for()
+    assert "greater than or equal to 1" in message.inner_text()
+
+    # 1 trial x 300 episodes: a progress bar while it runs, then horde run's table.
+    panel.get_by_label("Trials").fill("1")
+    panel.get_by_label("Episodes per trial").fill("300")
+    page.evaluate(RECORD_JOB)
+    panel.get_by_role("button", name="Run").click()
+    bar = panel.locator("progress.protocol-progress")
+    bar.wait_for()
+    table = panel.locator("table.protocol-table")
+    table.wait_for(timeout=60_000)
+    assert message.is_hidden()
+    seen = page.evaluate("window.__jobSeen")
+    assert any(state.startswith("running | ") for state in seen), seen
+    assert panel.locator(".protocol-job .badge").inner_text() == "finished"
+    assert bar.evaluate("p => [p.value, p.max]") == [300, 300]
+    assert panel.get_by_test_id("protocol-count").inner_text() == "300 / 300 episodes · 100 %"
+    assert re.fullmatch(r" · finished in [\d.]+ s", panel.get_by_test_id("protocol-timing").inner_text())
+    assert panel.get_by_role("button", name="Cancel").is_hidden()
+
+    job = server.client.get("/api/protocols").json()[-1]
+    assert (job["name"], job["status"], job["trials"], job["episodes"]) == ("experiment3", "finished", 1, 300)
+    rows = {
+        row.locator("th").inner_text(): [td.inner_text() for td in row.locator("td").all()]
+        for row in table.locator("tbody tr").all()
+    }
+    assert list(rows) == ["colour", "base"]
+    for cells in rows.values():
+        assert NUMBER.match(cells[0]), cells
+        assert cells[1:] == ["–"] * 4, cells  # experiment3 asks for no Monte-Carlo truth and has no thesis numbers
+
+    # The greedy test runs of base, beside the thesis's 100 / 0 / 0.
+    counts = panel.locator("table.counts-table")
+    assert "Greedy test runs of base" in panel.locator("h4", has_text="test runs").inner_text()
+    assert counts.locator('tr[data-counts="thesis"] td').all_inner_texts() == ["100 (100 %)", "0 (0 %)", "0 (0 %)"]
+    base = next(d for d in job["results"] if d["name"] == "base")
+    ours = [base["counts"][k] for k in ("positive", "negative", "none")]
+    assert sum(ours) == 10  # one trial of ten test runs
+    shown = counts.locator('tr[data-counts="protocol"] td').all_inner_texts()
+    assert shown == [f"{n} ({round(100 * n / 10)} %)" for n in ours]
+    page.get_by_role("status").filter(has_text="Protocol experiment3 finished").wait_for()
+
+    page.evaluate("window.scrollTo(0, 0)")
+    DOCS.mkdir(exist_ok=True)
+    page.screenshot(path=str(DOCS / "protocol.png"))
+
+
+def test_one_protocol_at_a_time_and_cancel(page: Page, server: Server, console: Console) -> None:
+    panel = protocol_panel(page, server, "experiment3")
+
+    # Another client starts a long protocol after this page loaded: the page's start is refused (429),
+    # and the page says so and shows the job that runs instead, its progress moving.
+    other = server.client.post(
+        "/api/protocols", json={"scenario": "experiment3", "seed": 1, "protocol": {"trials": 1, "episodes": 100_000}}
+    )
+    assert other.status_code == 202, other.text
+    job_id = other.json()["id"]
+    console.expect(r"status of 429")
+    panel.get_by_role("button", name="Run").click()
+    panel.get_by_role("alert").filter(has_text="One protocol at a time").wait_for()
+    panel.locator(".protocol-job .badge", has_text="running").wait_for()
+    assert panel.get_by_role("button", name=re.compile("^Run")).is_disabled()
+    count = panel.get_by_test_id("protocol-count")
+
+    def episodes_done() -> int:
+        return int(count.inner_text().split(" / ")[0].replace(",", ""))
+
+    first = episodes_done()
+    wait_until(lambda: episodes_done() > first, what="the progress to move")
+    assert " / 100,000 episodes · " in count.inner_text()
+    wait_until(lambda: "left" in panel.get_by_test_id("protocol-timing").inner_text(), what="the time left")
+    assert "elapsed" in panel.get_by_test_id("protocol-timing").inner_text()
+
+    # Cancel: the job stops at its next episode; the page can run protocols again.
+    panel.get_by_role("button", name="Cancel").click()
+    panel.locator(".protocol-job .badge", has_text="cancelled").wait_for()
+    assert server.client.get(f"/api/protocols/{job_id}").json()["status"] == "cancelled"
+    assert 0 < episodes_done() < 100_000
+    assert panel.get_by_role("button", name="Run").is_enabled()
+    assert panel.locator("table.protocol-table").count() == 0

@@ -77,7 +77,9 @@ def test_finished_runs_take_no_new_demons(client: TestClient, create_run: Callab
 def test_remove_errors(client: TestClient, create_run: Callable[..., str]) -> None:
     run_id = create_run()
     followed = client.delete(f"/api/runs/{run_id}/demons/base")
-    assert followed.status_code == 409 and "base" in followed.json()["detail"]
+    assert followed.status_code == 409
+    detail = followed.json()["detail"]
+    assert "cannot remove demon 'base'" in detail and "'steps' read its prediction or policy" in detail
     assert client.delete(f"/api/runs/{run_id}/demons/ghost").status_code == 404
     assert client.delete("/api/runs/nope/demons/base").status_code == 404
     assert client.delete(f"/api/runs/{run_id}/demons/steps").status_code == 204

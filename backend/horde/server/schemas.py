@@ -140,6 +140,7 @@ class ProtocolOut(Out):
 
     id: str
     name: str | None
+    seed: int
     status: Literal["running", "finished", "failed", "cancelled"]
     episodes_done: int
     episodes_total: int
@@ -153,6 +154,7 @@ class ProtocolOut(Out):
     thesis_counts: CountsOut | None
     error: str
     created_at: datetime
+    finished_at: datetime | None
 
 
 class ViewOut(Out):

@@ -1034,6 +1034,8 @@ export interface components {
             episodes_total: number;
             /** Error */
             error: string;
+            /** Finished At */
+            finished_at: string | null;
             /** Id */
             id: string;
             /** Max Steps */
@@ -1049,6 +1051,8 @@ export interface components {
              * @description learning and evaluation time, once finished
              */
             seconds: number | null;
+            /** Seed */
+            seed: number;
             /**
              * Status
              * @enum {string}

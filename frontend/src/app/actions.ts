@@ -2,8 +2,8 @@
  * Everything the dashboard asks of the server, each action updating the store with the answer.
  * Views call these and never talk to the API themselves (except the forms, which need the 422s).
  */
-import { api, errorMessage, unwrap } from "../api/client";
-import type { Demon, DemonSpec, Run, RunTemplate } from "../api/types";
+import { ApiError, api, errorMessage, unwrap } from "../api/client";
+import type { Demon, DemonSpec, Protocol, Run, RunTemplate } from "../api/types";
 import { startPoint } from "../lib/world";
 import type { AppStore } from "./state";
 
@@ -63,6 +63,8 @@ export async function selectRun(store: AppStore, runId: string | null): Promise<
     unwrap(api.GET("/api/runs/{run_id}/demons", path)),
   ]);
   store.update({ selectedRunId: runId, run, demons, live: null, evaluations: {}, charted: defaultCharted(demons) });
+  // The embedded live view follows; selecting never waits for it.
+  void attempt(store, () => showInLiveView(store, runId));
 }
 
 /** Read the selected run and its demons again (a demon joined, the run finished). */
@@ -130,6 +132,21 @@ export async function addDemon(store: AppStore, runId: string, spec: DemonSpec):
   return demon;
 }
 
+/** DELETE /api/runs/{id}/demons/{name}; a 409 (another demon or the behaviour reads it) is thrown. */
+export async function removeDemon(store: AppStore, runId: string, demon: string): Promise<void> {
+  await unwrap(api.DELETE("/api/runs/{run_id}/demons/{name}", { params: { path: { run_id: runId, name: demon } } }));
+  if (store.state.selectedRunId === runId) {
+    const evaluations = Object.fromEntries(Object.entries(store.state.evaluations).filter(([name]) => name !== demon));
+    store.update({ evaluations, charted: store.state.charted.filter((name) => name !== demon) });
+  }
+  await reloadSelectedRun(store);
+}
+
+export async function deleteWorld(store: AppStore, name: string): Promise<void> {
+  await unwrap(api.DELETE("/api/worlds/{name}", { params: { path: { name } } }));
+  await refreshWorlds(store);
+}
+
 /** Monte-Carlo truth of a demon's question from the world's start point, beside its prediction there. */
 export async function evaluateDemon(store: AppStore, demon: string, episodes: number): Promise<void> {
   const { selectedRunId: runId, run } = store.state;
@@ -146,4 +163,91 @@ export async function evaluateDemon(store: AppStore, demon: string, episodes: nu
 export function toggleCharted(store: AppStore, demon: string, on: boolean): void {
   const charted = store.state.charted.filter((name) => name !== demon);
   store.update({ charted: on ? [...charted, demon] : charted });
+}
+
+/**
+ * Whether and where the viser live view listens (GET /api/view); "off" when the server runs without it
+ * (only `horde serve` starts it) or cannot say. Once on, it is switched to the selected run.
+ */
+export async function loadLiveView(store: AppStore): Promise<void> {
+  try {
+    const view = await unwrap(api.GET("/api/view"));
+    store.update({
+      liveView:
+        view.enabled && view.url
+          ? { state: "on", url: view.url, run: view.run ?? null }
+          : { state: "off", why: "this server runs without it (horde serve starts one)" },
+    });
+  } catch (error) {
+    store.update({ liveView: { state: "off", why: `GET /api/view failed: ${errorMessage(error)}` } });
+    return;
+  }
+  const view = store.state.liveView;
+  const selected = store.state.selectedRunId;
+  if (selected !== null && view.state === "on" && view.run !== selected) await showInLiveView(store, selected);
+}
+
+/**
+ * Show a run in the live view (POST /api/view), for every browser watching it. Nothing is asked while
+ * the view is off or not known yet; a 409 (the view is off after all) or a 404 (the run was just
+ * deleted) is no news for the user.
+ */
+export async function showInLiveView(store: AppStore, runId: string): Promise<void> {
+  if (store.state.liveView.state !== "on") return;
+  try {
+    const shown = await unwrap(api.POST("/api/view", { body: { run: runId } }));
+    const view = store.state.liveView;
+    if (view.state === "on") store.update({ liveView: { ...view, run: shown.run ?? null } });
+  } catch (error) {
+    if (error instanceof ApiError && (error.status === 404 || error.status === 409)) return;
+    throw error;
+  }
+}
+
+/**
+ * POST /api/protocols: run a scenario's protocol in the background; the Protocol tab shows the job.
+ * Throws ApiError: 422 (the form shows it at the field), 429 (one protocol runs already).
+ */
+export async function startProtocol(store: AppStore, template: RunTemplate): Promise<Protocol> {
+  const startedAt = Date.now();
+  const job = await unwrap(api.POST("/api/protocols", { body: template }));
+  store.update({ protocol: job, protocolStartedAt: startedAt });
+  return job;
+}
+
+/** Read the shown job again (its progress, then its results). */
+export async function refreshProtocol(store: AppStore): Promise<void> {
+  const shown = store.state.protocol;
+  if (shown === null) return;
+  const job = await unwrap(api.GET("/api/protocols/{job_id}", { params: { path: { job_id: shown.id } } }));
+  if (store.state.protocol?.id !== job.id) return;
+  store.update({ protocol: job });
+  if (shown.status === "running" && job.status !== "running") {
+    const name = job.name ?? "the protocol";
+    if (job.status === "failed") notify(store, `Protocol ${name} failed: ${job.error}`, "error");
+    else notify(store, `Protocol ${name} ${job.status}.`);
+  }
+}
+
+/** Ask the shown job to stop; it stops at its next episode (the status follows in the next reading). */
+export async function cancelProtocol(store: AppStore): Promise<void> {
+  const shown = store.state.protocol;
+  if (shown === null || shown.status !== "running") return;
+  const job = await unwrap(api.DELETE("/api/protocols/{job_id}", { params: { path: { job_id: shown.id } } }));
+  if (store.state.protocol?.id === job.id) store.update({ protocol: job });
+}
+
+/**
+ * The server's protocol jobs: the running one (or else the newest) is shown, so that a reloaded page
+ * or a refused start (429) finds the job that runs. Returns the job shown, if any.
+ */
+export async function loadProtocols(store: AppStore): Promise<Protocol | null> {
+  const jobs = await unwrap(api.GET("/api/protocols")); // oldest first
+  const job = jobs.filter((j) => j.status === "running").at(-1) ?? jobs.at(-1) ?? null;
+  if (job !== null && job.id !== store.state.protocol?.id) {
+    // Begun before this page knew of it: its elapsed time counts from the server's clock.
+    const created = Date.parse(job.created_at);
+    store.update({ protocol: job, protocolStartedAt: Number.isFinite(created) ? Math.min(created, Date.now()) : null });
+  }
+  return job;
 }

@@ -1,8 +1,12 @@
 /** What the dashboard knows at one moment; the single store all views read. */
-import type { Demon, Evaluation, Run, RunBrief, RunState, Scenario, WorldRecord } from "../api/types";
+import type { Demon, Evaluation, Protocol, Run, RunBrief, RunState, Scenario, WorldRecord } from "../api/types";
 import { Store } from "./store";
 
-export type Tab = "live" | "world" | "demon";
+export type Tab = "live" | "protocol" | "world" | "demon";
+
+/** The viser live view: not asked yet, off (the server has none, or it failed: why), or on. */
+export type LiveView =
+  { state: "unknown" } | { state: "off"; why: string } | { state: "on"; url: string; run: string | null };
 
 export interface Notice {
   text: string;
@@ -24,6 +28,11 @@ export interface AppState {
   charted: string[];
   scenarios: Scenario[];
   worlds: WorldRecord[];
+  /** the protocol job the Protocol tab shows (the server's latest answer about it) */
+  protocol: Protocol | null;
+  /** when that job began, by this browser's clock (ms since the epoch), for its elapsed time */
+  protocolStartedAt: number | null;
+  liveView: LiveView;
   tab: Tab;
   notice: Notice | null;
 }
@@ -39,6 +48,9 @@ export function createStore(): Store<AppState> {
     charted: [],
     scenarios: [],
     worlds: [],
+    protocol: null,
+    protocolStartedAt: null,
+    liveView: { state: "unknown" },
     tab: "live",
     notice: null,
   });

@@ -1,13 +1,16 @@
 /**
- * Keeps the store current: the run list every second, and the selected run's WebSocket stream,
- * which also notices when demons join or leave (the run is read again) and when it finishes.
+ * Keeps the store current: the run list every second, the selected run's WebSocket stream, which
+ * also notices when demons join or leave (the run is read again) and when it finishes, and the
+ * protocol job while it runs (four readings a second: its progress, then its results).
  */
+import { ApiError } from "../api/client";
 import { RunStream } from "../api/stream";
 import type { RunState } from "../api/types";
-import { attempt, notify, refreshRuns, reloadSelectedRun } from "./actions";
-import type { AppStore } from "./state";
+import { attempt, notify, refreshProtocol, refreshRuns, reloadSelectedRun } from "./actions";
+import type { AppState, AppStore } from "./state";
 
 const RUNS_PERIOD_MS = 1000;
+const PROTOCOL_PERIOD_MS = 250;
 
 export function watchRuns(store: AppStore): void {
   let busy = false;
@@ -60,4 +63,29 @@ function onMessage(store: AppStore, runId: string, message: RunState): void {
     reloading = true;
     void attempt(store, () => reloadSelectedRun(store)).finally(() => (reloading = false));
   }
+}
+
+export function watchProtocol(store: AppStore): void {
+  let timer: number | undefined;
+  const schedule = (state: Readonly<AppState>) => {
+    if (timer === undefined && state.protocol?.status === "running")
+      timer = window.setTimeout(poll, PROTOCOL_PERIOD_MS);
+  };
+  const poll = async () => {
+    timer = undefined;
+    try {
+      await refreshProtocol(store);
+    } catch (error) {
+      if (error instanceof ApiError && error.status === 404) {
+        // Forgotten by the server (another client cleared it, or the server restarted).
+        notify(store, "The protocol job is gone from the server.", "error");
+        store.update({ protocol: null, protocolStartedAt: null });
+        return;
+      }
+      // The server may be restarting; the next reading tries again.
+    }
+    schedule(store.state);
+  };
+  store.subscribe(schedule, ["protocol"]);
+  schedule(store.state);
 }

@@ -2,9 +2,10 @@
  * The live demon table of the selected run: per demon its prediction now (at the agent's state), the
  * Monte-Carlo truth once evaluated (from the world's start, beside the prediction there and the
  * error), the thesis's number when the scenario has one, RUPEE, UDE, and a `diverged` mark; a chart
- * toggle under each name and an Evaluate button per demon. Cells are updated in place from the stream.
+ * toggle under each name, and an Evaluate and a Remove button per demon (removing takes two presses).
+ * Cells are updated in place from the stream.
  */
-import { attempt, evaluateDemon, notify, toggleCharted } from "../app/actions";
+import { attempt, evaluateDemon, notify, removeDemon, toggleCharted } from "../app/actions";
 import type { AppState, AppStore } from "../app/state";
 import type { Demon } from "../api/types";
 import { exprText } from "../lib/expr";
@@ -15,6 +16,7 @@ import { h, setText } from "../ui/dom";
 import { field, numberInput } from "../ui/form";
 
 const DEFAULT_ROLLOUTS = 100;
+const REMOVE_CONFIRM_MS = 4000;
 
 interface Row {
   tr: HTMLTableRowElement;
@@ -29,6 +31,9 @@ interface Row {
   diverged: HTMLElement;
   chart: HTMLInputElement;
   evaluate: HTMLButtonElement;
+  remove: HTMLButtonElement;
+  /** until when a second press of Remove removes the demon (ms since the epoch) */
+  confirmUntil: number;
 }
 
 export function demonTable(store: AppStore): HTMLElement {
@@ -39,6 +44,7 @@ export function demonTable(store: AppStore): HTMLElement {
   const empty = h("p", { class: "muted" }, "Select a run to see its demons.");
   const rows = new Map<string, Row>();
   const pending = new Set<string>();
+  const removing = new Set<string>();
 
   const evaluate = async (demon: string) => {
     const episodes = readNumber(rollouts.value);
@@ -73,9 +79,12 @@ export function demonTable(store: AppStore): HTMLElement {
       diverged: h("span", { class: "tag diverged", hidden: true }, "diverged"),
       chart: h("input", { type: "checkbox", "aria-label": `Chart ${demon.name}` }), // beside the name: saves a column
       evaluate: h("button", { type: "button", class: "small", "aria-label": `Evaluate ${demon.name}` }, "Evaluate"),
+      remove: h("button", { type: "button", class: "small danger" }),
+      confirmUntil: 0,
     };
     row.chart.addEventListener("change", () => toggleCharted(store, demon.name, row.chart.checked));
     row.evaluate.addEventListener("click", () => void evaluate(demon.name));
+    row.remove.addEventListener("click", () => onRemove(demon.name, row));
     const question = `${demon.spec.policy?.kind === "of" ? `follows ${demon.spec.policy.demon}` : (demon.spec.policy?.kind ?? "uniform")} · cumulant ${exprText(demon.spec.cumulant)}`;
     row.tr.append(
       h(
@@ -94,9 +103,32 @@ export function demonTable(store: AppStore): HTMLElement {
       row.thesis,
       row.rupee,
       row.ude,
-      h("td", {}, row.evaluate),
+      h("td", {}, h("div", { class: "row-actions" }, row.evaluate, row.remove)),
     );
     return row;
+  };
+
+  // Removing takes two presses, so a stray click cannot throw a demon (and its learning) away.
+  const onRemove = (demon: string, row: Row) => {
+    const runId = store.state.selectedRunId;
+    if (runId === null) return;
+    if (Date.now() < row.confirmUntil) {
+      row.confirmUntil = 0;
+      removing.add(demon);
+      render(store.state);
+      void attempt(store, async () => {
+        await removeDemon(store, runId, demon);
+        notify(store, `Removed demon '${demon}' from the run.`);
+      }).finally(() => {
+        removing.delete(demon);
+        render(store.state);
+      });
+      return;
+    }
+    row.confirmUntil = Date.now() + REMOVE_CONFIRM_MS;
+    render(store.state);
+    // A paused run sends no messages: the button turns back by itself.
+    window.setTimeout(() => render(store.state), REMOVE_CONFIRM_MS + 50);
   };
 
   const render = (state: Readonly<AppState>) => {
@@ -107,6 +139,9 @@ export function demonTable(store: AppStore): HTMLElement {
     const [x, y] = startPoint(run.spec.world ?? {});
     setText(caption, `Demons of ${run.name ?? run.id.slice(0, 6)}: evaluated from the start (${x}, ${y})`);
     const thesis = run.spec.thesis?.predictions ?? {};
+    // The server refuses (409) to change a finished or failed run.
+    const status = live?.status ?? run.status;
+    const closed = status === "finished" || status === "failed";
     const seen = new Set<string>();
     for (const demon of demons) {
       seen.add(demon.name);
@@ -115,7 +150,10 @@ export function demonTable(store: AppStore): HTMLElement {
         row = makeRow(demon);
         rows.set(demon.name, row);
       }
-      body.appendChild(row.tr);
+      // Moved only when out of place: a row taken out of the page, even for a moment, loses the focus
+      // and the click under way on its buttons (render runs 30 times a second).
+      const at = body.children[seen.size - 1];
+      if (at !== row.tr) body.insertBefore(row.tr, at ?? null);
       const metrics = live?.metrics[demon.name] ?? demon.metrics;
       const prediction = live ? live.predictions[demon.name] : demon.prediction;
       const evaluation = evaluations[demon.name];
@@ -133,6 +171,10 @@ export function demonTable(store: AppStore): HTMLElement {
       const busy = pending.has(demon.name);
       row.evaluate.disabled = busy;
       setText(row.evaluate, busy ? "Evaluating…" : "Evaluate");
+      const confirming = Date.now() < row.confirmUntil;
+      row.remove.disabled = closed || removing.has(demon.name);
+      setText(row.remove, removing.has(demon.name) ? "Removing…" : confirming ? "Really remove?" : "Remove");
+      row.remove.setAttribute("aria-label", confirming ? `Really remove ${demon.name}?` : `Remove ${demon.name}`);
     }
     for (const [name, row] of rows) {
       if (!seen.has(name)) {
@@ -158,7 +200,7 @@ export function demonTable(store: AppStore): HTMLElement {
         h("th", { scope: "col", rowspan: 2, class: "num" }, "Thesis"),
         h("th", { scope: "col", rowspan: 2, class: "num" }, "RUPEE"),
         h("th", { scope: "col", rowspan: 2, class: "num" }, "UDE"),
-        h("th", { scope: "col", rowspan: 2 }, h("span", { class: "visually-hidden" }, "Evaluate")),
+        h("th", { scope: "col", rowspan: 2 }, h("span", { class: "visually-hidden" }, "Actions")),
       ),
       h(
         "tr",

@@ -78,7 +78,7 @@ export function runResults(store: AppStore): HTMLElement {
             h(
               "span",
               { class: "muted" },
-              "(This run's test-run counts are printed by `horde run`; the server does not serve them yet.)",
+              "(A live run does not make test runs: the Protocol tab runs the scenario's protocol with its test runs.)",
             ),
           )
         : null,

@@ -99,7 +99,10 @@ export function runsPanel(store: AppStore): HTMLElement {
         rows.set(run.id, row);
       }
       updateRow(row, run, selectedRunId);
-      list.appendChild(row.item); // keeps the server's order; moving a node keeps its focus
+      // The server's order; a row is moved only when out of place, since a node taken out of the page,
+      // even for a moment, loses the focus and the click under way on its buttons.
+      const at = list.children[seen.size - 1];
+      if (at !== row.item) list.insertBefore(row.item, at ?? null);
     }
     for (const [id, row] of rows) {
       if (!seen.has(id)) {

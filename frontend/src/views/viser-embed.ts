@@ -1,52 +1,41 @@
 /**
- * The viser live view, embedded: its URL comes from GET /api/view ({"url": ...}). Where the server
- * offers no such route (its OpenAPI schema does not list it) or it fails, a short note stands instead.
+ * The viser live view, embedded: its address comes from GET /api/view, and it shows the run selected
+ * in the dashboard (POST /api/view on every selection, see `selectRun`). Where the server runs without
+ * it (`enabled: false`; only `horde serve` starts one) a short note stands instead.
  */
+import type { AppState, AppStore, LiveView } from "../app/state";
 import { h, replaceChildren } from "../ui/dom";
 
-const VIEW_PATH = "/api/view";
-
-/**
- * The view's URL, or why there is none. The route is looked up in /openapi.json first, so that a
- * server without it costs no failed request (which the browser would log as an error).
- */
-async function viewUrl(): Promise<{ url: string } | { why: string }> {
-  try {
-    const schema = (await (await fetch("/openapi.json")).json()) as { paths?: Record<string, unknown> };
-    if (!schema.paths || !(VIEW_PATH in schema.paths))
-      return { why: "this server does not offer the live view (no GET /api/view)." };
-    const response = await fetch(VIEW_PATH);
-    if (!response.ok) return { why: `GET /api/view answered ${response.status}.` };
-    // Not in the generated types yet: checked here, since the route is newer than schema.d.ts may be.
-    const body = (await response.json()) as { url?: unknown };
-    return typeof body.url === "string" && body.url ? { url: body.url } : { why: "GET /api/view gave no URL." };
-  } catch (error) {
-    return { why: `the live view could not be reached (${(error as Error).message}).` };
-  }
-}
-
-export function viserEmbed(): HTMLElement {
-  const body = h("div", { class: "viser-body" }, h("p", { class: "muted" }, "Looking for the live view…"));
+export function viserEmbed(store: AppStore): HTMLElement {
+  const body = h("div", { class: "viser-body" });
   const element = h(
     "section",
     { class: "panel viser-panel", "aria-labelledby": "viser-title" },
     h("h2", { id: "viser-title" }, "Live view"),
     body,
   );
-  void viewUrl().then((found) => {
-    if ("url" in found) {
+
+  let shown: LiveView["state"] | null = null;
+  const render = ({ liveView }: Readonly<AppState>) => {
+    // Built once per state: the frame must not reload when only the run it shows changes.
+    if (liveView.state === shown) return;
+    shown = liveView.state;
+    if (liveView.state === "unknown") {
+      replaceChildren(body, h("p", { class: "muted" }, "Looking for the live view…"));
+    } else if (liveView.state === "on") {
       replaceChildren(
         body,
         h("iframe", {
-          src: found.url,
-          title: "The viser live view of the runs",
+          src: liveView.url,
+          title: "The viser live view of the selected run",
           class: "viser-frame",
           allow: "fullscreen",
         }),
         h(
           "p",
           { class: "hint" },
-          h("a", { href: found.url, target: "_blank", rel: "noopener" }, "Open the live view in its own tab"),
+          "It follows the run selected in the list. ",
+          h("a", { href: liveView.url, target: "_blank", rel: "noopener" }, "Open the live view in its own tab"),
         ),
       );
     } else {
@@ -55,10 +44,12 @@ export function viserEmbed(): HTMLElement {
         h(
           "p",
           { class: "note", dataset: { testid: "viser-note" } },
-          `No live view: ${found.why} The table and the charts above still follow the run.`,
+          `No live view: ${liveView.why.replace(/\.$/, "")}. The table and the charts above still follow the run.`,
         ),
       );
     }
-  });
+  };
+  store.subscribe(render, ["liveView"]);
+  render(store.state);
   return element;
 }

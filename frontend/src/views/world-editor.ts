@@ -1,15 +1,15 @@
 /**
  * The world editor: a form for the world and its regions beside a live drawing of it, loaded from the
- * library, a scenario or the selected run, and saved to the library (PUT /api/worlds/{name}). The
- * server's 422s appear at the fields they concern.
+ * library, a scenario or the selected run, saved to the library (PUT /api/worlds/{name}) or deleted
+ * from it (DELETE /api/worlds/{name}, two presses). The server's 422s appear at the fields they concern.
  */
-import { attempt, notify, refreshWorlds } from "../app/actions";
+import { attempt, deleteWorld, notify, refreshWorlds } from "../app/actions";
 import type { AppStore } from "../app/state";
 import { ApiError, api, toApiError, unwrap } from "../api/client";
 import type { Region, WorldSpec } from "../api/types";
 import { InputError } from "../lib/input-error";
 import { formatList, readNumber, readNumberList } from "../lib/parse";
-import { h, options, replaceChildren } from "../ui/dom";
+import { h, options, replaceChildren, setText } from "../ui/dom";
 import { FormErrors, field, numberInput, textInput } from "../ui/form";
 import { type RegionFields, type RegionText, regionFields, regionText } from "./region-fields";
 import { worldDrawing } from "./world-drawing";
@@ -26,6 +26,8 @@ const NEW_WORLD: WorldSpec = {
   regions: [{ name: "goal", kind: "terminal", rect: [400, 400, 500, 500], reward: 1 }],
 };
 
+const DELETE_CONFIRM_MS = 4000;
+
 const NEW_REGION: RegionText = { name: "", kind: "zone", rect: "0, 0, 100, 100", reward: "", colors: "" };
 
 export function worldEditor(store: AppStore): HTMLElement {
@@ -34,6 +36,8 @@ export function worldEditor(store: AppStore): HTMLElement {
 
   const source = h("select", { id: "world-source" });
   const load = h("button", { type: "button" }, "Load");
+  const remove = h("button", { type: "button", class: "danger" });
+  let confirmUntil = 0;
   const name = textInput("my-world", { name: "name" });
   const width = numberInput(null, { name: "width" });
   const height = numberInput(null, { name: "height" });
@@ -105,6 +109,48 @@ export function worldEditor(store: AppStore): HTMLElement {
     drawing.draw({ ...readFields(), regions: readable });
   }
 
+  /** The library world chosen in "Start from", if one is. */
+  const libraryChoice = (): string | null =>
+    source.value.startsWith("library:") ? source.value.slice("library:".length) : null;
+
+  const renderRemove = () => {
+    const world = libraryChoice();
+    const confirming = world !== null && Date.now() < confirmUntil;
+    remove.disabled = world === null;
+    setText(remove, confirming ? "Really delete?" : "Delete");
+    remove.title = world === null ? "Choose a library world under “Start from” first" : "";
+    remove.setAttribute(
+      "aria-label",
+      world === null
+        ? "Delete a library world"
+        : confirming
+          ? `Really delete world ${world} from the library?`
+          : `Delete world ${world} from the library`,
+    );
+  };
+
+  // Deleting takes two presses, so a stray click cannot throw a world away.
+  remove.addEventListener("click", () => {
+    const world = libraryChoice();
+    if (world === null) return;
+    if (Date.now() >= confirmUntil) {
+      confirmUntil = Date.now() + DELETE_CONFIRM_MS;
+      renderRemove();
+      window.setTimeout(renderRemove, DELETE_CONFIRM_MS + 50);
+      return;
+    }
+    confirmUntil = 0;
+    remove.disabled = true;
+    void attempt(store, async () => {
+      await deleteWorld(store, world);
+      notify(store, `Deleted world '${world}' from the library.`);
+    }).finally(renderRemove);
+  });
+  source.addEventListener("change", () => {
+    confirmUntil = 0;
+    renderRemove();
+  });
+
   const renderSources = () => {
     const chosen = source.value;
     const { worlds, scenarios, run } = store.state;
@@ -120,6 +166,7 @@ export function worldEditor(store: AppStore): HTMLElement {
         chosen,
       ),
     );
+    renderRemove();
   };
 
   const loadChosen = () =>
@@ -171,6 +218,7 @@ export function worldEditor(store: AppStore): HTMLElement {
       );
       await refreshWorlds(store);
       source.value = `library:${data.name}`;
+      renderRemove();
     } catch (error) {
       if (error instanceof ApiError && error.problems.length > 0) errors.showProblems(error.problems);
       else errors.showGeneral(error instanceof Error ? error.message : String(error));
@@ -186,7 +234,7 @@ export function worldEditor(store: AppStore): HTMLElement {
   const form = h(
     "form",
     { class: "world-form", novalidate: true, onsubmit: onSubmit, oninput: redraw, "aria-label": "World" },
-    h("div", { class: "row load-row" }, field("Start from", source), load),
+    h("div", { class: "row load-row" }, field("Start from", source), load, remove),
     h(
       "fieldset",
       {},

@@ -40,6 +40,7 @@ def _out(job: ProtocolJob) -> ProtocolOut:
     return ProtocolOut(
         id=job.id,
         name=job.spec.name,
+        seed=job.spec.seed,
         status=job.status,
         episodes_done=job.episodes_done,
         episodes_total=job.episodes_total,
@@ -66,6 +67,7 @@ def _out(job: ProtocolJob) -> ProtocolOut:
         thesis_counts=CountsOut(**counts.model_dump()) if counts else None,
         error=job.error,
         created_at=timestamp(job.created_at),
+        finished_at=timestamp(job.finished_at) if job.finished_at is not None else None,
     )
 
 

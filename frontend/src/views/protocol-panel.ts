@@ -1,0 +1,258 @@
+/**
+ * The Protocol tab: a scenario's whole protocol run in the background, as `horde run` runs it
+ * (POST /api/protocols). The trials, episodes and seed start as the scenario's own; while the job
+ * runs, a progress bar with the elapsed time and a Cancel button; then `horde run`'s table (each
+ * demon's prediction at the start, the Monte-Carlo truth ± its standard error, the error and the
+ * thesis's number) and, for control protocols, where the greedy test runs ended beside the thesis's
+ * counts. A 422 appears at its field; a 429 (one protocol at a time) says so and shows the job that runs.
+ */
+import { attempt, cancelProtocol, loadProtocols, startProtocol } from "../app/actions";
+import type { AppState, AppStore } from "../app/state";
+import { ApiError, api, unwrap } from "../api/client";
+import type { Protocol, RunTemplate } from "../api/types";
+import { countsTable, protocolProgress, protocolSummary, protocolTitle, resultRows } from "../lib/protocol";
+import { readOptionalNumber } from "../lib/parse";
+import { h, options, replaceChildren, setText } from "../ui/dom";
+import { FormErrors, field, numberInput } from "../ui/form";
+
+const DEFAULT_SCENARIO = "experiment1";
+const BUSY_MESSAGE = "One protocol at a time: another one is running already (shown below). Wait for it, or cancel it.";
+
+export function protocolPanel(store: AppStore): HTMLElement {
+  const errors = new FormErrors();
+  const scenario = h("select", { name: "scenario" });
+  const description = h("p", { class: "hint scenario-description", "aria-live": "polite" });
+  const trials = numberInput(null, { name: "trials" });
+  const episodes = numberInput(null, { name: "episodes" });
+  const seed = numberInput(null, { name: "seed" });
+  const submit = h("button", { type: "submit", class: "primary" }, "Run");
+
+  // ---------------------------------------------------------------- the form
+
+  const renderChoices = () => {
+    const names = store.state.scenarios.filter((s) => !s.error).map((s) => s.name);
+    const chosen = scenario.dataset.chosen ? scenario.value : DEFAULT_SCENARIO;
+    replaceChildren(scenario, options(names, chosen));
+    describe();
+  };
+
+  // The scenario's own protocol and seed fill the fields, once per choice (a refreshed list keeps
+  // what the user typed).
+  let described: string | null = null;
+  const describe = () => {
+    const name = scenario.value;
+    description.textContent = store.state.scenarios.find((s) => s.name === name)?.description ?? "";
+    if (!name || name === described) return;
+    described = name;
+    void attempt(store, async () => {
+      const spec = await unwrap(api.GET("/api/scenarios/{name}", { params: { path: { name } } }));
+      if (scenario.value !== name) return;
+      trials.value = String(spec.protocol?.trials ?? "");
+      episodes.value = String(spec.protocol?.episodes ?? "");
+      seed.value = String(spec.seed ?? "");
+    });
+  };
+  scenario.addEventListener("change", () => {
+    scenario.dataset.chosen = "yes";
+    describe();
+  });
+
+  const onSubmit = async (event: Event) => {
+    event.preventDefault();
+    errors.clear();
+    // Fields left empty keep the scenario's values; the server checks the rest (422 at the field).
+    const template: RunTemplate = { scenario: scenario.value };
+    const seedValue = readOptionalNumber(seed.value);
+    if (seedValue !== undefined) template.seed = seedValue;
+    const protocol: Record<string, number> = {};
+    const trialCount = readOptionalNumber(trials.value);
+    const episodeCount = readOptionalNumber(episodes.value);
+    if (trialCount !== undefined) protocol.trials = trialCount;
+    if (episodeCount !== undefined) protocol.episodes = episodeCount;
+    if (Object.keys(protocol).length > 0) template.protocol = protocol;
+    submit.disabled = true;
+    try {
+      await startProtocol(store, template);
+    } catch (error) {
+      if (error instanceof ApiError && error.problems.length > 0) errors.showProblems(error.problems);
+      else if (error instanceof ApiError && error.status === 429) {
+        errors.showGeneral(BUSY_MESSAGE);
+        await attempt(store, () => loadProtocols(store));
+      } else errors.showGeneral(error instanceof Error ? error.message : String(error));
+    } finally {
+      render(store.state);
+    }
+  };
+
+  // ---------------------------------------------------------------- the job
+
+  const title = h("h3", { id: "protocol-job-title" });
+  const status = h("span", { class: "badge" });
+  const cancel = h("button", { type: "button", class: "danger" }, "Cancel");
+  const progress = h("progress", { class: "protocol-progress", "aria-labelledby": "protocol-job-title" });
+  const counted = h("span", { class: "progress-count", dataset: { testid: "protocol-count" } });
+  const timing = h("span", { class: "progress-timing", dataset: { testid: "protocol-timing" } });
+  const failure = h("p", { class: "form-error", role: "alert", hidden: true });
+  const results = h("div", { class: "protocol-results" });
+  let cancelling: string | null = null; // the id of the job whose Cancel was pressed
+  let shownResults: Protocol | null = null;
+
+  cancel.addEventListener("click", () => {
+    const job = store.state.protocol;
+    if (!job) return;
+    cancelling = job.id;
+    render(store.state);
+    void attempt(store, () => cancelProtocol(store));
+  });
+
+  const job = h(
+    "section",
+    { class: "protocol-job", "aria-labelledby": "protocol-job-title", hidden: true },
+    h("div", { class: "panel-head" }, h("div", { class: "job-title" }, title, status), cancel),
+    progress,
+    h("p", { class: "progress-text" }, counted, timing),
+    failure,
+    results,
+  );
+
+  const render = (state: Readonly<AppState>) => {
+    const { protocol, protocolStartedAt } = state;
+    const running = protocol?.status === "running";
+    submit.disabled = running;
+    setText(submit, running ? "Running…" : "Run");
+    job.hidden = protocol === null;
+    if (protocol === null) return;
+
+    setText(title, protocolTitle(protocol));
+    setText(status, protocol.status);
+    status.className = `badge status-${protocol.status}`;
+    cancel.hidden = !running;
+    cancel.disabled = cancelling === protocol.id;
+    setText(cancel, cancelling === protocol.id ? "Cancelling…" : "Cancel");
+
+    const elapsed = running && protocolStartedAt !== null ? Math.max(0, (Date.now() - protocolStartedAt) / 1000) : null;
+    const shown = protocolProgress(protocol, elapsed);
+    progress.max = Math.max(1, protocol.episodes_total);
+    progress.value = shown.fraction * progress.max;
+    progress.setAttribute("aria-valuetext", shown.counted);
+    setText(counted, shown.counted);
+    setText(timing, shown.timing ? ` · ${shown.timing}` : "");
+    failure.hidden = protocol.status !== "failed";
+    setText(failure, protocol.status === "failed" ? `The protocol failed: ${protocol.error}` : "");
+
+    // The tables are built once per answer that has results (not four times a second).
+    if (shownResults?.id === protocol.id && shownResults.results === protocol.results) return;
+    shownResults = protocol;
+    replaceChildren(results, protocol.results ? resultsTables(protocol) : null);
+  };
+  store.subscribe(render, ["protocol", "protocolStartedAt"]);
+  store.subscribe(renderChoices, ["scenarios"]);
+  renderChoices();
+  render(store.state);
+
+  return h(
+    "section",
+    { class: "panel protocol-panel", "aria-labelledby": "protocol-title" },
+    h("h2", { id: "protocol-title" }, "Protocol"),
+    h(
+      "p",
+      { class: "hint intro" },
+      "A scenario's whole protocol, as ",
+      h("code", {}, "horde run"),
+      " runs it: every trial learns from scratch for its episodes; then each demon's prediction at the start is set " +
+        "against its Monte-Carlo truth and the thesis's number. It runs on the server, one at a time.",
+    ),
+    h(
+      "form",
+      { class: "protocol-form", novalidate: true, onsubmit: onSubmit, "aria-labelledby": "protocol-title" },
+      h(
+        "div",
+        { class: "row protocol-fields" },
+        field("Scenario", scenario, { path: "scenario", errors, class: "wide" }),
+        field("Trials", trials, { path: "protocol.trials", errors }),
+        field("Episodes per trial", episodes, { path: "protocol.episodes", errors, class: "episodes-field" }),
+        field("Seed", seed, { path: "seed", errors }),
+        h("div", { class: "submit-cell" }, submit),
+      ),
+      description,
+      errors.general,
+    ),
+    job,
+  );
+}
+
+/** `horde run`'s table, and the test runs' counts beside the thesis's for a control protocol. */
+function resultsTables(job: Protocol): HTMLElement[] {
+  const rows = resultRows(job.results ?? []);
+  const counts = countsTable(job.results ?? [], job.thesis_counts);
+  const head = (labels: string[]) =>
+    h(
+      "thead",
+      {},
+      h(
+        "tr",
+        {},
+        labels.map((label, i) => h("th", { scope: "col", class: i ? "num" : "" }, label)),
+      ),
+    );
+  const tables: HTMLElement[] = [
+    h("h4", {}, "Predictions at the start, mean over trials"),
+    h(
+      "div",
+      { class: "table-scroll" },
+      h(
+        "table",
+        { class: "results-table protocol-table" },
+        h(
+          "caption",
+          { class: "visually-hidden" },
+          "Each demon's prediction against the Monte-Carlo truth and the thesis",
+        ),
+        head(["demon", "prediction", "truth (MC) ± se", "error", "error %", "thesis"]),
+        h(
+          "tbody",
+          {},
+          rows.map((row) =>
+            h(
+              "tr",
+              { dataset: { demon: row.name } },
+              h("th", { scope: "row" }, row.name),
+              [row.prediction, row.truth, row.error, row.relative, row.thesis].map((text) =>
+                h("td", { class: "num" }, text),
+              ),
+            ),
+          ),
+        ),
+      ),
+    ),
+  ];
+  if (counts) {
+    tables.push(
+      h("h4", {}, `Greedy test runs of ${counts.demon}: where they ended`),
+      h(
+        "div",
+        { class: "table-scroll" },
+        h(
+          "table",
+          { class: "counts-table" },
+          h("caption", { class: "visually-hidden" }, "This protocol's test runs beside the thesis's"),
+          head(["", "positive terminal", "negative terminal", "none (step limit)"]),
+          h(
+            "tbody",
+            {},
+            counts.rows.map((row) =>
+              h(
+                "tr",
+                { dataset: { counts: row.key } },
+                h("th", { scope: "row" }, row.label),
+                [row.positive, row.negative, row.none].map((text) => h("td", { class: "num" }, text)),
+              ),
+            ),
+          ),
+        ),
+      ),
+    );
+  }
+  tables.push(h("p", { class: "muted protocol-summary" }, protocolSummary(job)));
+  return tables;
+}
