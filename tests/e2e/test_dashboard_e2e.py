@@ -8,8 +8,6 @@ of the main screens land in docs/ (dashboard.png, demon-editor.png, world-editor
 from __future__ import annotations
 
 import re
-import socket
-import threading
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -19,27 +17,13 @@ from typing import TYPE_CHECKING, Any
 
 import httpx
 import pytest
-import uvicorn
 
-from horde.server import Settings, create_app
-from horde.server.frontend import mount_frontend
+from horde.server import Settings
 
-CHROMIUM = Path("/usr/bin/chromium")
-ROOT = Path(__file__).resolve().parents[2]
+from .conftest import CHROMIUM, CHROMIUM_ARGS, ROOT, free_port, serve_in_thread
+
 DIST = ROOT / "frontend" / "dist"
 DOCS = ROOT / "docs"
-ARGS = [
-    "--headless",
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--use-angle=swiftshader",
-    "--enable-unsafe-swiftshader",
-]
 VIEWPORT = {"width": 1280, "height": 800}
 TIMEOUT_MS = 15_000
 NUMBER = re.compile(r"^-?\d+(\.\d+)?(e[+-]\d+)?$")
@@ -52,12 +36,6 @@ pytestmark = [
 
 if TYPE_CHECKING:  # Playwright itself is imported in the browser fixture
     from playwright.sync_api import Browser, Page
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 @dataclass
@@ -78,25 +56,9 @@ class Server:
 
 @contextmanager
 def serve(settings: Settings) -> Iterator[Server]:
-    """The app with the built dashboard, served by uvicorn in a background thread."""
-    app = create_app(settings)
-    mount_frontend(app, DIST)
-    port = free_port()
-    uv = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning"))
-    thread = threading.Thread(target=uv.run, name="uvicorn-e2e", daemon=True)
-    thread.start()
-    deadline = time.monotonic() + 20
-    while not uv.started:
-        assert time.monotonic() < deadline, "the server did not start"
-        assert thread.is_alive(), "the server thread died"
-        time.sleep(0.02)
-    url = f"http://127.0.0.1:{port}"
-    try:
-        with httpx.Client(base_url=url, timeout=30) as client:
-            yield Server(url, client)
-    finally:
-        uv.should_exit = True
-        thread.join(timeout=20)
+    """The app (which serves the built dashboard at /), run by uvicorn in a background thread."""
+    with serve_in_thread(settings) as running:
+        yield Server(running.url, running.client)
 
 
 @pytest.fixture(scope="module")
@@ -111,7 +73,7 @@ def browser() -> Iterator[Browser]:
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=ARGS)
+        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
         yield browser
         browser.close()
 

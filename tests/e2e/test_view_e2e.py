@@ -8,10 +8,8 @@ of a scene node; `.position` is the node's position in its parent frame (here th
 from __future__ import annotations
 
 import shutil
-import socket
 import time
 from collections.abc import Iterator
-from pathlib import Path
 
 import pytest
 
@@ -19,20 +17,8 @@ from horde.scenarios import load_scenario
 from horde.view import LiveView, SimulationSource
 from horde.view.scene import agent_radius, scene_scale
 
-CHROMIUM = Path("/usr/bin/chromium")
-ROOT = Path(__file__).resolve().parents[2]
-ARGS = [
-    "--headless",
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-    "--use-angle=swiftshader",
-    "--enable-unsafe-swiftshader",
-]
+from .conftest import CHROMIUM, CHROMIUM_ARGS, ROOT, free_port
+
 AGENT_POSITION = """() => {
     const node = window.__viserMutable?.nodeRefFromName?.["/agent"];
     return node ? [node.position.x, node.position.y, node.position.z] : null;
@@ -46,12 +32,6 @@ pytestmark = [
     pytest.mark.e2e,
     pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium at /usr/bin/chromium"),
 ]
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 @pytest.fixture
@@ -73,7 +53,7 @@ def test_the_agent_moves_in_the_browser_when_the_run_steps(live: tuple[LiveView,
     scale = scene_scale(spec.world)
     errors: list[str] = []
     with sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=ARGS)
+        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
         try:
             page = browser.new_page(viewport={"width": 1280, "height": 800})
             page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
