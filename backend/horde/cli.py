@@ -11,6 +11,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TextIO
 
+from horde.bench import add_bench_parser
+from horde.core.batch import run_protocol_batched
 from horde.core.experiment import ProtocolResult, run_protocol
 from horde.scenarios import ScenarioError, list_scenarios, load_scenario
 from horde.spec import RunSpec
@@ -108,7 +110,10 @@ def cmd_run(args: argparse.Namespace) -> int:
         print(f"error: {args.scenario}: {exc}", file=sys.stderr)
         return 2
     progress = ProgressBar(spec.name or Path(args.scenario).stem) if not args.quiet else None
-    result = run_protocol(spec, progress)
+    if args.workers != 1:  # 0: every usable core
+        result = run_protocol_batched(spec, args.workers or None, progress)
+    else:
+        result = run_protocol(spec, progress)
     print(format_results(spec, result))
     if args.json:
         Path(args.json).write_text(json.dumps([d.as_dict() for d in result.demons], indent=2) + "\n")
@@ -138,11 +143,17 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--seed", type=int, help="override the seed")
     run.add_argument("--json", metavar="PATH", help="also write the results as JSON")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.add_argument(
+        "--workers", type=int, default=1, metavar="N",
+        help="run the trials in N processes at once (0: one per core); results are the same",
+    )  # fmt: skip
     run.set_defaults(func=cmd_run)
 
     scenarios = sub.add_parser("scenarios", help="list the scenarios with a one-line description each")
     scenarios.add_argument("--dir", help="folder of scenario files (default: scenarios/)")
     scenarios.set_defaults(func=cmd_scenarios)
+
+    add_bench_parser(sub)
 
     try:
         from horde.server.cli_serve import add_serve_parser

@@ -1,0 +1,44 @@
+"""`horde bench`: the throughput benchmarks, whose code lives in the repository's benchmarks/ folder.
+
+The benchmarks are not part of the installed package (they need the scenarios and are run from a
+checkout, as `make` installs it: editable). This module finds the folder next to the package's source
+tree, puts the checkout on `sys.path` and hands the arguments to `benchmarks.run`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from pathlib import Path
+from types import ModuleType
+
+CHECKOUT = Path(__file__).resolve().parents[2]  # backend/horde/bench.py -> the repository
+
+
+def _benchmarks() -> ModuleType:
+    if (CHECKOUT / "benchmarks" / "__init__.py").is_file() and str(CHECKOUT) not in sys.path:
+        sys.path.insert(0, str(CHECKOUT))
+    try:
+        return importlib.import_module("benchmarks.run")
+    except ImportError as exc:
+        raise SystemExit(f"error: horde bench needs the repository's benchmarks/ folder ({exc})") from None
+
+
+def cmd_bench(args: argparse.Namespace) -> int:
+    return int(_benchmarks().bench(args))
+
+
+def add_bench_parser(sub: argparse._SubParsersAction) -> None:
+    bench = sub.add_parser(
+        "bench", help="throughput: demon-updates per second at thesis, nexting, off-policy and control scale"
+    )
+    bench.add_argument("--quick", action="store_true", help="a tiny run (a few seconds), for smoke tests")
+    bench.add_argument("--json", metavar="PATH", help="also write the figures as JSON")
+    bench.add_argument(
+        "--only",
+        action="append",
+        choices=("thesis", "nexting", "off_policy", "control"),
+        help="run only this workload (repeatable)",
+    )
+    bench.set_defaults(func=cmd_bench)

@@ -1,0 +1,732 @@
+"""Compiled kernels (numba) of the Horde-scale engine: `scale.py`'s equations, in place, sparse traces.
+
+`scale.step` is the readable numpy path: it keeps dense traces, finds their support with a scan and
+copies every block's weights (it returns a new state); at 8000 demons x 6065 features that copy alone
+is 0.8 GB per step. `FastScale` keeps the same numbers in flat buffers that it changes in place:
+
+* weights of block b: `[n_b, Db]` row-major (feature-major, as in `scale.py`);
+* traces of block b: `[n_b, C_b]`, one column per trace class, zero off the support;
+* the support of block b: its rows in increasing order, so that the pass over it walks memory forward
+  (sorted rows ran 1.4 times faster than the same rows in arrival order).
+
+One step is one kernel call for every block: the values at x_{t+1}, one merge of x_t's rows into the
+support (with the new values of a shared trace and the cut), one pass over the support's weight rows
+(`w . e`, and the theta and w updates, each weight row read and written once; the w term at x_t is
+fused in), then the correction at x_{t+1} fused with reading the new values. Rows are read four at a
+time and updated two at a time: more memory streams in flight made sparse rows 1.3 to 1.6 times faster.
+The trace cut and float32 follow `scale.Layout` as the numpy path does; the tests hold the two equal.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from horde.core.fast import _value_policy
+from horde.core.policies import FIXED
+from horde.core.scale import LEARNER_CODES, POLICY_CODES, A, Layout, ScaleState
+
+TD, GTD, GQ = LEARNER_CODES["td"], LEARNER_CODES["gtd"], LEARNER_CODES["gq"]
+# Columns of the block table.
+B_LEARNER, B_POLICY, B_LO, B_HI, B_ROWS, B_WOFF, B_TOFF, B_VOFF, B_NCLS, B_COFF = range(10)
+
+
+@njit(cache=True)
+def _sum_rows(flat, start, x, db, acc):
+    """acc[:db] += the rows x of the [n, db] array at flat[start:], four rows at a time."""
+    k = x.shape[0]
+    j = 0
+    while j + 4 <= k:
+        r0 = flat[start + x[j] * db : start + x[j] * db + db]
+        r1 = flat[start + x[j + 1] * db : start + x[j + 1] * db + db]
+        r2 = flat[start + x[j + 2] * db : start + x[j + 2] * db + db]
+        r3 = flat[start + x[j + 3] * db : start + x[j + 3] * db + db]
+        for i in range(db):
+            acc[i] += ((r0[i] + r1[i]) + r2[i]) + r3[i]
+        j += 4
+    while j < k:
+        r0 = flat[start + x[j] * db : start + x[j] * db + db]
+        for i in range(db):
+            acc[i] += r0[i]
+        j += 1
+
+
+@njit(cache=True)
+def _read_values(bi, b, n_s, theta, x, out):
+    """Values at active state features x under the current weights: out[a, :Db] for a < A (GQ) or a = 0."""
+    lo, hi, woff = bi[b, B_LO], bi[b, B_HI], bi[b, B_WOFF]
+    db = hi - lo
+    actions = A if bi[b, B_LEARNER] == GQ else 1
+    for a in range(actions):
+        acc = out[a, :db]
+        acc[:] = 0.0
+        _sum_rows(theta, woff + a * n_s * db, x, db, acc)
+
+
+@njit(cache=True)
+def _target(bi, b, i, dcls, temperature, epsilon, pi_given, values, scratch_q, out):
+    """out[:A] = the target policy of demon lo + i at the state whose values are values[:, i]."""
+    d = bi[b, B_LO] + i
+    kind = bi[b, B_POLICY]
+    if kind == FIXED:
+        for a in range(A):
+            out[a] = pi_given[dcls[d], a]
+        return
+    for a in range(A):
+        scratch_q[a] = values[a, i]
+    _value_policy(kind, scratch_q, temperature[d], epsilon[d], out)
+
+
+@njit(cache=True)
+def _observe_block(bi, b, dcls, temperature, epsilon, pi_given, values, q, pi, pred, scratch_q, scratch_pi):
+    """Store values, policies and predictions of block b read at a state (`values` from _read_values)."""
+    lo, hi = bi[b, B_LO], bi[b, B_HI]
+    gq = bi[b, B_LEARNER] == GQ
+    for i in range(hi - lo):
+        d = lo + i
+        if not gq:
+            q[d, 0] = values[0, i]
+            pred[d] = values[0, i]
+            continue
+        _target(bi, b, i, dcls, temperature, epsilon, pi_given, values, scratch_q, scratch_pi)
+        total = 0.0
+        for a in range(A):
+            q[d, a] = values[a, i]
+            pi[d, a] = scratch_pi[a]
+            total += scratch_pi[a] * values[a, i]
+        pred[d] = total
+
+
+@njit(cache=True)
+def _observe(
+    bi,
+    n_s,
+    dcls,
+    temperature,
+    epsilon,
+    theta,
+    trace,
+    support,
+    nnz,
+    x,
+    pi_given,
+    gamma,
+    q,
+    pi,
+    pred,
+    values,
+    scratch_q,
+    scratch_pi,
+):
+    gamma[:] = 0.0
+    for b in range(bi.shape[0]):
+        toff, voff, ncls = bi[b, B_TOFF], bi[b, B_VOFF], bi[b, B_NCLS]
+        for s in range(nnz[b]):
+            row = support[toff + s]
+            trace[voff + row * ncls : voff + (row + 1) * ncls] = 0.0
+        nnz[b] = 0
+        _read_values(bi, b, n_s, theta, x, values)
+        _observe_block(bi, b, dcls, temperature, epsilon, pi_given, values, q, pi, pred, scratch_q, scratch_pi)
+
+
+@njit(cache=True)
+def _update_pair(th0, w0, th1, w1, e0, e1, f0, f1, td, ad, awd, step_x, w_dot_e):
+    """Two support rows of a shared trace: theta += ad e; for GTD/GQ also w . e and
+    w += awd e - f alpha_w (w . x_t)  (f = 1 on the rows of x_t, else 0)."""
+    db = th0.shape[0]
+    if td:
+        for i in range(db):
+            a = ad[i]
+            th0[i] += a * e0
+            th1[i] += a * e1
+        return
+    for i in range(db):
+        a = ad[i]
+        aw = awd[i]
+        sx = step_x[i]
+        v0 = w0[i]
+        v1 = w1[i]
+        w_dot_e[i] += v0 * e0 + v1 * e1
+        th0[i] += a * e0
+        th1[i] += a * e1
+        w0[i] = v0 + aw * e0 - f0 * sx
+        w1[i] = v1 + aw * e1 - f1 * sx
+
+
+@njit(cache=True)
+def _update_one(th, wr, e, f, td, ad, awd, step_x, w_dot_e):
+    """One support row of a shared trace (as `_update_pair`)."""
+    db = th.shape[0]
+    if td:
+        for i in range(db):
+            th[i] += ad[i] * e
+        return
+    for i in range(db):
+        wv = wr[i]
+        w_dot_e[i] += wv * e
+        th[i] += ad[i] * e
+        wr[i] = wv + awd[i] * e - f * step_x[i]
+
+
+@njit(cache=True)
+def _update_each(th, wr, ev, f, td, ad, awd, step_x, w_dot_e):
+    """One support row with a trace value per demon (ev): the updates of `_update_one`."""
+    db = th.shape[0]
+    if td:
+        for i in range(db):
+            th[i] += ad[i] * np.float64(ev[i])
+        return
+    for i in range(db):
+        e = np.float64(ev[i])
+        wv = wr[i]
+        w_dot_e[i] += wv * e
+        th[i] += ad[i] * e
+        wr[i] = wv + awd[i] * e - f * step_x[i]
+
+
+@njit(cache=True)
+def _update_each_pair(th0, w0, ev0, f0, th1, w1, ev1, f1, td, ad, awd, step_x, w_dot_e):
+    """Two support rows with a trace value per demon: the updates of `_update_pair`."""
+    db = th0.shape[0]
+    if td:
+        for i in range(db):
+            a = ad[i]
+            th0[i] += a * np.float64(ev0[i])
+            th1[i] += a * np.float64(ev1[i])
+        return
+    for i in range(db):
+        a = ad[i]
+        aw = awd[i]
+        sx = step_x[i]
+        e0 = np.float64(ev0[i])
+        e1 = np.float64(ev1[i])
+        v0 = w0[i]
+        v1 = w1[i]
+        w_dot_e[i] += v0 * e0 + v1 * e1
+        th0[i] += a * e0
+        th1[i] += a * e1
+        w0[i] = v0 + aw * e0 - f0 * sx
+        w1[i] = v1 + aw * e1 - f1 * sx
+
+
+@njit(cache=True)
+def _decay_classes(tr, on_x, decay, add, cut):
+    """New trace values of one row, one per class, in place; entries below the cut become 0.
+
+    Branch-free, so that it vectorizes. Returns whether any entry is left."""
+    left = 0
+    if on_x:
+        for c in range(tr.shape[0]):
+            v = tr[c] * decay[c] + add[c]
+            v = v if abs(v) >= cut else 0.0
+            tr[c] = v
+            left += 1 if v != 0.0 else 0
+    else:
+        for c in range(tr.shape[0]):
+            v = tr[c] * decay[c]
+            v = v if abs(v) >= cut else 0.0
+            tr[c] = v
+            left += 1 if v != 0.0 else 0
+    return left > 0
+
+
+@njit(cache=True)
+def _step(
+    bi,
+    lam,
+    alpha,
+    alpha_w,
+    temperature,
+    epsilon,
+    dcls,
+    cls_lo,
+    cls_hi,
+    cut,
+    n_s,
+    theta,
+    w,
+    trace,
+    support,
+    rows,
+    rows_e,
+    rows_f,
+    nnz,
+    x_t,
+    action,
+    b_prob,
+    x_tp1,
+    r,
+    z,
+    gamma_tp1,
+    rho_t,
+    pi_given,
+    gamma,
+    q,
+    pi,
+    pred,
+    delta,
+    touched,
+    values,
+    pi_next,
+    ad,
+    awd,
+    w_dot_e,
+    w_dot_x,
+    ev,
+    decay,
+    add,
+    scratch_q,
+    scratch_pi,
+):
+    """One transition for every block (the equations of scale.step), in place. x_t and x_tp1 are sorted."""
+    k = x_t.shape[0]
+    for b in range(bi.shape[0]):
+        learner, kind = bi[b, B_LEARNER], bi[b, B_POLICY]
+        lo, hi = bi[b, B_LO], bi[b, B_HI]
+        woff, toff, voff, ncls, coff = bi[b, B_WOFF], bi[b, B_TOFF], bi[b, B_VOFF], bi[b, B_NCLS], bi[b, B_COFF]
+        db = hi - lo
+        gq = learner == GQ
+        td = learner == TD
+        own = kind != FIXED
+        lam_b = lam[b]
+        actions = A if gq else 1
+        shift = action * n_s if gq else 0
+
+        # Values at s_{t+1} under the weights before this update, the target policy there, delta.
+        _read_values(bi, b, n_s, theta, x_tp1, values)
+        for i in range(db):
+            d = lo + i
+            g1 = gamma_tp1[dcls[d]]
+            if gq:
+                _target(bi, b, i, dcls, temperature, epsilon, pi_given, values, scratch_q, scratch_pi)
+                v_next = 0.0
+                for a in range(A):
+                    pi_next[a, i] = scratch_pi[a]
+                    v_next += scratch_pi[a] * values[a, i]
+                v_t = q[d, action]
+            else:
+                v_next = values[0, i]
+                v_t = q[d, 0]
+            dl = r[d] + (1.0 - g1) * z[d] + g1 * v_next - v_t
+            delta[d] = dl
+            ad[i] = alpha[d] * dl
+            awd[i] = alpha_w[d] * dl
+            w_dot_e[i] = 0.0
+            w_dot_x[i] = 0.0
+
+        # Trace classes: decay gamma_t lambda rho_t, and what x_t adds (rho_t for TD/GTD, 1 for GQ).
+        for c in range(ncls):
+            rho = pi[lo + c, action] / b_prob if own else rho_t[coff + c]
+            decay[c] = gamma[coff + c] * lam_b * rho
+            add[c] = 1.0 if gq else rho
+
+        # alpha_w (w . x_t) under the old w.
+        step_x = w_dot_x[:db]
+        if not td:
+            _sum_rows(w, woff + shift * db, x_t, db, step_x)
+            for i in range(db):
+                step_x[i] *= alpha_w[lo + i]
+
+        # Merge x_t's rows into the support (both sorted). A shared trace gets its new values and the
+        # cut here (one number per row), so that the weight pass below sees only the rows it updates.
+        old = nnz[b]
+        i_old = 0
+        j_new = 0
+        out = 0
+        while i_old < old or j_new < k:
+            if j_new >= k or (i_old < old and support[toff + i_old] < shift + x_t[j_new]):
+                row = support[toff + i_old]
+                on_x = False
+                i_old += 1
+            else:
+                row = shift + x_t[j_new]
+                on_x = True
+                if i_old < old and support[toff + i_old] == row:
+                    i_old += 1
+                j_new += 1
+            if ncls == 1:
+                v = trace[voff + row] * decay[0]
+                if on_x:
+                    v += add[0]
+                trace[voff + row] = v if abs(v) >= cut else 0.0
+                if trace[voff + row] == 0.0:
+                    if on_x and not td:  # no trace left here, but w still loses alpha_w (w . x_t) x_t
+                        wr = w[woff + row * db : woff + (row + 1) * db]
+                        for i in range(db):
+                            wr[i] -= step_x[i]
+                    continue
+                rows_e[out] = trace[voff + row]  # the stored value (in the layout's dtype)
+            rows[out] = row
+            rows_f[out] = 1.0 if on_x else 0.0
+            out += 1
+
+        # The weight pass over the merged rows, in row order. One class: two rows at a time. Several
+        # classes: each row's trace values (decayed and cut), spread over the classes' demons.
+        kept = 0
+        if ncls == 1:
+            s = 0
+            while s + 2 <= out:
+                b0 = woff + rows[s] * db
+                b1 = woff + rows[s + 1] * db
+                _update_pair(
+                    theta[b0 : b0 + db],
+                    w[b0 : b0 + db],
+                    theta[b1 : b1 + db],
+                    w[b1 : b1 + db],
+                    rows_e[s],
+                    rows_e[s + 1],
+                    rows_f[s],
+                    rows_f[s + 1],
+                    td,
+                    ad,
+                    awd,
+                    step_x,
+                    w_dot_e,
+                )
+                s += 2
+            if s < out:
+                b0 = woff + rows[s] * db
+                _update_one(theta[b0 : b0 + db], w[b0 : b0 + db], rows_e[s], rows_f[s], td, ad, awd, step_x, w_dot_e)
+            support[toff : toff + out] = rows[:out]
+            kept = out
+        else:
+            # Several classes: each row's trace values (decayed and cut) per demon, in ev (own-value
+            # blocks: the trace row itself); rows left with a trace are updated two at a time.
+            pending = -1  # a kept row waiting for a partner
+            for s in range(out):
+                row = rows[s]
+                tr = trace[voff + row * ncls : voff + (row + 1) * ncls]
+                if not _decay_classes(tr, rows_f[s] > 0.0, decay, add, cut):
+                    if rows_f[s] > 0.0 and not td:
+                        wr = w[woff + row * db : woff + (row + 1) * db]
+                        for i in range(db):
+                            wr[i] -= step_x[i]
+                    continue
+                support[toff + kept] = row
+                kept += 1
+                slot = 0 if pending < 0 else 1
+                if not own:
+                    spread = ev[slot, :db]
+                    for c in range(ncls):
+                        spread[cls_lo[coff + c] : cls_hi[coff + c]] = tr[c]
+                if pending < 0:
+                    pending = s
+                    continue
+                r0, r1 = rows[pending], row
+                b0, b1 = woff + r0 * db, woff + r1 * db
+                e0 = trace[voff + r0 * ncls : voff + (r0 + 1) * ncls] if own else ev[0, :db]
+                e1 = tr if own else ev[1, :db]
+                _update_each_pair(
+                    theta[b0 : b0 + db],
+                    w[b0 : b0 + db],
+                    e0,
+                    rows_f[pending],
+                    theta[b1 : b1 + db],
+                    w[b1 : b1 + db],
+                    e1,
+                    rows_f[s],
+                    td,
+                    ad,
+                    awd,
+                    step_x,
+                    w_dot_e,
+                )
+                pending = -1
+            if pending >= 0:
+                r0 = rows[pending]
+                b0 = woff + r0 * db
+                e0 = trace[voff + r0 * ncls : voff + (r0 + 1) * ncls] if own else ev[0, :db]
+                _update_each(theta[b0 : b0 + db], w[b0 : b0 + db], e0, rows_f[pending], td, ad, awd, step_x, w_dot_e)
+        nnz[b] = kept
+        touched[b] = kept
+
+        # The correction at x_bar_{t+1}, fused with reading the new values at s_{t+1}.
+        correction = w_dot_e[:db]
+        if not td:
+            for i in range(db):
+                correction[i] = alpha[lo + i] * gamma_tp1[dcls[lo + i]] * (1.0 - lam_b) * correction[i]
+        mode = 0 if td else (2 if gq else 1)
+        for a in range(actions):
+            _correct_and_read(theta, woff + a * n_s * db, x_tp1, db, correction, pi_next[a, :db], mode, values[a, :db])
+        _observe_block(bi, b, dcls, temperature, epsilon, pi_given, values, q, pi, pred, scratch_q, scratch_pi)
+        for c in range(ncls):
+            gamma[coff + c] = gamma_tp1[coff + c]
+
+
+@njit(cache=True)
+def _correct_and_read(theta, start, x, db, correction, weight, mode, acc):
+    """theta -= correction * weight on the rows x (mode 2: a weight per demon, 1: weight 1, 0: no
+    correction), then acc = the sum of those rows: the new values at s_{t+1}. Two rows at a time."""
+    k = x.shape[0]
+    acc[:] = 0.0
+    j = 0
+    while j < k:
+        pair = j + 1 < k
+        b0 = start + x[j] * db
+        b1 = start + x[j + 1] * db if pair else b0
+        r0 = theta[b0 : b0 + db]
+        r1 = theta[b1 : b1 + db]
+        if mode == 2:
+            for i in range(db):
+                c = correction[i] * weight[i]
+                r0[i] -= c
+                if pair:
+                    r1[i] -= c
+        elif mode == 1:
+            for i in range(db):
+                r0[i] -= correction[i]
+                if pair:
+                    r1[i] -= correction[i]
+        if pair:
+            for i in range(db):
+                acc[i] += r0[i] + r1[i]
+            j += 2
+        else:
+            for i in range(db):
+                acc[i] += r0[i]
+            j += 1
+
+
+class FastScale:
+    """The blocks of a `Layout` in flat buffers, stepped in place by one compiled call per step.
+
+    Args:
+        layout: the blocks (its dtype and trace cut apply).
+    """
+
+    def __init__(self, layout: Layout) -> None:
+        self.layout = layout
+        blocks = layout.blocks
+        dt = layout.dtype
+        rows = [layout.rows(b) for b in blocks]
+        ncls = [b.num_classes for b in blocks]
+        sizes = [b.size for b in blocks]
+        woff = np.cumsum([0] + [r * s for r, s in zip(rows, sizes, strict=True)])
+        toff = np.cumsum([0, *rows])
+        voff = np.cumsum([0] + [r * c for r, c in zip(rows, ncls, strict=True)])
+        codes = ([LEARNER_CODES[b.learner] for b in blocks], [POLICY_CODES[b.policy] for b in blocks])
+        columns = (*codes, layout.lo, layout.hi, rows, woff[:-1], toff[:-1], voff[:-1], ncls, layout.class_lo)
+        self.bi = np.stack([np.asarray(c, dtype=np.int64) for c in columns], axis=1)  # [B, 10]: the B_* columns
+        self.lam = np.array([b.lam for b in blocks], dtype=float)
+        self.alpha = np.concatenate([b.alpha for b in blocks])
+        self.alpha_w = np.concatenate([b.alpha_w for b in blocks])
+        self.temperature = np.concatenate([np.asarray(b.temperature) for b in blocks])
+        self.epsilon = np.concatenate([np.asarray(b.epsilon) for b in blocks])
+        self.demon_class = layout.demon_class()  # [D] global class of each demon
+        starts = [np.searchsorted(np.asarray(b.classes), np.arange(b.num_classes)) for b in blocks]
+        ends = [np.searchsorted(np.asarray(b.classes), np.arange(b.num_classes), side="right") for b in blocks]
+        self.class_lo = np.concatenate(starts).astype(np.int64)  # [C] first demon of each class, within its block
+        self.class_hi = np.concatenate(ends).astype(np.int64)
+        self.theta = np.zeros(int(woff[-1]), dt)  # block b: [n_b, Db] at woff[b]
+        self.w = np.zeros(int(woff[-1]), dt)
+        self.trace = np.zeros(int(voff[-1]), dt)  # block b: [n_b, C_b] at voff[b], zero off the support
+        self.support = np.zeros(int(toff[-1]), np.int64)  # block b: its first nnz[b] entries at toff[b], sorted
+        self.nnz = np.zeros(len(blocks), np.int64)
+        self.touched = np.zeros(len(blocks), np.int64)  # support rows of the last step (for the traffic model)
+        most = max(rows) + layout.active
+        self._rows = np.zeros(most, np.int64)  # the merged support of one block at one step
+        self._rows_e = np.zeros(most)  # its shared trace values
+        self._rows_f = np.zeros(most)  # 1.0 on the rows of x_t
+        d, nc = layout.num_demons, layout.num_classes
+        dmax = max(max(sizes), max(ncls))
+        self.x = np.zeros(layout.active, np.int64)
+        self.gamma = np.zeros(nc)
+        self.q = np.zeros((d, A))
+        self.pi = np.full((d, A), 1.0 / A)
+        self.prediction = np.zeros(d)
+        self.delta = np.zeros(d)
+        self.pi_given = np.full((nc, A), 1.0 / A)
+        self._values = np.zeros((A, dmax))
+        self._pi_next = np.zeros((A, dmax))
+        self._work = np.zeros((6, dmax))  # ad, awd, w . e, w . x, decay, add
+        self._ev = np.zeros((2, dmax), dt)  # trace values per demon of two rows
+        self._scratch = np.zeros((2, A))
+        self._ones = np.ones(nc)
+
+    # ------------------------------------------------------------------------------------------
+
+    def observe(self, x: np.ndarray, pi: np.ndarray | None = None) -> None:
+        """A stream (or episode) starts at active features x: as `scale.observe` (pi: [C, A] or None)."""
+        self.x[:] = np.sort(x)
+        self.pi_given[:] = 1.0 / A if pi is None else pi
+        _observe(
+            self.bi,
+            self.layout.num_features,
+            self.demon_class,
+            self.temperature,
+            self.epsilon,
+            self.theta,
+            self.trace,
+            self.support,
+            self.nnz,
+            self.x,
+            self.pi_given,
+            self.gamma,
+            self.q,
+            self.pi,
+            self.prediction,
+            self._values,
+            self._scratch[0],
+            self._scratch[1],
+        )
+
+    def step(
+        self,
+        action: int,
+        b_prob: float,
+        x_tp1: np.ndarray,
+        r_tp1: np.ndarray,
+        z_tp1: np.ndarray,
+        gamma_tp1: np.ndarray,
+        rho_t: np.ndarray | None = None,
+        pi_tp1: np.ndarray | None = None,
+    ) -> np.ndarray:
+        """One transition, as `scale.step` (same arguments). Returns delta [D], a view the next step overwrites."""
+        self.pi_given[:] = 1.0 / A if pi_tp1 is None else pi_tp1
+        x_tp1 = np.sort(np.asarray(x_tp1, dtype=np.int64))
+        work = self._work
+        _step(
+            self.bi,
+            self.lam,
+            self.alpha,
+            self.alpha_w,
+            self.temperature,
+            self.epsilon,
+            self.demon_class,
+            self.class_lo,
+            self.class_hi,
+            self.layout.cut,
+            self.layout.num_features,
+            self.theta,
+            self.w,
+            self.trace,
+            self.support,
+            self._rows,
+            self._rows_e,
+            self._rows_f,
+            self.nnz,
+            self.x,
+            int(action),
+            float(b_prob),
+            x_tp1,
+            np.asarray(r_tp1, dtype=float),
+            np.asarray(z_tp1, dtype=float),
+            np.asarray(gamma_tp1, dtype=float),
+            self._ones if rho_t is None else np.asarray(rho_t, dtype=float),
+            self.pi_given,
+            self.gamma,
+            self.q,
+            self.pi,
+            self.prediction,
+            self.delta,
+            self.touched,
+            self._values,
+            self._pi_next,
+            work[0],
+            work[1],
+            work[2],
+            work[3],
+            self._ev,
+            work[4],
+            work[5],
+            self._scratch[0],
+            self._scratch[1],
+        )
+        self.x[:] = x_tp1
+        return self.delta
+
+    # ------------------------------------------------------------------------------------------
+
+    def weights(self, b: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Views of block b's theta [n_b, Db], w [n_b, Db] and traces [n_b, C_b] (changed by the next step)."""
+        rows, lo, hi, woff, voff, ncls = (int(self.bi[b, c]) for c in (B_ROWS, B_LO, B_HI, B_WOFF, B_VOFF, B_NCLS))
+        size = (hi - lo) * rows
+        return (
+            self.theta[woff : woff + size].reshape(rows, hi - lo),
+            self.w[woff : woff + size].reshape(rows, hi - lo),
+            self.trace[voff : voff + rows * ncls].reshape(rows, ncls),
+        )
+
+    def state(self) -> ScaleState:
+        """A copy in the numpy path's form."""
+        arrays = [tuple(a.copy() for a in self.weights(b)) for b in range(len(self.layout.blocks))]
+        return ScaleState(
+            theta=tuple(a[0] for a in arrays),
+            w=tuple(a[1] for a in arrays),
+            e=tuple(a[2] for a in arrays),
+            x=self.x.copy(),
+            gamma=self.gamma.copy(),
+            q=self.q.copy(),
+            pi=self.pi.copy(),
+            prediction=self.prediction.copy(),
+        )
+
+    def load(self, state: ScaleState) -> None:
+        """Copy a numpy-path state into the buffers (the support is rebuilt from the traces' non-zero rows)."""
+        for b in range(len(self.layout.blocks)):
+            theta, w, e = self.weights(b)
+            theta[:], w[:], e[:] = state.theta[b], state.w[b], state.e[b]
+            rows = np.flatnonzero((e != 0.0).any(axis=1))
+            toff = int(self.bi[b, B_TOFF])
+            self.support[toff : toff + len(rows)] = rows
+            self.nnz[b] = len(rows)
+        self.x[:] = np.sort(state.x)
+        self.gamma[:] = state.gamma
+        self.q[:] = state.q
+        self.pi[:] = state.pi
+        self.prediction[:] = state.prediction
+
+    # ------------------------------------------------------------------------------------------
+
+    def memory_bytes(self) -> int:
+        """Bytes of every buffer this engine holds."""
+        arrays = (
+            self.theta,
+            self.w,
+            self.trace,
+            self.support,
+            self._rows,
+            self._rows_e,
+            self._rows_f,
+            self.q,
+            self.pi,
+            self.prediction,
+            self.delta,
+            self.alpha,
+            self.alpha_w,
+            self.temperature,
+            self.epsilon,
+            self.demon_class,
+            self._values,
+            self._pi_next,
+            self._work,
+            self._ev,
+            self.pi_given,
+            self.gamma,
+        )
+        return int(sum(a.nbytes for a in arrays))
+
+    def traffic_bytes(self) -> int:
+        """Bytes of weight and trace rows that the last step read and wrote (a model, not a measurement).
+
+        Per block of Db demons, with k active features and nnz support rows, in row segments of Db
+        weights rounded up to 64-byte cache lines: the values at x_{t+1} (A k rows for GQ, else k),
+        w at x_t (k, GTD/GQ), the weight pass (theta, and w for GTD/GQ, read and written on nnz rows,
+        and the trace rows of blocks with several classes), then the correction with the new values
+        at x_{t+1} (read and written for GTD/GQ, read for TD).
+        """
+        total = 0
+        k = self.layout.active
+        item = self.layout.dtype.itemsize
+        for b, block in enumerate(self.layout.blocks):
+            row = math.ceil(block.size * item / 64) * 64
+            trace_row = math.ceil(block.num_classes * item / 64) * 64 if block.num_classes > 1 else 0
+            nnz = int(self.touched[b])
+            gathers = (A if block.learner == "gq" else 1) * k
+            if block.learner == "td":
+                total += row * (gathers + 2 * nnz + gathers) + 2 * nnz * trace_row
+            else:
+                total += row * (gathers + k + 4 * nnz + 2 * gathers) + 2 * nnz * trace_row
+        return total

@@ -1,0 +1,330 @@
+"""`horde bench`: every workload, one table, and the same figures as JSON.
+
+For each workload and size: demon-updates per second and milliseconds per step (wall-clock median of
+many steps after a warm-up; the thread's CPU time beside it), the ratio to `reference.py` in the same
+run (on a subset of the demons where the reference would take too long), and the fraction of this
+machine's memory bandwidth (measured at the start of the run) that the update's weight traffic
+reaches. Scale workloads also report their trace supports, their memory per demon, and how far their
+predictions are from the reference's on that subset.
+
+Run: `horde bench [--quick] [--json PATH] [--only WORKLOAD ...]` or `python -m benchmarks ...`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import json
+import math
+import sys
+import time
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import TextIO
+
+import numpy as np
+
+from benchmarks import measure, scale_workloads, thesis
+from horde.core.scale_fast import FastScale
+from horde.core.scale_oracle import ReferenceDemons
+
+WORKLOADS = ("thesis", "nexting", "off_policy", "control")
+
+
+@dataclass
+class Row:
+    """One line of the table (and one object of the JSON list)."""
+
+    workload: str
+    demons: int
+    steps_per_second: float
+    ms_per_step: float
+    demon_updates_per_second: float
+    reference_ratio: float
+    bandwidth_fraction: float
+    learner: str = ""
+    dtype: str = "float64"
+    cpu_ms_per_step: float = math.nan
+    traffic_mb_per_step: float = math.nan
+    trace_rows: float = math.nan  # mean support rows per block
+    memory_per_demon_bytes: float = math.nan
+    reference_error: float = math.nan  # max |prediction - reference| on the reference subset
+    reference_demons: int = 0
+    notes: str = ""
+
+
+@dataclass(frozen=True)
+class Plan:
+    """Which sizes to run and for how many steps."""
+
+    thesis: tuple[int, ...]
+    thesis_seconds: float  # timed seconds per thesis size
+    scale: tuple[tuple[str, int, str, str], ...]  # (workload, demons, learner, dtype)
+    warmup: int  # steps before timing (the traces' supports reach their steady size)
+    timed: int
+    reference_steps: int
+    reference_demons: int
+    bandwidth_mb: int
+
+
+FULL = Plan(
+    thesis=(2, 100, 1000),
+    thesis_seconds=2.0,
+    scale=(
+        ("nexting", 100, "td", "float64"),
+        ("nexting", 1000, "td", "float64"),
+        ("nexting", 2000, "td", "float64"),
+        ("nexting", 8000, "td", "float64"),
+        ("nexting", 8000, "gtd", "float64"),
+        ("nexting", 8000, "td", "float32"),
+        ("nexting", 8000, "gtd", "float32"),
+        ("off_policy", 1000, "gtd", "float64"),
+        ("off_policy", 8000, "gtd", "float64"),
+        ("off_policy", 8000, "gtd", "float32"),
+        ("control", 100, "gq", "float64"),
+        ("control", 1000, "gq", "float64"),
+        ("control", 2000, "gq", "float64"),
+        ("control", 2000, "gq", "float32"),
+    ),
+    warmup=150,
+    timed=100,
+    reference_steps=150,
+    reference_demons=20,
+    bandwidth_mb=512,
+)
+QUICK = Plan(
+    thesis=(2,),
+    thesis_seconds=0.2,
+    scale=(("nexting", 50, "td", "float64"), ("off_policy", 50, "gtd", "float64"), ("control", 10, "gq", "float64")),
+    warmup=10,
+    timed=10,
+    reference_steps=5,
+    reference_demons=3,
+    bandwidth_mb=64,
+)
+
+
+@dataclass
+class Report:
+    rows: list[Row] = field(default_factory=list)
+    bandwidth: measure.Bandwidth | None = None
+    seconds: float = 0.0
+
+
+# ----------------------------------------------------------------------------------------------
+
+
+def run_thesis(demons: int, plan: Plan, bandwidth: float) -> Row:
+    """The whole loop of Experiment 1 with `demons` demons (compiled engine), against ReferenceHorde."""
+    sim = thesis.simulation(demons)
+    sim.run(200)  # compile (cached) and warm up
+    chunk = max(20, 20_000 // demons)
+    began = time.perf_counter()
+    sim.run(chunk)
+    per_chunk = time.perf_counter() - began
+    count = max(5, int(plan.thesis_seconds / max(per_chunk, 1e-6)))
+    timing = measure.time_steps(lambda t: sim.run(chunk), 0, count, per_call=chunk)
+    subset = min(demons, 12)
+    reference = thesis.reference_seconds_per_step(subset, max(plan.reference_steps, 20))
+    updates = demons / timing.wall
+    traffic = thesis.traffic_bytes(sim)
+    return Row(
+        workload="thesis",
+        demons=demons,
+        steps_per_second=1.0 / timing.wall,
+        ms_per_step=1e3 * timing.wall,
+        demon_updates_per_second=updates,
+        reference_ratio=updates / (subset / reference),
+        bandwidth_fraction=traffic / timing.wall / bandwidth,
+        learner="gq+gtd",
+        cpu_ms_per_step=1e3 * timing.cpu,
+        traffic_mb_per_step=traffic / 1e6,
+        reference_demons=subset,
+        notes=f"whole loop, {sim.horde.groups[0].coder.n} features, reference: ReferenceHorde of {subset} demons",
+    )
+
+
+def _load_kernels(dtype: str) -> None:
+    """Compile (or load from numba's cache) the kernels for a dtype, so that memory figures leave them out."""
+    workload = scale_workloads.make("nexting", 5, 1, "gtd", dtype)
+    engine = FastScale(workload.layout)
+    engine.observe(workload.stream.features[0])
+    s = workload.step(0)
+    engine.step(s.action, s.b_prob, s.x_tp1, s.r_tp1, s.z_tp1, s.gamma_tp1, s.rho_t, s.pi_tp1)
+
+
+def run_scale(name: str, demons: int, learner: str, dtype: str, plan: Plan, bandwidth: float) -> Row:
+    """A scale workload on the compiled engine, against ReferenceDemons on a subset of its demons."""
+    steps = max(plan.warmup, plan.reference_steps) + plan.timed
+    workload = scale_workloads.make(name, demons, steps, learner, dtype)
+    inputs = [workload.step(t) for t in range(steps)]
+    _load_kernels(dtype)
+    rss_before = measure.rss_bytes()
+    engine = FastScale(workload.layout)
+    engine.observe(workload.stream.features[0], workload.target(0))
+    size = plan.reference_demons // (4 if name == "control" else 1)  # a plain GQ demon costs ~4 times more
+    subset = np.unique(np.linspace(0, demons - 1, min(max(size, 1), demons)).astype(np.int64))
+    snapshot = np.zeros(len(subset))
+
+    def step(t: int) -> None:
+        s = inputs[t]
+        engine.step(s.action, s.b_prob, s.x_tp1, s.r_tp1, s.z_tp1, s.gamma_tp1, s.rho_t, s.pi_tp1)
+        if t == plan.reference_steps - 1:
+            snapshot[:] = engine.prediction[subset]
+
+    first = steps - plan.timed
+    for t in range(first):
+        step(t)
+    timing = measure.time_steps(step, first, plan.timed)
+    memory = engine.memory_bytes()
+    rss = measure.rss_bytes() - rss_before
+    nnz = float(engine.nnz.mean())
+    traffic = engine.traffic_bytes()
+    reference = ReferenceDemons(workload.layout, subset)
+    reference.observe(workload.stream.features[0], workload.target(0))
+
+    def reference_step(t: int) -> None:
+        s = inputs[t]
+        reference.step(s.action, s.b_prob, s.x_tp1, s.r_tp1, s.z_tp1, s.gamma_tp1, s.rho_t, s.pi_tp1)
+
+    reference_seconds = measure.time_steps(reference_step, 0, plan.reference_steps).wall
+    updates = demons / timing.wall
+    return Row(
+        workload=name,
+        demons=demons,
+        steps_per_second=1.0 / timing.wall,
+        ms_per_step=1e3 * timing.wall,
+        demon_updates_per_second=updates,
+        reference_ratio=updates / (len(subset) / reference_seconds),
+        bandwidth_fraction=traffic / timing.wall / bandwidth,
+        learner=learner,
+        dtype=dtype,
+        cpu_ms_per_step=1e3 * timing.cpu,
+        traffic_mb_per_step=traffic / 1e6,
+        trace_rows=nnz,
+        memory_per_demon_bytes=(rss if rss > 0 else memory) / demons,
+        reference_error=float(np.abs(snapshot - reference.prediction).max()),
+        reference_demons=len(subset),
+        notes=f"{len(workload.layout.blocks)} blocks, {workload.layout.num_classes} trace classes, "
+        f"buffers {memory / demons / 1024:.1f} KiB/demon (memory_per_demon_bytes: resident growth)",
+    )
+
+
+# ----------------------------------------------------------------------------------------------
+
+
+def run(plan: Plan, only: Sequence[str] = WORKLOADS, stream: TextIO | None = None) -> Report:
+    """Every workload of the plan (those named in `only`), with progress lines on `stream` (stderr)."""
+    began = time.perf_counter()
+    report = Report()
+    report.bandwidth = measure.bandwidth(plan.bandwidth_mb)
+    best = report.bandwidth.best
+
+    def say(text: str) -> None:
+        print(text, file=stream or sys.stderr, flush=True)
+
+    say(
+        f"memory bandwidth: {best / 1e9:.1f} GB/s (copy {report.bandwidth.copy / 1e9:.1f}, "
+        f"update {report.bandwidth.update / 1e9:.1f}, read {report.bandwidth.read / 1e9:.1f})"
+    )
+    if "thesis" in only:
+        for demons in plan.thesis:
+            say(f"thesis {demons} ...")
+            report.rows.append(run_thesis(demons, plan, best))
+    for name, demons, learner, dtype in plan.scale:
+        if name in only:
+            say(f"{name} {demons} {learner} {dtype} ...")
+            report.rows.append(run_scale(name, demons, learner, dtype, plan, best))
+            gc.collect()
+    report.seconds = time.perf_counter() - began
+    return report
+
+
+def _fmt(value: float, digits: int = 1) -> str:
+    if not math.isfinite(value):
+        return "-"
+    if abs(value) >= 1e5:
+        return f"{value:.3g}"
+    return f"{value:,.{digits}f}"
+
+
+def format_table(report: Report) -> str:
+    header = (
+        "workload",
+        "demons",
+        "learner",
+        "dtype",
+        "steps/s",
+        "ms/step",
+        "cpu ms",
+        "updates/s",
+        "x ref",
+        "bw frac",
+        "MB/step",
+        "rows",
+        "KiB/demon",
+        "ref err",
+    )
+    rows = [
+        (
+            r.workload,
+            str(r.demons),
+            r.learner,
+            r.dtype,
+            _fmt(r.steps_per_second),
+            _fmt(r.ms_per_step, 3),
+            _fmt(r.cpu_ms_per_step, 3),
+            _fmt(r.demon_updates_per_second, 0),
+            _fmt(r.reference_ratio, 0),
+            _fmt(r.bandwidth_fraction, 2),
+            _fmt(r.traffic_mb_per_step),
+            _fmt(r.trace_rows, 0),
+            _fmt(r.memory_per_demon_bytes / 1024),
+            "-" if not math.isfinite(r.reference_error) else f"{r.reference_error:.1e}",
+        )
+        for r in report.rows
+    ]
+    widths = [max(len(row[i]) for row in [header, *rows]) for i in range(len(header))]
+    lines = [
+        "  ".join(c.rjust(w) if i > 3 else c.ljust(w) for i, (c, w) in enumerate(zip(row, widths, strict=True)))
+        for row in [header, *rows]
+    ]
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    if report.bandwidth is not None:
+        lines.append("")
+        lines.append(
+            f"bandwidth fraction: the update's weight traffic per second over {report.bandwidth.best / 1e9:.1f} GB/s "
+            f"(best of numpy copy / update / read of {report.bandwidth.megabytes} MB, measured in this run); "
+            f"total {report.seconds:.0f} s"
+        )
+    return "\n".join(lines)
+
+
+def to_json(report: Report) -> list[dict[str, object]]:
+    """The rows as plain objects (NaN becomes null)."""
+    out = []
+    for row in report.rows:
+        item = asdict(row)
+        out.append({k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in item.items()})
+    return out
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="horde bench", description=__doc__.splitlines()[0])
+    add_arguments(parser)
+    return bench(parser.parse_args(argv))
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--quick", action="store_true", help="a tiny run (a few seconds), for smoke tests")
+    parser.add_argument("--json", metavar="PATH", help="also write the figures as JSON")
+    parser.add_argument("--only", action="append", choices=WORKLOADS, help="run only this workload (repeatable)")
+
+
+def bench(args: argparse.Namespace) -> int:
+    report = run(QUICK if args.quick else FULL, tuple(args.only or WORKLOADS))
+    print(format_table(report))
+    if args.json:
+        Path(args.json).write_text(json.dumps(to_json(report), indent=2) + "\n")
+    return 0

@@ -1,0 +1,47 @@
+"""`horde bench --quick --json PATH`: the smoke run of the throughput benchmarks, and its JSON shape."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+from horde.cli import main
+
+REQUIRED = {
+    "workload": str,
+    "demons": int,
+    "steps_per_second": float,
+    "ms_per_step": float,
+    "demon_updates_per_second": float,
+    "reference_ratio": float,
+    "bandwidth_fraction": float,
+}
+
+
+def test_quick_bench_writes_every_workload(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "bench.json"
+    assert main(["bench", "--quick", "--json", str(out)]) == 0
+    table = capsys.readouterr().out
+    assert "updates/s" in table and "bandwidth fraction" in table
+    rows = json.loads(out.read_text())
+    assert isinstance(rows, list)
+    assert {r["workload"] for r in rows} == {"thesis", "nexting", "off_policy", "control"}
+    for row in rows:
+        for key, kind in REQUIRED.items():
+            assert isinstance(row[key], kind), f"{key} of {row['workload']}: {row[key]!r}"
+            if kind is float:
+                assert math.isfinite(row[key]) and row[key] > 0, f"{key} of {row['workload']}"
+        assert row["demons"] > 0
+        assert row["ms_per_step"] == pytest.approx(1e3 / row["steps_per_second"])
+        assert row["demon_updates_per_second"] == pytest.approx(row["demons"] * row["steps_per_second"])
+    scale_rows = [r for r in rows if r["workload"] != "thesis"]
+    assert all(r["reference_error"] < 1e-6 for r in scale_rows), "the fast path agrees with reference.py"
+
+
+def test_bench_can_run_one_workload(tmp_path: Path) -> None:
+    out = tmp_path / "bench.json"
+    assert main(["bench", "--quick", "--only", "nexting", "--json", str(out)]) == 0
+    assert {r["workload"] for r in json.loads(out.read_text())} == {"nexting"}
