@@ -16,7 +16,7 @@ import time
 from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
-from horde.core.experiment import Progress, ProtocolResult, TrialResult, aggregate, run_trial
+from horde.core.experiment import Progress, ProtocolResult, TrialResult, run_trial, summarize
 from horde.spec import RunSpec
 
 
@@ -73,12 +73,4 @@ def run_protocol_batched(spec: RunSpec, workers: int | None = None, progress: Pr
     """`experiment.run_protocol` with its trials run by `run_trials_batched`: the same result, sooner."""
     began = time.perf_counter()
     trials = run_trials_batched(spec, workers=workers, progress=progress)
-    seconds = time.perf_counter() - began
-    return ProtocolResult(
-        demons=aggregate(spec, trials),
-        trials=trials,
-        seconds=seconds,
-        steps=sum(t.steps for t in trials),
-        thesis_counts=spec.thesis.counts,
-        rollout_cap=spec.protocol.evaluation.cap,
-    )
+    return summarize(spec, trials, time.perf_counter() - began)

@@ -137,14 +137,18 @@ def run_protocol(spec: RunSpec, progress: Progress | None = None) -> ProtocolRes
         trials.append(run_trial(spec, trial, report))
         if progress:
             progress((trial + 1) * protocol.episodes, total)
-    seconds = time.perf_counter() - began
+    return summarize(spec, trials, time.perf_counter() - began)
+
+
+def summarize(spec: RunSpec, trials: list[TrialResult], seconds: float) -> ProtocolResult:
+    """The protocol's result from its trials (however they were run)."""
     return ProtocolResult(
         demons=aggregate(spec, trials),
         trials=trials,
         seconds=seconds,
         steps=sum(t.steps for t in trials),
         thesis_counts=spec.thesis.counts,
-        rollout_cap=protocol.evaluation.cap,
+        rollout_cap=spec.protocol.evaluation.cap,
     )
 
 
