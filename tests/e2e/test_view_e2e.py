@@ -15,7 +15,7 @@ import pytest
 
 from horde.scenarios import load_scenario
 from horde.view import LiveView, SimulationSource
-from horde.view.scene import agent_radius, scene_scale
+from horde.view.scene import agent_point, agent_radius, to_scene
 
 from .conftest import CHROMIUM, CHROMIUM_ARGS, ROOT, free_port
 
@@ -50,7 +50,11 @@ def test_the_agent_moves_in_the_browser_when_the_run_steps(live: tuple[LiveView,
     view, source = live
     run = source.list_runs()[0][0]
     spec = source.snapshot(run).spec
-    scale = scene_scale(spec.world)
+    world = spec.world
+
+    def drawn_at(x: float, y: float) -> list[float]:
+        return list(to_scene(world, *agent_point(world, x, y))[:2])
+
     errors: list[str] = []
     with sync_playwright() as playwright:
         browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
@@ -61,7 +65,7 @@ def test_the_agent_moves_in_the_browser_when_the_run_steps(live: tuple[LiveView,
             page.goto(view.url)
             page.wait_for_function(AGENT_POSITION, timeout=30_000)
             x, y, z = page.evaluate(AGENT_POSITION)
-            assert (x, y) == pytest.approx((0.0, 0.0))  # experiment1 starts at (0, 0)
+            assert [x, y] == pytest.approx(drawn_at(0.0, 0.0))  # experiment1 starts at (0, 0)
             assert z == pytest.approx(agent_radius(spec.world))
 
             # Step with the GUI's button until the agent has left its start (a bump leaves it there).
@@ -76,12 +80,12 @@ def test_the_agent_moves_in_the_browser_when_the_run_steps(live: tuple[LiveView,
                 if (snap.x, snap.y) != (0.0, 0.0):
                     break
             assert (snap.x, snap.y) != (0.0, 0.0)
-            page.wait_for_function(AGENT_AT, arg=[snap.x * scale, snap.y * scale], timeout=10_000)
+            page.wait_for_function(AGENT_AT, arg=drawn_at(snap.x, snap.y), timeout=10_000)
 
             # Learn a while, so that the picture shows a value map worth seeing.
             source.step(run, 2000)
             snap = source.snapshot(run)
-            page.wait_for_function(AGENT_AT, arg=[snap.x * scale, snap.y * scale], timeout=10_000)
+            page.wait_for_function(AGENT_AT, arg=drawn_at(snap.x, snap.y), timeout=10_000)
             page.wait_for_timeout(1500)  # a value map refresh and a chart refresh
             for close in page.locator(".mantine-Notification-root button").all():
                 close.click()  # the "software WebGL" notice of a GPU-less browser

@@ -73,7 +73,7 @@ def test_one_refresh_draws_the_chosen_run(source: SimulationSource) -> None:
         drawn = view.applier.drawn
         assert {"/world/floor", "/regions/goal", "/agent", "/predictions", "/value_map/texture"} <= set(drawn)
         assert "/value_map/arrows" in drawn  # the first demon, base, is a control demon
-        assert drawn["/agent"][0].position[:2] == pytest.approx((snap.x / 50, snap.y / 50))
+        assert drawn["/agent"][0].position[:2] == pytest.approx(((snap.x + 50) / 50, (snap.y + 50) / 50))
         assert view.panel.run_id == "experiment1-1"
         assert view.panel.value_demon == "base"
         assert view.panel.shown == ("base", "steps_to_end")

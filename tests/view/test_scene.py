@@ -168,12 +168,13 @@ def test_agent_trail_and_prediction_labels(experiment1: RunSpec) -> None:
     agent = nodes["/agent"]
     radius = agent.size[0]
     assert agent.kind == "sphere" and agent.color == colors.AGENT
-    assert agent.position == pytest.approx((2.0, 2.0, radius))  # resting on the floor at (100, 100)
+    # A lattice world: the state (100, 100) is the cell [100, 200) x [100, 200), drawn at its centre.
+    assert agent.position == pytest.approx((3.0, 3.0, radius))
     segments = nodes["/trail"].points
     assert segments is not None and segments.shape == (2, 2, 3)
-    assert segments[0, 0, :2] == pytest.approx((0.0, 0.0))
-    assert segments[0, 1, :2] == pytest.approx((2.0, 0.0))
-    assert segments[1, 1, :2] == pytest.approx((2.0, 2.0))
+    assert segments[0, 0, :2] == pytest.approx((1.0, 1.0))  # the trail joins the cells' centres too
+    assert segments[0, 1, :2] == pytest.approx((3.0, 1.0))
+    assert segments[1, 1, :2] == pytest.approx((3.0, 3.0))
     label = nodes["/predictions"]
     assert label.text == "steps_to_end 31\nbase 0.25"  # in the order asked, unknown demons left out
     assert label.position[0] > agent.position[0] and label.position[1] > agent.position[1]
@@ -252,4 +253,14 @@ def test_build_scene_joins_the_three_parts(experiment3: RunSpec) -> None:
     snap = snapshot_of(experiment3, 200.0, 200.0, predictions={"colour": 0.0}, indicator_colors={"lamp": "yellow"})
     nodes = by_name(scene.build_scene(snap, ["colour"], "colour", np.zeros((4, 4))))
     assert {"/world/floor", "/regions/lamp", "/agent", "/predictions", "/value_map/texture"} <= set(nodes)
-    assert nodes["/agent"].position[:2] == pytest.approx((4.0, 4.0))
+    assert nodes["/agent"].position[:2] == pytest.approx((5.0, 5.0))  # the centre of the start cell (200, 200)
+
+
+def test_the_agent_is_drawn_in_its_cell_on_lattice_worlds_and_exactly_elsewhere(experiment1: RunSpec) -> None:
+    assert scene.is_lattice(experiment1.world)
+    assert scene.agent_point(experiment1.world, 0.0, 100.0) == (50.0, 150.0)
+    noisy = experiment1.world.model_copy(update={"noise": 5.0})
+    off_grid = experiment1.world.model_copy(update={"start": [10.0, 0.0]})
+    for world in (noisy, off_grid):
+        assert not scene.is_lattice(world)
+        assert scene.agent_point(world, 12.5, 7.0) == (12.5, 7.0)

@@ -111,6 +111,30 @@ def world_nodes(world: WorldSpec, indicator_colors: Mapping[str, str]) -> list[N
 # The agent: sphere, trail, live predictions
 
 
+def is_lattice(world: WorldSpec) -> bool:
+    """A world whose agent only ever stands on the corners of step x step cells: no noise, a start point
+    on the lattice, and a step that divides the world."""
+    step = world.step
+
+    def divides(value: float) -> bool:
+        return abs(value / step - round(value / step)) < 1e-9
+
+    return (
+        world.noise == 0
+        and len(world.start) == 2
+        and all(divides(v) for v in (world.width, world.height, world.start[0], world.start[1]))
+    )
+
+
+def agent_point(world: WorldSpec, x: float, y: float) -> tuple[float, float]:
+    """Where the agent at (x, y) is drawn, in world units. On a lattice world a position stands for the
+    cell whose lower-left corner it is (the features and the value map treat it so), and the agent is
+    drawn at that cell's centre rather than on the grid lines; elsewhere it is drawn where it is."""
+    if is_lattice(world):
+        return x + world.step / 2, y + world.step / 2
+    return x, y
+
+
 def agent_radius(world: WorldSpec) -> float:
     """A third of a step, kept between 0.08 and 0.4 scene units."""
     return float(np.clip(0.3 * world.step * scene_scale(world), 0.08, 0.4))
@@ -120,10 +144,12 @@ def agent_nodes(snapshot: ViewSnapshot, demons: Sequence[str]) -> list[Node]:
     """The agent, its trail this episode, and a label with the predictions of `demons` beside it."""
     world = snapshot.spec.world
     r = agent_radius(world)
-    x, y, _ = to_scene(world, snapshot.x, snapshot.y)
+    x, y, _ = to_scene(world, *agent_point(world, snapshot.x, snapshot.y))
     nodes = [Node("/agent", "sphere", (x, y, r), (r, 0.0, 0.0), colors.AGENT)]
     if len(snapshot.trail) >= 2:
-        points = np.array([to_scene(world, px, py, TRAIL_Z) for px, py in snapshot.trail])  # [N, 3]
+        points = np.array(
+            [to_scene(world, *agent_point(world, px, py), TRAIL_Z) for px, py in snapshot.trail]
+        )  # [N, 3]
         segments = np.stack([points[:-1], points[1:]], axis=1)  # [N-1, 2, 3]
         nodes.append(Node("/trail", "lines", color=colors.TRAIL, size=(TRAIL_WIDTH, 0.0, 0.0), points=segments))
     lines = [f"{name} {_fmt(snapshot.predictions[name])}" for name in demons if name in snapshot.predictions]
