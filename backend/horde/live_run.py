@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import os
 import queue
 import threading
 import time
@@ -63,6 +64,19 @@ class _Command:
 
 class _ShutdownError(Exception):
     """Raised in the learner thread by the shutdown command to leave the loop."""
+
+
+LEARNER_NICENESS = 10
+
+
+def _lower_priority() -> None:
+    """Give this learner thread a lower OS priority than the server's own threads.
+
+    The compiled loop releases the GIL, so learners use every core; niced, they yield the CPU whenever
+    the event loop has requests or streams to serve and take all of it otherwise.
+    """
+    with contextlib.suppress(AttributeError, OSError):  # per-thread niceness is a Linux feature
+        os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), LEARNER_NICENESS)
 
 
 class LiveRun:
@@ -192,6 +206,7 @@ class LiveRun:
     # The learner thread
 
     def _loop(self) -> None:
+        _lower_priority()
         while True:
             try:
                 if self._status != "running":
