@@ -45,6 +45,7 @@ def free_port() -> int:
 def start_server(port: int, data: str) -> subprocess.Popen[bytes]:
     env = {k: v for k, v in os.environ.items() if not k.startswith("HORDE_")}
     command = [sys.executable, "-m", "horde.server", "--host", "127.0.0.1", "--port", str(port), "--data", data]
+    command.append("--no-view")  # the viser view is measured by its own tests; here only the streams
     return subprocess.Popen([*command, "--log-level", "warning"], env=env, stdout=subprocess.DEVNULL)
 
 

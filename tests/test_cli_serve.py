@@ -49,7 +49,7 @@ def test_serve_prints_its_urls_and_warns_when_exposed(
     assert "http://127.0.0.1:9002/api" in out.out and "http://127.0.0.1:9002/docs" in out.out
     assert "Dashboard: http://127.0.0.1:9002/" in out.out
     assert "WARNING" not in out.err
-    assert calls == [{"host": "127.0.0.1", "port": 9002, "log_level": "info"}]
+    assert calls == [{"host": "127.0.0.1", "port": 9002, "log_level": "info", "ws_per_message_deflate": False}]
 
     serve(parse(["serve", "--host", "0.0.0.0", "--data", str(tmp_path)]))
     assert "WARNING" in capsys.readouterr().err

@@ -112,3 +112,18 @@ def test_slow_or_stuck_clients_are_dropped_and_learning_goes_on(send_delay: floa
         assert run.view.status == "running" and run.view.total_steps > before
     finally:
         manager.stop()
+
+
+def test_a_run_at_full_speed_sends_only_its_latest_events(client: TestClient, create_run: Callable[..., str]) -> None:
+    """Hundreds of episodes end between two messages at full speed; each message keeps the latest few."""
+    from horde.server.stream import MAX_EVENTS_PER_MESSAGE
+
+    run_id = create_run(start="true")
+    with client.websocket_connect(f"/api/runs/{run_id}/stream") as ws:
+        sizes = []
+        for _ in range(5):
+            message = ws.receive_json()
+            sizes.append(len(message["events"]))
+            seqs = [e["seq"] for e in message["events"]]
+            assert seqs == sorted(seqs), "events come oldest first"
+    assert max(sizes) <= MAX_EVENTS_PER_MESSAGE

@@ -89,5 +89,8 @@ def serve(args: argparse.Namespace) -> int:
         host=settings.host,
         port=settings.port,
         log_level=getattr(args, "log_level", "info"),
+        # The streams are small JSON messages to a dashboard on this machine or the LAN: compressing each
+        # one costs more CPU (taken from learning) than it saves.
+        ws_per_message_deflate=False,
     )
     return 0

@@ -26,6 +26,10 @@ CLOSE_RUN_DELETED = 4410
 CLOSE_TOO_SLOW = 1013  # "try again later"
 CLOSE_GOING_AWAY = 1001
 INITIAL_EVENTS = 20
+# Events per message at most, the latest: a run at full speed ends hundreds of episodes between two
+# messages, and their events would make every message tens of kilobytes. A gap in the events' `seq`
+# says that some were left out.
+MAX_EVENTS_PER_MESSAGE = 20
 
 
 @dataclass(eq=False)
@@ -125,7 +129,7 @@ class StreamHub:
                 for client in list(channel.clients):
                     self._drop(client, CLOSE_RUN_DELETED, f"run {run.id!r} was deleted")
             return
-        events = run.events.since(channel.last_event)
+        events = run.events.since(channel.last_event, MAX_EVENTS_PER_MESSAGE)
         channel.last_seq = view.seq
         if events:
             channel.last_event = events[-1].seq
