@@ -14,6 +14,8 @@ import httpx
 import uvicorn
 
 from horde.server import Settings, create_app
+from horde.spec import WorldSpec
+from horde.view.scene import agent_point, to_scene
 
 CHROMIUM = Path("/usr/bin/chromium")
 # Playwright cannot download browsers here; these flags run Debian's chromium headless, with no network
@@ -31,6 +33,17 @@ CHROMIUM_ARGS = [
     "--enable-unsafe-swiftshader",
 ]
 ROOT = Path(__file__).resolve().parents[2]
+# True once the viser client's agent node (its THREE.Object3D, from the client's own test hook
+# window.__viserMutable.nodeRefFromName) stands at scene position [x, y].
+AGENT_AT = """([x, y]) => {
+    const node = window.__viserMutable?.nodeRefFromName?.["/agent"];
+    return !!node && Math.abs(node.position.x - x) < 1e-4 && Math.abs(node.position.y - y) < 1e-4;
+}"""
+
+
+def drawn_at(world: WorldSpec, x: float, y: float) -> list[float]:
+    """Where the live view draws an agent standing at world (x, y): [scene x, scene y]."""
+    return list(to_scene(world, *agent_point(world, x, y))[:2])
 
 
 def free_port() -> int:

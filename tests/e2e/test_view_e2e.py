@@ -15,17 +15,13 @@ import pytest
 
 from horde.scenarios import load_scenario
 from horde.view import LiveView, SimulationSource
-from horde.view.scene import agent_point, agent_radius, to_scene
+from horde.view.scene import agent_radius
 
-from .conftest import CHROMIUM, CHROMIUM_ARGS, ROOT, free_port
+from .conftest import AGENT_AT, CHROMIUM, CHROMIUM_ARGS, ROOT, drawn_at, free_port
 
 AGENT_POSITION = """() => {
     const node = window.__viserMutable?.nodeRefFromName?.["/agent"];
     return node ? [node.position.x, node.position.y, node.position.z] : null;
-}"""
-AGENT_AT = """([x, y]) => {
-    const node = window.__viserMutable?.nodeRefFromName?.["/agent"];
-    return !!node && Math.abs(node.position.x - x) < 1e-4 && Math.abs(node.position.y - y) < 1e-4;
 }"""
 
 pytestmark = [
@@ -52,9 +48,6 @@ def test_the_agent_moves_in_the_browser_when_the_run_steps(live: tuple[LiveView,
     spec = source.snapshot(run).spec
     world = spec.world
 
-    def drawn_at(x: float, y: float) -> list[float]:
-        return list(to_scene(world, *agent_point(world, x, y))[:2])
-
     errors: list[str] = []
     with sync_playwright() as playwright:
         browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
@@ -65,7 +58,7 @@ def test_the_agent_moves_in_the_browser_when_the_run_steps(live: tuple[LiveView,
             page.goto(view.url)
             page.wait_for_function(AGENT_POSITION, timeout=30_000)
             x, y, z = page.evaluate(AGENT_POSITION)
-            assert [x, y] == pytest.approx(drawn_at(0.0, 0.0))  # experiment1 starts at (0, 0)
+            assert [x, y] == pytest.approx(drawn_at(world, 0.0, 0.0))  # experiment1 starts at (0, 0)
             assert z == pytest.approx(agent_radius(spec.world))
 
             # Step with the GUI's button until the agent has left its start (a bump leaves it there).
@@ -80,12 +73,12 @@ def test_the_agent_moves_in_the_browser_when_the_run_steps(live: tuple[LiveView,
                 if (snap.x, snap.y) != (0.0, 0.0):
                     break
             assert (snap.x, snap.y) != (0.0, 0.0)
-            page.wait_for_function(AGENT_AT, arg=drawn_at(snap.x, snap.y), timeout=10_000)
+            page.wait_for_function(AGENT_AT, arg=drawn_at(world, snap.x, snap.y), timeout=10_000)
 
             # Learn a while, so that the picture shows a value map worth seeing.
             source.step(run, 2000)
             snap = source.snapshot(run)
-            page.wait_for_function(AGENT_AT, arg=drawn_at(snap.x, snap.y), timeout=10_000)
+            page.wait_for_function(AGENT_AT, arg=drawn_at(world, snap.x, snap.y), timeout=10_000)
             page.wait_for_timeout(1500)  # a value map refresh and a chart refresh
             for close in page.locator(".mantine-Notification-root button").all():
                 close.click()  # the "software WebGL" notice of a GPU-less browser

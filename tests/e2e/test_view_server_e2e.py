@@ -14,19 +14,13 @@ import pytest
 
 from horde.scenarios import find_scenario
 from horde.server import Settings
-from horde.view.scene import agent_point, to_scene
 
-from .conftest import CHROMIUM, CHROMIUM_ARGS, ROOT, RunningServer, free_port, serve_in_thread
+from .conftest import AGENT_AT, CHROMIUM, CHROMIUM_ARGS, ROOT, RunningServer, drawn_at, free_port, serve_in_thread
 
 pytestmark = [
     pytest.mark.e2e,
     pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium at /usr/bin/chromium"),
 ]
-
-AGENT_AT = """([x, y]) => {
-    const node = window.__viserMutable?.nodeRefFromName?.["/agent"];
-    return !!node && Math.abs(node.position.x - x) < 1e-4 && Math.abs(node.position.y - y) < 1e-4;
-}"""
 
 
 @pytest.fixture
@@ -44,9 +38,6 @@ def test_a_run_stepped_over_rest_moves_the_agent_in_the_browser(server: RunningS
     view = api.post("/api/view", json={"run": run}).json()
     world = find_scenario("experiment1").world
 
-    def drawn_at(x: float, y: float) -> list[float]:
-        return list(to_scene(world, *agent_point(world, x, y))[:2])
-
     errors: list[str] = []
     with sync_playwright() as playwright:
         browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
@@ -55,7 +46,9 @@ def test_a_run_stepped_over_rest_moves_the_agent_in_the_browser(server: RunningS
             page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
             page.on("pageerror", lambda e: errors.append(str(e)))
             page.goto(view["url"])
-            page.wait_for_function(AGENT_AT, arg=drawn_at(0.0, 0.0), timeout=30_000)  # experiment1 starts at (0, 0)
+            page.wait_for_function(
+                AGENT_AT, arg=drawn_at(world, 0.0, 0.0), timeout=30_000
+            )  # experiment1 starts at (0, 0)
 
             # Step over REST until the agent has left its start (a bump into the wall leaves it there).
             agent = {"x": 0.0, "y": 0.0}
@@ -64,11 +57,11 @@ def test_a_run_stepped_over_rest_moves_the_agent_in_the_browser(server: RunningS
                 if (agent["x"], agent["y"]) != (0.0, 0.0):
                     break
             assert (agent["x"], agent["y"]) != (0.0, 0.0)
-            page.wait_for_function(AGENT_AT, arg=drawn_at(agent["x"], agent["y"]), timeout=10_000)
+            page.wait_for_function(AGENT_AT, arg=drawn_at(world, agent["x"], agent["y"]), timeout=10_000)
 
             # A few hundred more steps: the agent follows again, and the picture has a value map.
             agent = api.post(f"/api/runs/{run}/step", json={"steps": 300}).json()["agent"]
-            page.wait_for_function(AGENT_AT, arg=drawn_at(agent["x"], agent["y"]), timeout=10_000)
+            page.wait_for_function(AGENT_AT, arg=drawn_at(world, agent["x"], agent["y"]), timeout=10_000)
             page.wait_for_timeout(1000)
             artifacts = ROOT / "test-artifacts"
             artifacts.mkdir(exist_ok=True)
