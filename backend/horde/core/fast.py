@@ -47,17 +47,23 @@ R_STEPS, R_EPISODES, R_ACTION, R_REWARD, R_TERMINATED, R_TRUNCATED, R_SIGN = ran
 
 
 @njit(cache=True)
+def _holds(rects, r, x, y):
+    """Region r's rectangle holds (x, y): x0 <= x < x1 and y0 <= y < y1."""
+    return rects[r, 0] <= x and x < rects[r, 2] and rects[r, 1] <= y and y < rects[r, 3]
+
+
+@njit(cache=True)
 def _inside(wp, rects, x, y, out):
     for r in range(rects.shape[0]):
-        out[r] = rects[r, 0] <= x and x < rects[r, 2] and rects[r, 1] <= y and y < rects[r, 3]
+        out[r] = _holds(rects, r, x, y)
 
 
 @njit(cache=True)
 def _blocked(wp, rects, is_obstacle, x, y):
     if x < 0.0 or x >= wp[W_WIDTH] or y < 0.0 or y >= wp[W_HEIGHT]:
         return True
-    for r in range(rects.shape[0]):
-        if is_obstacle[r] and rects[r, 0] <= x and x < rects[r, 2] and rects[r, 1] <= y and y < rects[r, 3]:
+    for r in range(rects.shape[0]):  # noqa: SIM110 (numba compiles loops, not any() over generators)
+        if is_obstacle[r] and _holds(rects, r, x, y):
             return True
     return False
 
@@ -66,8 +72,8 @@ def _blocked(wp, rects, is_obstacle, x, y):
 def _is_start_bad(wp, rects, is_obstacle, is_terminal, x, y):
     if _blocked(wp, rects, is_obstacle, x, y):
         return True
-    for r in range(rects.shape[0]):
-        if is_terminal[r] and rects[r, 0] <= x and x < rects[r, 2] and rects[r, 1] <= y and y < rects[r, 3]:
+    for r in range(rects.shape[0]):  # noqa: SIM110 (numba compiles loops, not any() over generators)
+        if is_terminal[r] and _holds(rects, r, x, y):
             return True
     return False
 
