@@ -42,7 +42,7 @@ def spec_with(demons: int) -> RunSpec:
 
 
 def simulation(demons: int, seed: int = 0) -> Simulation:
-    sim = Simulation(spec_with(demons), np.random.default_rng(seed), engine="fast")
+    sim = Simulation(spec_with(demons), np.random.default_rng(seed))
     sim.with_metrics = False
     return sim
 

@@ -346,7 +346,7 @@ class LiveRun:
             self._finish(stopped_early=False)
 
     def _thetas(self) -> list[np.ndarray]:
-        return [lr.theta.copy() for lr in self._sim.horde_state.learners]
+        return self._sim.thetas()
 
     def _summarize(self, stopped_early: bool) -> Summary:
         sim = self._sim

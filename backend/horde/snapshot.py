@@ -240,7 +240,7 @@ def restore(snapshot: Snapshot) -> Restored:
     sim.set_returns(snapshot.episode_return, snapshot.last_return)
     reference = None
     if snapshot.stop_reference is not None:
-        template = [lr.theta for lr in sim.horde_state.learners]
+        template = sim.thetas()
         reference = list(
             _decode_tree(tuple(template), {str(i): a for i, a in enumerate(snapshot.stop_reference)}, "stop_reference")
         )

@@ -96,6 +96,7 @@ def constant_spec(learner: str) -> RunSpec:
             "world": {"width": 500, "height": 500, "step": 100, "start": [200, 200]},
             "features": {"kind": "constant"},
             "learning": {"lambda": 0.5, "alpha": 0.1, "alpha_w": 0.0},
+            "behaviour": {"kind": "fixed", "probabilities": [0.5, 0.2, 0.2, 0.1]},
             "demons": [
                 {
                     "name": "d",
@@ -104,21 +105,19 @@ def constant_spec(learner: str) -> RunSpec:
                     "cumulant": 1,
                 }
             ],
+            "seed": 29,  # its first two actions are up (b = 0.5), then down (b = 0.2)
         }
     )
 
 
 def two_steps(learner: str) -> tuple[Horde, list[float]]:
-    """Horde.learn twice with b(a_t | s_t) passed in: a_0 = up with b = 0.5, a_1 = down with b = 0.2."""
-    spec = constant_spec(learner)
-    horde = Horde(spec)
-    sensors = np.zeros(len(spec.world.sensor_names()))
-    state = horde.start_episode(horde.init_state(), 200.0, 200.0)
+    """Two steps of the simulation: a_0 = up with b = 0.5, a_1 = down with b = 0.2."""
+    sim = Simulation(constant_spec(learner), cut=0.0)
     out = []
     for action, b_prob in ((0, 0.5), (1, 0.2)):
-        state = horde.learn(state, action, b_prob, 200.0, 300.0, sensors, terminated=False)
-        out.append(horde.weights(state, "d").tolist())
-    return horde, out
+        assert sim.step().action == action and sim.behaviour_probability == b_prob
+        out.append(sim.horde.weights(sim.horde_state, "d").tolist())
+    return sim.horde, out
 
 
 def test_the_horde_passes_pi_over_b_to_gtd():

@@ -83,7 +83,7 @@ def run_trial(spec: RunSpec, trial: int, progress: Callable[[int], None] | None 
     sim.with_metrics = False  # RUPEE / UDE are for watching; the protocol reports against the truth
     horde = sim.horde
     stop = protocol.stop
-    reference = [lr.theta.copy() for lr in sim.horde_state.learners]
+    reference = sim.thetas()
     episodes = 0
     for episode in range(protocol.episodes):
         sim.run_episode()
@@ -92,15 +92,12 @@ def run_trial(spec: RunSpec, trial: int, progress: Callable[[int], None] | None 
             progress(episodes)
         if stop and episodes % stop.window == 0:
             change = max(
-                (
-                    float(np.abs(lr.theta - old).max())
-                    for lr, old in zip(sim.horde_state.learners, reference, strict=True)
-                ),
+                (float(np.abs(new - old).max()) for new, old in zip(sim.thetas(), reference, strict=True)),
                 default=0.0,
             )
             if change < stop.tolerance:
                 break
-            reference = [lr.theta.copy() for lr in sim.horde_state.learners]
+            reference = sim.thetas()
     start = start_point(spec)
     predictions = sim.predictions_at(*start)
     evaluation = protocol.evaluation

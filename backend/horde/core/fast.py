@@ -1,45 +1,161 @@
-"""Compiled kernels (numba) for one agent's whole loop: world, features, questions, policies, learning.
+"""The one engine's compiled loop (numba): world, features, questions, policies and block learning.
 
-The numpy engine (`world.py`, `horde.py`, `learners.py`) spends a few microseconds per array call,
-and a thesis-scale step needs a couple of hundred of them. Here the same equations run as one compiled
-loop over many steps, on flat arrays packed from the compiled `Horde`. The numpy engine stays the
-readable reference: tests run both on the same seed and require equal weights and predictions (to
-1e-9) and the same trajectory, since both draw the same numbers from the same generator in the same
-order.
+One call runs many steps of one agent: the world moves, every group's active features are coded, each
+stage's question program is evaluated, and every block of demons learns with the kernels of
+`scale_fast.py` (feature-major weights, one shared sparse trace per trace class, DESIGN section 6).
+`horde.py` compiles the spec into stages, groups, blocks and classes; this module packs them into flat
+arrays (`Net`, constant) and buffers (`Buffers`, changed in place) and exports / imports the
+`HordeState` of `horde.py`.
 
-Weights of all groups live in one flat buffer per kind (theta, w, e, RUPEE's h and delta_e); the row of
-slot s (demons sorted by group) starts at `group offset + (s - first slot) * n`.
+Slots number the demons block by block (`Horde.slot_demon`); everything per demon inside the loop is
+per slot, and prediction nodes of the question programs read slots.
+
+Divergence: a demon whose TD error, prediction or action values go non-finite is marked diverged and
+frozen (its step sizes become 0) and its weights are set to 0 (whatever finite weights it had left
+sum to infinities elsewhere), so that demons reading its prediction go on.
+
+RUPEE's average of delta e decays by one number per group (`mscale`), so that its decay does not touch
+every row at every step; `horde_state()` hands out the product.
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
-from horde.core import learners, metrics
 from horde.core.horde import Horde, HordeState
-from horde.core.policies import EPSILON_GREEDY, FIXED, GREEDY, KIND_CODES, OF, SOFTMAX, TIE_TOLERANCE, UNIFORM
+from horde.core.metrics import RUPEE_ALPHA_H, RUPEE_BETA, UDE_BETA
+from horde.core.policies import FIXED, KIND_CODES, OF, UNIFORM
+from horde.core.scale import LEARNER_CODES, POLICY_CODES
+from horde.core.scale_fast import (
+    B_COFF,
+    B_HI,
+    B_LEARNER,
+    B_LO,
+    B_NCLS,
+    B_POLICY,
+    B_ROWS,
+    B_TOFF,
+    B_VOFF,
+    B_WOFF,
+    GQ,
+    _observe_block,
+    _read_values,
+    _step,
+    _value_policy,
+)
 from horde.core.world import DIRECTIONS, NUM_ACTIONS, PERPENDICULAR, World, WorldState
 from horde.spec import BehaviourSpec
 
 A = NUM_ACTIONS
 FEATURE_KINDS = {"stripes": 0, "tiles": 1, "grid": 2, "constant": 3}
+FOREVER = 2**62  # "no limit" for step and episode counts
 
 # Columns of the per-group integer table.
-G_STAGE, G_ACTION_VALUES, G_NS, G_N, G_K, G_KIND, G_PARTS, G_TILINGS, G_TILES, G_BASE_N = range(10)
-G_COND, G_THR_LO, G_THR_HI, G_SLOT_LO, G_SLOT_HI, G_OFFSET = range(10, 16)
-# Columns of the per-slot tables.
-S_DEMON, S_GROUP, S_POLICY, S_OF, S_RESET = range(5)
-SF_LAM, SF_ALPHA, SF_ALPHA_W, SF_RHO_IN_TRACE, SF_CORRECT, SF_TEMPERATURE, SF_EPSILON, SF_DISCOUNT = range(8)
+G_STAGE, G_ACTION_VALUES, G_NS, G_K, G_KIND, G_PARTS, G_TILINGS, G_TILES, G_BASE_N, G_COND = range(10)
+G_THR_LO, G_THR_HI, G_BLO, G_BHI, G_CLO, G_CHI, G_SLO, G_SHI = range(10, 18)
 # World parameters.
 W_WIDTH, W_HEIGHT, W_STEP, W_SLIP, W_NOISE, W_TRANSIENT, W_MAX_STEPS, W_START_RECT = range(8)
 W_SX0, W_SY0, W_SX1, W_SY1 = range(8, 12)
 # Node kinds (questions.NODE_KINDS).
 N_CONST, N_SENSOR, N_PREDICTION, N_ADD, N_MUL, N_MIN, N_MAX, N_IF = range(8)
 # Result fields of `_run`.
-R_STEPS, R_EPISODES, R_ACTION, R_REWARD, R_TERMINATED, R_TRUNCATED, R_SIGN = range(7)
+R_STEPS, R_EPISODES, R_ACTION, R_REWARD, R_TERMINATED, R_TRUNCATED, R_SIGN, R_BPROB = range(8)
+MSCALE_FLOOR = 1e-200  # RUPEE's lazily decayed average is folded back in below this scale
+
+
+class Net(NamedTuple):
+    """What the loop reads and never changes: the world, the groups, blocks, classes and programs."""
+
+    wp: np.ndarray  # [12] world parameters (W_*)
+    rects: np.ndarray  # [R, 4]
+    is_obstacle: np.ndarray  # [R] bool
+    is_terminal: np.ndarray  # [R] bool
+    term_reward: np.ndarray  # [R]
+    term_ind: np.ndarray  # [R] indicator slot of a colour-dependent terminal reward, or -1
+    term_table: np.ndarray  # [R, colours]
+    ind_region: np.ndarray  # [I] region of each indicator
+    color_values: np.ndarray  # [I, colours]
+    color_cdf: np.ndarray  # [I, colours]
+    color_count: np.ndarray  # [I]
+    gi: np.ndarray  # [G, 18] the G_* columns
+    thresholds: np.ndarray  # conditioned features' thresholds, group g's at G_THR_LO..G_THR_HI
+    bi: np.ndarray  # [B, 10] the scale_fast B_* columns (slots and classes global)
+    lam: np.ndarray  # [B]
+    cut: float
+    alpha: np.ndarray  # [D] per slot, divided by the active features
+    alpha_w: np.ndarray  # [D]
+    temperature: np.ndarray  # [D]
+    epsilon: np.ndarray  # [D]
+    reset: np.ndarray  # [D] bool: forget the weights at every episode start
+    dcls: np.ndarray  # [D] global trace class of each slot
+    cls_lo: np.ndarray  # [C] first slot of each class, within its block
+    cls_hi: np.ndarray  # [C] one past its last
+    class_kind: np.ndarray  # [C] UNIFORM / FIXED / OF, or the kind of an own-value demon
+    class_fixed: np.ndarray  # [C, A]
+    class_of: np.ndarray  # [C] slot followed, or -1
+    class_gnode: np.ndarray  # [C] program node of the class's continuation
+    class_discount: np.ndarray  # [C]
+    stage_lo: np.ndarray  # [S] first node of each stage's program
+    stage_hi: np.ndarray
+    node_kind: np.ndarray
+    node_arg: np.ndarray  # sensor column, prediction slot or constant
+    node_start: np.ndarray
+    node_children: np.ndarray
+    out_r: np.ndarray  # [D] node of each slot's cumulant
+    out_z: np.ndarray  # [D] node of each slot's outcome
+
+
+class Buffers(NamedTuple):
+    """Everything the loop changes, in place."""
+
+    pos: np.ndarray  # [2]
+    wsteps: np.ndarray  # [1]
+    colors: np.ndarray  # [I]
+    sensors: np.ndarray  # [S] at the last s_{t+1}
+    theta: np.ndarray  # blocks' [n_b, Db] at B_WOFF
+    w: np.ndarray
+    trace: np.ndarray  # blocks' [n_b, C_b] at B_VOFF
+    support: np.ndarray  # blocks' sorted support rows at B_TOFF
+    nnz: np.ndarray  # [B]
+    touched: np.ndarray  # [B] support rows of the last step
+    h: np.ndarray  # RUPEE's h, as theta
+    u: np.ndarray  # RUPEE's average of delta e, divided by mscale of its group
+    mscale: np.ndarray  # [G]
+    tau: np.ndarray  # [G, 2]
+    dstats: np.ndarray  # [D, 3]
+    feat: np.ndarray  # [G, kmax] active features at s_t
+    idx: np.ndarray  # [kmax] at s_{t+1}
+    class_gamma: np.ndarray  # [C] at s_t
+    class_pi: np.ndarray  # [C, A] at s_t
+    pi_given: np.ndarray  # [C, A] at s_{t+1}
+    gamma_tp1: np.ndarray  # [C]
+    rho: np.ndarray  # [C]
+    alpha_now: np.ndarray  # [D] alpha, 0 where frozen
+    alpha_w_now: np.ndarray  # [D]
+    r: np.ndarray  # [D]
+    z: np.ndarray  # [D]
+    pi: np.ndarray  # [D, A]
+    q: np.ndarray  # [D, A]
+    pred: np.ndarray  # [D]
+    gamma: np.ndarray  # [D]
+    delta: np.ndarray  # [D]
+    cumulant: np.ndarray  # [D]
+    diverged: np.ndarray  # [D] bool
+    node_values: np.ndarray
+    rows: np.ndarray  # scratch of the block kernel
+    rows_e: np.ndarray
+    rows_f: np.ndarray
+    values: np.ndarray  # [A, dmax]
+    pi_next: np.ndarray  # [A, dmax]
+    work: np.ndarray  # [6, dmax]
+    ev: np.ndarray  # [2, dmax]
+    scratch: np.ndarray  # [2, A]
+    returns: np.ndarray  # [2] this episode's return so far, the last episode's
+    result: np.ndarray  # [8] the R_* fields
 
 
 # ----------------------------------------------------------------------------------------------
@@ -109,7 +225,7 @@ def _terminal_reward(is_terminal, inside, term_reward, term_ind, term_table, col
 
 
 # ----------------------------------------------------------------------------------------------
-# Features, values, policies
+# Features
 
 
 @njit(cache=True)
@@ -158,72 +274,6 @@ def _features(gi, thresholds, g, x, y, condition, wp, out):
                 block += 1
         for j in range(gi[g, G_K]):
             out[j] += block * base_n
-
-
-@njit(cache=True)
-def _values(gi, g, theta, row, idx, out):
-    """Action values into out[:A] (or the state value into out[0]) of the demon whose row starts at `row`."""
-    k = gi[g, G_K]
-    if gi[g, G_ACTION_VALUES]:
-        ns = gi[g, G_NS]
-        for a in range(A):
-            total = 0.0
-            for j in range(k):
-                total += theta[row + a * ns + idx[j]]
-            out[a] = total
-    else:
-        total = 0.0
-        for j in range(k):
-            total += theta[row + idx[j]]
-        out[0] = total
-
-
-@njit(cache=True)
-def _value_policy(kind, q, temperature, epsilon, out):
-    best = q[0]
-    for a in range(1, A):
-        best = max(best, q[a])
-    if kind == SOFTMAX:
-        zmax = q[0] / temperature
-        for a in range(1, A):
-            zmax = max(zmax, q[a] / temperature)
-        total = 0.0
-        for a in range(A):
-            out[a] = math.exp(q[a] / temperature - zmax)
-            total += out[a]
-        for a in range(A):
-            out[a] = out[a] / total
-        return
-    count = 0
-    for a in range(A):
-        if q[a] >= best - TIE_TOLERANCE:
-            count += 1
-    for a in range(A):
-        greedy = (1.0 if q[a] >= best - TIE_TOLERANCE else 0.0) / count
-        out[a] = epsilon / A + (1.0 - epsilon) * greedy if kind == EPSILON_GREEDY else greedy
-
-
-@njit(cache=True)
-def _policy(si, sf, fixed, s, q, pi, out):
-    kind = si[s, S_POLICY]
-    if kind in (GREEDY, SOFTMAX, EPSILON_GREEDY):
-        _value_policy(kind, q, sf[s, SF_TEMPERATURE], sf[s, SF_EPSILON], out)
-    elif kind == OF:
-        for a in range(A):
-            out[a] = pi[si[s, S_OF], a]
-    else:
-        for a in range(A):
-            out[a] = fixed[s, a]
-
-
-@njit(cache=True)
-def _prediction(action_values, pi_row, q):
-    if not action_values:
-        return q[0]
-    total = 0.0
-    for a in range(A):
-        total += pi_row[a] * q[a]
-    return total
 
 
 @njit(cache=True)
@@ -280,207 +330,222 @@ def _evaluate(lo, hi, node_kind, node_arg, node_start, node_children, sensors, p
 
 
 @njit(cache=True)
-def _observe(gi, thresholds, si, sf, fixed, wp, x, y, theta, feat, pi, q, pred, scratch_q, scratch_pi):
-    """Features, policies, values and predictions of every demon at (x, y), group by group."""
-    for g in range(gi.shape[0]):
-        cond = pred[gi[g, G_COND]] if gi[g, G_COND] >= 0 else 0.0
-        _features(gi, thresholds, g, x, y, cond, wp, feat[g])
-        n = gi[g, G_N]
-        for s in range(gi[g, G_SLOT_LO], gi[g, G_SLOT_HI]):
-            d = si[s, S_DEMON]
-            row = gi[g, G_OFFSET] + (s - gi[g, G_SLOT_LO]) * n
-            _values(gi, g, theta, row, feat[g], scratch_q)
-            _policy(si, sf, fixed, s, scratch_q, pi, scratch_pi)
+def _sort(a, k):
+    """Insertion sort of a[:k] in place (coded features are sorted already: this costs one pass)."""
+    for i in range(1, k):
+        v = a[i]
+        j = i - 1
+        while j >= 0 and a[j] > v:
+            a[j + 1] = a[j]
+            j -= 1
+        a[j + 1] = v
+
+
+@njit(cache=True)
+def _given_policies(gi, class_kind, class_of, class_fixed, pi, pi_given, g):
+    """pi_given of group g's classes at the state just observed: fixed, uniform, or the followed slot's."""
+    for c in range(gi[g, G_CLO], gi[g, G_CHI]):
+        for a in range(A):
+            pi_given[c, a] = pi[class_of[c], a] if class_kind[c] == OF else class_fixed[c, a]
+
+
+@njit(cache=True)
+def _given_to_slots(gi, bi, dcls, pi, pi_given, g):
+    """Slots of given-policy blocks take their class's policy (the block kernel sets GQ ones itself)."""
+    for b in range(gi[g, G_BLO], gi[g, G_BHI]):
+        if bi[b, B_POLICY] != FIXED:
+            continue
+        for s in range(bi[b, B_LO], bi[b, B_HI]):
             for a in range(A):
-                pi[d, a] = scratch_pi[a]
-                q[d, a] = scratch_q[a] if gi[g, G_ACTION_VALUES] else np.nan
-            pred[d] = _prediction(gi[g, G_ACTION_VALUES], scratch_pi, scratch_q)
+                pi[s, a] = pi_given[dcls[s], a]
 
 
 @njit(cache=True)
-def _start_episode(gi, thresholds, si, sf, fixed, wp, x, y, theta, w, e, feat, pi, q, pred, gamma, sq, spi):
-    e[:] = 0.0
-    for g in range(gi.shape[0]):
-        n = gi[g, G_N]
-        for s in range(gi[g, G_SLOT_LO], gi[g, G_SLOT_HI]):
-            if si[s, S_RESET]:
-                row = gi[g, G_OFFSET] + (s - gi[g, G_SLOT_LO]) * n
-                theta[row : row + n] = 0.0
-                w[row : row + n] = 0.0
-    gamma[:] = 0.0
-    _observe(gi, thresholds, si, sf, fixed, wp, x, y, theta, feat, pi, q, pred, sq, spi)
+def _observe(net, buf):
+    """An episode starts: reset demons forget, traces to zero, every group observes the first state."""
+    bi = net.bi
+    for b in range(bi.shape[0]):
+        lo, hi, rows, woff = bi[b, B_LO], bi[b, B_HI], bi[b, B_ROWS], bi[b, B_WOFF]
+        toff, voff, ncls = bi[b, B_TOFF], bi[b, B_VOFF], bi[b, B_NCLS]
+        db = hi - lo
+        for i in range(db):
+            if net.reset[lo + i]:
+                for row in range(rows):
+                    buf.theta[woff + row * db + i] = 0.0
+                    buf.w[woff + row * db + i] = 0.0
+        for s in range(buf.nnz[b]):
+            row = buf.support[toff + s]
+            buf.trace[voff + row * ncls : voff + (row + 1) * ncls] = 0.0
+        buf.nnz[b] = 0
+    buf.class_gamma[:] = 0.0
+    buf.gamma[:] = 0.0
+    for g in range(net.gi.shape[0]):
+        k = net.gi[g, G_K]
+        cond = buf.pred[net.gi[g, G_COND]] if net.gi[g, G_COND] >= 0 else 0.0
+        _features(net.gi, net.thresholds, g, buf.pos[0], buf.pos[1], cond, net.wp, buf.feat[g])
+        _sort(buf.feat[g], k)
+        _given_policies(net.gi, net.class_kind, net.class_of, net.class_fixed, buf.pi, buf.pi_given, g)
+        blo, bhi = net.gi[g, G_BLO], net.gi[g, G_BHI]
+        bi_g = bi[blo:bhi]
+        for b in range(bhi - blo):
+            _read_values(bi_g, b, net.gi[g, G_NS], buf.theta, buf.feat[g, :k], buf.values)
+            _observe_block(bi_g, b, net.dcls, net.temperature, net.epsilon, buf.pi_given, buf.values, buf.q,
+                           buf.pi, buf.pred, buf.scratch[0], buf.scratch[1])  # fmt: skip
+        _given_to_slots(net.gi, bi, net.dcls, buf.pi, buf.pi_given, g)
+        for c in range(net.gi[g, G_CLO], net.gi[g, G_CHI]):
+            buf.class_pi[c, :] = buf.pi_given[c, :]
 
 
 @njit(cache=True)
-def _learn(
-    gi, thresholds, si, sf, fixed, wp, stage_lo, stage_hi, node_kind, node_arg, node_start, node_children,
-    out_r, out_z, out_g, action, b_prob, x, y, sensors, terminated, learning, with_metrics,
-    theta, w, e, h, de, tau, dstats, feat, pi, q, pred, gamma, delta_out, cumulant, diverged,
-    node_values, idx_tp1, q_old, pi_tp1, saved,
-):  # fmt: skip
-    """One transition for every demon, stage by stage (the equations of learners.update)."""
-    current_stage = -1
-    for g in range(gi.shape[0]):
-        stage = gi[g, G_STAGE]
-        if stage != current_stage:
-            current_stage = stage
-            _evaluate(stage_lo[stage], stage_hi[stage], node_kind, node_arg, node_start, node_children,
-                      sensors, pred, node_values)  # fmt: skip
-        k = gi[g, G_K]
-        n = gi[g, G_N]
-        ns = gi[g, G_NS]
-        action_values = gi[g, G_ACTION_VALUES]
-        cond = pred[gi[g, G_COND]] if gi[g, G_COND] >= 0 else 0.0
-        _features(gi, thresholds, g, x, y, cond, wp, idx_tp1)
-        shift = action * ns if action_values else 0
-        if with_metrics:
-            tau[g, 0] = (1 - metrics.RUPEE_BETA) * tau[g, 0] + metrics.RUPEE_BETA
-            tau[g, 1] = (1 - metrics.UDE_BETA) * tau[g, 1] + metrics.UDE_BETA
-        for s in range(gi[g, G_SLOT_LO], gi[g, G_SLOT_HI]):
-            d = si[s, S_DEMON]
-            row = gi[g, G_OFFSET] + (s - gi[g, G_SLOT_LO]) * n
-            r = node_values[out_r[d]]
-            z = node_values[out_z[d]]
-            g1 = 0.0 if terminated else min(max(node_values[out_g[d]], 0.0), 1.0) * sf[s, SF_DISCOUNT]
-            # pi(s_{t+1}) under the weights before this update
-            _values(gi, g, theta, row, idx_tp1, q_old)
-            _policy(si, sf, fixed, s, q_old, pi, pi_tp1)
-            rho = pi[d, action] / b_prob
-            lam = sf[s, SF_LAM]
-            alpha = sf[s, SF_ALPHA]
-            correct = sf[s, SF_CORRECT]
-            v_t = 0.0
-            for j in range(k):
-                v_t += theta[row + shift + feat[g, j]]
-            if action_values:
-                v_bar = 0.0
+def _any_diverged(gi, bi, g, delta, pred, q, diverged):
+    """Whether a demon of group g not yet marked has a non-finite TD error, prediction or action value."""
+    for b in range(gi[g, G_BLO], gi[g, G_BHI]):
+        gq = bi[b, B_LEARNER] == GQ
+        for s in range(bi[b, B_LO], bi[b, B_HI]):
+            bad = not (math.isfinite(delta[s]) and math.isfinite(pred[s]))
+            if gq:
                 for a in range(A):
-                    block = 0.0
-                    for j in range(k):
-                        block += theta[row + a * ns + idx_tp1[j]] * pi_tp1[a]
-                    v_bar += block
-            else:
-                v_bar = 0.0
-                for j in range(k):
-                    v_bar += theta[row + idx_tp1[j]]
-            delta = r + (1.0 - g1) * z + g1 * v_bar - v_t
-            frozen = diverged[d] or not learning[d]
-            if not frozen:
-                saved[0, :n] = theta[row : row + n]
-                saved[1, :n] = w[row : row + n]
-                saved[2, :n] = e[row : row + n]
-                trace_scale = rho if sf[s, SF_RHO_IN_TRACE] > 0.0 else 1.0
-                decay = gamma[d] * lam * rho
-                for i in range(row, row + n):
-                    e[i] = e[i] * decay
-                for j in range(k):
-                    e[row + shift + feat[g, j]] += trace_scale
-                w_dot_e = 0.0
-                for i in range(row, row + n):
-                    w_dot_e += w[i] * e[i]
-                w_dot_x = 0.0
-                for j in range(k):
-                    w_dot_x += w[row + shift + feat[g, j]]
-                c_theta = alpha * delta
-                for i in range(row, row + n):
-                    theta[i] += c_theta * e[i]
-                correction = alpha * correct * g1 * (1.0 - lam) * w_dot_e
-                if action_values:
-                    for a in range(A):
-                        for j in range(k):
-                            theta[row + a * ns + idx_tp1[j]] -= correction * pi_tp1[a]
-                else:
-                    for j in range(k):
-                        theta[row + idx_tp1[j]] -= correction
-                step_w = sf[s, SF_ALPHA_W] * correct
-                c_w = step_w * delta
-                for i in range(row, row + n):
-                    w[i] += c_w * e[i]
-                c_wx = step_w * w_dot_x
-                for j in range(k):
-                    w[row + shift + feat[g, j]] -= c_wx
-                finite = True
-                for i in range(row, row + n):
-                    if not (math.isfinite(theta[i]) and math.isfinite(w[i])):
-                        finite = False
-                        break
-                if not finite:
-                    diverged[d] = True
-                    theta[row : row + n] = saved[0, :n]
-                    w[row : row + n] = saved[1, :n]
-                    e[row : row + n] = saved[2, :n]
-            if with_metrics:
-                alpha_h = metrics.RUPEE_ALPHA_H / k
-                h_dot_x = 0.0
-                for j in range(k):
-                    h_dot_x += h[row + shift + feat[g, j]]
-                c_h = alpha_h * delta
-                for i in range(row, row + n):
-                    h[i] += c_h * e[i]
-                c_hx = alpha_h * h_dot_x
-                for j in range(k):
-                    h[row + shift + feat[g, j]] -= c_hx
-                beta = metrics.RUPEE_BETA / tau[g, 0]
-                c_de = beta * delta
-                for i in range(row, row + n):
-                    de[i] = (1 - beta) * de[i] + c_de * e[i]
-                b = metrics.UDE_BETA / tau[g, 1]
-                dstats[d, 0] = (1 - b) * dstats[d, 0] + b * delta
-                dstats[d, 1] = (1 - b) * dstats[d, 1] + b * delta**2
-                dstats[d, 2] = (1 - b) * dstats[d, 2] + b * abs(delta)
-            # Observe s_{t+1} under the new weights.
-            _values(gi, g, theta, row, idx_tp1, q_old)
-            _policy(si, sf, fixed, s, q_old, pi, pi_tp1)
-            for a in range(A):
-                pi[d, a] = pi_tp1[a]
-                if action_values:
-                    q[d, a] = q_old[a]
-            pred[d] = _prediction(action_values, pi_tp1, q_old)
-            gamma[d] = g1
-            delta_out[d] = delta
-            cumulant[d] = r
+                    bad = bad or not math.isfinite(q[s, a])
+            if bad and not diverged[s]:
+                return True
+    return False
+
+
+@njit(cache=True)
+def _freeze_diverged(net, buf, g):
+    """Mark demons of group g whose numbers went non-finite; freeze them and set their weights to 0."""
+    bi = net.bi
+    blo, bhi = net.gi[g, G_BLO], net.gi[g, G_BHI]
+    k = net.gi[g, G_K]
+    for b in range(blo, bhi):
+        lo, hi, rows, woff = bi[b, B_LO], bi[b, B_HI], bi[b, B_ROWS], bi[b, B_WOFF]
+        db = hi - lo
+        found = False
+        for i in range(db):
+            s = lo + i
+            bad = not (math.isfinite(buf.delta[s]) and math.isfinite(buf.pred[s]))
+            if bi[b, B_LEARNER] == GQ:
+                for a in range(A):
+                    bad = bad or not math.isfinite(buf.q[s, a])
+            if not bad or buf.diverged[s]:
+                continue
+            found = True
+            buf.diverged[s] = True
+            buf.alpha_now[s] = 0.0
+            buf.alpha_w_now[s] = 0.0
+            for row in range(rows):
+                buf.theta[woff + row * db + i] = 0.0
+                buf.w[woff + row * db + i] = 0.0
+        if found:  # read the block's values again with the cleaned weights
+            bi_g = bi[blo:bhi]
+            _read_values(bi_g, b - blo, net.gi[g, G_NS], buf.theta, buf.idx[:k], buf.values)
+            _observe_block(bi_g, b - blo, net.dcls, net.temperature, net.epsilon, buf.pi_given, buf.values, buf.q,
+                           buf.pi, buf.pred, buf.scratch[0], buf.scratch[1])  # fmt: skip
+
+
+@njit(cache=True)
+def _metrics(gi, bi, dcls, g, action, x_t, delta, h, u, mscale, tau, dstats, trace, support, nnz, hx):
+    """RUPEE and UDE of group g after its step (metrics.update, with the average of delta e scaled lazily)."""
+    k = gi[g, G_K]
+    n_s = gi[g, G_NS]
+    blo, bhi = gi[g, G_BLO], gi[g, G_BHI]
+    tau[g, 0] = (1 - RUPEE_BETA) * tau[g, 0] + RUPEE_BETA
+    tau[g, 1] = (1 - UDE_BETA) * tau[g, 1] + UDE_BETA
+    beta = RUPEE_BETA / tau[g, 0]
+    decayed = mscale[g] * (1.0 - beta)
+    if decayed < MSCALE_FLOOR:  # fold the scale back in (the first step's beta is 1): one pass over the group
+        for b in range(blo, bhi):
+            woff, size = bi[b, B_WOFF], bi[b, B_ROWS] * (bi[b, B_HI] - bi[b, B_LO])
+            for j in range(woff, woff + size):
+                u[j] *= decayed
+        decayed = 1.0
+    mscale[g] = decayed
+    gain = beta / mscale[g]
+    alpha_h = RUPEE_ALPHA_H / k
+    b_ude = UDE_BETA / tau[g, 1]
+    for b in range(blo, bhi):
+        lo, hi, woff, toff = bi[b, B_LO], bi[b, B_HI], bi[b, B_WOFF], bi[b, B_TOFF]
+        voff, ncls, coff = bi[b, B_VOFF], bi[b, B_NCLS], bi[b, B_COFF]
+        db = hi - lo
+        shift = action * n_s if bi[b, B_LEARNER] == GQ else 0
+        for i in range(db):
+            hx[i] = 0.0
         for j in range(k):
-            feat[g, j] = idx_tp1[j]
+            start = woff + (shift + x_t[j]) * db
+            for i in range(db):
+                hx[i] += h[start + i]
+        for i in range(db):
+            d = delta[lo + i]
+            if not math.isfinite(d):
+                d = 0.0
+            dstats[lo + i, 0] = (1 - b_ude) * dstats[lo + i, 0] + b_ude * d
+            dstats[lo + i, 1] = (1 - b_ude) * dstats[lo + i, 1] + b_ude * d * d
+            dstats[lo + i, 2] = (1 - b_ude) * dstats[lo + i, 2] + b_ude * abs(d)
+        for s in range(nnz[b]):
+            row = support[toff + s]
+            start = woff + row * db
+            for i in range(db):
+                ev = trace[voff + row * ncls + dcls[lo + i] - coff]
+                d = delta[lo + i]
+                if ev != 0.0 and math.isfinite(d):
+                    h[start + i] += alpha_h * d * ev
+                    u[start + i] += gain * d * ev
+        for j in range(k):
+            start = woff + (shift + x_t[j]) * db
+            for i in range(db):
+                h[start + i] -= alpha_h * hx[i]
 
 
 @njit(cache=True, nogil=True)  # releases the GIL: the server's other threads go on while a run learns
-def _run(
-    max_steps, max_episodes, rng, result, returns,
-    wp, rects, is_obstacle, is_terminal, term_reward, term_ind, term_table, ind_region, color_values, color_cdf,
-    color_count, pos, wsteps, colors,
-    beh_i, beh_f, beh_probs,
-    gi, thresholds, si, sf, fixed, stage_lo, stage_hi, node_kind, node_arg, node_start, node_children,
-    out_r, out_z, out_g, learning, with_metrics,
-    theta, w, e, h, de, tau, dstats, feat, pi, q, pred, gamma, delta_out, cumulant, diverged,
-):  # fmt: skip
-    """Run steps until `max_steps` steps or `max_episodes` episode ends, starting new episodes as they end."""
+def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics):
+    """Run steps until `max_steps` steps or `max_episodes` episode ends, starting new episodes as they end.
+
+    The learning step is written out here rather than in a function of `net` and `buf`: passing the two
+    named tuples of ~40 arrays to a function costs about a microsecond per call (every array's count is
+    taken and given back), which is a third of a thesis-scale step.
+    """
+    wp, rects, is_obstacle, is_terminal = net.wp, net.rects, net.is_obstacle, net.is_terminal
+    gi, bi, lam, dcls, cls_lo, cls_hi = net.gi, net.bi, net.lam, net.dcls, net.cls_lo, net.cls_hi
+    temperature, epsilon, thresholds = net.temperature, net.epsilon, net.thresholds
+    class_kind, class_of, class_fixed, class_gnode, class_discount = (
+        net.class_kind, net.class_of, net.class_fixed, net.class_gnode, net.class_discount
+    )  # fmt: skip
+    stage_lo, stage_hi, node_kind, node_arg, node_start, node_children = (
+        net.stage_lo, net.stage_hi, net.node_kind, net.node_arg, net.node_start, net.node_children
+    )  # fmt: skip
+    out_r, out_z = net.out_r, net.out_z
+    pos, sensors, result, returns, colors = buf.pos, buf.sensors, buf.result, buf.returns, buf.colors
+    theta, w, trace, support, nnz, touched = buf.theta, buf.w, buf.trace, buf.support, buf.nnz, buf.touched
+    feat, idx, node_values = buf.feat, buf.idx, buf.node_values
+    class_gamma, class_pi, pi_given, gamma_tp1, rho = (
+        buf.class_gamma, buf.class_pi, buf.pi_given, buf.gamma_tp1, buf.rho
+    )  # fmt: skip
+    alpha_now, alpha_w_now, r_s, z_s = buf.alpha_now, buf.alpha_w_now, buf.r, buf.z
+    pi, q, pred, gamma, delta, cumulant, diverged = (
+        buf.pi, buf.q, buf.pred, buf.gamma, buf.delta, buf.cumulant, buf.diverged
+    )  # fmt: skip
+    h, u, mscale, tau, dstats = buf.h, buf.u, buf.mscale, buf.tau, buf.dstats
+    rows_, rows_e, rows_f, values, pi_next, work, ev, scratch = (
+        buf.rows, buf.rows_e, buf.rows_f, buf.values, buf.pi_next, buf.work, buf.ev, buf.scratch
+    )  # fmt: skip
     num_regions = rects.shape[0]
-    num_indicators = ind_region.shape[0]
-    sensors = np.zeros(6 + num_regions + num_indicators)
+    num_indicators = net.ind_region.shape[0]
     inside = np.zeros(num_regions, dtype=np.bool_)
     b = np.zeros(A)
     cdf = np.zeros(A)
-    kmax = feat.shape[1]
-    idx_tp1 = np.zeros(kmax, dtype=np.int64)
-    q_old = np.zeros(A)
-    pi_tp1 = np.zeros(A)
-    nmax = 1
-    for g in range(gi.shape[0]):
-        nmax = max(nmax, gi[g, G_N])
-    saved = np.zeros((3, nmax))
-    node_values = np.zeros(node_kind.shape[0])
     steps = 0
     episodes = 0
     while steps < max_steps and episodes < max_episodes:
+        # The behaviour acts, the world moves.
         _behaviour(beh_i, beh_f, beh_probs, q, b)
         total = 0.0
         for a in range(A):
             total += b[a]
             cdf[a] = total
-        u = rng.random() * cdf[A - 1]
+        draw = rng.random() * cdf[A - 1]
         action = 0
         for a in range(A):
-            if u >= cdf[a]:
+            if draw >= cdf[a]:
                 action += 1
         action = min(action, A - 1)
         moved = action
@@ -505,49 +570,96 @@ def _run(
         for r in range(num_regions):
             if inside[r] and is_terminal[r]:
                 terminated = True
-        reward = wp[W_TRANSIENT]
+        terminal = 0.0
         if terminated:
-            reward = reward + _terminal_reward(is_terminal, inside, term_reward, term_ind, term_table, colors)
-        wsteps[0] += 1
-        truncated = wsteps[0] >= wp[W_MAX_STEPS] and not terminated
+            terminal = _terminal_reward(is_terminal, inside, net.term_reward, net.term_ind, net.term_table, colors)
+        reward = wp[W_TRANSIENT] + terminal
+        buf.wsteps[0] += 1
+        truncated = buf.wsteps[0] >= wp[W_MAX_STEPS] and not terminated
         pos[0] = nx
         pos[1] = ny
         sensors[0] = nx
         sensors[1] = ny
         sensors[2] = bump
-        sensors[3] = float(wsteps[0])
+        sensors[3] = float(buf.wsteps[0])
         sensors[4] = reward
         for r in range(num_regions):
             sensors[5 + r] = 1.0 if inside[r] else 0.0
         for i in range(num_indicators):
-            sensors[5 + num_regions + i] = color_values[i, colors[i]] if inside[ind_region[i]] else 0.0
+            sensors[5 + num_regions + i] = net.color_values[i, colors[i]] if inside[net.ind_region[i]] else 0.0
         sensors[5 + num_regions + num_indicators] = 1.0 if terminated else 0.0
-        _learn(
-            gi, thresholds, si, sf, fixed, wp, stage_lo, stage_hi, node_kind, node_arg, node_start, node_children,
-            out_r, out_z, out_g, action, b[action], nx, ny, sensors, terminated, learning, with_metrics,
-            theta, w, e, h, de, tau, dstats, feat, pi, q, pred, gamma, delta_out, cumulant, diverged,
-            node_values, idx_tp1, q_old, pi_tp1, saved,
-        )  # fmt: skip
+        b_prob = b[action]
+
+        # Every demon learns, stage by stage, group by group (the equations of scale.step).
+        current_stage = -1
+        for g in range(gi.shape[0]):
+            stage = gi[g, G_STAGE]
+            if stage != current_stage:
+                current_stage = stage
+                _evaluate(stage_lo[stage], stage_hi[stage], node_kind, node_arg, node_start, node_children,
+                          sensors, pred, node_values)  # fmt: skip
+            k = gi[g, G_K]
+            cond = pred[gi[g, G_COND]] if gi[g, G_COND] >= 0 else 0.0
+            _features(gi, thresholds, g, nx, ny, cond, wp, idx)
+            _sort(idx, k)
+            clo, chi = gi[g, G_CLO], gi[g, G_CHI]
+            for c in range(clo, chi):
+                g1 = min(max(node_values[class_gnode[c]], 0.0), 1.0) * class_discount[c]
+                gamma_tp1[c] = 0.0 if terminated else g1
+                rho[c] = class_pi[c, action] / b_prob
+            _given_policies(gi, class_kind, class_of, class_fixed, pi, pi_given, g)
+            slo, shi = gi[g, G_SLO], gi[g, G_SHI]
+            for s in range(slo, shi):
+                r_s[s] = node_values[out_r[s]]
+                z_s[s] = node_values[out_z[s]]
+            blo, bhi = gi[g, G_BLO], gi[g, G_BHI]
+            _step(
+                bi[blo:bhi], lam[blo:bhi], alpha_now, alpha_w_now, temperature, epsilon, dcls, cls_lo, cls_hi,
+                net.cut, gi[g, G_NS], theta, w, trace, support, rows_, rows_e, rows_f, nnz[blo:bhi], feat[g, :k],
+                action, b_prob, idx[:k], r_s, z_s, gamma_tp1, rho, pi_given, class_gamma, q, pi, pred, delta,
+                touched[blo:bhi], values, pi_next, work[0], work[1], work[2], work[3], ev, work[4], work[5],
+                scratch[0], scratch[1],
+            )  # fmt: skip
+            _given_to_slots(gi, bi, dcls, pi, pi_given, g)
+            for c in range(clo, chi):
+                for a in range(A):
+                    class_pi[c, a] = pi_given[c, a]
+            for s in range(slo, shi):
+                gamma[s] = gamma_tp1[dcls[s]]
+                cumulant[s] = r_s[s]
+            if _any_diverged(gi, bi, g, delta, pred, q, diverged):
+                _freeze_diverged(net, buf, g)
+            if with_metrics:
+                _metrics(gi, bi, dcls, g, action, feat[g, :k], delta, h, u, mscale, tau, dstats, trace, support, nnz,
+                         work[0])  # fmt: skip
+            for j in range(k):
+                feat[g, j] = idx[j]
+
         steps += 1
         returns[0] += reward
         result[R_ACTION] = action
         result[R_REWARD] = reward
         result[R_TERMINATED] = 1.0 if terminated else 0.0
         result[R_TRUNCATED] = 1.0 if truncated else 0.0
-        sign = 0.0
-        if terminated:
-            tr = _terminal_reward(is_terminal, inside, term_reward, term_ind, term_table, colors)
-            sign = 1.0 if tr > 0 else (-1.0 if tr < 0 else 0.0)
-        result[R_SIGN] = sign
+        result[R_SIGN] = 1.0 if terminal > 0 else (-1.0 if terminal < 0 else 0.0)
+        result[R_BPROB] = b_prob
         if terminated or truncated:
             episodes += 1
             returns[1] = returns[0]
             returns[0] = 0.0
-            _world_reset(rng, wp, rects, is_obstacle, is_terminal, color_cdf, color_count, pos, wsteps, colors)
-            _start_episode(gi, thresholds, si, sf, fixed, wp, pos[0], pos[1], theta, w, e, feat, pi, q, pred,
-                           gamma, q_old, pi_tp1)  # fmt: skip
+            _world_reset(rng, wp, rects, is_obstacle, is_terminal, net.color_cdf, net.color_count, pos, buf.wsteps,
+                         colors)  # fmt: skip
+            _observe(net, buf)
     result[R_STEPS] = steps
     result[R_EPISODES] = episodes
+
+
+@njit(cache=True)
+def _reset(net, buf, rng):
+    """A new episode: the world draws its start and colours, the Horde observes the first state."""
+    _world_reset(rng, net.wp, net.rects, net.is_obstacle, net.is_terminal, net.color_cdf, net.color_count, buf.pos,
+                 buf.wsteps, buf.colors)  # fmt: skip
+    _observe(net, buf)
 
 
 DIRECTIONS_ = DIRECTIONS.copy()
@@ -558,248 +670,350 @@ PERPENDICULAR_ = PERPENDICULAR.astype(np.int64)
 # The Python side: packing, state in and out
 
 
-class FastLoop:
-    """The compiled loop for one agent, packed from a compiled `Horde` and its `World`.
+def _pack_world(world: World) -> dict[str, np.ndarray]:
+    spec = world.spec
+    start = np.asarray(spec.start, dtype=float)
+    rect = len(start) == 4
+    wp = np.array(
+        [spec.width, spec.height, spec.step, spec.slip, spec.noise, spec.transient_reward, spec.max_steps,
+         1.0 if rect else 0.0, start[0], start[1], start[2] if rect else 0.0, start[3] if rect else 0.0]
+    )  # fmt: skip
+    max_colors = max((len(v) for v in world.color_values), default=1)
+    color_values = np.zeros((world.num_indicators, max_colors))
+    color_cdf = np.ones((world.num_indicators, max_colors))
+    color_count = np.zeros(world.num_indicators, dtype=np.int64)
+    for i, (values, probs) in enumerate(zip(world.color_values, world.color_probs, strict=True)):
+        cdf = np.cumsum(probs)
+        color_values[i, : len(values)] = values
+        color_cdf[i, : len(values)] = cdf / cdf[-1]
+        color_count[i] = len(values)
+    return {
+        "wp": wp,
+        "rects": world.rects.copy(),
+        "is_obstacle": world.is_obstacle.astype(np.bool_),
+        "is_terminal": world.is_terminal.astype(np.bool_),
+        "term_reward": world.terminal_reward.copy(),
+        "term_ind": world.terminal_indicator.astype(np.int64),
+        "term_table": world.terminal_table.copy(),
+        "ind_region": np.array(world.indicator_regions, dtype=np.int64).reshape(-1),
+        "color_values": color_values,
+        "color_cdf": color_cdf,
+        "color_count": color_count,
+    }
 
-    It owns mutable flat buffers; `horde_state()` and `world_state()` export the numpy engine's
-    immutable states (weights as views), `load()` imports them.
+
+def _pack_programs(horde: Horde) -> dict[str, np.ndarray]:
+    """The stages' question programs in one node table; prediction nodes read slots."""
+    kinds: list[int] = []
+    args: list[float] = []
+    starts: list[int] = [0]
+    children: list[int] = []
+    stage_lo, stage_hi = [], []
+    d = horde.num_demons
+    out = np.zeros((3, d), np.int64)  # per demon: nodes of cumulant, outcome, continuation
+    base = 0
+    for stage in horde.stages:
+        k, a, st, ch = stage.program.table()
+        a = a.copy()
+        predictions = k == N_PREDICTION
+        a[predictions] = horde.demon_slot[a[predictions].astype(np.int64)]
+        kinds.extend(k.tolist())
+        args.extend(a.tolist())
+        starts.extend((st[1:] + len(children)).tolist())
+        children.extend((ch + base).tolist())
+        stage_lo.append(base)
+        stage_hi.append(base + len(k))
+        ds = len(stage.demons)
+        outputs = stage.program.outputs + base
+        for j in range(3):
+            out[j, stage.demons] = outputs[j * ds : (j + 1) * ds]
+        base += len(k)
+    slot_out = out[:, horde.slot_demon]
+    discount = np.array([s.discount for s in horde.demon_specs], dtype=float)
+    return {
+        "stage_lo": np.array(stage_lo, dtype=np.int64),
+        "stage_hi": np.array(stage_hi, dtype=np.int64),
+        "node_kind": np.array(kinds, dtype=np.int64),
+        "node_arg": np.array(args, dtype=float),
+        "node_start": np.array(starts, dtype=np.int64),
+        "node_children": np.array(children, dtype=np.int64),
+        "out_r": slot_out[0].copy(),
+        "out_z": slot_out[1].copy(),
+        "class_gnode": out[2, horde.class_demon].copy(),
+        "class_discount": discount[horde.class_demon],
+    }
+
+
+class FastLoop:
+    """The compiled loop for one agent: a compiled `Horde` and its `World` in flat buffers.
+
+    `horde_state()` and `world_state()` export copies in `horde.py`'s and `world.py`'s forms; `load()`
+    imports them.
     """
 
     def __init__(self, horde: Horde, world: World) -> None:
         self.horde = horde
         self.world = world
-        spec = world.spec
-        start = np.asarray(spec.start, dtype=float)
-        rect = len(start) == 4
-        self.wp = np.array(
-            [spec.width, spec.height, spec.step, spec.slip, spec.noise, spec.transient_reward, spec.max_steps,
-             1.0 if rect else 0.0, start[0], start[1], start[2] if rect else 0.0, start[3] if rect else 0.0]
-        )  # fmt: skip
-        self.rects = world.rects.copy()
-        self.is_obstacle = world.is_obstacle.astype(np.bool_)
-        self.is_terminal = world.is_terminal.astype(np.bool_)
-        self.term_reward = world.terminal_reward.copy()
-        self.term_ind = world.terminal_indicator.astype(np.int64)
-        self.term_table = world.terminal_table.copy()
-        self.ind_region = np.array(world.indicator_regions, dtype=np.int64)
-        max_colors = max((len(v) for v in world.color_values), default=1)
-        self.color_values = np.zeros((world.num_indicators, max_colors))
-        self.color_cdf = np.ones((world.num_indicators, max_colors))
-        self.color_count = np.zeros(world.num_indicators, dtype=np.int64)
-        for i, (values, probs) in enumerate(zip(world.color_values, world.color_probs, strict=True)):
-            cdf = np.cumsum(probs)
-            self.color_values[i, : len(values)] = values
-            self.color_cdf[i, : len(values)] = cdf / cdf[-1]
-            self.color_count[i] = len(values)
-        self._pack_groups()
-        self._pack_programs()
-        d = horde.num_demons
-        kmax = max((g.coder.k for g in horde.groups), default=1)
-        sizes = [len(g.demons) * g.num_features for g in horde.groups]
-        total = int(sum(sizes))
-        self.theta = np.zeros(total)
-        self.w = np.zeros(total)
-        self.e = np.zeros(total)
-        self.h = np.zeros(total)
-        self.de = np.zeros(total)
-        self.tau = np.zeros((len(horde.groups), 2))
-        self.dstats = np.zeros((d, 3))
-        self.feat = np.zeros((len(horde.groups), kmax), dtype=np.int64)
-        self.pi = np.full((d, A), 1.0 / A)
-        self.q = np.full((d, A), np.nan)
-        self.pred = np.zeros(d)
-        self.gamma = np.zeros(d)
-        self.delta = np.zeros(d)
-        self.cumulant = np.zeros(d)
-        self.diverged = np.zeros(d, dtype=np.bool_)
-        self.pos = np.zeros(2)
-        self.wsteps = np.zeros(1, dtype=np.int64)
-        self.colors = np.zeros(world.num_indicators, dtype=np.int64)
-        self.result = np.zeros(7)
-        self.returns = np.zeros(2)  # [this episode's return so far, the last episode's return]
-        self.all_learning = np.ones(d, dtype=np.bool_)
-
-    def _pack_groups(self) -> None:
-        horde = self.horde
-        rows: list[list[int]] = []
+        groups, blocks = horde.groups, horde.blocks
+        rows = horde.block_rows
+        sizes = np.array([b.size for b in blocks], dtype=np.int64)
+        ncls = np.array([b.num_classes for b in blocks], dtype=np.int64)
+        woff = np.cumsum([0, *(rows * sizes)]).astype(np.int64)
+        toff = np.cumsum([0, *rows]).astype(np.int64)
+        voff = np.cumsum([0, *(rows * ncls)]).astype(np.int64)
+        class_lo = np.cumsum([0, *ncls])[:-1]
+        codes = ([LEARNER_CODES[b.learner] for b in blocks], [POLICY_CODES[b.policy] for b in blocks])
+        columns = (*codes, horde.block_lo, horde.block_lo + sizes, rows, woff[:-1], toff[:-1], voff[:-1], ncls,
+                   class_lo)  # fmt: skip
+        bi = np.stack([np.asarray(c, dtype=np.int64) for c in columns], axis=1).reshape(-1, 10)
         thresholds: list[float] = []
-        slots_i: list[list[int]] = []
-        slots_f: list[list[float]] = []
-        fixed: list[np.ndarray] = []
-        offset = 0
-        slot = 0
-        for g, group in enumerate(horde.groups):
+        gi = []
+        for group in groups:
             spec = group.coder.spec
             lo = len(thresholds)
             thresholds.extend(group.coder.thresholds.tolist())
-            count = len(group.demons)
-            rows.append([
-                group.stage, int(group.action_values), group.coder.n, group.num_features, group.coder.k,
-                FEATURE_KINDS[spec.kind], spec.parts, spec.tilings, spec.tiles, group.coder.base_n,
-                group.condition, lo, len(thresholds), slot, slot + count, offset,
+            slo = int(horde.block_lo[group.blocks.start]) if len(group.blocks) else 0
+            gi.append([
+                group.stage, int(group.action_values), group.coder.n, group.coder.k, FEATURE_KINDS[spec.kind],
+                spec.parts, spec.tilings, spec.tiles, group.coder.base_n,
+                int(horde.demon_slot[group.condition]) if group.condition >= 0 else -1, lo, len(thresholds),
+                group.blocks.start, group.blocks.stop, group.classes.start, group.classes.stop,
+                slo, slo + len(group.demons),
             ])  # fmt: skip
-            for row, demon in enumerate(group.demons):
-                slots_i.append([int(demon), g, int(group.policy_kind[row]), int(group.of_index[row]),
-                                int(group.reset[row])])  # fmt: skip
-                p = group.params
-                discount = horde.demon_specs[demon].discount
-                slots_f.append([p.lam[row], p.alpha[row], p.alpha_w[row], p.rho_in_trace[row], p.correct[row],
-                                group.temperature[row], group.epsilon[row], discount])  # fmt: skip
-                fixed.append(group.fixed[row])
-            slot += count
-            offset += count * group.num_features
-        self.gi = np.array(rows, dtype=np.int64).reshape(-1, 16)
-        self.thresholds = np.array(thresholds, dtype=float)
-        self.si = np.array(slots_i, dtype=np.int64).reshape(-1, 5)
-        self.sf = np.array(slots_f, dtype=float).reshape(-1, 8)
-        self.fixed = np.array(fixed, dtype=float).reshape(-1, A)
+        starts = [np.searchsorted(np.asarray(b.classes), np.arange(b.num_classes)) for b in blocks]
+        ends = [np.searchsorted(np.asarray(b.classes), np.arange(b.num_classes), side="right") for b in blocks]
+        slot = horde.slot_demon
+        specs = horde.demon_specs
+        self.net = Net(
+            **_pack_world(world),
+            gi=np.array(gi, dtype=np.int64).reshape(-1, 18),
+            thresholds=np.array(thresholds, dtype=float),
+            bi=bi,
+            lam=np.array([b.lam for b in blocks], dtype=float),
+            cut=float(horde.cut),
+            alpha=np.concatenate([b.alpha for b in blocks]) if blocks else np.zeros(0),
+            alpha_w=np.concatenate([b.alpha_w for b in blocks]) if blocks else np.zeros(0),
+            temperature=np.concatenate([np.asarray(b.temperature) for b in blocks]) if blocks else np.zeros(0),
+            epsilon=np.concatenate([np.asarray(b.epsilon) for b in blocks]) if blocks else np.zeros(0),
+            reset=np.array([specs[i].reset == "episode" for i in slot], dtype=np.bool_).reshape(-1),
+            dcls=horde.slot_class,
+            cls_lo=np.concatenate(starts).astype(np.int64) if blocks else np.zeros(0, np.int64),
+            cls_hi=np.concatenate(ends).astype(np.int64) if blocks else np.zeros(0, np.int64),
+            class_kind=horde.class_kind,
+            class_fixed=horde.class_fixed,
+            class_of=np.where(horde.class_of >= 0, horde.demon_slot[np.maximum(horde.class_of, 0)], -1),
+            **_pack_programs(horde),
+        )
+        d, c, ng = horde.num_demons, horde.num_classes, len(groups)
+        kmax = max((g.coder.k for g in groups), default=1)
+        dmax = max([1, *sizes.tolist(), *ncls.tolist()])
+        most = int(max([1, *rows.tolist()])) + kmax
+        self.buf = Buffers(
+            pos=np.zeros(2),
+            wsteps=np.zeros(1, dtype=np.int64),
+            colors=np.zeros(world.num_indicators, dtype=np.int64),
+            sensors=np.zeros(len(world.sensor_names)),
+            theta=np.zeros(int(woff[-1])),
+            w=np.zeros(int(woff[-1])),
+            trace=np.zeros(int(voff[-1])),
+            support=np.zeros(int(toff[-1]), np.int64),
+            nnz=np.zeros(len(blocks), np.int64),
+            touched=np.zeros(len(blocks), np.int64),
+            h=np.zeros(int(woff[-1])),
+            u=np.zeros(int(woff[-1])),
+            mscale=np.ones(ng),
+            tau=np.zeros((ng, 2)),
+            dstats=np.zeros((d, 3)),
+            feat=np.zeros((ng, kmax), dtype=np.int64),
+            idx=np.zeros(kmax, dtype=np.int64),
+            class_gamma=np.zeros(c),
+            class_pi=np.full((c, A), 1.0 / A),
+            pi_given=np.full((c, A), 1.0 / A),
+            gamma_tp1=np.zeros(c),
+            rho=np.ones(c),
+            alpha_now=self.net.alpha.copy(),
+            alpha_w_now=self.net.alpha_w.copy(),
+            r=np.zeros(d),
+            z=np.zeros(d),
+            pi=np.full((d, A), 1.0 / A),
+            q=np.zeros((d, A)),
+            pred=np.zeros(d),
+            gamma=np.zeros(d),
+            delta=np.zeros(d),
+            cumulant=np.zeros(d),
+            diverged=np.zeros(d, dtype=np.bool_),
+            node_values=np.zeros(len(self.net.node_kind)),
+            rows=np.zeros(most, np.int64),
+            rows_e=np.zeros(most),
+            rows_f=np.zeros(most),
+            values=np.zeros((A, dmax)),
+            pi_next=np.zeros((A, dmax)),
+            work=np.zeros((6, dmax)),
+            ev=np.zeros((2, dmax)),
+            scratch=np.zeros((2, A)),
+            returns=np.zeros(2),
+            result=np.zeros(8),
+        )
+        self._woff, self._voff, self._toff = woff, voff, toff
 
-    def _pack_programs(self) -> None:
-        kinds: list[int] = []
-        args: list[float] = []
-        starts: list[int] = [0]
-        children: list[int] = []
-        stage_lo, stage_hi = [], []
-        d = self.horde.num_demons
-        out_r, out_z, out_g = np.zeros(d, np.int64), np.zeros(d, np.int64), np.zeros(d, np.int64)
-        base = 0
-        for stage in self.horde.stages:
-            k, a, st, ch = stage.program.table()
-            kinds.extend(k.tolist())
-            args.extend(a.tolist())
-            starts.extend((st[1:] + len(children)).tolist())
-            children.extend((ch + base).tolist())
-            stage_lo.append(base)
-            stage_hi.append(base + len(k))
-            ds = len(stage.demons)
-            outputs = stage.program.outputs + base
-            out_r[stage.demons] = outputs[:ds]
-            out_z[stage.demons] = outputs[ds : 2 * ds]
-            out_g[stage.demons] = outputs[2 * ds :]
-            base += len(k)
-        self.node_kind = np.array(kinds, dtype=np.int64)
-        self.node_arg = np.array(args, dtype=float)
-        self.node_start = np.array(starts, dtype=np.int64)
-        self.node_children = np.array(children, dtype=np.int64)
-        self.stage_lo = np.array(stage_lo, dtype=np.int64)
-        self.stage_hi = np.array(stage_hi, dtype=np.int64)
-        self.out_r, self.out_z, self.out_g = out_r, out_z, out_g
+    # ------------------------------------------------------------------------------------------
+    # Views of the buffers
+
+    @property
+    def pos(self) -> np.ndarray:
+        return self.buf.pos
+
+    @property
+    def returns(self) -> np.ndarray:
+        return self.buf.returns
+
+    def prediction(self) -> np.ndarray:
+        """[D] predictions in demon order (a copy)."""
+        out = np.empty(self.horde.num_demons)
+        out[self.horde.slot_demon] = self.buf.pred
+        return out
+
+    def _block(self, flat: np.ndarray, b: int, columns: int, offsets: np.ndarray) -> np.ndarray:
+        rows = int(self.horde.block_rows[b])
+        return flat[offsets[b] : offsets[b] + rows * columns].reshape(rows, columns)
+
+    def _weights(self, flat: np.ndarray, b: int) -> np.ndarray:
+        return self._block(flat, b, self.horde.blocks[b].size, self._woff)
+
+    def _traces(self, b: int) -> np.ndarray:
+        return self._block(self.buf.trace, b, self.horde.blocks[b].num_classes, self._voff)
+
+    # ------------------------------------------------------------------------------------------
 
     def _behaviour(self, behaviour: BehaviourSpec) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        demon = self.horde.index[behaviour.demon] if behaviour.demon else -1
-        probs = np.asarray(behaviour.probabilities if behaviour.probabilities else [0.25] * A, dtype=float)
+        demon = int(self.horde.demon_slot[self.horde.index[behaviour.demon]]) if behaviour.demon else -1
+        probs = np.asarray(behaviour.probabilities if behaviour.probabilities else [1.0 / A] * A, dtype=float)
         return (
             np.array([KIND_CODES[behaviour.kind], demon], dtype=np.int64),
             np.array([behaviour.temperature, behaviour.epsilon]),
             probs,
         )
 
-    # ------------------------------------------------------------------------------------------
-
     def reset_world(self, rng: np.random.Generator) -> None:
         """A new episode: the world draws its start and colours, the Horde observes the first state."""
-        _world_reset(rng, self.wp, self.rects, self.is_obstacle, self.is_terminal, self.color_cdf, self.color_count,
-                     self.pos, self.wsteps, self.colors)  # fmt: skip
-        self.start_episode()
-
-    def start_episode(self) -> None:
-        _start_episode(self.gi, self.thresholds, self.si, self.sf, self.fixed, self.wp, self.pos[0], self.pos[1],
-                       self.theta, self.w, self.e, self.feat, self.pi, self.q, self.pred, self.gamma,
-                       np.zeros(A), np.zeros(A))  # fmt: skip
+        _reset(self.net, self.buf, rng)
 
     def run(
         self,
         rng: np.random.Generator,
         max_steps: int,
-        max_episodes: int = 2**62,
+        max_episodes: int = FOREVER,
         behaviour: BehaviourSpec | None = None,
         learning: np.ndarray | None = None,
         with_metrics: bool = True,
     ) -> np.ndarray:
         """Step until `max_steps` steps or `max_episodes` ended episodes; returns the result fields (R_*)."""
         beh_i, beh_f, beh_probs = self._behaviour(behaviour or self.horde.behaviour)
-        self.result[:] = 0.0
-        _run(
-            max_steps, max_episodes, rng, self.result, self.returns,
-            self.wp, self.rects, self.is_obstacle, self.is_terminal, self.term_reward, self.term_ind,
-            self.term_table, self.ind_region, self.color_values, self.color_cdf, self.color_count,
-            self.pos, self.wsteps, self.colors,
-            beh_i, beh_f, beh_probs,
-            self.gi, self.thresholds, self.si, self.sf, self.fixed, self.stage_lo, self.stage_hi,
-            self.node_kind, self.node_arg, self.node_start, self.node_children,
-            self.out_r, self.out_z, self.out_g,
-            self.all_learning if learning is None else learning.astype(np.bool_), with_metrics,
-            self.theta, self.w, self.e, self.h, self.de, self.tau, self.dstats, self.feat, self.pi, self.q,
-            self.pred, self.gamma, self.delta, self.cumulant, self.diverged,
-        )  # fmt: skip
-        return self.result
+        live = ~self.buf.diverged
+        if learning is not None:
+            live &= np.asarray(learning, dtype=bool)[self.horde.slot_demon]
+        self.buf.alpha_now[:] = np.where(live, self.net.alpha, 0.0)
+        self.buf.alpha_w_now[:] = np.where(live, self.net.alpha_w, 0.0)
+        self.buf.result[:] = 0.0
+        _run(self.net, self.buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics)
+        return self.buf.result
 
     # ------------------------------------------------------------------------------------------
+    # State in and out
 
-    def _rows(self, g: int, flat: np.ndarray) -> np.ndarray:
-        """The [Dg, n] view of group g in a flat buffer."""
-        lo, hi, n, off = (int(self.gi[g, c]) for c in (G_SLOT_LO, G_SLOT_HI, G_N, G_OFFSET))
-        return flat[off : off + (hi - lo) * n].reshape(hi - lo, n)
+    def _per_demon(self, slots: np.ndarray) -> np.ndarray:
+        out = np.empty_like(slots)
+        out[self.horde.slot_demon] = slots
+        return out
+
+    def thetas(self) -> list[np.ndarray]:
+        return [self._weights(self.buf.theta, b).copy() for b in range(len(self.horde.blocks))]
 
     def horde_state(self) -> HordeState:
-        """A copy of the state in the numpy engine's form."""
-        groups = self.horde.groups
-
-        def rows(g: int, flat: np.ndarray) -> np.ndarray:
-            return self._rows(g, flat).copy()
-
-        learner_states = tuple(
-            learners.LearnerState(rows(g, self.theta), rows(g, self.w), rows(g, self.e)) for g in range(len(groups))
-        )
-        metric_states = tuple(
-            metrics.MetricsState(
-                rows(g, self.h),
-                rows(g, self.de),
-                float(self.tau[g, 0]),
-                self.dstats[group.demons, 0].copy(),
-                self.dstats[group.demons, 1].copy(),
-                self.dstats[group.demons, 2].copy(),
-                float(self.tau[g, 1]),
-            )
-            for g, group in enumerate(groups)
-        )
+        """A copy of the state in `horde.py`'s form."""
+        horde, buf = self.horde, self.buf
+        blocks = range(len(horde.blocks))
+        scale = buf.mscale[horde.block_group] if len(horde.blocks) else np.zeros(0)
+        q = self._per_demon(buf.q)
+        q[~horde.is_action_value] = np.nan
         return HordeState(
-            learners=learner_states,
-            metrics=metric_states,
-            features=tuple(self.feat[g, : group.coder.k].copy() for g, group in enumerate(groups)),
-            pi=self.pi.copy(),
-            q=self.q.copy(),
-            prediction=self.pred.copy(),
-            gamma=self.gamma.copy(),
-            delta=self.delta.copy(),
-            cumulant=self.cumulant.copy(),
-            diverged=self.diverged.copy(),
+            theta=tuple(self._weights(buf.theta, b).copy() for b in blocks),
+            w=tuple(self._weights(buf.w, b).copy() for b in blocks),
+            e=tuple(self._traces(b).copy() for b in blocks),
+            h=tuple(self._weights(buf.h, b).copy() for b in blocks),
+            delta_e=tuple(self._weights(buf.u, b) * scale[b] for b in blocks),
+            tau=buf.tau.copy(),
+            delta_stats=self._per_demon(buf.dstats),
+            features=tuple(buf.feat[g, : group.coder.k].copy() for g, group in enumerate(horde.groups)),
+            class_gamma=buf.class_gamma.copy(),
+            class_pi=buf.class_pi.copy(),
+            pi=self._per_demon(buf.pi),
+            q=q,
+            prediction=self._per_demon(buf.pred),
+            gamma=self._per_demon(buf.gamma),
+            delta=self._per_demon(buf.delta),
+            cumulant=self._per_demon(buf.cumulant),
+            diverged=self._per_demon(buf.diverged),
         )
 
     def world_state(self) -> WorldState:
+        buf = self.buf
         return WorldState(
-            x=self.pos[:1].copy(), y=self.pos[1:].copy(), steps=self.wsteps.copy(), colors=self.colors[None, :].copy()
+            x=buf.pos[:1].copy(), y=buf.pos[1:].copy(), steps=buf.wsteps.copy(), colors=buf.colors[None, :].copy()
         )
 
     def load(self, state: HordeState, world_state: WorldState) -> None:
-        """Copy a numpy-engine state (and the first agent of a world state) into the buffers."""
-        for g, group in enumerate(self.horde.groups):
-            learner, metric = state.learners[g], state.metrics[g]
-            self._rows(g, self.theta)[:] = learner.theta
-            self._rows(g, self.w)[:] = learner.w
-            self._rows(g, self.e)[:] = learner.e
-            self._rows(g, self.h)[:] = metric.h
-            self._rows(g, self.de)[:] = metric.delta_e
-            self.tau[g] = (metric.tau_rupee, metric.tau_ude)
-            self.dstats[group.demons] = np.stack([metric.delta_mean, metric.delta_square, metric.abs_delta], axis=1)
-            self.feat[g, : group.coder.k] = state.features[g]
-        self.pi[:] = state.pi
-        self.q[:] = state.q
-        self.pred[:] = state.prediction
-        self.gamma[:] = state.gamma
-        self.delta[:] = state.delta
-        self.cumulant[:] = state.cumulant
-        self.diverged[:] = state.diverged
-        self.pos[:] = (world_state.x[0], world_state.y[0])
-        self.wsteps[0] = world_state.steps[0]
-        self.colors[:] = world_state.colors[0]
+        """Copy a `HordeState` (and the first agent of a world state) into the buffers."""
+        horde, buf = self.horde, self.buf
+        slot = horde.slot_demon
+        for b in range(len(horde.blocks)):
+            self._weights(buf.theta, b)[:] = state.theta[b]
+            self._weights(buf.w, b)[:] = state.w[b]
+            self._weights(buf.h, b)[:] = state.h[b]
+            self._weights(buf.u, b)[:] = state.delta_e[b]
+            e = self._traces(b)
+            e[:] = state.e[b]
+            rows = np.flatnonzero((e != 0.0).any(axis=1))
+            buf.support[self._toff[b] : self._toff[b] + len(rows)] = rows
+            buf.nnz[b] = len(rows)
+        buf.mscale[:] = 1.0
+        buf.tau[:] = state.tau
+        buf.dstats[:] = state.delta_stats[slot]
+        for g, group in enumerate(horde.groups):
+            buf.feat[g, : group.coder.k] = state.features[g]
+        buf.class_gamma[:] = state.class_gamma
+        buf.class_pi[:] = state.class_pi
+        buf.pi[:] = state.pi[slot]
+        buf.q[:] = np.nan_to_num(state.q[slot], nan=0.0)
+        buf.q[~horde.is_action_value[slot], 0] = state.prediction[slot][~horde.is_action_value[slot]]
+        buf.pred[:] = state.prediction[slot]
+        buf.gamma[:] = state.gamma[slot]
+        buf.delta[:] = state.delta[slot]
+        buf.cumulant[:] = state.cumulant[slot]
+        buf.diverged[:] = state.diverged[slot]
+        buf.pos[:] = (world_state.x[0], world_state.y[0])
+        buf.wsteps[0] = world_state.steps[0]
+        buf.colors[:] = world_state.colors[0]
+
+    def observe(self) -> None:
+        """Traces to zero, the Horde observes where the agent stands (after a load with new demons)."""
+        _observe(self.net, self.buf)
+
+    # ------------------------------------------------------------------------------------------
+
+    def traffic_bytes(self) -> int:
+        """Bytes of weight and trace rows that the last step read and wrote (a model, see scale_fast)."""
+        total = 0
+        for group in self.horde.groups:
+            k = group.coder.k
+            for b in group.blocks:
+                block = self.horde.blocks[b]
+                row = math.ceil(block.size * 8 / 64) * 64
+                trace_row = math.ceil(block.num_classes * 8 / 64) * 64 if block.num_classes > 1 else 0
+                nnz = int(self.buf.touched[b])
+                gathers = (A if block.learner == "gq" else 1) * k
+                if block.learner == "td":
+                    total += row * (gathers + 2 * nnz + gathers) + 2 * nnz * trace_row
+                else:
+                    total += row * (gathers + k + 4 * nnz + 2 * gathers) + 2 * nnz * trace_row
+        return total

@@ -1,10 +1,24 @@
-"""The Horde: demons grouped into stacks, run in dependency order, one learning step for all.
+"""The Horde compiled for the one engine: stages, groups, blocks and trace classes.
 
-Demons that share a feature spec, a kind of value (action values for GQ, state values for GTD/TD)
-and a dependency stage form a group whose weights are stacked arrays [D, n]; a step is a handful of
-array operations per group, not a loop over demons. Stage s holds the demons whose inputs (predictions
-as cumulants, policies of other demons, conditioned features) come from stages before s, so that a
-prediction read by another demon is the one for s_{t+1} after its owner's update at this step.
+A run's demons compile, once, into four nested levels:
+
+* **stage**: demons whose inputs (predictions read as cumulants, policies of other demons, conditioned
+  features) come from earlier stages, so that a prediction read by another demon is the one for
+  s_{t+1} after its owner's update at this step;
+* **group**: demons of one stage that share a feature spec and the kind of values (state-action
+  features for GQ). A group's active features are computed once per step; the group is one
+  `scale.Layout`;
+* **block**: demons of a group with the same learner, lambda and kind of target policy (given to the
+  block, or each demon's own greedy / softmax / epsilon-greedy policy); weights are feature-major
+  `[n, Db]` (DESIGN section 6);
+* **trace class**: demons of a given-policy block with the same target policy, continuation and
+  discount have the same eligibility trace and share one column `[n, 1]` of it.
+
+Blocks and classes are numbered across groups; the engine's "slots" are the demons in block order.
+`HordeState` holds everything that changes, as arrays. The learning itself is compiled (`fast.py`, with
+the block kernels of `scale_fast.py`); `scale.step` is its readable numpy form and `reference.py` the
+plain oracle. This module also evaluates a frozen Horde at a batch of positions (`forward`), for value
+maps and Monte-Carlo truth.
 """
 
 from __future__ import annotations
@@ -14,33 +28,28 @@ from typing import NamedTuple
 
 import numpy as np
 
-from horde.core import learners, metrics
+from horde.core import metrics, scale
 from horde.core.features import StateCoder
-from horde.core.policies import KIND_CODES, OF, OWN_VALUE, UNIFORM, value_policy
+from horde.core.policies import FIXED, KIND_CODES, OF, OWN_VALUE, UNIFORM, value_policy
 from horde.core.questions import Program
 from horde.core.world import NUM_ACTIONS
 from horde.spec import BehaviourSpec, DemonSpec, FeatureSpec, RunSpec, check_demon_graph, demon_dependencies
 
+A = NUM_ACTIONS
+
 
 @dataclass(frozen=True)
 class Group:
-    """A stack of demons that learn with one set of array operations."""
+    """Demons of one stage over one feature set: one `scale.Layout`."""
 
     stage: int
-    demons: np.ndarray  # [Dg] global demon indices
     coder: StateCoder
     action_values: bool
-    num_features: int  # n: A * coder.n for action values, coder.n otherwise
-    params: learners.LearnerParams
-    policy_kind: np.ndarray  # [Dg] policy kind codes
-    fixed: np.ndarray  # [Dg, A] probabilities of uniform/fixed policies
-    temperature: np.ndarray  # [Dg]
-    epsilon: np.ndarray  # [Dg]
-    of_index: np.ndarray  # [Dg] global index of the demon followed (or -1)
-    reset: np.ndarray  # [Dg] bool: forget the weights at every episode start
     condition: int  # global index of the condition demon, or -1
-    own_value: np.ndarray  # [Dg] bool: greedy / softmax / epsilon-greedy over own action values
-    follows: np.ndarray  # [Dg] bool: the policy of another demon
+    layout: scale.Layout
+    demons: np.ndarray  # [Dg] global demon indices, in slot order (block by block, class by class)
+    blocks: range  # global block numbers
+    classes: range  # global trace classes
 
 
 @dataclass(frozen=True)
@@ -52,11 +61,18 @@ class Stage:
 
 
 class HordeState(NamedTuple):
-    """Everything that changes while a Horde learns (one agent)."""
+    """Everything that changes while a Horde learns (one agent). Blocks and classes are global."""
 
-    learners: tuple[learners.LearnerState, ...]  # per group
-    metrics: tuple[metrics.MetricsState, ...]  # per group
-    features: tuple[np.ndarray, ...]  # per group: [k] active state features at s_t
+    theta: tuple[np.ndarray, ...]  # per block [n_b, Db] primary weights, feature-major
+    w: tuple[np.ndarray, ...]  # per block [n_b, Db] secondary weights
+    e: tuple[np.ndarray, ...]  # per block [n_b, C_b] one trace per class
+    h: tuple[np.ndarray, ...]  # per block [n_b, Db] RUPEE's weights
+    delta_e: tuple[np.ndarray, ...]  # per block [n_b, Db] RUPEE's average of delta e
+    tau: np.ndarray  # [G, 2] the unbiased-start weights of RUPEE and UDE, per group
+    delta_stats: np.ndarray  # [D, 3] averages of delta, delta^2 and |delta|
+    features: tuple[np.ndarray, ...]  # per group [k] active state features at s_t (sorted)
+    class_gamma: np.ndarray  # [C] continuation of each trace class at s_t
+    class_pi: np.ndarray  # [C, A] target policy of each class at s_t (own-value classes: unused)
     pi: np.ndarray  # [D, A] target policy at s_t
     q: np.ndarray  # [D, A] action values at s_t (nan for state-value demons)
     prediction: np.ndarray  # [D] prediction at s_t
@@ -75,15 +91,26 @@ class Forward(NamedTuple):
     features: tuple[np.ndarray, ...]  # per group [B, k]
 
 
+def _policy_key(demon: DemonSpec) -> tuple[object, ...]:
+    policy = demon.policy
+    if policy.kind == "fixed" and policy.probabilities is not None:
+        return ("fixed", tuple(float(p) for p in policy.probabilities))
+    if policy.kind == "of":
+        return ("of", policy.demon)
+    return ("uniform",)
+
+
 class Horde:
     """A compiled set of demons over one world.
 
     Args:
         spec: the run spec (its world, default features, learning defaults, behaviour and demons).
+        cut: the trace cut (DESIGN section 6; 0 keeps every non-zero trace entry).
     """
 
-    def __init__(self, spec: RunSpec) -> None:
+    def __init__(self, spec: RunSpec, cut: float = scale.TRACE_CUT) -> None:
         self.spec = spec
+        self.cut = cut
         self.demon_specs: list[DemonSpec] = list(spec.demons)
         self.names = [d.name for d in self.demon_specs]
         self.index = {name: i for i, name in enumerate(self.names)}
@@ -94,17 +121,43 @@ class Horde:
             deps = demon_dependencies(self.demon_specs[self.index[name]], spec.features)
             stage_of[name] = 1 + max((stage_of[d] for d in deps), default=-1)
         self.stage_of = np.array([stage_of[n] for n in self.names], dtype=np.int64)
-        self.is_action_value = np.array([d.learner == "gq" for d in self.demon_specs])
-        self.stages = self._compile_stages(spec, stage_of)
+        self.is_action_value = np.array([d.learner == "gq" for d in self.demon_specs], dtype=bool)
+        # Filled by _compile: per trace class, what its given target policy is.
+        self._class_kind: list[int] = []
+        self._class_fixed: list[np.ndarray] = []
+        self._class_of: list[int] = []
+        self._class_demon: list[int] = []
+        self._blocks: list[scale.Block] = []
+        self.stages = self._compile(spec, stage_of)
         self.groups: tuple[Group, ...] = tuple(g for stage in self.stages for g in stage.groups)
+        self.blocks: tuple[scale.Block, ...] = tuple(self._blocks)
+        self.class_kind = np.array(self._class_kind, dtype=np.int64)  # [C] UNIFORM / FIXED / OF, or own kind
+        self.class_fixed = np.array(self._class_fixed, dtype=float).reshape(-1, A)  # [C, A]
+        self.class_of = np.array(self._class_of, dtype=np.int64)  # [C] demon followed, or -1
+        self.class_demon = np.array(self._class_demon, dtype=np.int64)  # [C] one demon of the class
+        self.num_classes = len(self.class_kind)
+        self.slot_demon = np.concatenate([g.demons for g in self.groups]) if self.groups else np.zeros(0, np.int64)
+        self.demon_slot = np.empty(self.num_demons, dtype=np.int64)
+        self.demon_slot[self.slot_demon] = np.arange(self.num_demons)
+        self.block_group = np.concatenate([np.full(len(g.blocks), i) for i, g in enumerate(self.groups)]).astype(
+            np.int64
+        )
+        self.block_rows = np.array([g.layout.rows(b) for g in self.groups for b in g.layout.blocks], dtype=np.int64)
+        sizes = [b.size for b in self.blocks]
+        self.block_lo = np.cumsum([0, *sizes])[:-1].astype(np.int64)  # [B] first slot of each block
+        self.slot_class = (
+            np.concatenate([g.classes.start + g.layout.demon_class() for g in self.groups]).astype(np.int64)
+            if self.groups
+            else np.zeros(0, np.int64)
+        )  # [D] global class of each slot
         self.behaviour = spec.behaviour
         self.behaviour_demon = self.index[spec.behaviour.demon] if spec.behaviour.demon else -1
 
     # ------------------------------------------------------------------------------------------
     # Compilation
 
-    def _compile_stages(self, spec: RunSpec, stage_of: dict[str, int]) -> tuple[Stage, ...]:
-        world = spec.world
+    def _compile(self, spec: RunSpec, stage_of: dict[str, int]) -> tuple[Stage, ...]:
+        sensor_index = {name: i for i, name in enumerate(spec.world.sensor_names())}
         stages = []
         for stage in range(max(stage_of.values(), default=-1) + 1):
             keys: dict[tuple[str, bool], list[int]] = {}
@@ -121,70 +174,99 @@ class Horde:
             )
             demons = np.concatenate([g.demons for g in groups])
             specs = [self.demon_specs[i] for i in demons]
-            sensor_index = {name: i for i, name in enumerate(world.sensor_names())}
             program = Program(
                 [d.cumulant for d in specs] + [d.outcome for d in specs] + [d.continuation for d in specs],
                 sensor_index,
                 self.index,
             )
-            discount = np.array([d.discount for d in specs])
-            stages.append(Stage(groups, demons, program, discount))
+            stages.append(Stage(groups, demons, program, np.array([d.discount for d in specs])))
         return tuple(stages)
 
     def _compile_group(
         self, spec: RunSpec, stage: int, features: FeatureSpec, action_values: bool, members: list[int]
     ) -> Group:
         coder = StateCoder(features, spec.world.width, spec.world.height)
-        demons = [self.demon_specs[i] for i in members]
         defaults = spec.learning
-        lam = np.array([d.lambda_ if d.lambda_ is not None else defaults.lambda_ for d in demons])
-        alpha = np.array([d.alpha if d.alpha is not None else defaults.alpha for d in demons]) / coder.k
-        alpha_w = np.array([d.alpha_w if d.alpha_w is not None else defaults.alpha_w for d in demons]) / coder.k
-        params = learners.LearnerParams(
-            lam=lam,
-            alpha=alpha,
-            alpha_w=alpha_w,
-            rho_in_trace=np.array([0.0 if d.learner == "gq" else 1.0 for d in demons]),
-            correct=np.array([0.0 if d.learner == "td" else 1.0 for d in demons]),
-        )
-        fixed = np.full((len(demons), NUM_ACTIONS), 1.0 / NUM_ACTIONS)
-        for row, d in enumerate(demons):
-            if d.policy.kind == "fixed" and d.policy.probabilities is not None:
-                fixed[row] = d.policy.probabilities
+        by_block: dict[tuple[scale.Learner, float, scale.BlockPolicy], list[int]] = {}
+        for i in members:
+            d = self.demon_specs[i]
+            lam = d.lambda_ if d.lambda_ is not None else defaults.lambda_
+            own: scale.BlockPolicy = "given"
+            if d.learner == "gq" and d.policy.kind in ("greedy", "softmax", "epsilon_greedy"):
+                own = d.policy.kind
+            by_block.setdefault((d.learner, float(lam), own), []).append(i)
+        first_block, first_class = len(self._blocks), len(self._class_kind)
+        blocks, slots = [], []
+        for (learner, lam, own), block_members in by_block.items():
+            demons = [self.demon_specs[i] for i in block_members]
+            if own == "given":
+                keys = [(_policy_key(d), repr(d.continuation), float(d.discount)) for d in demons]
+                order, classes = scale.trace_classes(keys)
+                block_members = [block_members[j] for j in order]
+                demons = [demons[j] for j in order]
+                firsts = np.flatnonzero(np.diff(classes, prepend=-1))
+                for j in firsts:
+                    policy = demons[j].policy
+                    kind = KIND_CODES[policy.kind]
+                    self._class_kind.append(kind if kind in (FIXED, OF) else UNIFORM)
+                    probs = policy.probabilities if kind == FIXED and policy.probabilities else [1.0 / A] * A
+                    self._class_fixed.append(np.asarray(probs, dtype=float))
+                    self._class_of.append(self.index[policy.demon] if kind == OF and policy.demon else -1)
+                    self._class_demon.append(block_members[j])
+                block_classes: np.ndarray | None = classes
+            else:
+                block_classes = None
+                for i in block_members:
+                    self._class_kind.append(KIND_CODES[str(own)])
+                    self._class_fixed.append(np.full(A, 1.0 / A))
+                    self._class_of.append(-1)
+                    self._class_demon.append(i)
+            block = scale.Block(
+                learner=learner,
+                alpha=np.array([d.alpha if d.alpha is not None else defaults.alpha for d in demons]) / coder.k,
+                alpha_w=np.array([d.alpha_w if d.alpha_w is not None else defaults.alpha_w for d in demons]) / coder.k,
+                lam=lam,
+                policy=own,
+                classes=block_classes,
+                temperature=np.array([d.policy.temperature for d in demons]),
+                epsilon=np.array([d.policy.epsilon for d in demons]),
+            )
+            blocks.append(block)
+            slots.extend(block_members)
+        self._blocks.extend(blocks)
+        layout = scale.Layout(tuple(blocks), coder.n, coder.k, cut=self.cut)
         condition = features.condition
-        policy_kind = np.array([KIND_CODES[d.policy.kind] for d in demons])
         return Group(
             stage=stage,
-            demons=np.array(members, dtype=np.int64),
             coder=coder,
             action_values=action_values,
-            num_features=coder.n * (NUM_ACTIONS if action_values else 1),
-            params=params,
-            policy_kind=policy_kind,
-            fixed=fixed,
-            temperature=np.array([d.policy.temperature for d in demons]),
-            epsilon=np.array([d.policy.epsilon for d in demons]),
-            of_index=np.array(
-                [self.index[d.policy.demon] if d.policy.kind == "of" and d.policy.demon else -1 for d in demons]
-            ),
-            reset=np.array([d.reset == "episode" for d in demons]),
             condition=self.index[condition.demon] if condition else -1,
-            own_value=np.isin(policy_kind, OWN_VALUE) & action_values,
-            follows=policy_kind == OF,
+            layout=layout,
+            demons=np.array(slots, dtype=np.int64),
+            blocks=range(first_block, len(self._blocks)),
+            classes=range(first_class, len(self._class_kind)),
         )
 
     # ------------------------------------------------------------------------------------------
     # State
 
     def init_state(self) -> HordeState:
-        """All weights and traces zero; call `start_episode` before learning."""
-        d = self.num_demons
+        """All weights and traces zero, nothing observed yet."""
+        d, c = self.num_demons, self.num_classes
+        weights = tuple(np.zeros((int(r), b.size)) for r, b in zip(self.block_rows, self.blocks, strict=True))
         return HordeState(
-            learners=tuple(learners.zeros(len(g.demons), g.num_features) for g in self.groups),
-            metrics=tuple(metrics.zeros(len(g.demons), g.num_features) for g in self.groups),
+            theta=weights,
+            w=tuple(np.zeros_like(a) for a in weights),
+            e=tuple(np.zeros((int(r), b.num_classes)) for r, b in zip(self.block_rows, self.blocks, strict=True)),
+            h=tuple(np.zeros_like(a) for a in weights),
+            delta_e=tuple(np.zeros_like(a) for a in weights),
+            tau=np.zeros((len(self.groups), 2)),
+            delta_stats=np.zeros((d, 3)),
             features=tuple(np.zeros(g.coder.k, dtype=np.int64) for g in self.groups),
-            pi=np.full((d, NUM_ACTIONS), 1.0 / NUM_ACTIONS),
-            q=np.full((d, NUM_ACTIONS), np.nan),
+            class_gamma=np.zeros(c),
+            class_pi=np.full((c, A), 1.0 / A),
+            pi=np.full((d, A), 1.0 / A),
+            q=np.full((d, A), np.nan),
             prediction=np.zeros(d),
             gamma=np.zeros(d),
             delta=np.zeros(d),
@@ -192,77 +274,81 @@ class Horde:
             diverged=np.zeros(d, dtype=bool),
         )
 
-    def start_episode(self, state: HordeState, x: float, y: float) -> HordeState:
-        """Traces to zero, reset-each-episode demons forget, and the Horde observes the first state."""
-        new_learners = []
-        for group, learner in zip(self.groups, state.learners, strict=True):
-            theta, w = learner.theta, learner.w
-            if group.reset.any():
-                keep = ~group.reset[:, None]
-                theta, w = np.where(keep, theta, 0.0), np.where(keep, w, 0.0)
-            new_learners.append(learners.LearnerState(theta, w, np.zeros_like(learner.e)))
-        state = state._replace(learners=tuple(new_learners), gamma=np.zeros(self.num_demons))
-        return self.observe(state, x, y)
+    def locate(self, name: str) -> tuple[int, int]:
+        """(block number, column) of a demon."""
+        slot = int(self.demon_slot[self.index[name]])
+        b = int(np.searchsorted(self.block_lo, slot, side="right")) - 1
+        return b, slot - int(self.block_lo[b])
 
-    def observe(self, state: HordeState, x: float, y: float) -> HordeState:
-        """The state with every demon's features, policy, action values and prediction at (x, y)."""
-        forward = self.forward(state, np.array([x]), np.array([y]))
-        return state._replace(
-            features=tuple(f[0] for f in forward.features),
-            pi=forward.pi[0],
-            q=forward.q[0],
-            prediction=forward.prediction[0],
-        )
+    def carry_over(self, old: Horde, old_state: HordeState) -> HordeState:
+        """A state for this Horde that keeps the weights of every demon `old` also had (by name).
+
+        Demons join and leave a live run this way without disturbing the others' weights; traces
+        restart, as at an episode start (observe the position afresh before learning).
+        """
+        state = self.init_state()
+        for name in self.names:
+            if name not in old.index:
+                continue
+            b, col = self.locate(name)
+            ob, ocol = old.locate(name)
+            if old_state.theta[ob].shape[0] != state.theta[b].shape[0]:
+                continue
+            for new_arrays, old_arrays in (
+                (state.theta, old_state.theta),
+                (state.w, old_state.w),
+                (state.h, old_state.h),
+                (state.delta_e, old_state.delta_e),
+            ):
+                new_arrays[b][:, col] = old_arrays[ob][:, ocol]
+            i, oi = self.index[name], old.index[name]
+            state.delta_stats[i] = old_state.delta_stats[oi]
+            state.diverged[i] = old_state.diverged[oi]
+        tau = old_state.tau[0] if len(old_state.tau) else np.zeros(2)
+        return state._replace(tau=np.tile(tau, (len(self.groups), 1)))
 
     # ------------------------------------------------------------------------------------------
     # Frozen evaluation of a batch of positions
 
-    def _group_values(self, group: Group, theta: np.ndarray, idx: np.ndarray) -> np.ndarray:
-        """Action values [B, Dg, A] or state values [B, Dg] of a batch of active state features [B, k]."""
+    def _block_values(self, group: Group, b: int, theta: np.ndarray, idx: np.ndarray) -> np.ndarray:
+        """Action values [B, Db, A] (GQ) or state values [B, Db] of block b at active features idx [B, k]."""
         if group.action_values:
-            blocks = theta.reshape(len(group.demons), NUM_ACTIONS, group.coder.n)  # [Dg, A, n_s]
-            return blocks[:, :, idx].sum(axis=-1).transpose(2, 0, 1)  # [B, Dg, A]
-        return theta[:, idx].sum(axis=-1).T  # [B, Dg]
-
-    def _group_policy(self, group: Group, values: np.ndarray, pi_all: np.ndarray) -> np.ndarray:
-        """Target policies [B, Dg, A]; `pi_all` [B, D, A] holds the policies of earlier stages."""
-        batch = values.shape[0]
-        own, follows = group.own_value, group.follows
-        if own.all():
-            return value_policy(values, group.policy_kind, group.temperature, group.epsilon)
-        pi = np.repeat(group.fixed[None], batch, axis=0)  # [B, Dg, A]
-        if own.any():
-            pi[:, own] = value_policy(
-                values[:, own], group.policy_kind[own], group.temperature[own], group.epsilon[own]
-            )
-        if follows.any():
-            pi[:, follows] = pi_all[:, group.of_index[follows]]
-        return pi
-
-    def _group_predictions(self, group: Group, values: np.ndarray, pi: np.ndarray) -> np.ndarray:
-        """[B, Dg]: sum_a pi(a|s) q(s, a) for action values, theta . phi(s) for state values."""
-        return (pi * values).sum(axis=-1) if group.action_values else values
-
-    def _group_features(self, group: Group, x: np.ndarray, y: np.ndarray, prediction: np.ndarray) -> np.ndarray:
-        condition = prediction[:, group.condition] if group.condition >= 0 else None
-        return group.coder.active(x, y, condition)
+            n_s = group.coder.n
+            return np.stack([theta[idx + a * n_s].sum(axis=1) for a in range(A)], axis=-1)
+        return theta[idx].sum(axis=1)
 
     def forward(self, state: HordeState, x: np.ndarray, y: np.ndarray) -> Forward:
         """Predictions, policies and action values of every demon at a batch of positions, frozen."""
         batch = len(x)
         prediction = np.zeros((batch, self.num_demons))
-        pi = np.full((batch, self.num_demons, NUM_ACTIONS), 1.0 / NUM_ACTIONS)
-        q = np.full((batch, self.num_demons, NUM_ACTIONS), np.nan)
+        pi = np.full((batch, self.num_demons, A), 1.0 / A)
+        q = np.full((batch, self.num_demons, A), np.nan)
         features: list[np.ndarray] = []
-        for group, learner in zip(self.groups, state.learners, strict=True):
-            idx = self._group_features(group, x, y, prediction)
-            values = self._group_values(group, learner.theta, idx)
-            pi_g = self._group_policy(group, values, pi)
-            pi[:, group.demons] = pi_g
-            if group.action_values:
-                q[:, group.demons] = values
-            prediction[:, group.demons] = self._group_predictions(group, values, pi_g)
+        for group in self.groups:
+            condition = prediction[:, group.condition] if group.condition >= 0 else None
+            idx = group.coder.active(x, y, condition)  # [B, k]
             features.append(idx)
+            lo = 0
+            for b in group.blocks:
+                block = self.blocks[b]
+                members = group.demons[lo : lo + block.size]
+                classes = self.slot_class[self.block_lo[b] : self.block_lo[b] + block.size]
+                lo += block.size
+                values = self._block_values(group, b, state.theta[b], idx)
+                if block.policy != "given":
+                    pi_b = value_policy(values, np.full(block.size, scale.POLICY_CODES[block.policy]),
+                                        np.asarray(block.temperature), np.asarray(block.epsilon))  # fmt: skip
+                else:
+                    pi_b = np.repeat(self.class_fixed[classes][None], batch, axis=0)  # [B, Db, A]
+                    follows = self.class_of[classes]
+                    if (follows >= 0).any():
+                        pi_b[:, follows >= 0] = pi[:, follows[follows >= 0]]
+                pi[:, members] = pi_b
+                if group.action_values:
+                    q[:, members] = values
+                    prediction[:, members] = (pi_b * values).sum(axis=-1)
+                else:
+                    prediction[:, members] = values
         return Forward(prediction, pi, q, tuple(features))
 
     # ------------------------------------------------------------------------------------------
@@ -273,9 +359,9 @@ class Horde:
         behaviour = behaviour or self.behaviour
         batch = q.shape[0]
         if behaviour.kind == "uniform":
-            return np.full((batch, NUM_ACTIONS), 1.0 / NUM_ACTIONS)
+            return np.full((batch, A), 1.0 / A)
         if behaviour.kind == "fixed":
-            return np.broadcast_to(np.asarray(behaviour.probabilities, dtype=float), (batch, NUM_ACTIONS)).copy()
+            return np.broadcast_to(np.asarray(behaviour.probabilities, dtype=float), (batch, A)).copy()
         assert behaviour.demon is not None
         values = q[:, self.index[behaviour.demon]][:, None, :]  # [B, 1, A]
         kind = np.array([KIND_CODES[behaviour.kind]])
@@ -283,175 +369,32 @@ class Horde:
         return probs[:, 0, :]
 
     # ------------------------------------------------------------------------------------------
-    # Learning
-
-    def learn(
-        self,
-        state: HordeState,
-        action: int,
-        b_prob: float,
-        x_tp1: float,
-        y_tp1: float,
-        sensors_tp1: np.ndarray,
-        terminated: bool,
-        with_metrics: bool = True,
-        learning: np.ndarray | None = None,
-    ) -> HordeState:
-        """One transition (s_t, a_t) -> s_{t+1} for every demon, stage by stage.
-
-        Args:
-            state: the Horde at s_t.
-            action: a_t.
-            b_prob: b(a_t | s_t), the behaviour's probability of the action taken.
-            x_tp1, y_tp1: the next position.
-            sensors_tp1: [S] sensors at s_{t+1}.
-            terminated: whether s_{t+1} ends the episode (every continuation is then 0).
-            with_metrics: update RUPEE / UDE averages.
-            learning: [D] bool, which demons learn (default all); the others keep their weights.
-
-        Returns:
-            The Horde at s_{t+1}.
-        """
-        x = np.array([x_tp1])
-        y = np.array([y_tp1])
-        sensors = sensors_tp1[None, :]  # [1, S]
-        prediction = state.prediction.copy()[None, :]  # [1, D], filled with s_{t+1} stage by stage
-        pi = state.pi.copy()[None, :, :]  # [1, D, A]
-        q = state.q.copy()
-        gamma = state.gamma.copy()
-        delta = state.delta.copy()
-        cumulant = state.cumulant.copy()
-        diverged = state.diverged.copy()
-        new_learners = list(state.learners)
-        new_metrics = list(state.metrics)
-        new_features = list(state.features)
-        group_number = 0
-        for stage in self.stages:
-            answers = stage.program.evaluate(sensors, prediction)[0]  # [3 Ds]
-            ds = len(stage.demons)
-            r_stage, z_stage = answers[:ds], answers[ds : 2 * ds]
-            gamma_stage = np.minimum(np.maximum(answers[2 * ds :], 0.0), 1.0) * stage.discount
-            if terminated:
-                gamma_stage = np.zeros(ds)
-            offset = 0
-            for group in stage.groups:
-                g = group_number
-                group_number += 1
-                rows = slice(offset, offset + len(group.demons))
-                offset += len(group.demons)
-                members = group.demons
-                old = state.learners[g]
-                idx_t = state.features[g]  # [k]
-                idx_tp1 = self._group_features(group, x, y, prediction)  # [1, k]
-                values_old = self._group_values(group, old.theta, idx_tp1)
-                pi_tp1 = self._group_policy(group, values_old, pi)[0]  # [Dg, A]
-                rho = state.pi[members, action] / b_prob  # [Dg]
-                ones = np.ones(group.coder.k)
-                if group.action_values:
-                    n_s = group.coder.n
-                    x_t = (idx_t + action * n_s, ones)
-                    bar_idx = (idx_tp1[0][None, :] + (np.arange(NUM_ACTIONS) * n_s)[:, None]).ravel()  # [A k]
-                    bar_val = np.repeat(pi_tp1, group.coder.k, axis=1)  # [Dg, A k]
-                    x_bar = (bar_idx, bar_val)
-                else:
-                    x_t = (idx_t, ones)
-                    x_bar = (idx_tp1[0], ones)
-                r = r_stage[rows]
-                new, delta_g = learners.update(
-                    old, group.params, x_t, x_bar, r, z_stage[rows], state.gamma[members], gamma_stage[rows], rho
-                )
-                nonfinite = ~np.isfinite(new.theta).all(axis=1) | ~np.isfinite(new.w).all(axis=1)
-                diverged[members] |= nonfinite
-                frozen = diverged[members] if learning is None else diverged[members] | ~learning[members]
-                if frozen.any():
-                    keep = frozen[:, None]
-                    new = learners.LearnerState(
-                        np.where(keep, old.theta, new.theta), np.where(keep, old.w, new.w), np.where(keep, old.e, new.e)
-                    )
-                new_learners[g] = new
-                if with_metrics:
-                    new_metrics[g] = metrics.update(state.metrics[g], delta_g, new.e, *x_t, group.coder.k)
-                values_new = self._group_values(group, new.theta, idx_tp1)
-                pi_new = self._group_policy(group, values_new, pi)  # [1, Dg, A]
-                pi[:, members] = pi_new
-                if group.action_values:
-                    q[members] = values_new[0]
-                prediction[:, members] = self._group_predictions(group, values_new, pi_new)
-                new_features[g] = idx_tp1[0]
-                gamma[members] = gamma_stage[rows]
-                delta[members] = delta_g
-                cumulant[members] = r
-        return HordeState(
-            learners=tuple(new_learners),
-            metrics=tuple(new_metrics),
-            features=tuple(new_features),
-            pi=pi[0],
-            q=q,
-            prediction=prediction[0],
-            gamma=gamma,
-            delta=delta,
-            cumulant=cumulant,
-            diverged=diverged,
-        )
-
-    def carry_over(self, old: Horde, old_state: HordeState, x: float, y: float) -> HordeState:
-        """A state for this Horde that keeps the weights of every demon `old` also had (by name).
-
-        Demons join and leave a live run this way without disturbing the others' weights; traces
-        restart, as at an episode start, and the Horde observes (x, y) afresh.
-        """
-        state = self.init_state()
-        new_learners = list(state.learners)
-        new_metrics = list(state.metrics)
-        for g, group in enumerate(self.groups):
-            theta, w = new_learners[g].theta.copy(), new_learners[g].w.copy()
-            metric = new_metrics[g]
-            h, delta_e = metric.h.copy(), metric.delta_e.copy()
-            for row, demon in enumerate(group.demons):
-                name = self.names[demon]
-                if name not in old.index:
-                    continue
-                og, orow = old.locate(name)
-                if old.groups[og].num_features != group.num_features:
-                    continue
-                theta[row] = old_state.learners[og].theta[orow]
-                w[row] = old_state.learners[og].w[orow]
-                h[row] = old_state.metrics[og].h[orow]
-                delta_e[row] = old_state.metrics[og].delta_e[orow]
-            new_learners[g] = learners.LearnerState(theta, w, np.zeros_like(theta))
-            new_metrics[g] = metric._replace(h=h, delta_e=delta_e)
-        diverged = np.array([bool(old_state.diverged[old.index[n]]) if n in old.index else False for n in self.names])
-        state = state._replace(learners=tuple(new_learners), metrics=tuple(new_metrics), diverged=diverged)
-        return self.observe(state, x, y)
-
-    def locate(self, name: str) -> tuple[int, int]:
-        """(group number, row) of a demon."""
-        i = self.index[name]
-        for g, group in enumerate(self.groups):
-            rows = np.nonzero(group.demons == i)[0]
-            if len(rows):
-                return g, int(rows[0])
-        raise KeyError(name)
-
-    # ------------------------------------------------------------------------------------------
     # Reading out
 
-    def rupee(self, state: HordeState) -> np.ndarray:
+    def _per_demon(self, per_block: list[np.ndarray]) -> np.ndarray:
         out = np.zeros(self.num_demons)
-        for group, m in zip(self.groups, state.metrics, strict=True):
-            out[group.demons] = metrics.rupee(m)
+        if per_block:
+            out[self.slot_demon] = np.concatenate(per_block)
         return out
 
+    def rupee(self, state: HordeState) -> np.ndarray:
+        """[D] sqrt(|h . average(delta e)|) (metrics.py)."""
+        return self._per_demon([metrics.rupee_columns(h, de) for h, de in zip(state.h, state.delta_e, strict=True)])
+
     def ude(self, state: HordeState) -> np.ndarray:
-        out = np.zeros(self.num_demons)
-        for group, m in zip(self.groups, state.metrics, strict=True):
-            out[group.demons] = metrics.ude(m)
-        return out
+        return metrics.ude_of(state.delta_stats)
 
     def weights(self, state: HordeState, name: str) -> np.ndarray:
         """The primary weights of one demon (a copy)."""
-        g, row = self.locate(name)
-        return state.learners[g].theta[row].copy()
+        b, col = self.locate(name)
+        return state.theta[b][:, col].copy()
+
+    def demon_arrays(self, state: HordeState, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """One demon's (theta, w, e), each [n] (views): the demon-major view that reference.py keeps."""
+        b, col = self.locate(name)
+        slot = int(self.demon_slot[self.index[name]])
+        trace = int(self.slot_class[slot] - self.slot_class[self.block_lo[b]])
+        return state.theta[b][:, col], state.w[b][:, col], state.e[b][:, trace]
 
     def is_control(self, name: str) -> bool:
         demon = self.demon_specs[self.index[name]]
@@ -462,4 +405,4 @@ class Horde:
         return [name for name in self.names if not self.is_control(name)]
 
 
-__all__ = ["UNIFORM", "Forward", "Group", "Horde", "HordeState", "Stage"]
+__all__ = ["OF", "UNIFORM", "Forward", "Group", "Horde", "HordeState", "Stage"]

@@ -24,8 +24,7 @@ import math
 import numpy as np
 from numba import njit
 
-from horde.core.fast import _value_policy
-from horde.core.policies import FIXED
+from horde.core.policies import EPSILON_GREEDY, FIXED, SOFTMAX, TIE_TOLERANCE
 from horde.core.scale import LEARNER_CODES, POLICY_CODES, A, Layout, ScaleState
 
 TD, GTD, GQ = LEARNER_CODES["td"], LEARNER_CODES["gtd"], LEARNER_CODES["gq"]
@@ -34,22 +33,48 @@ B_LEARNER, B_POLICY, B_LO, B_HI, B_ROWS, B_WOFF, B_TOFF, B_VOFF, B_NCLS, B_COFF 
 
 
 @njit(cache=True)
+def _value_policy(kind, q, temperature, epsilon, out):
+    """out[:A] = greedy / softmax / epsilon-greedy probabilities over action values q[:A] (policies.py)."""
+    best = q[0]
+    for a in range(1, A):
+        best = max(best, q[a])
+    if kind == SOFTMAX:
+        zmax = q[0] / temperature
+        for a in range(1, A):
+            zmax = max(zmax, q[a] / temperature)
+        total = 0.0
+        for a in range(A):
+            out[a] = math.exp(q[a] / temperature - zmax)
+            total += out[a]
+        for a in range(A):
+            out[a] = out[a] / total
+        return
+    count = 0
+    for a in range(A):
+        if q[a] >= best - TIE_TOLERANCE:
+            count += 1
+    for a in range(A):
+        greedy = (1.0 if q[a] >= best - TIE_TOLERANCE else 0.0) / count
+        out[a] = epsilon / A + (1.0 - epsilon) * greedy if kind == EPSILON_GREEDY else greedy
+
+
+@njit(cache=True)
 def _sum_rows(flat, start, x, db, acc):
     """acc[:db] += the rows x of the [n, db] array at flat[start:], four rows at a time."""
     k = x.shape[0]
     j = 0
     while j + 4 <= k:
-        r0 = flat[start + x[j] * db : start + x[j] * db + db]
-        r1 = flat[start + x[j + 1] * db : start + x[j + 1] * db + db]
-        r2 = flat[start + x[j + 2] * db : start + x[j + 2] * db + db]
-        r3 = flat[start + x[j + 3] * db : start + x[j + 3] * db + db]
+        o0 = start + x[j] * db
+        o1 = start + x[j + 1] * db
+        o2 = start + x[j + 2] * db
+        o3 = start + x[j + 3] * db
         for i in range(db):
-            acc[i] += ((r0[i] + r1[i]) + r2[i]) + r3[i]
+            acc[i] += ((flat[o0 + i] + flat[o1 + i]) + flat[o2 + i]) + flat[o3 + i]
         j += 4
     while j < k:
-        r0 = flat[start + x[j] * db : start + x[j] * db + db]
+        o0 = start + x[j] * db
         for i in range(db):
-            acc[i] += r0[i]
+            acc[i] += flat[o0 + i]
         j += 1
 
 
@@ -132,42 +157,40 @@ def _observe(
 
 
 @njit(cache=True)
-def _update_pair(th0, w0, th1, w1, e0, e1, f0, f1, td, ad, awd, step_x, w_dot_e):
-    """Two support rows of a shared trace: theta += ad e; for GTD/GQ also w . e and
-    w += awd e - f alpha_w (w . x_t)  (f = 1 on the rows of x_t, else 0)."""
-    db = th0.shape[0]
+def _update_pair(theta, w, b0, b1, db, e0, e1, f0, f1, td, ad, awd, step_x, w_dot_e):
+    """Two support rows (at flat offsets b0, b1) of a shared trace: theta += ad e; for GTD/GQ also w . e
+    and w += awd e - f alpha_w (w . x_t)  (f = 1 on the rows of x_t, else 0)."""
     if td:
         for i in range(db):
             a = ad[i]
-            th0[i] += a * e0
-            th1[i] += a * e1
+            theta[b0 + i] += a * e0
+            theta[b1 + i] += a * e1
         return
     for i in range(db):
         a = ad[i]
         aw = awd[i]
         sx = step_x[i]
-        v0 = w0[i]
-        v1 = w1[i]
+        v0 = w[b0 + i]
+        v1 = w[b1 + i]
         w_dot_e[i] += v0 * e0 + v1 * e1
-        th0[i] += a * e0
-        th1[i] += a * e1
-        w0[i] = v0 + aw * e0 - f0 * sx
-        w1[i] = v1 + aw * e1 - f1 * sx
+        theta[b0 + i] += a * e0
+        theta[b1 + i] += a * e1
+        w[b0 + i] = v0 + aw * e0 - f0 * sx
+        w[b1 + i] = v1 + aw * e1 - f1 * sx
 
 
 @njit(cache=True)
-def _update_one(th, wr, e, f, td, ad, awd, step_x, w_dot_e):
+def _update_one(theta, w, b0, db, e, f, td, ad, awd, step_x, w_dot_e):
     """One support row of a shared trace (as `_update_pair`)."""
-    db = th.shape[0]
     if td:
         for i in range(db):
-            th[i] += ad[i] * e
+            theta[b0 + i] += ad[i] * e
         return
     for i in range(db):
-        wv = wr[i]
+        wv = w[b0 + i]
         w_dot_e[i] += wv * e
-        th[i] += ad[i] * e
-        wr[i] = wv + awd[i] * e - f * step_x[i]
+        theta[b0 + i] += ad[i] * e
+        w[b0 + i] = wv + awd[i] * e - f * step_x[i]
 
 
 @njit(cache=True)
@@ -311,8 +334,9 @@ def _step(
                 v_t = q[d, 0]
             dl = r[d] + (1.0 - g1) * z[d] + g1 * v_next - v_t
             delta[d] = dl
-            ad[i] = alpha[d] * dl
-            awd[i] = alpha_w[d] * dl
+            # a frozen demon (step size 0) stays exactly as it is, even when its delta is not finite
+            ad[i] = alpha[d] * dl if alpha[d] != 0.0 else 0.0
+            awd[i] = alpha_w[d] * dl if alpha_w[d] != 0.0 else 0.0
             w_dot_e[i] = 0.0
             w_dot_x[i] = 0.0
 
@@ -327,7 +351,7 @@ def _step(
         if not td:
             _sum_rows(w, woff + shift * db, x_t, db, step_x)
             for i in range(db):
-                step_x[i] *= alpha_w[lo + i]
+                step_x[i] = step_x[i] * alpha_w[lo + i] if alpha_w[lo + i] != 0.0 else 0.0
 
         # Merge x_t's rows into the support (both sorted). A shared trace gets its new values and the
         # cut here (one number per row), so that the weight pass below sees only the rows it updates.
@@ -370,25 +394,12 @@ def _step(
             while s + 2 <= out:
                 b0 = woff + rows[s] * db
                 b1 = woff + rows[s + 1] * db
-                _update_pair(
-                    theta[b0 : b0 + db],
-                    w[b0 : b0 + db],
-                    theta[b1 : b1 + db],
-                    w[b1 : b1 + db],
-                    rows_e[s],
-                    rows_e[s + 1],
-                    rows_f[s],
-                    rows_f[s + 1],
-                    td,
-                    ad,
-                    awd,
-                    step_x,
-                    w_dot_e,
-                )
+                _update_pair(theta, w, b0, b1, db, rows_e[s], rows_e[s + 1], rows_f[s], rows_f[s + 1], td, ad, awd,
+                             step_x, w_dot_e)  # fmt: skip
                 s += 2
             if s < out:
                 b0 = woff + rows[s] * db
-                _update_one(theta[b0 : b0 + db], w[b0 : b0 + db], rows_e[s], rows_f[s], td, ad, awd, step_x, w_dot_e)
+                _update_one(theta, w, b0, db, rows_e[s], rows_f[s], td, ad, awd, step_x, w_dot_e)
             support[toff : toff + out] = rows[:out]
             kept = out
         else:
@@ -446,7 +457,8 @@ def _step(
         correction = w_dot_e[:db]
         if not td:
             for i in range(db):
-                correction[i] = alpha[lo + i] * gamma_tp1[dcls[lo + i]] * (1.0 - lam_b) * correction[i]
+                a_i = alpha[lo + i]
+                correction[i] = a_i * gamma_tp1[dcls[lo + i]] * (1.0 - lam_b) * correction[i] if a_i != 0.0 else 0.0
         mode = 0 if td else (2 if gq else 1)
         for a in range(actions):
             _correct_and_read(theta, woff + a * n_s * db, x_tp1, db, correction, pi_next[a, :db], mode, values[a, :db])
@@ -460,32 +472,31 @@ def _correct_and_read(theta, start, x, db, correction, weight, mode, acc):
     """theta -= correction * weight on the rows x (mode 2: a weight per demon, 1: weight 1, 0: no
     correction), then acc = the sum of those rows: the new values at s_{t+1}. Two rows at a time."""
     k = x.shape[0]
-    acc[:] = 0.0
+    for i in range(db):
+        acc[i] = 0.0
     j = 0
     while j < k:
         pair = j + 1 < k
         b0 = start + x[j] * db
         b1 = start + x[j + 1] * db if pair else b0
-        r0 = theta[b0 : b0 + db]
-        r1 = theta[b1 : b1 + db]
         if mode == 2:
             for i in range(db):
                 c = correction[i] * weight[i]
-                r0[i] -= c
+                theta[b0 + i] -= c
                 if pair:
-                    r1[i] -= c
+                    theta[b1 + i] -= c
         elif mode == 1:
             for i in range(db):
-                r0[i] -= correction[i]
+                theta[b0 + i] -= correction[i]
                 if pair:
-                    r1[i] -= correction[i]
+                    theta[b1 + i] -= correction[i]
         if pair:
             for i in range(db):
-                acc[i] += r0[i] + r1[i]
+                acc[i] += theta[b0 + i] + theta[b1 + i]
             j += 2
         else:
             for i in range(db):
-                acc[i] += r0[i]
+                acc[i] += theta[b0 + i]
             j += 1
 
 
