@@ -16,8 +16,8 @@ class Limits:
     """Sizes the server accepts, beyond the bounds that the spec models enforce themselves."""
 
     max_runs: int = 32
-    max_demons: int = 1_000
-    max_weights: int = 2_000_000  # numbers in one weight array of all demons together (theta; w, e, h alike)
+    max_demons: int = 10_000
+    max_weights: int = 12_000_000  # numbers in one weight array of all demons together (theta; w, e, h alike)
     max_step_request: int = 10_000  # steps of one POST /step
     history: int = 10_000  # rows of each run's history
     history_every: int = 1  # steps between two history rows at least

@@ -9,9 +9,19 @@ from __future__ import annotations
 
 import itertools
 import math
+import re
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    PrivateAttr,
+    ValidationError,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
 
 ACTIONS: tuple[str, ...] = ("up", "down", "left", "right")
 
@@ -293,15 +303,59 @@ class Condition(Model):
         return thresholds
 
 
+class TiledSensor(Model):
+    """One sensor of `kind = "sensors"` features: its readings in [low, high] are tiled (and clipped)."""
+
+    sensor: str = Field(min_length=1, max_length=80, description="a sensor name, e.g. in:zone3")
+    low: Finite = Field(description="the lowest reading the tiling resolves")
+    high: Finite = Field(description="the highest reading the tiling resolves")
+
+    @model_validator(mode="after")
+    def _ordered(self) -> TiledSensor:
+        if not self.low < self.high:
+            raise ValueError(f"sensor {self.sensor!r}: low must be below high")
+        return self
+
+
+MAX_TILED_SENSORS = 256
+
+
 class FeatureSpec(Model):
-    kind: Literal["stripes", "tiles", "grid", "constant"] = "stripes"
+    kind: Literal["stripes", "tiles", "grid", "constant", "sensors"] = "stripes"
     parts: int = Field(default=5, ge=1, le=1000, description="stripes: columns, rows, diagonals")
-    tilings: int = Field(default=8, ge=1, le=64, description="tiles: number of offset tilings")
-    tiles: int = Field(default=8, ge=1, le=1000, description="tiles, grid: tiles per dimension")
+    tilings: int = Field(default=8, ge=1, le=64, description="tiles, sensors: number of offset tilings")
+    tiles: int = Field(default=8, ge=1, le=1000, description="tiles, grid, sensors: tiles per dimension")
+    sensors: list[TiledSensor] | None = Field(
+        default=None, max_length=MAX_TILED_SENSORS, description="sensors: each tiled on its own, with its range"
+    )
+    size: int | None = Field(
+        default=None,
+        ge=1,
+        le=MAX_FEATURES - 1,
+        description="sensors: the hash table's size (features besides the bias)",
+    )
     condition: Condition | None = None
+
+    @field_validator("size")
+    @classmethod
+    def _fits(cls, size: int | None, info: ValidationInfo) -> int | None:
+        tilings, sensors = info.data.get("tilings"), info.data.get("sensors")
+        if size is not None and tilings is not None and sensors and size < tilings * len(sensors):
+            raise ValueError(
+                f"size {size} is too small for {tilings} tilings of {len(sensors)} sensors "
+                f"(at least {tilings * len(sensors)})"
+            )
+        return size
 
     @model_validator(mode="after")
     def _bounded(self) -> FeatureSpec:
+        if self.kind == "sensors":
+            if not self.sensors:
+                raise ValueError("sensors features need a list of sensors, each with its range [low, high]")
+            if self.size is None:
+                raise ValueError("sensors features need a hash table size")
+        elif self.sensors is not None or self.size is not None:
+            raise ValueError("sensors and size belong to kind = 'sensors' features")
         if self.state_size() > MAX_FEATURES:
             raise ValueError(f"at most {MAX_FEATURES} state features (this spec has {self.state_size()})")
         return self
@@ -314,10 +368,14 @@ class FeatureSpec(Model):
             return self.tilings * (self.tiles + 1) ** 2 + 1
         if self.kind == "grid":
             return self.tiles**2
+        if self.kind == "sensors":
+            return (self.size or 0) + 1
         return 1
 
     def active_count(self) -> int:
         """Number of active state features, the same in every state."""
+        if self.kind == "sensors":
+            return self.tilings * len(self.sensors or []) + 1
         return {"stripes": 5, "tiles": self.tilings + 1, "grid": 1, "constant": 1}[self.kind]
 
     def state_size(self) -> int:
@@ -490,6 +548,92 @@ class ThesisResults(Model):
     counts: Counts | None = None
 
 
+# ----------------------------------------------------------------------------------------------
+# Demon families: one entry, the product of its lists (Horde scale that a user can write)
+
+MAX_FAMILIES = 64
+_PLACEHOLDER = re.compile(r"\{([A-Za-z_][A-Za-z0-9_]*)\}")
+
+
+def _fill(template: Any, env: dict[str, str | float]) -> Any:
+    """The template with every "{var}" replaced: a string that is only "{var}" becomes the value itself."""
+    if isinstance(template, str):
+        whole = _PLACEHOLDER.fullmatch(template)
+        if whole and whole.group(1) in env:
+            return env[whole.group(1)]
+        return _PLACEHOLDER.sub(lambda m: str(env[m.group(1)]) if m.group(1) in env else m.group(0), template)
+    if isinstance(template, dict):
+        return {key: _fill(value, env) for key, value in template.items()}
+    if isinstance(template, list):
+        return [_fill(value, env) for value in template]
+    return template
+
+
+class DemonFamily(Model):
+    """One entry that expands into a demon for every combination of its lists (their product).
+
+    `demon` is a demon written as usual, in which any "{var}" stands for the values of the list `var`
+    of `over`; `name` is the pattern of the demons' names, such as "{sensor}_g{gamma}" (characters a
+    name cannot hold, such as the colon of "in:zone1", become "_").
+    """
+
+    name: str = Field(min_length=1, max_length=64, description='the name pattern, e.g. "{sensor}_g{gamma}"')
+    over: dict[Name, Annotated[list[Annotated[str, Field(max_length=80)] | Finite], Field(min_length=1)]] = Field(
+        min_length=1, max_length=8, description="the lists whose product the family expands into"
+    )
+    demon: dict[str, Any] = Field(description='a demon without its name; "{var}" in any string takes the values')
+    _demons: list[DemonSpec] = PrivateAttr(default_factory=list)
+
+    @field_validator("over")
+    @classmethod
+    def _bounded(cls, over: dict[str, list[str | float]]) -> dict[str, list[str | float]]:
+        count = math.prod(len(values) for values in over.values())
+        if count > MAX_DEMONS:
+            raise ValueError(f"the lists expand into {count} demons, more than {MAX_DEMONS}")
+        return over
+
+    @model_validator(mode="after")
+    def _names(self) -> DemonFamily:
+        used = set(_PLACEHOLDER.findall(self.name))
+        unknown = sorted(used - set(self.over))
+        if unknown:
+            raise ValueError(f"name pattern {self.name!r} uses {', '.join(unknown)}, which over does not list")
+        missing = sorted(set(self.over) - used)
+        if missing:
+            raise ValueError(f"name pattern {self.name!r} must use every list of over (missing: {', '.join(missing)})")
+        if "name" in self.demon:
+            raise ValueError("the demon template takes its name from the family's name pattern")
+        self._demons = self._expand()
+        return self
+
+    def size(self) -> int:
+        return math.prod(len(values) for values in self.over.values())
+
+    def expand(self) -> list[DemonSpec]:
+        """The family's demons, in the order of the product of its lists (the last list varies fastest)."""
+        return list(self._demons)
+
+    def _expand(self) -> list[DemonSpec]:
+        """The demons of `expand`, validated.
+
+        Raises:
+            ValueError: naming the first demon whose filled-in template is not a valid demon.
+        """
+        keys = list(self.over)
+        demons = []
+        for values in itertools.product(*(self.over[key] for key in keys)):
+            env = dict(zip(keys, values, strict=True))
+            parts = {key: re.sub(r"[^A-Za-z0-9_.-]", "_", str(value)) for key, value in env.items()}
+            name = _PLACEHOLDER.sub(lambda m, parts=parts: parts[m.group(1)], self.name)
+            try:
+                demons.append(DemonSpec.model_validate({**_fill(self.demon, env), "name": name}))
+            except ValidationError as exc:
+                error = exc.errors()[0]
+                where = ".".join(str(part) for part in error["loc"])
+                raise ValueError(f"demon {name!r}: {where}: {error['msg']}") from None
+        return demons
+
+
 class RunSpec(Model):
     name: Name | None = None
     description: str = Field(default="", max_length=2000)
@@ -498,12 +642,31 @@ class RunSpec(Model):
     behaviour: BehaviourSpec = Field(default_factory=BehaviourSpec)
     learning: LearningSpec = Field(default_factory=LearningSpec)
     demons: list[DemonSpec] = Field(default_factory=list, max_length=MAX_DEMONS)
+    families: list[DemonFamily] = Field(
+        default_factory=list,
+        max_length=MAX_FAMILIES,
+        description="demon families, expanded into `demons` when the spec is read (and then empty)",
+    )
     protocol: ProtocolSpec = Field(default_factory=ProtocolSpec)
     thesis: ThesisResults = Field(default_factory=ThesisResults)
     seed: int = Field(default=0, ge=0, le=2**63 - 1)
 
+    @field_validator("families")
+    @classmethod
+    def _families_bounded(cls, families: list[DemonFamily], info: ValidationInfo) -> list[DemonFamily]:
+        demons = len(info.data.get("demons") or [])
+        total = demons + sum(f.size() for f in families)
+        if total > MAX_DEMONS:
+            raise ValueError(f"the families expand into {total - demons} demons; with {demons} others that is "
+                             f"{total}, more than {MAX_DEMONS}")  # fmt: skip
+        return families
+
     @model_validator(mode="after")
     def _references(self) -> RunSpec:
+        if self.families:  # expanded once, before anything reads the demons
+            expanded = [demon for family in self.families for demon in family.expand()]
+            object.__setattr__(self, "demons", [*self.demons, *expanded])
+            object.__setattr__(self, "families", [])
         check_demon_graph(self)
         return self
 
@@ -561,6 +724,12 @@ def check_demon_graph(spec: RunSpec) -> list[str]:
             raise ValueError(f"the behaviour refers to unknown demon {spec.behaviour.demon!r}")
         if control.learner != "gq":
             raise ValueError(f"the behaviour acts on {control.name!r}, which learns no action values")
+    for where, features in [("features", spec.features)] + [(d.name, d.features) for d in spec.demons]:
+        for tiled in (features.sensors or []) if features is not None else []:
+            if tiled.sensor not in sensors:
+                raise ValueError(
+                    f"{where}: tiles unknown sensor {tiled.sensor!r} (known: {', '.join(sorted(sensors))})"
+                )
     test = spec.protocol.test
     if test and test.behaviour.demon is not None and test.behaviour.demon not in by_name:
         raise ValueError(f"the test behaviour refers to unknown demon {test.behaviour.demon!r}")

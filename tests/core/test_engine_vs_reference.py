@@ -120,6 +120,43 @@ DEMONS: list[dict[str, Any]] = [
         "cumulant": {"if": {"prediction": "lamp"}, "then": {"prediction": "goal_prob"}, "else": 0.1},
         "continuation": {"max": [0.5, {"mul": [0.9, {"sensor": "in:crit"}]}]},
     },
+    {
+        # features tiled over sensors, hashed into a table small enough that hashes collide
+        "name": "sensed",
+        "learner": "gtd",
+        "policy": {"of": "base"},
+        "cumulant": {"sensor": "in:crit"},
+        "discount": 0.8,
+        "features": {
+            "kind": "sensors",
+            "tilings": 3,
+            "tiles": 4,
+            "size": 24,
+            "sensors": [
+                {"sensor": "x", "low": 0, "high": 500},
+                {"sensor": "y", "low": 0, "high": 500},
+                {"sensor": "steps", "low": 0, "high": 40},
+                {"sensor": "color:lamp", "low": -1, "high": 1},
+                {"sensor": "in:crit", "low": 0, "high": 1},
+                {"sensor": "bump", "low": 0, "high": 1},
+            ],
+        },
+    },
+    {
+        "name": "sensed_ctl",
+        "policy": "greedy",
+        "cumulant": {"sensor": "bump"},
+        "discount": 0.7,
+        "lambda": 0.6,
+        "features": {
+            "kind": "sensors",
+            "tilings": 2,
+            "tiles": 3,
+            "size": 16,
+            "sensors": [{"sensor": "x", "low": 0, "high": 500}, {"sensor": "y", "low": 0, "high": 500}],
+            "condition": {"demon": "lamp", "thresholds": [0.0]},
+        },
+    },
 ]
 
 
@@ -218,7 +255,7 @@ def test_engine_equals_reference_at_every_step(case: str, cut: float) -> None:
     tolerance = TOLERANCE if cut == 0.0 else CUT_TOLERANCE
     ref = ReferenceHorde(spec)
     names = sim.world.sensor_names
-    ref.observe(*sim.position)
+    ref.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
     compare(sim, ref, 0, tolerance)
     terminated = truncated = 0
     blocks: set[int] = set()
@@ -233,7 +270,7 @@ def test_engine_equals_reference_at_every_step(case: str, cut: float) -> None:
         ref.learn(result.action, b_prob, float(sensors[0]), float(sensors[1]),
                   dict(zip(names, sensors.tolist(), strict=True)), result.terminated)  # fmt: skip
         if result.done:
-            ref.observe(*sim.position)
+            ref.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
         terminated += result.terminated
         truncated += result.truncated
         compare(sim, ref, step, tolerance)

@@ -205,3 +205,63 @@ def test_stripes_size_formula(parts):
     spec = FeatureSpec(kind="stripes", parts=parts)
     assert StateCoder(spec, 1, 1).n == 2 * parts + 2 * (2 * parts - 1) + 1 == 6 * parts - 1
     assert math.isclose(spec.base_size(), 6 * parts - 1)
+
+
+# ----------------------------------------------------------------------------------------------
+# Features tiled over any sensors, hashed into a fixed table (kind "sensors")
+
+SENSOR_NAMES = ["a", "b", "c", "d"]
+
+
+@st.composite
+def sensor_specs(draw):
+    count = draw(st.integers(1, 4))
+    tilings = draw(st.integers(1, 8))
+    lows = draw(st.lists(st.floats(-100, 100), min_size=count, max_size=count))
+    sensors = [
+        {"sensor": SENSOR_NAMES[i], "low": low, "high": low + draw(st.floats(0.5, 50))} for i, low in enumerate(lows)
+    ]
+    size = draw(st.integers(tilings * count, tilings * count + 40))  # small tables: hashes collide
+    return FeatureSpec.model_validate(
+        {"kind": "sensors", "tilings": tilings, "tiles": draw(st.integers(1, 12)), "size": size, "sensors": sensors}
+    )
+
+
+@given(spec=sensor_specs(), readings=st.lists(st.floats(-200, 200), min_size=4, max_size=4))
+def test_hashed_sensor_tiles_equal_the_plain_reference(spec, readings):
+    coder = StateCoder(spec, 500, 500, SENSOR_NAMES)
+    idx = coder.active(np.zeros(1), np.zeros(1), sensors=np.array([readings]))[0]
+    assert len(idx) == spec.active_count() == len(set(idx.tolist())), "k distinct features, collisions probed"
+    assert idx.tolist() == sorted(idx.tolist()) and idx[-1] == spec.size, "sorted, the bias last"
+    dense = reference.state_features(spec, 0.0, 0.0, 500, 500, 0.0, dict(zip(SENSOR_NAMES, readings, strict=True)))
+    assert idx.tolist() == np.flatnonzero(dense).tolist()
+
+
+def test_hashed_sensor_tiles_by_hand():
+    """One sensor in [0, 10], 2 tilings of 4 tiles, a table of 8: reading 5 is u = 0.5.
+
+    tiling 0: tile floor(2.0 + 0) = 2, key (0 * 2 + 0) * 5 + 2 = 2, hash 2 * 2654435761 mod 2^32 mod 8 = 2
+    tiling 1: tile floor(2.0 + 0.5) = 2, key (0 * 2 + 1) * 5 + 2 = 7, 7 * 2654435761 mod 2^32 = 1401181143,
+              mod 8 = 7
+    """
+    spec = FeatureSpec.model_validate(
+        {"kind": "sensors", "tilings": 2, "tiles": 4, "size": 8, "sensors": [{"sensor": "a", "low": 0, "high": 10}]}
+    )
+    coder = StateCoder(spec, 500, 500, SENSOR_NAMES)
+    assert (7 * 2654435761) % 2**32 == 1401181143
+    assert coder.active(np.zeros(1), np.zeros(1), sensors=np.array([[5.0, 0, 0, 0]]))[0].tolist() == [2, 7, 8]
+
+
+@pytest.mark.parametrize(
+    ("change", "field"),
+    [
+        ({"size": 1}, ("size",)),
+        ({"sensors": [{"sensor": "a", "low": 0}]}, ("sensors", 0, "high")),
+        ({"sensors": [{"sensor": "a", "high": 1}]}, ("sensors", 0, "low")),
+    ],
+)
+def test_bad_tiled_sensors_name_the_field(change, field):
+    body = {"kind": "sensors", "tilings": 2, "tiles": 4, "size": 8, "sensors": [{"sensor": "a", "low": 0, "high": 1}]}
+    with pytest.raises(ValueError) as info:
+        FeatureSpec.model_validate({**body, **change})
+    assert info.value.errors()[0]["loc"] == field  # type: ignore[attr-defined]

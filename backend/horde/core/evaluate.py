@@ -67,7 +67,7 @@ def monte_carlo(
         actions = sample(pi, rng)
         ws, transition = world.step(ws, actions, rng)
         sensors = world.sensors(ws, transition)
-        forward = horde.forward(state, ws.x, ws.y)
+        forward = horde.forward(state, ws.x, ws.y, sensors)
         r, z, gamma = program.evaluate(sensors, forward.prediction).T  # [B] each
         gamma = np.where(transition.terminated, 0.0, np.clip(gamma, 0.0, 1.0) * discount)
         total[alive] += weight * (r + (1.0 - gamma) * z)
@@ -140,7 +140,7 @@ def exact(horde: Horde, state: HordeState, name: str) -> Lattice:
                 step_reward = step_reward + world._terminal_rewards(inside & world.is_terminal, colors)
             after = WorldState(nx, ny, np.ones(n, dtype=np.int64), colors)
             sensors = world.sensors(after, Transition(step_reward, bump, terminated, np.zeros(n, bool), inside))
-            predictions = horde.forward(state, nx, ny).prediction
+            predictions = horde.forward(state, nx, ny, sensors).prediction
             r, z, gamma = program.evaluate(sensors, predictions).T
             gamma = np.where(terminated, 0.0, np.clip(gamma, 0.0, 1.0) * discount)
             p = pi[:, action] * probability  # [N]

@@ -26,6 +26,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from horde.core.features import hashed_tiles
 from horde.core.horde import Horde, HordeState
 from horde.core.metrics import RUPEE_ALPHA_H, RUPEE_BETA, UDE_BETA
 from horde.core.policies import FIXED, KIND_CODES, OF, UNIFORM
@@ -51,12 +52,12 @@ from horde.core.world import DIRECTIONS, NUM_ACTIONS, PERPENDICULAR, World, Worl
 from horde.spec import BehaviourSpec
 
 A = NUM_ACTIONS
-FEATURE_KINDS = {"stripes": 0, "tiles": 1, "grid": 2, "constant": 3}
+FEATURE_KINDS = {"stripes": 0, "tiles": 1, "grid": 2, "constant": 3, "sensors": 4}
 FOREVER = 2**62  # "no limit" for step and episode counts
 
 # Columns of the per-group integer table.
 G_STAGE, G_ACTION_VALUES, G_NS, G_K, G_KIND, G_PARTS, G_TILINGS, G_TILES, G_BASE_N, G_COND = range(10)
-G_THR_LO, G_THR_HI, G_BLO, G_BHI, G_CLO, G_CHI, G_SLO, G_SHI = range(10, 18)
+G_THR_LO, G_THR_HI, G_BLO, G_BHI, G_CLO, G_CHI, G_SLO, G_SHI, G_SEN_LO, G_SEN_HI = range(10, 20)
 # World parameters.
 W_WIDTH, W_HEIGHT, W_STEP, W_SLIP, W_NOISE, W_TRANSIENT, W_MAX_STEPS, W_START_RECT = range(8)
 W_SX0, W_SY0, W_SX1, W_SY1 = range(8, 12)
@@ -81,8 +82,11 @@ class Net(NamedTuple):
     color_values: np.ndarray  # [I, colours]
     color_cdf: np.ndarray  # [I, colours]
     color_count: np.ndarray  # [I]
-    gi: np.ndarray  # [G, 18] the G_* columns
+    gi: np.ndarray  # [G, 20] the G_* columns
     thresholds: np.ndarray  # conditioned features' thresholds, group g's at G_THR_LO..G_THR_HI
+    tiled_col: np.ndarray  # tiled sensors (kind "sensors"), group g's at G_SEN_LO..G_SEN_HI: sensor column
+    tiled_low: np.ndarray  # and range
+    tiled_high: np.ndarray
     bi: np.ndarray  # [B, 10] the scale_fast B_* columns (slots and classes global)
     lam: np.ndarray  # [B]
     cut: float
@@ -116,6 +120,7 @@ class Buffers(NamedTuple):
     wsteps: np.ndarray  # [1]
     colors: np.ndarray  # [I]
     sensors: np.ndarray  # [S] at the last s_{t+1}
+    start_sensors: np.ndarray  # [S] at the state the Horde last observed afresh (an episode's first state)
     theta: np.ndarray  # blocks' [n_b, Db] at B_WOFF
     w: np.ndarray
     trace: np.ndarray  # blocks' [n_b, C_b] at B_VOFF
@@ -129,6 +134,7 @@ class Buffers(NamedTuple):
     dstats: np.ndarray  # [D, 3]
     feat: np.ndarray  # [G, kmax] active features at s_t
     idx: np.ndarray  # [kmax] at s_{t+1}
+    tiled_values: np.ndarray  # [most tiled sensors of a group] scratch
     class_gamma: np.ndarray  # [C] at s_t
     class_pi: np.ndarray  # [C, A] at s_t
     pi_given: np.ndarray  # [C, A] at s_{t+1}
@@ -234,13 +240,20 @@ def _cell(u, parts):
 
 
 @njit(cache=True)
-def _features(gi, thresholds, g, x, y, condition, wp, out):
-    """Active state features of group g at (x, y) into out[:k]."""
+def _features(gi, thresholds, tiled_col, tiled_low, tiled_high, tiled_values, g, x, y, sensors, condition, wp, out):
+    """Active state features of group g at (x, y) (and its sensors, for kind "sensors") into out[:k]."""
     kind = gi[g, G_KIND]
     u = x / wp[W_WIDTH]
     v = y / wp[W_HEIGHT]
     base_n = gi[g, G_BASE_N]
-    if kind == 3:
+    if kind == 4:
+        lo, hi = gi[g, G_SEN_LO], gi[g, G_SEN_HI]
+        for j in range(lo, hi):
+            tiled_values[j - lo] = sensors[tiled_col[j]]
+        hashed_tiles(tiled_values[: hi - lo], tiled_low[lo:hi], tiled_high[lo:hi], gi[g, G_TILINGS], gi[g, G_TILES],
+                     base_n - 1, out)  # fmt: skip
+        out[gi[g, G_K] - 1] = base_n - 1
+    elif kind == 3:
         out[0] = 0
     elif kind == 2:
         tiles = gi[g, G_TILES]
@@ -361,6 +374,22 @@ def _given_to_slots(gi, bi, dcls, pi, pi_given, g):
 
 
 @njit(cache=True)
+def _start_sensors(net, buf):
+    """The sensors at an episode's first state: no move yet, so bump, steps, reward and terminal are 0."""
+    num_regions = net.rects.shape[0]
+    sensors = buf.start_sensors
+    sensors[:5] = 0.0
+    sensors[0] = buf.pos[0]
+    sensors[1] = buf.pos[1]
+    for r in range(num_regions):
+        sensors[5 + r] = 1.0 if _holds(net.rects, r, buf.pos[0], buf.pos[1]) else 0.0
+    for i in range(net.ind_region.shape[0]):
+        inside = _holds(net.rects, net.ind_region[i], buf.pos[0], buf.pos[1])
+        sensors[5 + num_regions + i] = net.color_values[i, buf.colors[i]] if inside else 0.0
+    sensors[sensors.shape[0] - 1] = 0.0
+
+
+@njit(cache=True)
 def _observe(net, buf):
     """An episode starts: reset demons forget, traces to zero, every group observes the first state."""
     bi = net.bi
@@ -382,7 +411,8 @@ def _observe(net, buf):
     for g in range(net.gi.shape[0]):
         k = net.gi[g, G_K]
         cond = buf.pred[net.gi[g, G_COND]] if net.gi[g, G_COND] >= 0 else 0.0
-        _features(net.gi, net.thresholds, g, buf.pos[0], buf.pos[1], cond, net.wp, buf.feat[g])
+        _features(net.gi, net.thresholds, net.tiled_col, net.tiled_low, net.tiled_high, buf.tiled_values, g,
+                  buf.pos[0], buf.pos[1], buf.start_sensors, cond, net.wp, buf.feat[g])  # fmt: skip
         _sort(buf.feat[g], k)
         _given_policies(net.gi, net.class_kind, net.class_of, net.class_fixed, buf.pi, buf.pi_given, g)
         blo, bhi = net.gi[g, G_BLO], net.gi[g, G_BHI]
@@ -514,6 +544,7 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
         net.stage_lo, net.stage_hi, net.node_kind, net.node_arg, net.node_start, net.node_children
     )  # fmt: skip
     out_r, out_z = net.out_r, net.out_z
+    tiled_col, tiled_low, tiled_high, tiled_values = net.tiled_col, net.tiled_low, net.tiled_high, buf.tiled_values
     pos, sensors, result, returns, colors = buf.pos, buf.sensors, buf.result, buf.returns, buf.colors
     theta, w, trace, support, nnz, touched = buf.theta, buf.w, buf.trace, buf.support, buf.nnz, buf.touched
     feat, idx, node_values = buf.feat, buf.idx, buf.node_values
@@ -600,7 +631,7 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
                           sensors, pred, node_values)  # fmt: skip
             k = gi[g, G_K]
             cond = pred[gi[g, G_COND]] if gi[g, G_COND] >= 0 else 0.0
-            _features(gi, thresholds, g, nx, ny, cond, wp, idx)
+            _features(gi, thresholds, tiled_col, tiled_low, tiled_high, tiled_values, g, nx, ny, sensors, cond, wp, idx)
             _sort(idx, k)
             clo, chi = gi[g, G_CLO], gi[g, G_CHI]
             for c in range(clo, chi):
@@ -649,6 +680,7 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
             returns[0] = 0.0
             _world_reset(rng, wp, rects, is_obstacle, is_terminal, net.color_cdf, net.color_count, pos, buf.wsteps,
                          colors)  # fmt: skip
+            _start_sensors(net, buf)
             _observe(net, buf)
     result[R_STEPS] = steps
     result[R_EPISODES] = episodes
@@ -659,6 +691,7 @@ def _reset(net, buf, rng):
     """A new episode: the world draws its start and colours, the Horde observes the first state."""
     _world_reset(rng, net.wp, net.rects, net.is_obstacle, net.is_terminal, net.color_cdf, net.color_count, buf.pos,
                  buf.wsteps, buf.colors)  # fmt: skip
+    _start_sensors(net, buf)
     _observe(net, buf)
 
 
@@ -767,18 +800,22 @@ class FastLoop:
                    class_lo)  # fmt: skip
         bi = np.stack([np.asarray(c, dtype=np.int64) for c in columns], axis=1).reshape(-1, 10)
         thresholds: list[float] = []
+        tiled: list[tuple[int, float, float]] = []
         gi = []
         for group in groups:
             spec = group.coder.spec
             lo = len(thresholds)
             thresholds.extend(group.coder.thresholds.tolist())
             slo = int(horde.block_lo[group.blocks.start]) if len(group.blocks) else 0
+            sen_lo = len(tiled)
+            tiled.extend(zip(group.coder.tiled_columns.tolist(), group.coder.tiled_low.tolist(),
+                             group.coder.tiled_high.tolist(), strict=True))  # fmt: skip
             gi.append([
                 group.stage, int(group.action_values), group.coder.n, group.coder.k, FEATURE_KINDS[spec.kind],
                 spec.parts, spec.tilings, spec.tiles, group.coder.base_n,
                 int(horde.demon_slot[group.condition]) if group.condition >= 0 else -1, lo, len(thresholds),
                 group.blocks.start, group.blocks.stop, group.classes.start, group.classes.stop,
-                slo, slo + len(group.demons),
+                slo, slo + len(group.demons), sen_lo, len(tiled),
             ])  # fmt: skip
         starts = [np.searchsorted(np.asarray(b.classes), np.arange(b.num_classes)) for b in blocks]
         ends = [np.searchsorted(np.asarray(b.classes), np.arange(b.num_classes), side="right") for b in blocks]
@@ -786,8 +823,11 @@ class FastLoop:
         specs = horde.demon_specs
         self.net = Net(
             **_pack_world(world),
-            gi=np.array(gi, dtype=np.int64).reshape(-1, 18),
+            gi=np.array(gi, dtype=np.int64).reshape(-1, 20),
             thresholds=np.array(thresholds, dtype=float),
+            tiled_col=np.array([t[0] for t in tiled], dtype=np.int64),
+            tiled_low=np.array([t[1] for t in tiled], dtype=float),
+            tiled_high=np.array([t[2] for t in tiled], dtype=float),
             bi=bi,
             lam=np.array([b.lam for b in blocks], dtype=float),
             cut=float(horde.cut),
@@ -813,6 +853,7 @@ class FastLoop:
             wsteps=np.zeros(1, dtype=np.int64),
             colors=np.zeros(world.num_indicators, dtype=np.int64),
             sensors=np.zeros(len(world.sensor_names)),
+            start_sensors=np.zeros(len(world.sensor_names)),
             theta=np.zeros(int(woff[-1])),
             w=np.zeros(int(woff[-1])),
             trace=np.zeros(int(voff[-1])),
@@ -826,6 +867,7 @@ class FastLoop:
             dstats=np.zeros((d, 3)),
             feat=np.zeros((ng, kmax), dtype=np.int64),
             idx=np.zeros(kmax, dtype=np.int64),
+            tiled_values=np.zeros(max([1, *(len(g.coder.tiled_columns) for g in groups)])),
             class_gamma=np.zeros(c),
             class_pi=np.full((c, A), 1.0 / A),
             pi_given=np.full((c, A), 1.0 / A),
@@ -997,6 +1039,7 @@ class FastLoop:
 
     def observe(self) -> None:
         """Traces to zero, the Horde observes where the agent stands (after a load with new demons)."""
+        self.buf.start_sensors[:] = self.buf.sensors
         _observe(self.net, self.buf)
 
     # ------------------------------------------------------------------------------------------

@@ -7,9 +7,43 @@ the block of one action: index `a * n + i`.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+from numba import njit
 
 from horde.spec import FeatureSpec
+
+HASH_MULTIPLIER = 2654435761  # Knuth's multiplicative hash: key * this mod 2^32, then mod the table size
+HASH_MODULUS = 2**32
+
+
+@njit(cache=True)
+def hashed_tiles(values, low, high, tilings, tiles, size, out):
+    """Active features of sensors tiled one by one and hashed into `size` entries: out[:tilings * S].
+
+    Sensor s's reading, scaled by its range to u in [0, 1], falls in tile floor(u * tiles + t / tilings)
+    (clipped to 0..tiles) of tiling t; the key (s, t, tile) hashes to (key * HASH_MULTIPLIER mod 2^32) mod
+    size, and a hash already taken in this state moves to the next free entry (the active features stay
+    distinct, as the learners need). The caller appends the bias, entry `size`.
+    """
+    m = 0
+    for s in range(values.shape[0]):
+        u = (values[s] - low[s]) / (high[s] - low[s])
+        for t in range(tilings):
+            tile = min(max(math.floor(u * tiles + t / tilings), 0), tiles)
+            key = (s * tilings + t) * (tiles + 1) + tile
+            index = (key * HASH_MULTIPLIER) % HASH_MODULUS % size
+            taken = True
+            while taken:
+                taken = False
+                for j in range(m):
+                    if out[j] == index:
+                        taken = True
+                        index = (index + 1) % size
+                        break
+            out[m] = index
+            m += 1
 
 
 class StateCoder:
@@ -21,7 +55,7 @@ class StateCoder:
         base_n: number of state features of one condition block.
     """
 
-    def __init__(self, spec: FeatureSpec, width: float, height: float) -> None:
+    def __init__(self, spec: FeatureSpec, width: float, height: float, sensor_names: list[str] | None = None) -> None:
         self.spec = spec
         self.width = float(width)
         self.height = float(height)
@@ -29,21 +63,38 @@ class StateCoder:
         self.k = spec.active_count()
         self.thresholds = np.asarray(spec.condition.thresholds if spec.condition else [], dtype=float)
         self.n = self.base_n * (len(self.thresholds) + 1)
+        tiled = spec.sensors or []
+        self.sensor_index = {name: i for i, name in enumerate(sensor_names or [])}
+        self.tiled_columns = np.array([self.sensor_index[t.sensor] for t in tiled], dtype=np.int64)
+        self.tiled_low = np.array([t.low for t in tiled], dtype=float)
+        self.tiled_high = np.array([t.high for t in tiled], dtype=float)
         # tiles3-style asymmetric offsets: tiling t is shifted by t * (1, 3) / tilings of a tile.
         t = np.arange(spec.tilings)
         self._tile_offsets = np.stack([(t * 1 / spec.tilings) % 1.0, (t * 3 / spec.tilings) % 1.0], axis=1)
 
-    def active(self, x: np.ndarray, y: np.ndarray, condition: np.ndarray | None = None) -> np.ndarray:
+    def active(
+        self,
+        x: np.ndarray,
+        y: np.ndarray,
+        condition: np.ndarray | None = None,
+        sensors: np.ndarray | None = None,
+    ) -> np.ndarray:
         """Active state features.
 
         Args:
             x, y: [B] positions.
             condition: [B] the condition demon's prediction, required when the spec has a condition.
+            sensors: [B, S] the sensor vectors (named by `sensor_index`), required by kind "sensors".
 
         Returns:
-            [B, k] int64 indices in [0, n), distinct within each row.
+            [B, k] int64 indices in [0, n), distinct within each row (sorted for kind "sensors").
         """
-        idx = self._base_active(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+        if self.spec.kind == "sensors":
+            if sensors is None:
+                raise ValueError("features tiled over sensors need the sensor vectors")
+            idx = self._sensor_active(np.asarray(sensors, dtype=float))
+        else:
+            idx = self._base_active(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
         if len(self.thresholds):
             if condition is None:
                 raise ValueError("conditioned features need the condition demon's prediction")
@@ -58,6 +109,18 @@ class StateCoder:
     def _cells(self, u: np.ndarray, parts: int) -> np.ndarray:
         """Index of the part of [0, 1) holding u, clipped into range."""
         return np.minimum(np.maximum(np.floor(u * parts).astype(np.int64), 0), parts - 1)
+
+    def _sensor_active(self, sensors: np.ndarray) -> np.ndarray:
+        """[B, k] hashed tiles of the tiled sensors plus the bias, sorted."""
+        spec = self.spec
+        size = spec.size or 0
+        out = np.empty((sensors.shape[0], self.k), dtype=np.int64)
+        for row in range(sensors.shape[0]):
+            values = sensors[row, self.tiled_columns]
+            hashed_tiles(values, self.tiled_low, self.tiled_high, spec.tilings, spec.tiles, size, out[row])
+            out[row, -1] = size
+        out.sort(axis=1)
+        return out
 
     def _base_active(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         spec = self.spec

@@ -32,7 +32,7 @@ from horde.core import metrics, scale
 from horde.core.features import StateCoder
 from horde.core.policies import FIXED, KIND_CODES, OF, OWN_VALUE, UNIFORM, value_policy
 from horde.core.questions import Program
-from horde.core.world import NUM_ACTIONS
+from horde.core.world import NUM_ACTIONS, World, WorldState
 from horde.spec import BehaviourSpec, DemonSpec, FeatureSpec, RunSpec, check_demon_graph, demon_dependencies
 
 A = NUM_ACTIONS
@@ -185,7 +185,7 @@ class Horde:
     def _compile_group(
         self, spec: RunSpec, stage: int, features: FeatureSpec, action_values: bool, members: list[int]
     ) -> Group:
-        coder = StateCoder(features, spec.world.width, spec.world.height)
+        coder = StateCoder(features, spec.world.width, spec.world.height, spec.world.sensor_names())
         defaults = spec.learning
         by_block: dict[tuple[scale.Learner, float, scale.BlockPolicy], list[int]] = {}
         for i in members:
@@ -317,16 +317,28 @@ class Horde:
             return np.stack([theta[idx + a * n_s].sum(axis=1) for a in range(A)], axis=-1)
         return theta[idx].sum(axis=1)
 
-    def forward(self, state: HordeState, x: np.ndarray, y: np.ndarray) -> Forward:
-        """Predictions, policies and action values of every demon at a batch of positions, frozen."""
+    def forward(self, state: HordeState, x: np.ndarray, y: np.ndarray, sensors: np.ndarray | None = None) -> Forward:
+        """Predictions, policies and action values of every demon at a batch of positions, frozen.
+
+        Args:
+            state: the Horde's state.
+            x, y: [B] positions.
+            sensors: [B, S] the sensors there, for features tiled over sensors (default: what the sensors
+                read at an episode's first state at each position, `World.start_sensors`).
+        """
         batch = len(x)
+        if sensors is None and any(g.coder.spec.kind == "sensors" for g in self.groups):
+            world = World(self.spec.world)
+            colors = np.zeros((batch, world.num_indicators), dtype=np.int64)
+            sensors = world.start_sensors(WorldState(np.asarray(x, float), np.asarray(y, float),
+                                                     np.zeros(batch, np.int64), colors))  # fmt: skip
         prediction = np.zeros((batch, self.num_demons))
         pi = np.full((batch, self.num_demons, A), 1.0 / A)
         q = np.full((batch, self.num_demons, A), np.nan)
         features: list[np.ndarray] = []
         for group in self.groups:
             condition = prediction[:, group.condition] if group.condition >= 0 else None
-            idx = group.coder.active(x, y, condition)  # [B, k]
+            idx = group.coder.active(x, y, condition, sensors)  # [B, k]
             features.append(idx)
             lo = 0
             for b in group.blocks:

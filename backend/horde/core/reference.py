@@ -1,7 +1,7 @@
 """The equations of DESIGN section 5 written plainly, for one demon at a time: the tests' oracle.
 
 Nothing here is vectorized or clever: dense feature vectors, a recursive expression interpreter,
-per-demon loops. The engine (`learners.py`, `horde.py`) must equal this to 1e-9.
+per-demon loops. The engine (`simulation.py`, with the trace cut at 0) must equal this to 1e-9.
 """
 
 from __future__ import annotations
@@ -124,15 +124,46 @@ def evaluate_expr(expr: Expr, sensors: dict[str, float], predictions: dict[str, 
     return evaluate_expr(branch, sensors, predictions)
 
 
-def state_features(spec: FeatureSpec, x: float, y: float, width: float, height: float, condition: float) -> np.ndarray:
-    """The dense binary state feature vector of one point."""
+def hashed_sensor_tiles(spec: FeatureSpec, sensors: dict[str, float]) -> list[int]:
+    """Features tiled over sensors (kind "sensors"): one tile per sensor and tiling, hashed into `size`.
+
+    Key (sensor s, tiling t, tile) -> (key * 2654435761 mod 2^32) mod size; a hash already taken in this
+    state moves to the next free entry. Plain Python integers, no wrap-around.
+    """
+    size = spec.size or 0
+    taken: list[int] = []
+    for s, tiled in enumerate(spec.sensors or []):
+        u = (sensors[tiled.sensor] - tiled.low) / (tiled.high - tiled.low)
+        for t in range(spec.tilings):
+            tile = min(max(math.floor(u * spec.tiles + t / spec.tilings), 0), spec.tiles)
+            index = (((s * spec.tilings + t) * (spec.tiles + 1) + tile) * 2654435761) % 2**32 % size
+            while index in taken:
+                index = (index + 1) % size
+            taken.append(index)
+    return taken
+
+
+def state_features(
+    spec: FeatureSpec,
+    x: float,
+    y: float,
+    width: float,
+    height: float,
+    condition: float,
+    sensors: dict[str, float] | None = None,
+) -> np.ndarray:
+    """The dense binary state feature vector of one point (and its sensors, for kind "sensors")."""
 
     def cell(u: float, parts: int) -> int:
         return min(max(math.floor(u * parts), 0), parts - 1)
 
     phi = np.zeros(spec.base_size())
     u, v = x / width, y / height
-    if spec.kind == "constant":
+    if spec.kind == "sensors":
+        assert sensors is not None, "features tiled over sensors need the sensors"
+        phi[hashed_sensor_tiles(spec, sensors)] = 1
+        phi[-1] = 1
+    elif spec.kind == "constant":
         phi[0] = 1
     elif spec.kind == "grid":
         phi[cell(u, spec.tiles) * spec.tiles + cell(v, spec.tiles)] = 1
@@ -204,6 +235,7 @@ class ReferenceHorde:
         self.spec = spec
         self.width, self.height = spec.world.width, spec.world.height
         self.order = check_demon_graph(spec)
+        self._sensors: dict[str, float] | None = None
         self.demons: dict[str, ReferenceDemon] = {}
         for d in spec.demons:
             features = d.features or spec.features
@@ -219,7 +251,7 @@ class ReferenceHorde:
     def _phi_state(self, demon: ReferenceDemon, x: float, y: float) -> np.ndarray:
         condition = demon.features.condition
         cond_value = self.demons[condition.demon].prediction if condition else 0.0
-        return state_features(demon.features, x, y, self.width, self.height, cond_value)
+        return state_features(demon.features, x, y, self.width, self.height, cond_value, self._sensors)
 
     @staticmethod
     def _phi_sa(phi_state: np.ndarray, action: int) -> np.ndarray:
@@ -246,8 +278,9 @@ class ReferenceHorde:
             return float(sum(pi[a] * (demon.theta @ self._phi_sa(phi_state, a)) for a in range(NUM_ACTIONS)))
         return float(demon.theta @ phi_state)
 
-    def observe(self, x: float, y: float) -> None:
-        """An episode starts at (x, y): traces to zero, reset-each-episode demons forget."""
+    def observe(self, x: float, y: float, sensors: dict[str, float] | None = None) -> None:
+        """An episode starts at (x, y) (sensors: read there): traces to zero, reset-each-episode demons forget."""
+        self._sensors = sensors
         for name in self.order:
             demon = self.demons[name]
             demon.e = np.zeros_like(demon.e)
@@ -263,6 +296,7 @@ class ReferenceHorde:
     ) -> None:
         """One transition for every demon, in dependency order."""
         predictions = {name: d.prediction for name, d in self.demons.items()}
+        self._sensors = sensors
         for name in self.order:
             demon = self.demons[name]
             spec = demon.spec

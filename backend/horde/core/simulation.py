@@ -95,6 +95,11 @@ class Simulation:
         return self._loop.buf.sensors.copy()
 
     @property
+    def start_sensors(self) -> np.ndarray:
+        """[S] the sensors at the state the Horde last observed afresh (the episode's first state; a copy)."""
+        return self._loop.buf.start_sensors.copy()
+
+    @property
     def behaviour_probability(self) -> float:
         """b(a_t | s_t) of the last action taken."""
         return float(self._loop.buf.result[R_BPROB])

@@ -32,8 +32,8 @@ class Settings(BaseSettings):
     scenarios: Path | None = Field(default=None, description="scenario folder (default: the repository's)")
     max_runs: int = Field(default=32, ge=1, le=1000)
     max_worlds: int = Field(default=256, ge=1, le=100_000)
-    max_demons: int = Field(default=1000, ge=1, le=10_000)
-    max_weights: int = Field(default=2_000_000, ge=1, le=100_000_000)
+    max_demons: int = Field(default=10_000, ge=1, le=10_000)
+    max_weights: int = Field(default=12_000_000, ge=1, le=100_000_000)  # scenarios/nexting.toml: 10.4 M
     history: int = Field(default=10_000, ge=16, le=1_000_000, description="rows of each run's history buffer")
     history_every: int = Field(default=1, ge=1, le=1_000_000, description="steps between history rows, at least")
     history_interval: float = Field(
