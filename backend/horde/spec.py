@@ -10,6 +10,7 @@ from __future__ import annotations
 import itertools
 import math
 import re
+from functools import partial
 from typing import Annotated, Any, Literal
 
 from pydantic import (
@@ -569,6 +570,10 @@ def _fill(template: Any, env: dict[str, str | float]) -> Any:
     return template
 
 
+def _part(parts: dict[str, str], match: re.Match[str]) -> str:
+    return parts[match.group(1)]
+
+
 class DemonFamily(Model):
     """One entry that expands into a demon for every combination of its lists (their product).
 
@@ -624,7 +629,7 @@ class DemonFamily(Model):
         for values in itertools.product(*(self.over[key] for key in keys)):
             env = dict(zip(keys, values, strict=True))
             parts = {key: re.sub(r"[^A-Za-z0-9_.-]", "_", str(value)) for key, value in env.items()}
-            name = _PLACEHOLDER.sub(lambda m, parts=parts: parts[m.group(1)], self.name)
+            name = _PLACEHOLDER.sub(partial(_part, parts), self.name)
             try:
                 demons.append(DemonSpec.model_validate({**_fill(self.demon, env), "name": name}))
             except ValidationError as exc:
