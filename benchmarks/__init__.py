@@ -1,6 +1,7 @@
 """Throughput benchmarks of Horde Lab: `horde bench` runs them (see docs/performance.md).
 
-`run.py` runs every workload and prints the table (`--json PATH` also writes it); `sensors.py` is the
-robot-like sensor stream and its tile coder; `scale_workloads.py` the nexting, off-policy and control
-workloads; `thesis.py` the thesis-scale whole loop; `measure.py` the timing and memory-bandwidth helpers.
+`run.py` runs every workload and prints the table (`--json PATH` also writes it); every workload is a
+run spec run by `Simulation`: `workloads.py` the nexting, off-policy and control ones (over the world
+and sensors of scenarios/nexting.toml), `thesis.py` the thesis-scale whole loop; `measure.py` the timing
+and memory-bandwidth helpers.
 """

@@ -1,11 +1,14 @@
 """`horde bench`: every workload, one table, and the same figures as JSON.
 
-For each workload and size: demon-updates per second and milliseconds per step (wall-clock median of
-many steps after a warm-up; the thread's CPU time beside it), the ratio to `reference.py` in the same
-run (on a subset of the demons where the reference would take too long), and the fraction of this
-machine's memory bandwidth (measured at the start of the run) that the update's weight traffic
-reaches. Scale workloads also report their trace supports, their memory per demon, and how far their
-predictions are from the reference's on that subset.
+Every workload is a `RunSpec` run by `Simulation`, the step a user's run takes (`workloads.py`,
+`thesis.py`). For each workload and size: demon-updates per second and milliseconds per step
+(wall-clock median of many steps after a warm-up; the process's CPU time beside it), the ratio to
+`reference.py` in the same run (on a subset of the demons, fed the same transitions), and the memory
+traffic of a step counting each byte of weight and trace rows touched once (`FastLoop.unique_bytes`)
+against the bandwidth measured at the start of the run: `bandwidth_fraction` on wall time and
+`bound_fraction` on CPU time (1.0: the step takes no longer than moving its bytes once). Scale workloads
+also report their trace supports, their memory per demon, and how far their predictions are from the
+reference's on that subset.
 
 Run: `horde bench [--quick] [--json PATH] [--only WORKLOAD ...]` or `python -m benchmarks ...`.
 """
@@ -25,9 +28,9 @@ from typing import TextIO
 
 import numpy as np
 
-from benchmarks import measure, scale_workloads, thesis
-from horde.core.scale_fast import FastScale
-from horde.core.scale_oracle import ReferenceDemons
+from benchmarks import measure, thesis, workloads
+from horde.core.reference import ReferenceHorde
+from horde.core.simulation import Simulation
 
 WORKLOADS = ("thesis", "nexting", "off_policy", "control")
 
@@ -51,6 +54,8 @@ class Row:
     memory_per_demon_bytes: float = math.nan
     reference_error: float = math.nan  # max |prediction - reference| on the reference subset
     reference_demons: int = 0
+    threads: int = 1
+    bound_fraction: float = math.nan  # unique bytes / bandwidth over the CPU time of a step
     notes: str = ""
 
 
@@ -60,7 +65,7 @@ class Plan:
 
     thesis: tuple[int, ...]
     thesis_seconds: float  # timed seconds per thesis size
-    scale: tuple[tuple[str, int, str, str], ...]  # (workload, demons, learner, dtype)
+    scale: tuple[tuple[str, int, str], ...]  # (workload, demons, learner)
     warmup: int  # steps before timing (the traces' supports reach their steady size)
     timed: int
     reference_steps: int
@@ -72,20 +77,16 @@ FULL = Plan(
     thesis=(2, 100, 1000),
     thesis_seconds=2.0,
     scale=(
-        ("nexting", 100, "td", "float64"),
-        ("nexting", 1000, "td", "float64"),
-        ("nexting", 2000, "td", "float64"),
-        ("nexting", 8000, "td", "float64"),
-        ("nexting", 8000, "gtd", "float64"),
-        ("nexting", 8000, "td", "float32"),
-        ("nexting", 8000, "gtd", "float32"),
-        ("off_policy", 1000, "gtd", "float64"),
-        ("off_policy", 8000, "gtd", "float64"),
-        ("off_policy", 8000, "gtd", "float32"),
-        ("control", 100, "gq", "float64"),
-        ("control", 1000, "gq", "float64"),
-        ("control", 2000, "gq", "float64"),
-        ("control", 2000, "gq", "float32"),
+        ("nexting", 100, "td"),
+        ("nexting", 1000, "td"),
+        ("nexting", 2000, "td"),
+        ("nexting", 8000, "td"),
+        ("nexting", 8000, "gtd"),
+        ("off_policy", 1000, "gtd"),
+        ("off_policy", 8000, "gtd"),
+        ("control", 100, "gq"),
+        ("control", 1000, "gq"),
+        ("control", 2000, "gq"),
     ),
     warmup=150,
     timed=100,
@@ -96,7 +97,7 @@ FULL = Plan(
 QUICK = Plan(
     thesis=(2,),
     thesis_seconds=0.2,
-    scale=(("nexting", 50, "td", "float64"), ("off_policy", 50, "gtd", "float64"), ("control", 10, "gq", "float64")),
+    scale=(("nexting", 50, "td"), ("off_policy", 50, "gtd"), ("control", 10, "gq")),
     warmup=10,
     timed=10,
     reference_steps=5,
@@ -116,7 +117,7 @@ class Report:
 
 
 def run_thesis(demons: int, plan: Plan, bandwidth: float) -> Row:
-    """The whole loop of Experiment 1 with `demons` demons (compiled engine), against ReferenceHorde."""
+    """The whole loop of Experiment 1 with `demons` demons, against ReferenceHorde."""
     sim = thesis.simulation(demons)
     sim.run(200)  # compile (cached) and warm up
     chunk = max(20, 20_000 // demons)
@@ -128,7 +129,7 @@ def run_thesis(demons: int, plan: Plan, bandwidth: float) -> Row:
     subset = min(demons, 12)
     reference = thesis.reference_seconds_per_step(subset, max(plan.reference_steps, 20))
     updates = demons / timing.wall
-    traffic = thesis.traffic_bytes(sim)
+    traffic = sim._loop.unique_bytes()
     return Row(
         workload="thesis",
         demons=demons,
@@ -141,54 +142,48 @@ def run_thesis(demons: int, plan: Plan, bandwidth: float) -> Row:
         cpu_ms_per_step=1e3 * timing.cpu,
         traffic_mb_per_step=traffic / 1e6,
         reference_demons=subset,
+        threads=sim.threads,
+        bound_fraction=traffic / bandwidth / timing.cpu,
         notes=f"whole loop, {sim.horde.groups[0].coder.n} features, reference: ReferenceHorde of {subset} demons",
     )
 
 
-def _load_kernels(dtype: str) -> None:
-    """Compile (or load from numba's cache) the kernels for a dtype, so that memory figures leave them out."""
-    workload = scale_workloads.make("nexting", 5, 1, "gtd", dtype)
-    engine = FastScale(workload.layout)
-    engine.observe(workload.stream.features[0])
-    s = workload.step(0)
-    engine.step(s.action, s.b_prob, s.x_tp1, s.r_tp1, s.z_tp1, s.gamma_tp1, s.rho_t, s.pi_tp1)
+def _replay(sim: Simulation, reference: ReferenceHorde, steps: int) -> float:
+    """Step `sim` one transition at a time and feed each to `reference`; the reference's median seconds."""
+    names = sim.world.sensor_names
+    reference.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
+    seconds = []
+    for _ in range(steps):
+        result = sim.step()
+        sensors = sim.sensors
+        began = time.perf_counter()
+        reference.learn(result.action, sim.behaviour_probability, float(sensors[0]), float(sensors[1]),
+                        dict(zip(names, sensors.tolist(), strict=True)), result.terminated)  # fmt: skip
+        if result.done:
+            reference.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
+        seconds.append(time.perf_counter() - began)
+    return float(np.median(seconds))
 
 
-def run_scale(name: str, demons: int, learner: str, dtype: str, plan: Plan, bandwidth: float) -> Row:
-    """A scale workload on the compiled engine, against ReferenceDemons on a subset of its demons."""
-    steps = max(plan.warmup, plan.reference_steps) + plan.timed
-    workload = scale_workloads.make(name, demons, steps, learner, dtype)
-    inputs = [workload.step(t) for t in range(steps)]
-    _load_kernels(dtype)
+def run_scale(name: str, demons: int, learner: str, plan: Plan, bandwidth: float) -> Row:
+    """A scale workload through `Simulation`, against ReferenceHorde on a subset of its demons."""
+    spec = workloads.spec(name, demons, learner)
     rss_before = measure.rss_bytes()
-    engine = FastScale(workload.layout)
-    engine.observe(workload.stream.features[0], workload.target(0))
+    sim = Simulation(spec, np.random.default_rng(0))
+    sim.with_metrics = False
     size = plan.reference_demons // (4 if name == "control" else 1)  # a plain GQ demon costs ~4 times more
-    subset = np.unique(np.linspace(0, demons - 1, min(max(size, 1), demons)).astype(np.int64))
-    snapshot = np.zeros(len(subset))
-
-    def step(t: int) -> None:
-        s = inputs[t]
-        engine.step(s.action, s.b_prob, s.x_tp1, s.r_tp1, s.z_tp1, s.gamma_tp1, s.rho_t, s.pi_tp1)
-        if t == plan.reference_steps - 1:
-            snapshot[:] = engine.prediction[subset]
-
-    first = steps - plan.timed
-    for t in range(first):
-        step(t)
-    timing = measure.time_steps(step, first, plan.timed)
-    memory = engine.memory_bytes()
+    small, picked = workloads.subset(spec, max(size, 1))
+    reference = ReferenceHorde(small)
+    reference_seconds = _replay(sim, reference, plan.reference_steps)
+    ours = sim.prediction_array()[picked]
+    theirs = np.array([reference.demons[d.name].prediction for d in small.demons])
+    sim.run(max(plan.warmup - plan.reference_steps, 0))
+    chunk = 5
+    timing = measure.time_steps(lambda t: sim.run(chunk), 0, max(1, plan.timed // chunk), per_call=chunk)
     rss = measure.rss_bytes() - rss_before
-    nnz = float(engine.nnz.mean())
-    traffic = engine.traffic_bytes()
-    reference = ReferenceDemons(workload.layout, subset)
-    reference.observe(workload.stream.features[0], workload.target(0))
-
-    def reference_step(t: int) -> None:
-        s = inputs[t]
-        reference.step(s.action, s.b_prob, s.x_tp1, s.r_tp1, s.z_tp1, s.gamma_tp1, s.rho_t, s.pi_tp1)
-
-    reference_seconds = measure.time_steps(reference_step, 0, plan.reference_steps).wall
+    memory = sum(a.nbytes for a in sim._loop.buf if isinstance(a, np.ndarray))
+    nnz = float(sim._loop.buf.touched.mean())
+    traffic = sim._loop.unique_bytes()
     updates = demons / timing.wall
     return Row(
         workload=name,
@@ -196,17 +191,18 @@ def run_scale(name: str, demons: int, learner: str, dtype: str, plan: Plan, band
         steps_per_second=1.0 / timing.wall,
         ms_per_step=1e3 * timing.wall,
         demon_updates_per_second=updates,
-        reference_ratio=updates / (len(subset) / reference_seconds),
+        reference_ratio=updates / (len(picked) / reference_seconds),
         bandwidth_fraction=traffic / timing.wall / bandwidth,
         learner=learner,
-        dtype=dtype,
         cpu_ms_per_step=1e3 * timing.cpu,
         traffic_mb_per_step=traffic / 1e6,
         trace_rows=nnz,
         memory_per_demon_bytes=(rss if rss > 0 else memory) / demons,
-        reference_error=float(np.abs(snapshot - reference.prediction).max()),
-        reference_demons=len(subset),
-        notes=f"{len(workload.layout.blocks)} blocks, {workload.layout.num_classes} trace classes, "
+        reference_error=float(np.abs(ours - theirs).max()),
+        reference_demons=len(picked),
+        threads=sim.threads,
+        bound_fraction=traffic / bandwidth / timing.cpu,
+        notes=f"{len(sim.horde.blocks)} blocks, {sim.horde.num_classes} trace classes, "
         f"buffers {memory / demons / 1024:.1f} KiB/demon (memory_per_demon_bytes: resident growth)",
     )
 
@@ -232,10 +228,10 @@ def run(plan: Plan, only: Sequence[str] = WORKLOADS, stream: TextIO | None = Non
         for demons in plan.thesis:
             say(f"thesis {demons} ...")
             report.rows.append(run_thesis(demons, plan, best))
-    for name, demons, learner, dtype in plan.scale:
+    for name, demons, learner in plan.scale:
         if name in only:
-            say(f"{name} {demons} {learner} {dtype} ...")
-            report.rows.append(run_scale(name, demons, learner, dtype, plan, best))
+            say(f"{name} {demons} {learner} ...")
+            report.rows.append(run_scale(name, demons, learner, plan, best))
             gc.collect()
     report.seconds = time.perf_counter() - began
     return report
@@ -254,13 +250,14 @@ def format_table(report: Report) -> str:
         "workload",
         "demons",
         "learner",
-        "dtype",
+        "thr",
         "steps/s",
         "ms/step",
         "cpu ms",
         "updates/s",
         "x ref",
         "bw frac",
+        "bound",
         "MB/step",
         "rows",
         "KiB/demon",
@@ -271,13 +268,14 @@ def format_table(report: Report) -> str:
             r.workload,
             str(r.demons),
             r.learner,
-            r.dtype,
+            str(r.threads),
             _fmt(r.steps_per_second),
             _fmt(r.ms_per_step, 3),
             _fmt(r.cpu_ms_per_step, 3),
             _fmt(r.demon_updates_per_second, 0),
             _fmt(r.reference_ratio, 0),
             _fmt(r.bandwidth_fraction, 2),
+            _fmt(r.bound_fraction, 2),
             _fmt(r.traffic_mb_per_step),
             _fmt(r.trace_rows, 0),
             _fmt(r.memory_per_demon_bytes / 1024),
@@ -294,9 +292,10 @@ def format_table(report: Report) -> str:
     if report.bandwidth is not None:
         lines.append("")
         lines.append(
-            f"bandwidth fraction: the update's weight traffic per second over {report.bandwidth.best / 1e9:.1f} GB/s "
-            f"(best of numpy copy / update / read of {report.bandwidth.megabytes} MB, measured in this run); "
-            f"total {report.seconds:.0f} s"
+            f"bandwidth fraction: a step's unique bytes of weight and trace rows per wall second over "
+            f"{report.bandwidth.best / 1e9:.1f} GB/s (best of numpy copy / update / read of "
+            f"{report.bandwidth.megabytes} MB, measured in this run); bound: the same per CPU second; "
+            f"thr: threads; total {report.seconds:.0f} s. The machine may be shared: compare CPU ms with wall ms."
         )
     return "\n".join(lines)
 

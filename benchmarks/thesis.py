@@ -2,7 +2,7 @@
 
 `scenarios/experiment1.toml` (the base control demon and `steps_to_end`) plus extra GTD(lambda)
 prediction demons that follow the base demon's policy, each with a sensor as cumulant and one of four
-continuations, run by `Simulation` on the compiled engine (`fast.py`) without the RUPEE / UDE metrics,
+continuations, run by `Simulation` without the RUPEE / UDE metrics,
 as the protocol runs it. The baseline is `reference.ReferenceHorde` driven through the same world by
 its own plain policies (a softmax behaviour over the base demon's action values).
 """
@@ -45,11 +45,6 @@ def simulation(demons: int, seed: int = 0) -> Simulation:
     sim = Simulation(spec_with(demons), np.random.default_rng(seed))
     sim.with_metrics = False
     return sim
-
-
-def traffic_bytes(sim: Simulation) -> int:
-    """Bytes of one step's minimal weight traffic: theta, w and e of every demon read and written once."""
-    return sum(6 * len(g.demons) * g.num_features * 8 for g in sim.horde.groups)
 
 
 def reference_seconds_per_step(demons: int, steps: int, seed: int = 0) -> float:

@@ -1,4 +1,7 @@
-"""`horde bench --quick --json PATH`: the smoke run of the throughput benchmarks, and its JSON shape."""
+"""`horde bench --quick --json PATH`: the smoke run of the throughput benchmarks, and its JSON shape.
+
+Every workload runs through `Simulation` (the product path) and is checked against reference.py.
+"""
 
 from __future__ import annotations
 
@@ -18,9 +21,13 @@ REQUIRED = {
     "demon_updates_per_second": float,
     "reference_ratio": float,
     "bandwidth_fraction": float,
+    "cpu_ms_per_step": float,
+    "bound_fraction": float,
+    "threads": int,
 }
 
 
+@pytest.mark.slow
 def test_quick_bench_writes_every_workload(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "bench.json"
     assert main(["bench", "--quick", "--json", str(out)]) == 0
@@ -38,7 +45,8 @@ def test_quick_bench_writes_every_workload(tmp_path: Path, capsys: pytest.Captur
         assert row["ms_per_step"] == pytest.approx(1e3 / row["steps_per_second"])
         assert row["demon_updates_per_second"] == pytest.approx(row["demons"] * row["steps_per_second"])
     scale_rows = [r for r in rows if r["workload"] != "thesis"]
-    assert all(r["reference_error"] < 1e-6 for r in scale_rows), "the fast path agrees with reference.py"
+    assert all(r["reference_error"] < 1e-6 for r in scale_rows), "the product path agrees with reference.py"
+    assert all(r["threads"] >= 1 for r in rows)
 
 
 def test_bench_can_run_one_workload(tmp_path: Path) -> None:

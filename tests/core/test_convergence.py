@@ -75,7 +75,7 @@ WALL = {"name": "wall", "kind": "obstacle", "rect": [200, 100, 300, 200]}
     ids=["deterministic", "slip, a wall, a zone, discount"],
 )
 def test_exact_agrees_with_monte_carlo(world, cells):
-    sim = Simulation(lattice_spec(**world))  # nothing learns here: the engine does not matter
+    sim = Simulation(lattice_spec(**world))
     rng = np.random.default_rng(0)
     for name in ("steps", "to_goal", "discounted"):
         lattice = evaluate.exact(sim.horde, sim.horde_state, name)
@@ -99,8 +99,8 @@ def test_exact_values_by_hand_next_to_the_goal():
 
 
 @pytest.mark.slow
-def test_off_policy_gq_converges_to_the_exact_answer(make_simulation):
-    sim = make_simulation(lattice_spec())
+def test_off_policy_gq_converges_to_the_exact_answer():
+    sim = Simulation(lattice_spec())
     for _ in range(20_000):
         sim.step()
     assert sim.episode > 300

@@ -56,11 +56,21 @@ DEMONS: list[dict[str, Any]] = [
         "alpha": 0.05,
     },
     {"name": "goal_prob", "policy": "uniform", "outcome": {"sensor": "in:goal"}, "lambda": 0.7},
+    # shares goal_prob's trace (same learner, lambda, target policy, continuation and discount)
+    {"name": "goal_bumps", "policy": "uniform", "cumulant": {"sensor": "bump"}, "lambda": 0.7},
     {
         "name": "bumps",
         "learner": "td",
         "policy": {"kind": "fixed", "probabilities": [0.4, 0.1, 0.1, 0.4]},
         "cumulant": {"sensor": "bump"},
+        "discount": 0.8,
+        "lambda": 0.5,
+    },
+    {
+        "name": "bumps_x",  # shares the trace of bumps
+        "learner": "td",
+        "policy": {"kind": "fixed", "probabilities": [0.4, 0.1, 0.1, 0.4]},
+        "cumulant": {"mul": [{"sensor": "x"}, 0.001]},
         "discount": 0.8,
         "lambda": 0.5,
     },
@@ -281,4 +291,7 @@ def test_engine_equals_reference_at_every_step(case: str, cut: float) -> None:
     assert terminated >= 8 and truncated >= 8, (terminated, truncated)  # many episodes, both endings
     assert blocks == {0, 1, 2}, blocks  # the conditioned group used every block
     assert not sim.horde_state.diverged.any()
+    shared = {tuple(sim.horde.slot_class[sim.horde.demon_slot[sim.horde.index[n]]] for n in pair)
+              for pair in (("goal_prob", "goal_bumps"), ("bumps", "bumps_x"))}  # fmt: skip
+    assert all(a == b for a, b in shared), "the pairs share one trace class each"
     assert min(largest.values()) > 1e-3, largest  # every demon learned something

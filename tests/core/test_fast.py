@@ -100,3 +100,51 @@ def test_a_diverging_demon_is_frozen_and_the_others_go_on() -> None:
     later = sim.horde_state
     np.testing.assert_array_equal(sim.horde.weights(later, "wild"), frozen)
     assert not np.array_equal(sim.horde.weights(later, "calm"), learned), "the others go on learning"
+
+
+def test_compiled_metrics_equal_the_numpy_form() -> None:
+    """RUPEE's h and average of delta e, and UDE's averages, against metrics.update step by step."""
+    from horde.core import metrics
+
+    demons: list[dict[str, Any]] = [
+        {"name": "a", "learner": "td", "policy": "uniform", "cumulant": {"sensor": "bump"}, "discount": 0.9},
+        {"name": "b", "learner": "td", "policy": "uniform", "cumulant": {"sensor": "x"}, "discount": 0.9},
+        {"name": "c", "learner": "gtd", "policy": {"kind": "fixed", "probabilities": [0.7, 0.1, 0.1, 0.1]},
+         "cumulant": {"sensor": "y"}, "discount": 0.5},
+        {"name": "ctl", "policy": "greedy", "cumulant": {"sensor": "bump"}, "discount": 0.8, "lambda": 0.5},
+    ]  # fmt: skip
+    spec = RunSpec.model_validate(
+        {
+            "world": {"width": 500, "height": 500, "step": 50, "start": [0, 0], "max_steps": 10_000},
+            "features": {"kind": "tiles", "tilings": 4, "tiles": 4},
+            "behaviour": "uniform",
+            "demons": demons,
+        }
+    )  # no episode ends: a step's traces are what its metrics saw
+    sim = Simulation(spec, np.random.default_rng(4), cut=0.0)
+    horde = sim.horde
+    state = sim.horde_state
+    blocks = [metrics.BlockMetrics(np.zeros_like(t), np.zeros_like(t), 0.0, np.zeros((t.shape[1], 3)), 0.0)
+              for t in state.theta]  # fmt: skip
+    for _ in range(300):
+        before = sim.horde_state
+        result = sim.step()
+        after = sim.horde_state
+        for b, block in enumerate(horde.blocks):
+            group = horde.groups[int(horde.block_group[b])]
+            slots = np.arange(horde.block_lo[b], horde.block_lo[b] + block.size)
+            demons = horde.slot_demon[slots]
+            columns = horde.slot_class[slots] - horde.slot_class[slots[0]]
+            x_t = before.features[int(horde.block_group[b])]
+            if block.learner == "gq":
+                x_t = x_t + result.action * group.coder.n
+            e = after.e[b][:, columns]  # each demon's trace
+            blocks[b] = metrics.update(blocks[b], after.delta[demons], e, x_t, group.coder.k)
+    state = sim.horde_state
+    assert np.abs(state.delta).max() > 0
+    for b, block in enumerate(horde.blocks):
+        slots = np.arange(horde.block_lo[b], horde.block_lo[b] + block.size)
+        np.testing.assert_allclose(state.h[b], blocks[b].h, rtol=0, atol=1e-9)
+        np.testing.assert_allclose(state.delta_e[b], blocks[b].delta_e, rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(state.delta_stats[horde.slot_demon[slots]], blocks[b].delta_stats, atol=1e-12)
+    assert horde.rupee(state).max() > 0 and np.isfinite(horde.ude(state)).all()

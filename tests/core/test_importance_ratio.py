@@ -175,7 +175,7 @@ def relative_error(predicted: np.ndarray, truth: np.ndarray) -> float:
     return float(np.mean(np.abs(predicted - truth)) / np.mean(np.abs(truth)))
 
 
-def test_off_policy_gtd_learns_the_target_policys_answer_not_the_behaviours(make_simulation):
+def test_off_policy_gtd_learns_the_target_policys_answer_not_the_behaviours():
     """Uniform behaviour, target (0.4, 0.1, 0.1, 0.4): ~15 steps to termination from the start, ~53 under b.
 
     Measured over five seeds after 10,000 steps (relative_error, steps / to_goal): correct 6-13 % / 1-3 %;
@@ -183,7 +183,7 @@ def test_off_policy_gtd_learns_the_target_policys_answer_not_the_behaviours(make
     State values are used because with tabular features the action values of GQ reach Q^pi whatever the
     trace does with rho: E[delta | s, a] = 0 there for every action.
     """
-    sim = make_simulation(lattice_spec({"kind": "fixed", "probabilities": TARGET}))
+    sim = Simulation(lattice_spec({"kind": "fixed", "probabilities": TARGET}))
     for _ in range(10_000):
         sim.step()
     behaviour = Simulation(lattice_spec("uniform"))

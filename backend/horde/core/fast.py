@@ -1044,19 +1044,21 @@ class FastLoop:
 
     # ------------------------------------------------------------------------------------------
 
-    def traffic_bytes(self) -> int:
-        """Bytes of weight and trace rows that the last step read and wrote (a model, see scale_fast)."""
+    def unique_bytes(self) -> int:
+        """Bytes of weight and trace rows that the last step touched, each counted once (a model).
+
+        Per block of Db demons and C classes: the rows of its trace's support after the step (theta, w
+        for GTD / GQ, and the trace row), and the rows read and corrected at x_{t+1} (A k of them for GQ,
+        else k: theta, and w at x_t for GTD / GQ), at 8 bytes a number. Rows of x_t and x_{t+1} that are
+        also in the support are counted twice, so the figure is a little above the true one.
+        """
         total = 0
         for group in self.horde.groups:
             k = group.coder.k
             for b in group.blocks:
                 block = self.horde.blocks[b]
-                row = math.ceil(block.size * 8 / 64) * 64
-                trace_row = math.ceil(block.num_classes * 8 / 64) * 64 if block.num_classes > 1 else 0
-                nnz = int(self.buf.touched[b])
-                gathers = (A if block.learner == "gq" else 1) * k
-                if block.learner == "td":
-                    total += row * (gathers + 2 * nnz + gathers) + 2 * nnz * trace_row
-                else:
-                    total += row * (gathers + k + 4 * nnz + 2 * gathers) + 2 * nnz * trace_row
+                kinds = 1 if block.learner == "td" else 2
+                support = int(self.buf.touched[b]) * 8 * (kinds * block.size + block.num_classes)
+                gathers = (A if block.learner == "gq" else 1) * k * 8 * block.size * kinds
+                total += support + gathers
         return total

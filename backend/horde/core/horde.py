@@ -16,9 +16,9 @@ A run's demons compile, once, into four nested levels:
 
 Blocks and classes are numbered across groups; the engine's "slots" are the demons in block order.
 `HordeState` holds everything that changes, as arrays. The learning itself is compiled (`fast.py`, with
-the block kernels of `scale_fast.py`); `scale.step` is its readable numpy form and `reference.py` the
-plain oracle. This module also evaluates a frozen Horde at a batch of positions (`forward`), for value
-maps and Monte-Carlo truth.
+the block kernels of `scale_fast.py`); `learners.py` writes its equations as readable numpy and
+`reference.py` as the plain oracle. This module also evaluates a frozen Horde at a batch of positions
+(`forward`), for value maps and Monte-Carlo truth.
 """
 
 from __future__ import annotations

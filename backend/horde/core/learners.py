@@ -1,4 +1,8 @@
-"""GQ(lambda), GTD(lambda) and off-policy TD(lambda) over a stack of demons.
+"""GQ(lambda), GTD(lambda) and off-policy TD(lambda) over a stack of demons: the readable numpy form.
+
+The engine (`fast.py`, `scale_fast.py`) runs these equations compiled, over blocks with shared traces
+and binary features; this module writes them as pure numpy functions over any feature values (Baird's
+counterexample needs real-valued ones), and `reference.py` writes them plainly, demon by demon.
 
 All demons of a stack share one active feature set (they share a feature spec), so features enter as
 sparse index arrays, while every other quantity has a leading demon axis [D]. The functions are pure:

@@ -1,12 +1,13 @@
-"""Many demons at once: blocks of demons with feature-major weights and shared, sparse traces.
+"""Blocks of demons with feature-major weights and shared, sparse traces: the one engine's layout.
 
-This is the readable numpy path of the Horde-scale engine; `scale_fast.py` runs the same equations as
-compiled kernels and the tests hold the two equal. It answers three questions of scale (DESIGN section 6):
+This module describes the structures; `horde.py` compiles a run's demons into them and the compiled
+loop (`fast.py`, with the kernels of `scale_fast.py`) learns with them. It answers three questions of
+scale (DESIGN section 6):
 
 * **Stacked weights, feature-major.** A block's weights are one array `[n, Db]`: the weights of one
   feature for all demons of the block are contiguous, so a trace entry `e[j]` updates one contiguous
   run `theta[j, :] += alpha * delta * e[j]`, and the gathers `theta . x` over the active features read
-  whole rows. (The small-world engine, `learners.py`, keeps `[D, n]`; `demon_arrays` gives that view.)
+  whole rows.
 * **Shared traces.** Demons with the same features, target policy, continuation and lambda have the same
   eligibility trace: rho and the decay `gamma_t * lambda * rho_t` are the same for all of them, and so is
   `x_t`. Such demons form a *trace class* (consecutive demons of a block) with one trace column. The
@@ -17,30 +18,28 @@ compiled kernels and the tests hold the two equal. It answers three questions of
   each step, trace entries below `cut` in magnitude are set to zero; a block's support is the rows
   (features) where any of its classes has a non-zero entry, and only those rows are touched by the
   update. `cut = 0` keeps every non-zero entry and equals `reference.py` to 1e-9; the default
-  `TRACE_CUT = 1e-8` (DESIGN section 6) is measured against the reference in tests/core/test_scale.py.
+  `TRACE_CUT = 1e-8` is measured against the reference in tests/core/test_engine_vs_reference.py.
 
-Features are binary and shared by every block: the active state-feature indices `x` ([k], distinct). GQ blocks
-use state-action features: action a's block of `n_s` state features starts at row `a * n_s`. Per-step
-inputs that belong to a trace (continuation, importance ratio, given target policy) come per class,
-numbered block by block.
+Features are binary: the active state-feature indices `x` ([k], distinct, sorted). GQ blocks use
+state-action features: action a's block of `n_s` state features starts at row `a * n_s`.
 
 Time indices as everywhere: `x_t, a_t, r_tp1, z_tp1, gamma_t, gamma_tp1, x_tp1`. Per demon d of class c:
     delta_t = r_tp1 + (1 - gamma_tp1) z_tp1 + gamma_tp1 theta . x_bar_tp1 - theta . x_t
     e_t     = s_t x_t + gamma_t lambda rho_t e_{t-1}     (s_t = rho_t for TD/GTD, 1 for GQ)
     theta  += alpha   (delta_t e_t - gamma_tp1 (1 - lambda) (w . e_t) x_bar_tp1)    (no correction for TD)
     w      += alpha_w (delta_t e_t - (w . x_t) x_t)                                 (GTD and GQ)
-The step sizes are used as given (divide by the number of active features before building a block).
+The step sizes are used as given (divided by the number of active features when a block is built).
 """
 
 from __future__ import annotations
 
 from collections.abc import Hashable, Sequence
-from dataclasses import dataclass, field
-from typing import Literal, NamedTuple
+from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 
-from horde.core.policies import EPSILON_GREEDY, FIXED, GREEDY, SOFTMAX, value_policy
+from horde.core.policies import EPSILON_GREEDY, FIXED, GREEDY, SOFTMAX
 
 A = 4  # actions of GQ blocks
 TRACE_CUT = 1e-8  # trace entries below this are set to zero (DESIGN section 6)
@@ -124,21 +123,16 @@ class Layout:
         blocks: the blocks.
         num_features: n_s, the number of state features.
         active: k, the number of active features in every state.
-        dtype: of the weights and traces (float64 by default; float32 halves the memory traffic).
         cut: the trace cut (0 keeps every non-zero entry).
     """
 
     blocks: tuple[Block, ...]
     num_features: int
     active: int
-    dtype: np.dtype = field(default=np.dtype(np.float64))
     cut: float = TRACE_CUT
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "blocks", tuple(self.blocks))
-        object.__setattr__(self, "dtype", np.dtype(self.dtype))
-        if self.dtype not in (np.float32, np.float64):
-            raise ValueError(f"dtype must be float32 or float64, not {self.dtype}")
         if not self.cut >= 0.0:
             raise ValueError("the trace cut must be >= 0")
         if not self.blocks:
@@ -153,16 +147,6 @@ class Layout:
         return sum(b.num_classes for b in self.blocks)
 
     @property
-    def lo(self) -> np.ndarray:
-        """[B] first demon of each block."""
-        return np.cumsum([0] + [b.size for b in self.blocks])[:-1]
-
-    @property
-    def hi(self) -> np.ndarray:
-        """[B] one past the last demon of each block."""
-        return np.cumsum([b.size for b in self.blocks])
-
-    @property
     def class_lo(self) -> np.ndarray:
         """[B] first trace class of each block."""
         return np.cumsum([0] + [b.num_classes for b in self.blocks])[:-1]
@@ -174,23 +158,6 @@ class Layout:
     def rows(self, block: Block) -> int:
         """Rows of a block's weights: A * n_s for GQ, n_s otherwise."""
         return self.num_features * (A if block.learner == "gq" else 1)
-
-    def weight_bytes(self) -> int:
-        """Bytes of theta and w of every demon."""
-        return 2 * sum(self.rows(b) * b.size for b in self.blocks) * self.dtype.itemsize
-
-
-class ScaleState(NamedTuple):
-    """Everything that changes while the blocks learn."""
-
-    theta: tuple[np.ndarray, ...]  # per block [n_b, Db] primary weights, feature-major
-    w: tuple[np.ndarray, ...]  # per block [n_b, Db] secondary weights
-    e: tuple[np.ndarray, ...]  # per block [n_b, C_b] one trace per class, zero off the support
-    x: np.ndarray  # [k] active state features at s_t
-    gamma: np.ndarray  # [C] continuation of each class at s_t
-    q: np.ndarray  # [D, A] values at s_t: action values (GQ) or the state value in column 0
-    pi: np.ndarray  # [D, A] target policy at s_t (GQ; uniform for TD/GTD)
-    prediction: np.ndarray  # [D] prediction at s_t
 
 
 def trace_classes(keys: Sequence[Hashable]) -> tuple[np.ndarray, np.ndarray]:
@@ -212,193 +179,6 @@ def trace_classes(keys: Sequence[Hashable]) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _check(name: str, array: np.ndarray, shape: tuple[int, ...]) -> None:
-    """The one shape check where arrays enter the scale engine."""
+    """The one shape check where arrays enter a block."""
     if array.shape != shape:
         raise ValueError(f"{name} has shape {array.shape}, expected {shape}")
-
-
-def zeros(layout: Layout) -> ScaleState:
-    """All weights and traces zero, nothing observed yet (call `observe`)."""
-    dt = layout.dtype
-    d = layout.num_demons
-    return ScaleState(
-        theta=tuple(np.zeros((layout.rows(b), b.size), dt) for b in layout.blocks),
-        w=tuple(np.zeros((layout.rows(b), b.size), dt) for b in layout.blocks),
-        e=tuple(np.zeros((layout.rows(b), b.num_classes), dt) for b in layout.blocks),
-        x=np.zeros(layout.active, dtype=np.int64),
-        gamma=np.zeros(layout.num_classes),
-        q=np.zeros((d, A)),
-        pi=np.full((d, A), 1.0 / A),
-        prediction=np.zeros(d),
-    )
-
-
-def _own_policy(block: Block, q: np.ndarray) -> np.ndarray:
-    """[Db, A] probabilities of an own-value block's demons."""
-    kind = np.full(block.size, POLICY_CODES[block.policy])
-    assert block.temperature is not None and block.epsilon is not None
-    return value_policy(q, kind, block.temperature, block.epsilon)
-
-
-def _values(layout: Layout, block: Block, theta: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """[Db, A] action values (GQ) or [Db, 1] state values at active features x, summed in float64."""
-    if block.learner == "gq":
-        rows = np.arange(A)[:, None] * layout.num_features + x[None, :]  # [A, k]
-        return theta[rows].sum(axis=1, dtype=np.float64).T  # [Db, A]
-    return theta[x].sum(axis=0, dtype=np.float64)[:, None]  # [Db, 1]
-
-
-def _target(layout: Layout, b: int, values: np.ndarray, pi: np.ndarray | None) -> np.ndarray:
-    """[Db, A] the target policy of block b's demons: own-value, or the given one of their class."""
-    block = layout.blocks[b]
-    if block.policy != "given":
-        return _own_policy(block, values)
-    if pi is None:
-        return np.full((block.size, A), 1.0 / A)
-    assert block.classes is not None
-    return np.asarray(pi, dtype=float)[layout.class_lo[b] + block.classes]
-
-
-def observe(layout: Layout, state: ScaleState, x: np.ndarray, pi: np.ndarray | None = None) -> ScaleState:
-    """A stream (or episode) starts at a state with active features x: traces to zero, values read.
-
-    Args:
-        layout: the blocks.
-        state: the weights to keep.
-        x: [k] active state features.
-        pi: [C, A] the given target policy of each class at this state (read by given-policy GQ
-            demons for their prediction; uniform if None).
-    """
-    x = np.asarray(x, dtype=np.int64)
-    _check("x", x, (layout.active,))
-    q, policy, prediction = state.q.copy(), state.pi.copy(), state.prediction.copy()
-    for b, (block, lo, hi, theta) in enumerate(zip(layout.blocks, layout.lo, layout.hi, state.theta, strict=True)):
-        values = _values(layout, block, theta, x)  # [Db, A] or [Db, 1]
-        q[lo:hi, : values.shape[1]] = values
-        if block.learner != "gq":
-            prediction[lo:hi] = values[:, 0]
-            continue
-        policy[lo:hi] = _target(layout, b, values, pi)
-        prediction[lo:hi] = (policy[lo:hi] * values).sum(axis=1)
-    return state._replace(
-        e=tuple(np.zeros_like(e) for e in state.e),
-        x=x,
-        gamma=np.zeros(layout.num_classes),
-        q=q,
-        pi=policy,
-        prediction=prediction,
-    )
-
-
-def step(
-    layout: Layout,
-    state: ScaleState,
-    action: int,
-    b_prob: float,
-    x_tp1: np.ndarray,
-    r_tp1: np.ndarray,
-    z_tp1: np.ndarray,
-    gamma_tp1: np.ndarray,
-    rho_t: np.ndarray | None = None,
-    pi_tp1: np.ndarray | None = None,
-) -> tuple[ScaleState, np.ndarray]:
-    """One transition (s_t, a_t) -> s_{t+1} for every demon of every block.
-
-    Args:
-        layout: the blocks.
-        state: the blocks at s_t (its `x` holds x_t).
-        action: a_t.
-        b_prob: b(a_t | s_t), for the importance ratios of own-value demons.
-        x_tp1: [k] active state features at s_{t+1}.
-        r_tp1, z_tp1: [D] cumulants and outcomes.
-        gamma_tp1: [C] continuation of each trace class at s_{t+1} (own-value demons: one class each).
-        rho_t: [C] pi(a_t | s_t) / b(a_t | s_t) of each given-policy class (own-value entries are
-            ignored; None: all 1, on-policy).
-        pi_tp1: [C, A] the given target policy at s_{t+1} of each class (read by given-policy GQ demons;
-            None: uniform).
-
-    Returns:
-        (new state, delta_t [D]).
-    """
-    d, nc = layout.num_demons, layout.num_classes
-    x_tp1 = np.asarray(x_tp1, dtype=np.int64)
-    gamma_tp1 = np.asarray(gamma_tp1, dtype=float)
-    rho_t = np.ones(nc) if rho_t is None else np.asarray(rho_t, dtype=float)
-    _check("x_tp1", x_tp1, (layout.active,))
-    for name, array, shape in (
-        ("r_tp1", r_tp1, (d,)),
-        ("z_tp1", z_tp1, (d,)),
-        ("gamma_tp1", gamma_tp1, (nc,)),
-        ("rho_t", rho_t, (nc,)),
-    ):
-        _check(name, np.asarray(array), shape)
-    if pi_tp1 is not None:
-        _check("pi_tp1", np.asarray(pi_tp1), (nc, A))
-    n_s = layout.num_features
-    delta = np.zeros(d)
-    gamma = state.gamma.copy()
-    q, pi, prediction = state.q.copy(), state.pi.copy(), state.prediction.copy()
-    thetas, ws, es = [], [], []
-    for b, block in enumerate(layout.blocks):
-        lo, hi = int(layout.lo[b]), int(layout.hi[b])
-        cls = slice(int(layout.class_lo[b]), int(layout.class_lo[b]) + block.num_classes)
-        members = block.classes  # [Db] class of each demon within the block
-        gq, td = block.learner == "gq", block.learner == "td"
-        theta, w = state.theta[b].copy(), state.w[b].copy()
-        g1 = gamma_tp1[cls][members]  # [Db]
-        rows_t = state.x + action * n_s if gq else state.x  # [k] rows of x_t
-        # Values at s_{t+1} under the weights before this update; the target policy there.
-        values_old = _values(layout, block, theta, x_tp1)  # [Db, A] or [Db, 1]
-        if gq:
-            pi_next = _target(layout, b, values_old, pi_tp1)  # [Db, A]
-            v_next = (pi_next * values_old).sum(axis=1)  # [Db]
-            v_t = state.q[lo:hi, action]  # [Db] theta . x_t
-        else:
-            v_next = values_old[:, 0]
-            v_t = state.q[lo:hi, 0]
-        delta_b = r_tp1[lo:hi] + (1.0 - g1) * z_tp1[lo:hi] + g1 * v_next - v_t  # [Db]
-        # One trace per class: decay gamma_t lambda rho_t, plus rho_t x_t (TD/GTD) or x_t (GQ).
-        rho = state.pi[lo:hi, action] / b_prob if block.policy != "given" else rho_t[cls]  # [C_b]
-        e = state.e[b] * (state.gamma[cls] * block.lam * rho)[None, :]  # [n_b, C_b] in float64, a fresh array
-        e[rows_t] += 1.0 if gq else rho[None, :]
-        e[np.abs(e) < layout.cut] = 0.0
-        e = e.astype(layout.dtype, copy=False)  # traces are stored, and used, in the layout's dtype
-        support = np.flatnonzero((e != 0.0).any(axis=1))  # [nnz] rows of the trace
-        ev = e[support][:, members].astype(np.float64)  # [nnz, Db] each demon's trace on the support
-        if not td:
-            w_dot_e = (w[support] * ev).sum(axis=0)  # [Db]
-            w_dot_x = w[rows_t].sum(axis=0, dtype=np.float64)  # [Db]
-        theta[support] += ev * (block.alpha * delta_b)[None, :]
-        if not td:
-            w[support] += ev * (block.alpha_w * delta_b)[None, :]
-            correction = block.alpha * g1 * (1.0 - block.lam) * w_dot_e  # [Db]
-            if gq:
-                rows_next = np.arange(A)[:, None] * n_s + x_tp1[None, :]  # [A, k]
-                theta[rows_next] -= correction[None, None, :] * pi_next.T[:, None, :]
-            else:
-                theta[x_tp1] -= correction[None, :]
-            w[rows_t] -= (block.alpha_w * w_dot_x)[None, :]
-        # Observe s_{t+1} under the new weights.
-        values = _values(layout, block, theta, x_tp1)
-        q[lo:hi, : values.shape[1]] = values
-        if gq:
-            pi[lo:hi] = _target(layout, b, values, pi_tp1)
-            prediction[lo:hi] = (pi[lo:hi] * values).sum(axis=1)
-        else:
-            prediction[lo:hi] = values[:, 0]
-        delta[lo:hi] = delta_b
-        gamma[cls] = gamma_tp1[cls]
-        thetas.append(theta)
-        ws.append(w)
-        es.append(e)
-    return ScaleState(tuple(thetas), tuple(ws), tuple(es), x_tp1, gamma, q, pi, prediction), delta
-
-
-def demon_arrays(layout: Layout, state: ScaleState, demon: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """One demon's (theta, w, e), each [n_b] (copies): the demon-major view the small-world engine uses."""
-    b = int(np.searchsorted(layout.hi, demon, side="right"))
-    row = demon - int(layout.lo[b])
-    block = layout.blocks[b]
-    assert block.classes is not None
-    column = int(block.classes[row])
-    return state.theta[b][:, row].copy(), state.w[b][:, row].copy(), state.e[b][:, column].copy()

@@ -1,20 +1,18 @@
-"""Compiled kernels (numba) of the Horde-scale engine: `scale.py`'s equations, in place, sparse traces.
+"""Compiled kernels (numba) of the one engine's block step: `scale.py`'s equations, in place, sparse traces.
 
-`scale.step` is the readable numpy path: it keeps dense traces, finds their support with a scan and
-copies every block's weights (it returns a new state); at 8000 demons x 6065 features that copy alone
-is 0.8 GB per step. `FastScale` keeps the same numbers in flat buffers that it changes in place:
+`fast.py` calls `_step` once per group and step. A group's numbers live in flat buffers:
 
-* weights of block b: `[n_b, Db]` row-major (feature-major, as in `scale.py`);
+* weights of block b: `[n_b, Db]` row-major (feature-major) at its offset;
 * traces of block b: `[n_b, C_b]`, one column per trace class, zero off the support;
 * the support of block b: its rows in increasing order, so that the pass over it walks memory forward
   (sorted rows ran 1.4 times faster than the same rows in arrival order).
 
-One step is one kernel call for every block: the values at x_{t+1}, one merge of x_t's rows into the
-support (with the new values of a shared trace and the cut), one pass over the support's weight rows
-(`w . e`, and the theta and w updates, each weight row read and written once; the w term at x_t is
-fused in), then the correction at x_{t+1} fused with reading the new values. Rows are read four at a
-time and updated two at a time: more memory streams in flight made sparse rows 1.3 to 1.6 times faster.
-The trace cut and float32 follow `scale.Layout` as the numpy path does; the tests hold the two equal.
+One step of a block: the values at x_{t+1}, one merge of x_t's rows into the support (with the new
+values of a shared trace and the cut), one pass over the support's weight rows (`w . e`, and the theta
+and w updates, each weight row read and written once; the w term at x_t is fused in), then the
+correction at x_{t+1} fused with reading the new values. Rows are read four at a time and updated two at
+a time: more memory streams in flight made sparse rows 1.3 to 1.6 times faster. A demon whose step
+sizes are 0 (frozen) stays exactly as it is.
 """
 
 from __future__ import annotations
@@ -25,7 +23,7 @@ import numpy as np
 from numba import njit
 
 from horde.core.policies import EPSILON_GREEDY, FIXED, SOFTMAX, TIE_TOLERANCE
-from horde.core.scale import LEARNER_CODES, POLICY_CODES, A, Layout, ScaleState
+from horde.core.scale import LEARNER_CODES, A
 
 TD, GTD, GQ = LEARNER_CODES["td"], LEARNER_CODES["gtd"], LEARNER_CODES["gq"]
 # Columns of the block table.
@@ -498,246 +496,3 @@ def _correct_and_read(theta, start, x, db, correction, weight, mode, acc):
             for i in range(db):
                 acc[i] += theta[b0 + i]
             j += 1
-
-
-class FastScale:
-    """The blocks of a `Layout` in flat buffers, stepped in place by one compiled call per step.
-
-    Args:
-        layout: the blocks (its dtype and trace cut apply).
-    """
-
-    def __init__(self, layout: Layout) -> None:
-        self.layout = layout
-        blocks = layout.blocks
-        dt = layout.dtype
-        rows = [layout.rows(b) for b in blocks]
-        ncls = [b.num_classes for b in blocks]
-        sizes = [b.size for b in blocks]
-        woff = np.cumsum([0] + [r * s for r, s in zip(rows, sizes, strict=True)])
-        toff = np.cumsum([0, *rows])
-        voff = np.cumsum([0] + [r * c for r, c in zip(rows, ncls, strict=True)])
-        codes = ([LEARNER_CODES[b.learner] for b in blocks], [POLICY_CODES[b.policy] for b in blocks])
-        columns = (*codes, layout.lo, layout.hi, rows, woff[:-1], toff[:-1], voff[:-1], ncls, layout.class_lo)
-        self.bi = np.stack([np.asarray(c, dtype=np.int64) for c in columns], axis=1)  # [B, 10]: the B_* columns
-        self.lam = np.array([b.lam for b in blocks], dtype=float)
-        self.alpha = np.concatenate([b.alpha for b in blocks])
-        self.alpha_w = np.concatenate([b.alpha_w for b in blocks])
-        self.temperature = np.concatenate([np.asarray(b.temperature) for b in blocks])
-        self.epsilon = np.concatenate([np.asarray(b.epsilon) for b in blocks])
-        self.demon_class = layout.demon_class()  # [D] global class of each demon
-        starts = [np.searchsorted(np.asarray(b.classes), np.arange(b.num_classes)) for b in blocks]
-        ends = [np.searchsorted(np.asarray(b.classes), np.arange(b.num_classes), side="right") for b in blocks]
-        self.class_lo = np.concatenate(starts).astype(np.int64)  # [C] first demon of each class, within its block
-        self.class_hi = np.concatenate(ends).astype(np.int64)
-        self.theta = np.zeros(int(woff[-1]), dt)  # block b: [n_b, Db] at woff[b]
-        self.w = np.zeros(int(woff[-1]), dt)
-        self.trace = np.zeros(int(voff[-1]), dt)  # block b: [n_b, C_b] at voff[b], zero off the support
-        self.support = np.zeros(int(toff[-1]), np.int64)  # block b: its first nnz[b] entries at toff[b], sorted
-        self.nnz = np.zeros(len(blocks), np.int64)
-        self.touched = np.zeros(len(blocks), np.int64)  # support rows of the last step (for the traffic model)
-        most = max(rows) + layout.active
-        self._rows = np.zeros(most, np.int64)  # the merged support of one block at one step
-        self._rows_e = np.zeros(most)  # its shared trace values
-        self._rows_f = np.zeros(most)  # 1.0 on the rows of x_t
-        d, nc = layout.num_demons, layout.num_classes
-        dmax = max(max(sizes), max(ncls))
-        self.x = np.zeros(layout.active, np.int64)
-        self.gamma = np.zeros(nc)
-        self.q = np.zeros((d, A))
-        self.pi = np.full((d, A), 1.0 / A)
-        self.prediction = np.zeros(d)
-        self.delta = np.zeros(d)
-        self.pi_given = np.full((nc, A), 1.0 / A)
-        self._values = np.zeros((A, dmax))
-        self._pi_next = np.zeros((A, dmax))
-        self._work = np.zeros((6, dmax))  # ad, awd, w . e, w . x, decay, add
-        self._ev = np.zeros((2, dmax), dt)  # trace values per demon of two rows
-        self._scratch = np.zeros((2, A))
-        self._ones = np.ones(nc)
-
-    # ------------------------------------------------------------------------------------------
-
-    def observe(self, x: np.ndarray, pi: np.ndarray | None = None) -> None:
-        """A stream (or episode) starts at active features x: as `scale.observe` (pi: [C, A] or None)."""
-        self.x[:] = np.sort(x)
-        self.pi_given[:] = 1.0 / A if pi is None else pi
-        _observe(
-            self.bi,
-            self.layout.num_features,
-            self.demon_class,
-            self.temperature,
-            self.epsilon,
-            self.theta,
-            self.trace,
-            self.support,
-            self.nnz,
-            self.x,
-            self.pi_given,
-            self.gamma,
-            self.q,
-            self.pi,
-            self.prediction,
-            self._values,
-            self._scratch[0],
-            self._scratch[1],
-        )
-
-    def step(
-        self,
-        action: int,
-        b_prob: float,
-        x_tp1: np.ndarray,
-        r_tp1: np.ndarray,
-        z_tp1: np.ndarray,
-        gamma_tp1: np.ndarray,
-        rho_t: np.ndarray | None = None,
-        pi_tp1: np.ndarray | None = None,
-    ) -> np.ndarray:
-        """One transition, as `scale.step` (same arguments). Returns delta [D], a view the next step overwrites."""
-        self.pi_given[:] = 1.0 / A if pi_tp1 is None else pi_tp1
-        x_tp1 = np.sort(np.asarray(x_tp1, dtype=np.int64))
-        work = self._work
-        _step(
-            self.bi,
-            self.lam,
-            self.alpha,
-            self.alpha_w,
-            self.temperature,
-            self.epsilon,
-            self.demon_class,
-            self.class_lo,
-            self.class_hi,
-            self.layout.cut,
-            self.layout.num_features,
-            self.theta,
-            self.w,
-            self.trace,
-            self.support,
-            self._rows,
-            self._rows_e,
-            self._rows_f,
-            self.nnz,
-            self.x,
-            int(action),
-            float(b_prob),
-            x_tp1,
-            np.asarray(r_tp1, dtype=float),
-            np.asarray(z_tp1, dtype=float),
-            np.asarray(gamma_tp1, dtype=float),
-            self._ones if rho_t is None else np.asarray(rho_t, dtype=float),
-            self.pi_given,
-            self.gamma,
-            self.q,
-            self.pi,
-            self.prediction,
-            self.delta,
-            self.touched,
-            self._values,
-            self._pi_next,
-            work[0],
-            work[1],
-            work[2],
-            work[3],
-            self._ev,
-            work[4],
-            work[5],
-            self._scratch[0],
-            self._scratch[1],
-        )
-        self.x[:] = x_tp1
-        return self.delta
-
-    # ------------------------------------------------------------------------------------------
-
-    def weights(self, b: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Views of block b's theta [n_b, Db], w [n_b, Db] and traces [n_b, C_b] (changed by the next step)."""
-        rows, lo, hi, woff, voff, ncls = (int(self.bi[b, c]) for c in (B_ROWS, B_LO, B_HI, B_WOFF, B_VOFF, B_NCLS))
-        size = (hi - lo) * rows
-        return (
-            self.theta[woff : woff + size].reshape(rows, hi - lo),
-            self.w[woff : woff + size].reshape(rows, hi - lo),
-            self.trace[voff : voff + rows * ncls].reshape(rows, ncls),
-        )
-
-    def state(self) -> ScaleState:
-        """A copy in the numpy path's form."""
-        arrays = [tuple(a.copy() for a in self.weights(b)) for b in range(len(self.layout.blocks))]
-        return ScaleState(
-            theta=tuple(a[0] for a in arrays),
-            w=tuple(a[1] for a in arrays),
-            e=tuple(a[2] for a in arrays),
-            x=self.x.copy(),
-            gamma=self.gamma.copy(),
-            q=self.q.copy(),
-            pi=self.pi.copy(),
-            prediction=self.prediction.copy(),
-        )
-
-    def load(self, state: ScaleState) -> None:
-        """Copy a numpy-path state into the buffers (the support is rebuilt from the traces' non-zero rows)."""
-        for b in range(len(self.layout.blocks)):
-            theta, w, e = self.weights(b)
-            theta[:], w[:], e[:] = state.theta[b], state.w[b], state.e[b]
-            rows = np.flatnonzero((e != 0.0).any(axis=1))
-            toff = int(self.bi[b, B_TOFF])
-            self.support[toff : toff + len(rows)] = rows
-            self.nnz[b] = len(rows)
-        self.x[:] = np.sort(state.x)
-        self.gamma[:] = state.gamma
-        self.q[:] = state.q
-        self.pi[:] = state.pi
-        self.prediction[:] = state.prediction
-
-    # ------------------------------------------------------------------------------------------
-
-    def memory_bytes(self) -> int:
-        """Bytes of every buffer this engine holds."""
-        arrays = (
-            self.theta,
-            self.w,
-            self.trace,
-            self.support,
-            self._rows,
-            self._rows_e,
-            self._rows_f,
-            self.q,
-            self.pi,
-            self.prediction,
-            self.delta,
-            self.alpha,
-            self.alpha_w,
-            self.temperature,
-            self.epsilon,
-            self.demon_class,
-            self._values,
-            self._pi_next,
-            self._work,
-            self._ev,
-            self.pi_given,
-            self.gamma,
-        )
-        return int(sum(a.nbytes for a in arrays))
-
-    def traffic_bytes(self) -> int:
-        """Bytes of weight and trace rows that the last step read and wrote (a model, not a measurement).
-
-        Per block of Db demons, with k active features and nnz support rows, in row segments of Db
-        weights rounded up to 64-byte cache lines: the values at x_{t+1} (A k rows for GQ, else k),
-        w at x_t (k, GTD/GQ), the weight pass (theta, and w for GTD/GQ, read and written on nnz rows,
-        and the trace rows of blocks with several classes), then the correction with the new values
-        at x_{t+1} (read and written for GTD/GQ, read for TD).
-        """
-        total = 0
-        k = self.layout.active
-        item = self.layout.dtype.itemsize
-        for b, block in enumerate(self.layout.blocks):
-            row = math.ceil(block.size * item / 64) * 64
-            trace_row = math.ceil(block.num_classes * item / 64) * 64 if block.num_classes > 1 else 0
-            nnz = int(self.touched[b])
-            gathers = (A if block.learner == "gq" else 1) * k
-            if block.learner == "td":
-                total += row * (gathers + 2 * nnz + gathers) + 2 * nnz * trace_row
-            else:
-                total += row * (gathers + k + 4 * nnz + 2 * gathers) + 2 * nnz * trace_row
-        return total

@@ -95,6 +95,11 @@ class Simulation:
         return self._loop.buf.sensors.copy()
 
     @property
+    def threads(self) -> int:
+        """Threads a step uses (the kernels are single-threaded)."""
+        return 1
+
+    @property
     def start_sensors(self) -> np.ndarray:
         """[S] the sensors at the state the Horde last observed afresh (the episode's first state; a copy)."""
         return self._loop.buf.start_sensors.copy()
