@@ -312,8 +312,8 @@ class LiveRun:
 
     def _record(self) -> None:
         sim = self._sim
-        hs, horde = sim.horde_state, sim.horde
-        self.history.record(sim.total_steps, hs.prediction, hs.cumulant, hs.delta, horde.rupee(hs), horde.ude(hs))
+        out = sim.readout()  # O(D): no weights are copied
+        self.history.record(sim.total_steps, out.prediction, out.cumulant, out.delta, out.rupee, out.ude)
         self._last_row = sim.total_steps
         self._next_row = time.monotonic() + self.limits.history_interval
 

@@ -148,3 +148,20 @@ def test_compiled_metrics_equal_the_numpy_form() -> None:
         np.testing.assert_allclose(state.delta_e[b], blocks[b].delta_e, rtol=1e-9, atol=1e-12)
         np.testing.assert_allclose(state.delta_stats[horde.slot_demon[slots]], blocks[b].delta_stats, atol=1e-12)
     assert horde.rupee(state).max() > 0 and np.isfinite(horde.ude(state)).all()
+
+
+def test_the_readout_equals_the_state() -> None:
+    """Simulation.readout (O(D), RUPEE's dot products kept up to date) against the full state."""
+    spec = load_scenario(scenario_dir() / "experiment3.toml")
+    sim = Simulation(spec, np.random.default_rng(2))
+    sim.run(3000)  # several episodes, and past the first steps whose averages fold their scale
+    out, state = sim.readout(), sim.horde_state
+    np.testing.assert_allclose(out.rupee, sim.horde.rupee(state), rtol=1e-9, atol=1e-12)
+    np.testing.assert_array_equal(out.ude, sim.horde.ude(state))
+    for field in ("prediction", "cumulant", "delta", "diverged"):
+        np.testing.assert_array_equal(getattr(out, field), getattr(state, field))
+    assert out.rupee.max() > 0
+    resumed = Simulation(spec, np.random.default_rng(9))
+    resumed.world_state = sim.world_state
+    resumed.horde_state = state
+    np.testing.assert_allclose(resumed.readout().rupee, out.rupee, rtol=1e-12)

@@ -26,6 +26,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from horde.core import metrics
 from horde.core.features import hashed_tiles
 from horde.core.horde import Horde, HordeState
 from horde.core.metrics import RUPEE_ALPHA_H, RUPEE_BETA, UDE_BETA
@@ -129,6 +130,7 @@ class Buffers(NamedTuple):
     touched: np.ndarray  # [B] support rows of the last step
     h: np.ndarray  # RUPEE's h, as theta
     u: np.ndarray  # RUPEE's average of delta e, divided by mscale of its group
+    hu: np.ndarray  # [D] sum over rows of h * u, kept up to date (RUPEE = sqrt(|mscale hu|))
     mscale: np.ndarray  # [G]
     tau: np.ndarray  # [G, 2]
     dstats: np.ndarray  # [D, 3]
@@ -474,8 +476,11 @@ def _freeze_diverged(net, buf, g):
 
 
 @njit(cache=True)
-def _metrics(gi, bi, dcls, g, action, x_t, delta, h, u, mscale, tau, dstats, trace, support, nnz, hx):
-    """RUPEE and UDE of group g after its step (metrics.update, with the average of delta e scaled lazily)."""
+def _metrics(gi, bi, dcls, g, action, x_t, delta, h, u, hu, mscale, tau, dstats, trace, support, nnz, hx):
+    """RUPEE and UDE of group g after its step (metrics.update, with the average of delta e scaled lazily).
+
+    hu[s] keeps sum_rows h * u of each slot up to date as rows change, so that RUPEE is read in O(D).
+    """
     k = gi[g, G_K]
     n_s = gi[g, G_NS]
     blo, bhi = gi[g, G_BLO], gi[g, G_BHI]
@@ -488,6 +493,8 @@ def _metrics(gi, bi, dcls, g, action, x_t, delta, h, u, mscale, tau, dstats, tra
             woff, size = bi[b, B_WOFF], bi[b, B_ROWS] * (bi[b, B_HI] - bi[b, B_LO])
             for j in range(woff, woff + size):
                 u[j] *= decayed
+            for s in range(bi[b, B_LO], bi[b, B_HI]):
+                hu[s] *= decayed
         decayed = 1.0
     mscale[g] = decayed
     gain = beta / mscale[g]
@@ -511,19 +518,24 @@ def _metrics(gi, bi, dcls, g, action, x_t, delta, h, u, mscale, tau, dstats, tra
             dstats[lo + i, 0] = (1 - b_ude) * dstats[lo + i, 0] + b_ude * d
             dstats[lo + i, 1] = (1 - b_ude) * dstats[lo + i, 1] + b_ude * d * d
             dstats[lo + i, 2] = (1 - b_ude) * dstats[lo + i, 2] + b_ude * abs(d)
+            hx[db + i] = d  # delta, 0 where not finite
         for s in range(nnz[b]):
             row = support[toff + s]
             start = woff + row * db
             for i in range(db):
-                ev = trace[voff + row * ncls + dcls[lo + i] - coff]
-                d = delta[lo + i]
-                if ev != 0.0 and math.isfinite(d):
-                    h[start + i] += alpha_h * d * ev
-                    u[start + i] += gain * d * ev
+                ev = trace[voff + row * ncls] if ncls == 1 else trace[voff + row * ncls + dcls[lo + i] - coff]
+                d = hx[db + i]
+                h0, u0 = h[start + i], u[start + i]
+                h1, u1 = h0 + alpha_h * d * ev, u0 + gain * d * ev
+                h[start + i], u[start + i] = h1, u1
+                hu[lo + i] += h1 * u1 - h0 * u0
         for j in range(k):
             start = woff + (shift + x_t[j]) * db
             for i in range(db):
-                h[start + i] -= alpha_h * hx[i]
+                h0 = h[start + i]
+                h1 = h0 - alpha_h * hx[i]
+                h[start + i] = h1
+                hu[lo + i] += (h1 - h0) * u[start + i]
 
 
 @njit(cache=True, nogil=True)  # releases the GIL: the server's other threads go on while a run learns
@@ -555,7 +567,8 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
     pi, q, pred, gamma, delta, cumulant, diverged = (
         buf.pi, buf.q, buf.pred, buf.gamma, buf.delta, buf.cumulant, buf.diverged
     )  # fmt: skip
-    h, u, mscale, tau, dstats = buf.h, buf.u, buf.mscale, buf.tau, buf.dstats
+    h, u, hu, mscale, tau, dstats = buf.h, buf.u, buf.hu, buf.mscale, buf.tau, buf.dstats
+    hx = np.zeros(2 * max(1, buf.work.shape[1]))  # h . x_t and delta of a block, for the metrics
     rows_, rows_e, rows_f, values, pi_next, work, ev, scratch = (
         buf.rows, buf.rows_e, buf.rows_f, buf.values, buf.pi_next, buf.work, buf.ev, buf.scratch
     )  # fmt: skip
@@ -661,8 +674,8 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
             if _any_diverged(gi, bi, g, delta, pred, q, diverged):
                 _freeze_diverged(net, buf, g)
             if with_metrics:
-                _metrics(gi, bi, dcls, g, action, feat[g, :k], delta, h, u, mscale, tau, dstats, trace, support, nnz,
-                         work[0])  # fmt: skip
+                _metrics(gi, bi, dcls, g, action, feat[g, :k], delta, h, u, hu, mscale, tau, dstats, trace, support,
+                         nnz, hx)  # fmt: skip
             for j in range(k):
                 feat[g, j] = idx[j]
 
@@ -862,6 +875,7 @@ class FastLoop:
             touched=np.zeros(len(blocks), np.int64),
             h=np.zeros(int(woff[-1])),
             u=np.zeros(int(woff[-1])),
+            hu=np.zeros(d),
             mscale=np.ones(ng),
             tau=np.zeros((ng, 2)),
             dstats=np.zeros((d, 3)),
@@ -968,6 +982,16 @@ class FastLoop:
         out[self.horde.slot_demon] = slots
         return out
 
+    def rupee(self) -> np.ndarray:
+        """[D] RUPEE of every demon, in O(D) (the dot products are kept up to date by the loop)."""
+        scale = self.buf.mscale[self.horde.block_group] if len(self.horde.blocks) else np.zeros(0)
+        sizes = [b.size for b in self.horde.blocks]
+        per_slot = np.repeat(scale, sizes) * self.buf.hu if sizes else np.zeros(0)
+        return self._per_demon(np.sqrt(np.abs(per_slot)))
+
+    def ude(self) -> np.ndarray:
+        return metrics.ude_of(self._per_demon(self.buf.dstats))
+
     def thetas(self) -> list[np.ndarray]:
         return [self._weights(self.buf.theta, b).copy() for b in range(len(self.horde.blocks))]
 
@@ -1019,6 +1043,9 @@ class FastLoop:
             buf.support[self._toff[b] : self._toff[b] + len(rows)] = rows
             buf.nnz[b] = len(rows)
         buf.mscale[:] = 1.0
+        for b in range(len(horde.blocks)):
+            lo = int(horde.block_lo[b])
+            buf.hu[lo : lo + horde.blocks[b].size] = np.einsum("nd,nd->d", state.h[b], state.delta_e[b])
         buf.tau[:] = state.tau
         buf.dstats[:] = state.delta_stats[slot]
         for g, group in enumerate(horde.groups):

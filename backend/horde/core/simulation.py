@@ -8,6 +8,7 @@ thread-safe: the run manager owns one per run.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -42,6 +43,17 @@ class StepResult:
     @property
     def done(self) -> bool:
         return self.terminated or self.truncated
+
+
+class Readout(NamedTuple):
+    """Per-demon numbers of the agent's state, in demon order (copies)."""
+
+    prediction: np.ndarray  # [D]
+    cumulant: np.ndarray  # [D] the last cumulant
+    delta: np.ndarray  # [D] the last TD error
+    rupee: np.ndarray  # [D]
+    ude: np.ndarray  # [D]
+    diverged: np.ndarray  # [D] bool
 
 
 class Simulation:
@@ -191,6 +203,19 @@ class Simulation:
     def prediction_array(self) -> np.ndarray:
         """[D] every demon's prediction at the agent's state (a copy, in demon order)."""
         return self._loop.prediction()
+
+    def readout(self) -> Readout:
+        """What the run layer records every step or so, in O(D) (no weights are copied)."""
+        loop = self._loop
+        state = loop.buf
+        return Readout(
+            prediction=loop.prediction(),
+            cumulant=loop._per_demon(state.cumulant),
+            delta=loop._per_demon(state.delta),
+            rupee=loop.rupee(),
+            ude=loop.ude(),
+            diverged=loop._per_demon(state.diverged),
+        )
 
     def predictions(self) -> dict[str, float]:
         return dict(zip(self.horde.names, self._loop.prediction().tolist(), strict=True))
