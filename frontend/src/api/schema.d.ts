@@ -518,6 +518,35 @@ export interface components {
             /** Positive */
             positive: number;
         };
+        /**
+         * DemonFamily
+         * @description One entry that expands into a demon for every combination of its lists (their product).
+         *
+         *     `demon` is a demon written as usual, in which any "{var}" stands for the values of the list `var`
+         *     of `over`; `name` is the pattern of the demons' names, such as "{sensor}_g{gamma}" (characters a
+         *     name cannot hold, such as the colon of "in:zone1", become "_").
+         */
+        DemonFamily: {
+            /**
+             * Demon
+             * @description a demon without its name; "{var}" in any string takes the values
+             */
+            demon: {
+                [key: string]: unknown;
+            };
+            /**
+             * Name
+             * @description the name pattern, e.g. "{sensor}_g{gamma}"
+             */
+            name: string;
+            /**
+             * Over
+             * @description the lists whose product the family expands into
+             */
+            over: {
+                [key: string]: (string | number)[];
+            };
+        };
         /** DemonMetricsOut */
         DemonMetricsOut: {
             /** Cumulant */
@@ -818,7 +847,7 @@ export interface components {
              * @default stripes
              * @enum {string}
              */
-            kind: "stripes" | "tiles" | "grid" | "constant";
+            kind: "stripes" | "tiles" | "grid" | "constant" | "sensors";
             /**
              * Parts
              * @description stripes: columns, rows, diagonals
@@ -826,14 +855,24 @@ export interface components {
              */
             parts: number;
             /**
+             * Sensors
+             * @description sensors: each tiled on its own, with its range
+             */
+            sensors?: components["schemas"]["TiledSensor"][] | null;
+            /**
+             * Size
+             * @description sensors: the hash table's size (features besides the bias)
+             */
+            size?: number | null;
+            /**
              * Tiles
-             * @description tiles, grid: tiles per dimension
+             * @description tiles, grid, sensors: tiles per dimension
              * @default 8
              */
             tiles: number;
             /**
              * Tilings
-             * @description tiles: number of offset tilings
+             * @description tiles, sensors: number of offset tilings
              * @default 8
              */
             tilings: number;
@@ -1222,6 +1261,11 @@ export interface components {
              * @default
              */
             description: string;
+            /**
+             * Families
+             * @description demon families, expanded into `demons` when the spec is read (and then empty)
+             */
+            families?: components["schemas"]["DemonFamily"][];
             features?: components["schemas"]["FeatureSpec"];
             learning?: components["schemas"]["LearningSpec"];
             /** Name */
@@ -1245,6 +1289,11 @@ export interface components {
              * @default
              */
             description: string;
+            /**
+             * Families
+             * @description demon families, expanded into `demons` when the spec is read (and then empty)
+             */
+            families?: components["schemas"]["DemonFamily"][];
             features?: components["schemas"]["FeatureSpec"];
             learning?: components["schemas"]["LearningSpec"];
             /** Name */
@@ -1536,6 +1585,27 @@ export interface components {
             predictions?: {
                 [key: string]: number;
             };
+        };
+        /**
+         * TiledSensor
+         * @description One sensor of `kind = "sensors"` features: its readings in [low, high] are tiled (and clipped).
+         */
+        TiledSensor: {
+            /**
+             * High
+             * @description the highest reading the tiling resolves
+             */
+            high: number;
+            /**
+             * Low
+             * @description the lowest reading the tiling resolves
+             */
+            low: number;
+            /**
+             * Sensor
+             * @description a sensor name, e.g. in:zone3
+             */
+            sensor: string;
         };
         /** ValidationError */
         ValidationError: {
