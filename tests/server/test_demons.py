@@ -152,3 +152,29 @@ def test_evaluate_errors(client: TestClient, create_run: Callable[..., str]) -> 
     assert "obstacle 'wall'" in messages(client.post(url, json={"demon": "steps", "from": [150, 250]}))
     assert ["body", "episodes"] in locs(client.post(url, json={"demon": "steps", "from": [0, 0], "episodes": 10**6}))
     assert ["body", "from"] in locs(client.post(url, json={"demon": "steps", "from": [0]}))
+
+
+FAMILY = {
+    "name": "{s}_g{gamma}",
+    "over": {"s": ["bump", "in:goal"], "gamma": [0.5, 0.9]},
+    "demon": {"learner": "td", "policy": "uniform", "cumulant": {"sensor": "{s}"}, "discount": "{gamma}"},
+}
+
+
+def test_a_family_is_listed_expanded(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_id = create_run(make_spec(families=[FAMILY]))
+    demons = client.get(f"/api/runs/{run_id}/demons").json()
+    assert [d["name"] for d in demons] == ["base", "steps", "bump_g0.5", "bump_g0.9", "in_goal_g0.5", "in_goal_g0.9"]
+    assert demons[3]["spec"]["discount"] == 0.9 and demons[3]["spec"]["cumulant"] == {"sensor": "bump"}
+    client.post(f"/api/runs/{run_id}/step", json={"steps": 50})
+    assert client.get(f"/api/runs/{run_id}/demons/in_goal_g0.9").json()["metrics"]["diverged"] is False
+
+
+def test_a_family_past_the_limit_is_refused_before_anything_is_built(client: TestClient) -> None:
+    huge = {**FAMILY, "over": {"s": ["bump"] * 200, "gamma": [0.5] * 100}}  # 20,000 demons
+    response = client.post("/api/runs", json=make_spec(families=[huge]))
+    assert response.status_code == 422
+    assert ["body", "RunSpec", "families", 0, "over"] in locs(response)
+    tiled = {"kind": "sensors", "tilings": 2, "tiles": 2, "size": 8, "sensors": [{"sensor": "x", "low": 0}]}
+    response = client.post("/api/runs", json=make_spec(features=tiled))
+    assert response.status_code == 422 and ["body", "RunSpec", "features", "sensors", 0, "high"] in locs(response)
