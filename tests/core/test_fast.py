@@ -165,3 +165,22 @@ def test_the_readout_equals_the_state() -> None:
     resumed.world_state = sim.world_state
     resumed.horde_state = state
     np.testing.assert_allclose(resumed.readout().rupee, out.rupee, rtol=1e-12)
+
+
+def test_a_changed_set_of_demons_keeps_the_others_and_codes_the_sensors_where_the_agent_stands() -> None:
+    spec = load_scenario(scenario_dir() / "nexting.toml")
+    data = spec.model_dump(by_alias=True)
+    data["demons"] = data["demons"][:40]
+    small = RunSpec.model_validate(data)
+    sim = Simulation(small, np.random.default_rng(1))
+    sim.run(120)
+    before = {name: sim.horde.weights(sim.horde_state, name) for name in sim.horde.names[:30]}
+    data["demons"] = data["demons"][:30]
+    fewer = sim.with_spec(RunSpec.model_validate(data))
+    for name, theta in before.items():
+        np.testing.assert_array_equal(fewer.horde.weights(fewer.horde_state, name), theta)
+    features = fewer.horde_state.features[0]
+    sensors = fewer.sensors[None, :]
+    expected = fewer.horde.groups[0].coder.active(np.zeros(1), np.zeros(1), sensors=sensors)[0]
+    np.testing.assert_array_equal(features, expected)
+    fewer.run(20)

@@ -145,6 +145,7 @@ class Simulation:
         new = Simulation(spec, self.rng, self.cut)  # draws a start: the generator is put back below
         self.rng.bit_generator.state = rng_state
         new._loop.load(new.horde.carry_over(self.horde, self.horde_state), self.world_state)
+        new._loop.buf.sensors[:] = self._loop.buf.sensors  # what the sensors read here, for sensor-tiled features
         new._loop.observe()
         new.episode = self.episode
         new.total_steps = self.total_steps
