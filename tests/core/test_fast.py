@@ -180,7 +180,7 @@ def test_a_changed_set_of_demons_keeps_the_others_and_codes_the_sensors_where_th
     for name, theta in before.items():
         np.testing.assert_array_equal(fewer.horde.weights(fewer.horde_state, name), theta)
     features = fewer.horde_state.features[0]
-    sensors = fewer.sensors[None, :]
+    sensors = sim.sensors[None, :]  # read where the agent stands, before the change
     expected = fewer.horde.groups[0].coder.active(np.zeros(1), np.zeros(1), sensors=sensors)[0]
     np.testing.assert_array_equal(features, expected)
     fewer.run(20)
