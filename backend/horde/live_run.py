@@ -36,7 +36,7 @@ from horde.core.world import WorldState
 from horde.errors import BusyError, ConflictError, NotFoundError, SpecError
 from horde.events import EventLog
 from horde.history import History
-from horde.run_setup import Limits, check_limits, new_simulation
+from horde.run_setup import MAX_HZ, MIN_HZ, Limits, check_limits, new_simulation
 from horde.run_view import RunStatus, RunView, Summary
 from horde.snapshot import Snapshot, capture, to_bytes
 from horde.spec import BehaviourSpec, DemonSpec, RunSpec, demon_dependencies
@@ -52,7 +52,9 @@ CHUNK_SECONDS = 0.02  # full speed: learn this long between looks at the command
 BATCH_SECONDS = 0.002
 MAX_BATCH = 100_000
 PUBLISH_INTERVAL = 1.0 / 60.0  # while running, views are published at most this often
+MAX_PUBLISH_INTERVAL = 0.5  # ... and at least this often, however long a view takes to make
 MAX_LAG = 0.1  # hz pacing: time lost beyond this is not caught up
+MAX_WAIT = 1.0  # hz pacing: the longest single wait for the next step (then the loop looks again)
 COMMAND_TIMEOUT = 600.0  # a command waits this long for the learner thread at most
 
 
@@ -255,9 +257,10 @@ class LiveRun:
         wait = self._next_step_at - time.monotonic()
         if wait > 0:
             try:
-                command = self._commands.get(timeout=wait)
+                command = self._commands.get(timeout=min(wait, MAX_WAIT))
             except queue.Empty:
-                pass
+                if wait > MAX_WAIT:
+                    return  # not due yet: look at the queue again
             else:
                 self._execute(command)
                 return
@@ -426,6 +429,8 @@ class LiveRun:
             self._spec = spec
             self._sim.spec = spec
         if set_hz:
+            if hz is not None and not MIN_HZ <= hz <= MAX_HZ:
+                raise SpecError.at(("body", "hz"), f"hz must lie in [{MIN_HZ}, {MAX_HZ:g}] (or be null)")
             self._hz = hz
             self._next_step_at = time.monotonic()
         self._persist(snapshot=True)
@@ -531,9 +536,13 @@ class LiveRun:
         """Make the current state visible to readers (while running: at most every PUBLISH_INTERVAL)."""
         began = time.monotonic()
         if force or began >= self._next_publish or self._status != self.view.status:
+            cpu = time.thread_time()
             self.view = self._make_view()
-            # Copying a large Horde takes time: keep it under about 5 % of the learner thread's.
-            self._next_publish = began + max(PUBLISH_INTERVAL, 20 * (time.monotonic() - began))
+            # Copying a large Horde takes time: keep it under about 5 % of the learner thread's. The cost is
+            # this thread's CPU time, not wall time, so a stall elsewhere (the event loop holding the GIL)
+            # cannot stretch the interval; and it is capped, so readers never wait long for a fresh view.
+            cost = time.thread_time() - cpu
+            self._next_publish = began + min(MAX_PUBLISH_INTERVAL, max(PUBLISH_INTERVAL, 20 * cost))
         return self.view
 
     def _maybe_snapshot(self) -> None:

@@ -24,7 +24,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from horde.core.simulation import Simulation
 from horde.core.world import WorldState
 from horde.errors import SpecError
-from horde.run_setup import new_simulation
+from horde.run_setup import Hz, new_simulation
 from horde.run_view import RunStatus
 from horde.spec import RunSpec
 
@@ -66,7 +66,7 @@ class Snapshot(BaseModel):
     format: Literal["horde-snapshot/1"] = FORMAT
     spec: RunSpec
     status: RunStatus
-    hz: Annotated[float, Field(gt=0.0, le=10_000.0)] | None = None
+    hz: Hz | None = None
     episode: int = Field(ge=0)
     total_steps: int = Field(ge=0)
     episode_return: Number

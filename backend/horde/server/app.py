@@ -22,6 +22,7 @@ from horde.protocols import ProtocolJobs
 from horde.runs import RunManager
 from horde.server.catalog import ScenarioCatalog
 from horde.server.frontend import DIST_DIR, mount_frontend
+from horde.server.guard import BodyGuard
 from horde.server.responses import add_error_handlers
 from horde.server.routes import ROUTERS
 from horde.server.settings import Settings
@@ -87,6 +88,7 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
     app.state.live_view = None
     app.state.catalog = ScenarioCatalog(settings.scenarios)
     add_error_handlers(app)
+    app.add_middleware(BodyGuard, max_body=settings.max_body, max_import_body=settings.max_import_body)
     for router in ROUTERS:
         app.include_router(router, prefix="/api")
     mount_frontend(app, settings.frontend or DIST_DIR)

@@ -13,15 +13,13 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag
 
 from horde.events import EventKind
+from horde.run_setup import Hz
 from horde.run_view import RunStatus
 from horde.spec import BehaviourSpec, DemonSpec, Name, RunSpec, WorldSpec
 
 MAX_RESOLUTION = 256
 MAX_EVAL_EPISODES = 5_000
 MAX_EVAL_CAP = 10_000
-MAX_HZ = 10_000.0
-
-Hz = Annotated[float, Field(gt=0.0, le=MAX_HZ, description="steps per second; null: as fast as possible")]
 MaybeFloat = float | None
 
 
