@@ -38,7 +38,8 @@ from horde.events import EventLog
 from horde.history import History
 from horde.run_setup import MAX_HZ, MIN_HZ, Limits, check_limits, new_simulation
 from horde.run_view import RunStatus, RunView, Summary
-from horde.snapshot import Snapshot, capture, to_bytes
+from horde.saver import Saver
+from horde.snapshot import Snapshot, capture, encode_frozen, freeze, to_bytes
 from horde.spec import BehaviourSpec, DemonSpec, RunSpec, demon_dependencies
 from horde.store import RunRecord, Store
 
@@ -56,6 +57,16 @@ MAX_PUBLISH_INTERVAL = 0.5  # ... and at least this often, however long a view t
 MAX_LAG = 0.1  # hz pacing: time lost beyond this is not caught up
 MAX_WAIT = 1.0  # hz pacing: the longest single wait for the next step (then the loop looks again)
 COMMAND_TIMEOUT = 600.0  # a command waits this long for the learner thread at most
+
+
+@dataclass(frozen=True)
+class SnapshotCost:
+    """What the latest snapshot cost: freezing it in the learner thread, encoding and writing it after."""
+
+    freeze_seconds: float = 0.0
+    encode_seconds: float = 0.0
+    write_seconds: float = 0.0
+    bytes: int = 0
 
 
 @dataclass
@@ -91,6 +102,7 @@ class LiveRun:
         store: where the run saves itself (None: nowhere).
         status, hz, message, created_at, summary: the run's state when it is restored.
         stop_reference: the stopping rule's reference weights (default: the current weights).
+        saver: the writer thread that periodic snapshots are handed to (None: written in this thread).
     """
 
     def __init__(
@@ -106,8 +118,12 @@ class LiveRun:
         created_at: float | None = None,
         summary: Summary | None = None,
         stop_reference: list[np.ndarray] | None = None,
+        saver: Saver | None = None,
     ) -> None:
         self.id = run_id
+        self._saver = saver
+        self._pending_save: Future[Any] | None = None  # the periodic snapshot being written
+        self.snapshot_cost = SnapshotCost()
         self.limits = limits
         self._store = store
         self._sim = sim
@@ -546,17 +562,33 @@ class LiveRun:
         return self.view
 
     def _maybe_snapshot(self) -> None:
-        if self._status == "running" and time.monotonic() - self._last_snapshot >= self.limits.snapshot_every:
-            self._persist(snapshot=True)
+        """A periodic snapshot of a running run, handed to the writer thread.
 
-    def _persist(self, snapshot: bool) -> None:
-        """Save the run's record (and a snapshot) in one transaction; a storage error is logged, not raised."""
+        Every `limits.snapshot_every` seconds, or ten times the last write's time when that is longer
+        (a large Horde's write then takes at most a tenth of the writer's time); never while the
+        previous one is still being written.
+        """
+        if self._status != "running" or (self._pending_save is not None and not self._pending_save.done()):
+            return
+        cost = self.snapshot_cost
+        interval = max(self.limits.snapshot_every, 10 * (cost.encode_seconds + cost.write_seconds))
+        if time.monotonic() - self._last_snapshot >= interval:
+            self._persist(snapshot=True, wait=False)
+
+    def _persist(self, snapshot: bool, wait: bool = True) -> None:
+        """Save the run's record (and a snapshot) in one transaction; a storage error is logged, not raised.
+
+        The state is frozen here, in the learner thread; encoding and writing happen in the saver's
+        thread when there is one. With `wait` the call returns once the write is done (or failed).
+        """
         if snapshot:
             self._last_snapshot = time.monotonic()
         if self._store is None:
             return
+        store = self._store
         sim = self._sim
         try:
+            began = time.perf_counter()
             record = RunRecord(
                 id=self.id,
                 name=self._spec.name,
@@ -569,9 +601,36 @@ class LiveRun:
                 created_at=self._created_at,
                 updated_at=time.time(),
             )
-            data = to_bytes(self._capture()) if snapshot else None
+            frozen = freeze(sim, self._spec, self._status, self._hz, self._stop_reference) if snapshot else None
             summary = self._summary.to_json() if self._summary is not None else None
-            self._store.save_run(record, data, summary)
+            freeze_seconds = time.perf_counter() - began
         except Exception as exc:
-            log.error("could not save run %s", self.id, exc_info=exc)
-            self.events.add(sim.total_steps, sim.episode, "error", f"could not save the run: {exc}")
+            self._save_failed(exc)
+            return
+
+        def write() -> None:
+            try:
+                began = time.perf_counter()
+                data = to_bytes(encode_frozen(frozen)) if frozen is not None else None
+                encoded = time.perf_counter()
+                store.save_run(record, data, summary)
+                if data is not None:
+                    self.snapshot_cost = SnapshotCost(
+                        freeze_seconds, encoded - began, time.perf_counter() - encoded, len(data)
+                    )
+            except Exception as exc:
+                self._save_failed(exc)
+
+        if self._saver is None:
+            write()
+            return
+        future = self._saver.submit(write)
+        if wait:
+            with contextlib.suppress(TimeoutError):
+                future.result(COMMAND_TIMEOUT)
+        else:
+            self._pending_save = future
+
+    def _save_failed(self, exc: Exception) -> None:
+        log.error("could not save run %s", self.id, exc_info=exc)
+        self.events.add(self._sim.total_steps, self._sim.episode, "error", f"could not save the run: {exc}")

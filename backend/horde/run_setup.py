@@ -36,7 +36,7 @@ class Limits:
     history: int = 10_000  # rows of each run's history
     history_every: int = 1  # steps between two history rows at least
     history_interval: float = 0.005  # seconds between two history rows at least
-    snapshot_every: float = 30.0  # seconds between snapshots of a running run
+    snapshot_every: float = 2.0  # seconds between snapshots of a running run (a hard kill loses at most this)
     events: int = 256
 
 

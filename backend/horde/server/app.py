@@ -59,7 +59,7 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
             app.state.store = store
             app.state.manager = manager
             app.state.hub = StreamHub(manager, rate=settings.stream_rate)
-            app.state.protocols = ProtocolJobs()
+            app.state.protocols = ProtocolJobs(store)
             app.state.switch_interval = sys.getswitchinterval()
             sys.setswitchinterval(settings.switch_interval)
             manager.start()

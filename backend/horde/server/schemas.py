@@ -139,7 +139,9 @@ class ProtocolOut(Out):
     id: str
     name: str | None
     seed: int
-    status: Literal["running", "finished", "failed", "cancelled"]
+    status: Literal["running", "finished", "failed", "cancelled", "interrupted"] = Field(
+        description="interrupted: the server stopped (or died) while it ran; `error` says how far it got"
+    )
     episodes_done: int
     episodes_total: int
     trials: int

@@ -39,7 +39,12 @@ class Settings(BaseSettings):
     history_interval: float = Field(
         default=0.005, ge=0.0, le=60.0, description="seconds between history rows, at least (a full-speed run samples)"
     )
-    snapshot_every: float = Field(default=30.0, gt=0.0, description="seconds between snapshots of a running run")
+    snapshot_every: float = Field(
+        default=2.0,
+        gt=0.0,
+        le=3600.0,
+        description="seconds between snapshots of a running run: a hard kill loses at most about this much learning",
+    )
     switch_interval: float = Field(
         default=0.001, gt=0.0, le=0.1, description="sys.setswitchinterval of the server process (seconds)"
     )
