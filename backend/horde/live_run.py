@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import math
 import os
 import queue
 import threading
@@ -33,6 +34,7 @@ from pydantic import ValidationError
 from horde.core.experiment import start_point
 from horde.core.simulation import Simulation
 from horde.core.world import WorldState
+from horde.divergence import MAX_MAGNITUDE, beyond_magnitude
 from horde.errors import BusyError, ConflictError, NotFoundError, SpecError
 from horde.events import EventLog
 from horde.history import History
@@ -124,6 +126,7 @@ class LiveRun:
         self._saver = saver
         self._pending_save: Future[Any] | None = None  # the periodic snapshot being written
         self.snapshot_cost = SnapshotCost()
+        self._diverged: set[str] = set()  # demons reported diverged in the events
         self.limits = limits
         self._store = store
         self._sim = sim
@@ -370,8 +373,10 @@ class LiveRun:
     def _summarize(self, stopped_early: bool) -> Summary:
         sim = self._sim
         hs, horde = sim.horde_state, sim.horde
+        diverged = dict(zip(horde.names, hs.diverged.tolist(), strict=True))
+        predictions = sim.predictions_at(*start_point(self._spec))
         return Summary(
-            predictions=sim.predictions_at(*start_point(self._spec)),
+            predictions={name: math.nan if diverged[name] else value for name, value in predictions.items()},
             rupee=dict(zip(horde.names, horde.rupee(hs).tolist(), strict=True)),
             ude=dict(zip(horde.names, horde.ude(hs).tolist(), strict=True)),
             episodes=sim.episode,
@@ -524,7 +529,27 @@ class LiveRun:
     # ------------------------------------------------------------------------------------------
     # Publication and persistence
 
+    def _mark_diverged(self) -> None:
+        """Freeze demons whose weights or prediction went beyond MAX_MAGNITUDE (the engine waits for inf)."""
+        sim = self._sim
+        state = sim.horde_state
+        beyond = beyond_magnitude(sim.horde, state) & ~state.diverged  # [D]
+        if beyond.any():
+            sim.horde_state = state._replace(diverged=state.diverged | beyond)
+        diverged = state.diverged | beyond  # [D]
+        for i in np.nonzero(diverged)[0]:
+            name = sim.horde.names[i]
+            if name not in self._diverged:
+                self._diverged.add(name)
+                self.events.add(
+                    sim.total_steps,
+                    sim.episode,
+                    "error",
+                    f"demon {name!r} diverged: its weights went beyond {MAX_MAGNITUDE:g}; it is frozen",
+                )
+
     def _make_view(self) -> RunView:
+        self._mark_diverged()
         sim = self._sim
         self._seq += 1
         return RunView(

@@ -125,7 +125,7 @@ class DemonResultOut(Out):
     """One demon's line of a protocol's results (as `horde run --json` writes it)."""
 
     name: str
-    prediction: float = Field(description="the prediction at the start, mean over trials")
+    prediction: float | None = Field(description="the prediction at the start, mean over trials (null: diverged)")
     truth: float | None = Field(description="Monte-Carlo truth at the start, mean over trials")
     truth_stderr: float | None
     error: float | None = Field(description="prediction - truth")

@@ -561,9 +561,9 @@ export interface components {
             name: string;
             /**
              * Prediction
-             * @description the prediction at the start, mean over trials
+             * @description the prediction at the start, mean over trials (null: diverged)
              */
-            prediction: number;
+            prediction: number | null;
             /**
              * Thesis
              * @description the thesis's number, where it has one
