@@ -23,6 +23,7 @@ from horde.runs import RunManager
 from horde.server.catalog import ScenarioCatalog
 from horde.server.frontend import DIST_DIR, mount_frontend
 from horde.server.guard import BodyGuard
+from horde.server.origins import origin_allowed
 from horde.server.responses import add_error_handlers
 from horde.server.routes import ROUTERS
 from horde.server.settings import Settings
@@ -64,7 +65,16 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
             sys.setswitchinterval(settings.switch_interval)
             manager.start()
             if settings.viser_port is not None:
-                app.state.live_view = LiveView(ManagerSource(manager), host=settings.host, port=settings.viser_port)
+                token = settings.token.get_secret_value() if settings.token is not None else None
+                app.state.live_view = LiveView(
+                    ManagerSource(manager),
+                    host=settings.host,
+                    port=settings.viser_port,
+                    token=token,
+                    allow_origin=lambda origin, host: origin_allowed(
+                        origin, host, settings.is_loopback(), settings.origins
+                    ),
+                )
                 app.state.live_view.start()
                 if announce is not None:
                     announce(app.state.live_view.url)
