@@ -42,6 +42,7 @@ class RunManager:
         self.limits = limits or Limits()
         self._runs: dict[str, LiveRun] = {}
         self._lock = threading.Lock()
+        self._making = 0  # runs being made, their slots reserved
         self._evaluations = threading.BoundedSemaphore(MAX_EVALUATIONS)
         self.saver = Saver() if store is not None else None
 
@@ -169,12 +170,20 @@ class RunManager:
         return run.view
 
     def _add(self, make: Callable[[str], LiveRun]) -> LiveRun:
+        """Make a run (outside the lock: a large Horde takes a while, and readers of the table must not
+        wait for it) in a slot reserved under the lock, then save it and start its thread."""
         with self._lock:
-            if len(self._runs) >= self.limits.max_runs:
+            if len(self._runs) + self._making >= self.limits.max_runs:
                 raise ConflictError(f"this server holds at most {self.limits.max_runs} runs; delete one first")
-            run_id = secrets.token_hex(6)
-            run = make(run_id)
-            self._runs[run_id] = run
+            self._making += 1
+        run: LiveRun | None = None
+        try:
+            run = make(secrets.token_hex(6))
+        finally:
+            with self._lock:
+                self._making -= 1
+                if run is not None:
+                    self._runs[run.id] = run
         run.save()
         run.start_thread()
         return run

@@ -33,15 +33,21 @@ def free_port() -> int:
 
 @contextmanager
 def server(
-    data: Path, log: Path, snapshot_every: float = 0.2
+    data: Path, log: Path, snapshot_every: float = 0.2, nice: int = 0
 ) -> Iterator[tuple[subprocess.Popen[bytes], httpx.Client]]:
-    """`python -m horde.server` on a free loopback port; killed (if still alive) on the way out."""
+    """`python -m horde.server` on a free loopback port (at niceness `nice`); killed on the way out."""
     port = free_port()
     env = {k: v for k, v in os.environ.items() if not k.startswith("HORDE_")}
     env["HORDE_SNAPSHOT_EVERY"] = str(snapshot_every)
     command = [sys.executable, "-m", "horde.server", "--host", "127.0.0.1", "--port", str(port), "--data", str(data)]
     with log.open("ab") as out:
-        process = subprocess.Popen([*command, "--log-level", "warning"], env=env, stdout=out, stderr=out)
+        process = subprocess.Popen(
+            [*command, "--log-level", "warning"],
+            env=env,
+            stdout=out,
+            stderr=out,
+            preexec_fn=(lambda: os.nice(nice)) if nice else None,
+        )
     client = httpx.Client(base_url=f"http://127.0.0.1:{port}", timeout=30.0)
     try:
         deadline = time.monotonic() + STARTUP_TIMEOUT

@@ -11,7 +11,10 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** Server health */
+        /**
+         * Server health
+         * @description Answered on the event loop itself (no worker thread to wait for): a measure of its responsiveness.
+         */
         get: operations["health_api_health_get"];
         put?: never;
         post?: never;
