@@ -51,8 +51,19 @@ def test_serve_prints_its_urls_and_warns_when_exposed(
     assert "WARNING" not in out.err
     assert calls == [{"host": "127.0.0.1", "port": 9002, "log_level": "info", "ws_per_message_deflate": False}]
 
-    serve(parse(["serve", "--host", "0.0.0.0", "--data", str(tmp_path)]))
+    # Beyond loopback without a token: refused, unless asked for on purpose (then a warning).
+    calls.clear()
+    assert serve(parse(["serve", "--host", "0.0.0.0", "--data", str(tmp_path)])) == 2
+    assert "refusing to start" in capsys.readouterr().err and calls == []
+    assert serve(parse(["serve", "--host", "0.0.0.0", "--allow-open", "--data", str(tmp_path)])) == 0
+    assert "WARNING" in capsys.readouterr().err and len(calls) == 1
+    monkeypatch.setenv("HORDE_ALLOW_OPEN", "1")
+    assert serve(parse(["serve", "--host", "0.0.0.0", "--data", str(tmp_path)])) == 0
     assert "WARNING" in capsys.readouterr().err
+    monkeypatch.delenv("HORDE_ALLOW_OPEN")
+    monkeypatch.setenv("HORDE_TOKEN", "secret")
+    assert serve(parse(["serve", "--host", "0.0.0.0", "--data", str(tmp_path)])) == 0
+    assert "WARNING" not in capsys.readouterr().err
     assert cli_serve.security_warning(settings_from_args(parse(["serve"]))) is None
 
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import math
 import os
 import queue
 import threading
@@ -33,12 +34,14 @@ from pydantic import ValidationError
 from horde.core.experiment import start_point
 from horde.core.simulation import Simulation
 from horde.core.world import WorldState
+from horde.divergence import MAX_MAGNITUDE, beyond_magnitude
 from horde.errors import BusyError, ConflictError, NotFoundError, SpecError
 from horde.events import EventLog
 from horde.history import History
-from horde.run_setup import Limits, check_limits, new_simulation
+from horde.run_setup import MAX_HZ, MIN_HZ, Limits, check_limits, new_simulation
 from horde.run_view import RunStatus, RunView, Summary
-from horde.snapshot import Snapshot, capture, to_bytes
+from horde.saver import Saver
+from horde.snapshot import Snapshot, capture, encode_frozen, freeze, to_bytes
 from horde.spec import BehaviourSpec, DemonSpec, RunSpec, demon_dependencies
 from horde.store import RunRecord, Store
 
@@ -52,8 +55,20 @@ CHUNK_SECONDS = 0.02  # full speed: learn this long between looks at the command
 BATCH_SECONDS = 0.002
 MAX_BATCH = 100_000
 PUBLISH_INTERVAL = 1.0 / 60.0  # while running, views are published at most this often
+MAX_PUBLISH_INTERVAL = 0.5  # ... and at least this often, however long a view takes to make
 MAX_LAG = 0.1  # hz pacing: time lost beyond this is not caught up
+MAX_WAIT = 1.0  # hz pacing: the longest single wait for the next step (then the loop looks again)
 COMMAND_TIMEOUT = 600.0  # a command waits this long for the learner thread at most
+
+
+@dataclass(frozen=True)
+class SnapshotCost:
+    """What the latest snapshot cost: freezing it in the learner thread, encoding and writing it after."""
+
+    freeze_seconds: float = 0.0
+    encode_seconds: float = 0.0
+    write_seconds: float = 0.0
+    bytes: int = 0
 
 
 @dataclass
@@ -89,6 +104,7 @@ class LiveRun:
         store: where the run saves itself (None: nowhere).
         status, hz, message, created_at, summary: the run's state when it is restored.
         stop_reference: the stopping rule's reference weights (default: the current weights).
+        saver: the writer thread that periodic snapshots are handed to (None: written in this thread).
     """
 
     def __init__(
@@ -104,8 +120,13 @@ class LiveRun:
         created_at: float | None = None,
         summary: Summary | None = None,
         stop_reference: list[np.ndarray] | None = None,
+        saver: Saver | None = None,
     ) -> None:
         self.id = run_id
+        self._saver = saver
+        self._pending_save: Future[Any] | None = None  # the periodic snapshot being written
+        self.snapshot_cost = SnapshotCost()
+        self._diverged: set[str] = set()  # demons reported diverged in the events
         self.limits = limits
         self._store = store
         self._sim = sim
@@ -255,9 +276,10 @@ class LiveRun:
         wait = self._next_step_at - time.monotonic()
         if wait > 0:
             try:
-                command = self._commands.get(timeout=wait)
+                command = self._commands.get(timeout=min(wait, MAX_WAIT))
             except queue.Empty:
-                pass
+                if wait > MAX_WAIT:
+                    return  # not due yet: look at the queue again
             else:
                 self._execute(command)
                 return
@@ -351,8 +373,10 @@ class LiveRun:
     def _summarize(self, stopped_early: bool) -> Summary:
         sim = self._sim
         hs, horde = sim.horde_state, sim.horde
+        diverged = dict(zip(horde.names, hs.diverged.tolist(), strict=True))
+        predictions = sim.predictions_at(*start_point(self._spec))
         return Summary(
-            predictions=sim.predictions_at(*start_point(self._spec)),
+            predictions={name: math.nan if diverged[name] else value for name, value in predictions.items()},
             rupee=dict(zip(horde.names, horde.rupee(hs).tolist(), strict=True)),
             ude=dict(zip(horde.names, horde.ude(hs).tolist(), strict=True)),
             episodes=sim.episode,
@@ -426,6 +450,8 @@ class LiveRun:
             self._spec = spec
             self._sim.spec = spec
         if set_hz:
+            if hz is not None and not MIN_HZ <= hz <= MAX_HZ:
+                raise SpecError.at(("body", "hz"), f"hz must lie in [{MIN_HZ}, {MAX_HZ:g}] (or be null)")
             self._hz = hz
             self._next_step_at = time.monotonic()
         self._persist(snapshot=True)
@@ -503,7 +529,27 @@ class LiveRun:
     # ------------------------------------------------------------------------------------------
     # Publication and persistence
 
+    def _mark_diverged(self) -> None:
+        """Freeze demons whose weights or prediction went beyond MAX_MAGNITUDE (the engine waits for inf)."""
+        sim = self._sim
+        state = sim.horde_state
+        beyond = beyond_magnitude(sim.horde, state) & ~state.diverged  # [D]
+        if beyond.any():
+            sim.horde_state = state._replace(diverged=state.diverged | beyond)
+        diverged = state.diverged | beyond  # [D]
+        for i in np.nonzero(diverged)[0]:
+            name = sim.horde.names[i]
+            if name not in self._diverged:
+                self._diverged.add(name)
+                self.events.add(
+                    sim.total_steps,
+                    sim.episode,
+                    "error",
+                    f"demon {name!r} diverged: its weights went beyond {MAX_MAGNITUDE:g}; it is frozen",
+                )
+
     def _make_view(self) -> RunView:
+        self._mark_diverged()
         sim = self._sim
         self._seq += 1
         return RunView(
@@ -531,23 +577,43 @@ class LiveRun:
         """Make the current state visible to readers (while running: at most every PUBLISH_INTERVAL)."""
         began = time.monotonic()
         if force or began >= self._next_publish or self._status != self.view.status:
+            cpu = time.thread_time()
             self.view = self._make_view()
-            # Copying a large Horde takes time: keep it under about 5 % of the learner thread's.
-            self._next_publish = began + max(PUBLISH_INTERVAL, 20 * (time.monotonic() - began))
+            # Copying a large Horde takes time: keep it under about 5 % of the learner thread's. The cost is
+            # this thread's CPU time, not wall time, so a stall elsewhere (the event loop holding the GIL)
+            # cannot stretch the interval; and it is capped, so readers never wait long for a fresh view.
+            cost = time.thread_time() - cpu
+            self._next_publish = began + min(MAX_PUBLISH_INTERVAL, max(PUBLISH_INTERVAL, 20 * cost))
         return self.view
 
     def _maybe_snapshot(self) -> None:
-        if self._status == "running" and time.monotonic() - self._last_snapshot >= self.limits.snapshot_every:
-            self._persist(snapshot=True)
+        """A periodic snapshot of a running run, handed to the writer thread.
 
-    def _persist(self, snapshot: bool) -> None:
-        """Save the run's record (and a snapshot) in one transaction; a storage error is logged, not raised."""
+        Every `limits.snapshot_every` seconds, or ten times the last write's time when that is longer
+        (a large Horde's write then takes at most a tenth of the writer's time); never while the
+        previous one is still being written.
+        """
+        if self._status != "running" or (self._pending_save is not None and not self._pending_save.done()):
+            return
+        cost = self.snapshot_cost
+        interval = max(self.limits.snapshot_every, 10 * (cost.encode_seconds + cost.write_seconds))
+        if time.monotonic() - self._last_snapshot >= interval:
+            self._persist(snapshot=True, wait=False)
+
+    def _persist(self, snapshot: bool, wait: bool = True) -> None:
+        """Save the run's record (and a snapshot) in one transaction; a storage error is logged, not raised.
+
+        The state is frozen here, in the learner thread; encoding and writing happen in the saver's
+        thread when there is one. With `wait` the call returns once the write is done (or failed).
+        """
         if snapshot:
             self._last_snapshot = time.monotonic()
         if self._store is None:
             return
+        store = self._store
         sim = self._sim
         try:
+            began = time.perf_counter()
             record = RunRecord(
                 id=self.id,
                 name=self._spec.name,
@@ -560,9 +626,36 @@ class LiveRun:
                 created_at=self._created_at,
                 updated_at=time.time(),
             )
-            data = to_bytes(self._capture()) if snapshot else None
+            frozen = freeze(sim, self._spec, self._status, self._hz, self._stop_reference) if snapshot else None
             summary = self._summary.to_json() if self._summary is not None else None
-            self._store.save_run(record, data, summary)
+            freeze_seconds = time.perf_counter() - began
         except Exception as exc:
-            log.error("could not save run %s", self.id, exc_info=exc)
-            self.events.add(sim.total_steps, sim.episode, "error", f"could not save the run: {exc}")
+            self._save_failed(exc)
+            return
+
+        def write() -> None:
+            try:
+                began = time.perf_counter()
+                data = to_bytes(encode_frozen(frozen)) if frozen is not None else None
+                encoded = time.perf_counter()
+                store.save_run(record, data, summary)
+                if data is not None:
+                    self.snapshot_cost = SnapshotCost(
+                        freeze_seconds, encoded - began, time.perf_counter() - encoded, len(data)
+                    )
+            except Exception as exc:
+                self._save_failed(exc)
+
+        if self._saver is None:
+            write()
+            return
+        future = self._saver.submit(write)
+        if wait:
+            with contextlib.suppress(TimeoutError):
+                future.result(COMMAND_TIMEOUT)
+        else:
+            self._pending_save = future
+
+    def _save_failed(self, exc: Exception) -> None:
+        log.error("could not save run %s", self.id, exc_info=exc)
+        self.events.add(self._sim.total_steps, self._sim.episode, "error", f"could not save the run: {exc}")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -83,5 +84,7 @@ def evaluate(
     seed = seed if seed is not None else int(view.spec.seed * 1_000_003 + view.total_steps) % 2**63
     rng = np.random.default_rng(seed)
     prediction = float(view.horde.forward(view.horde_state, np.array([x]), np.array([y])).prediction[0, demon])
+    if view.horde_state.diverged[demon]:
+        prediction = math.nan  # reported as null, as everywhere else
     truth = monte_carlo(view.horde, view.horde_state, name, (x, y), episodes, cap, rng)
     return Evaluation(name, (x, y), prediction, truth, seed)

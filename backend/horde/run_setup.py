@@ -3,12 +3,26 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Annotated
 
 import numpy as np
+from pydantic import Field
 
 from horde.core.simulation import Simulation
 from horde.errors import SpecError
 from horde.spec import RunSpec
+
+MIN_HZ = 0.01  # paced runs: one step every 100 s at the slowest
+MAX_HZ = 10_000.0  # beyond this, run at full speed (hz = null)
+Hz = Annotated[
+    float,
+    Field(
+        ge=MIN_HZ,
+        le=MAX_HZ,
+        allow_inf_nan=False,
+        description=f"steps per second, {MIN_HZ} to {MAX_HZ:g}; null: as fast as possible",
+    ),
+]
 
 
 @dataclass(frozen=True)
@@ -22,7 +36,7 @@ class Limits:
     history: int = 10_000  # rows of each run's history
     history_every: int = 1  # steps between two history rows at least
     history_interval: float = 0.005  # seconds between two history rows at least
-    snapshot_every: float = 30.0  # seconds between snapshots of a running run
+    snapshot_every: float = 2.0  # seconds between snapshots of a running run (a hard kill loses at most this)
     events: int = 256
 
 

@@ -2,7 +2,9 @@
 
 Each run has its own learner thread (`LiveRun`). The manager keeps the table of runs, enforces the
 limits on their number and size, loads the stored runs at start-up (a run that was running when the
-server stopped comes back paused at its last snapshot) and closes every run at shutdown.
+server stopped comes back paused; one that was running when the process died, say killed, comes back
+running from its latest snapshot, at most `limits.snapshot_every` seconds old) and closes every run at
+shutdown. Periodic snapshots are written by one background thread (`Saver`).
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ from horde.live_run import LiveRun
 from horde.readout import Evaluation, evaluate
 from horde.run_setup import Limits, check_limits, new_simulation
 from horde.run_view import STATUSES, RunStatus, RunView, Summary
+from horde.saver import Saver
 from horde.snapshot import Snapshot, from_bytes, restore
 from horde.spec import RunSpec
 from horde.store import RunRecord, Store
@@ -39,7 +42,9 @@ class RunManager:
         self.limits = limits or Limits()
         self._runs: dict[str, LiveRun] = {}
         self._lock = threading.Lock()
+        self._making = 0  # runs being made, their slots reserved
         self._evaluations = threading.BoundedSemaphore(MAX_EVALUATIONS)
+        self.saver = Saver() if store is not None else None
 
     # ------------------------------------------------------------------------------------------
     # Life cycle
@@ -61,6 +66,8 @@ class RunManager:
             self._runs.clear()
         for run in runs:
             run.close()
+        if self.saver is not None:
+            self.saver.stop()
 
     def _revive(self, record: RunRecord) -> LiveRun:
         """A stored run, back from its latest snapshot; a run that cannot be restored comes back failed."""
@@ -73,7 +80,15 @@ class RunManager:
             if data is None:
                 sim = new_simulation(RunSpec.model_validate_json(record.spec))
                 message = record.message if status == "created" else "no snapshot was saved; it starts afresh"
-                return LiveRun(record.id, sim, self.limits, self.store, message=message, created_at=record.created_at)
+                return LiveRun(
+                    record.id,
+                    sim,
+                    self.limits,
+                    self.store,
+                    message=message,
+                    created_at=record.created_at,
+                    saver=self.saver,
+                )
             restored = restore(from_bytes(data))
         except Exception as exc:
             log.error("run %s could not be restored", record.id, exc_info=exc)
@@ -86,13 +101,11 @@ class RunManager:
                 status="failed",
                 message=f"could not be restored: {exc}",
                 created_at=record.created_at,
+                saver=self.saver,
             )
         message = record.message
-        if status == "running":
-            status, message = (
-                "paused",
-                f"paused at step {restored.sim.total_steps}, its last snapshot, after a restart",
-            )
+        if status == "running":  # the process died while it ran: it goes on from its latest snapshot
+            message = f"running again from step {restored.sim.total_steps}, its latest snapshot, after a restart"
         return LiveRun(
             record.id,
             restored.sim,
@@ -104,6 +117,7 @@ class RunManager:
             created_at=record.created_at,
             summary=summary,
             stop_reference=restored.stop_reference,
+            saver=self.saver,
         )
 
     # ------------------------------------------------------------------------------------------
@@ -130,7 +144,7 @@ class RunManager:
         """
         check_limits(spec, self.limits)
         sim = new_simulation(spec)
-        run = self._add(lambda run_id: LiveRun(run_id, sim, self.limits, self.store, hz=hz))
+        run = self._add(lambda run_id: LiveRun(run_id, sim, self.limits, self.store, hz=hz, saver=self.saver))
         return run.start() if start else run.view
 
     def import_snapshot(self, snapshot: Snapshot) -> RunView:
@@ -150,17 +164,26 @@ class RunManager:
                 hz=restored.hz,
                 message="imported from a snapshot",
                 stop_reference=restored.stop_reference,
+                saver=self.saver,
             )
         )
         return run.view
 
     def _add(self, make: Callable[[str], LiveRun]) -> LiveRun:
+        """Make a run (outside the lock: a large Horde takes a while, and readers of the table must not
+        wait for it) in a slot reserved under the lock, then save it and start its thread."""
         with self._lock:
-            if len(self._runs) >= self.limits.max_runs:
+            if len(self._runs) + self._making >= self.limits.max_runs:
                 raise ConflictError(f"this server holds at most {self.limits.max_runs} runs; delete one first")
-            run_id = secrets.token_hex(6)
-            run = make(run_id)
-            self._runs[run_id] = run
+            self._making += 1
+        run: LiveRun | None = None
+        try:
+            run = make(secrets.token_hex(6))
+        finally:
+            with self._lock:
+                self._making -= 1
+                if run is not None:
+                    self._runs[run.id] = run
         run.save()
         run.start_thread()
         return run

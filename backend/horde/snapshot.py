@@ -14,7 +14,7 @@ import base64
 import binascii
 import math
 import zlib
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from typing import Annotated, Any, Literal
 
@@ -24,7 +24,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from horde.core.simulation import Simulation
 from horde.core.world import WorldState
 from horde.errors import SpecError
-from horde.run_setup import new_simulation
+from horde.run_setup import Hz, new_simulation
 from horde.run_view import RunStatus
 from horde.spec import RunSpec
 
@@ -66,7 +66,7 @@ class Snapshot(BaseModel):
     format: Literal["horde-snapshot/1"] = FORMAT
     spec: RunSpec
     status: RunStatus
-    hz: Annotated[float, Field(gt=0.0, le=10_000.0)] | None = None
+    hz: Hz | None = None
     episode: int = Field(ge=0)
     total_steps: int = Field(ge=0)
     episode_return: Number
@@ -184,6 +184,76 @@ def _decode_tree(template: Any, encoded: dict[str, Any], where: str) -> Any:
 # Capture and restore
 
 
+@dataclass(frozen=True)
+class Frozen:
+    """A run's state at one step, held by reference: cheap to take in the learner thread, encoded later.
+
+    The Horde's and the world's states are immutable snapshots (the fast engine hands out copies, the
+    numpy engine's pure functions return new arrays), so holding them costs no copy here.
+    """
+
+    spec: RunSpec
+    status: RunStatus
+    hz: float | None
+    episode: int
+    total_steps: int
+    episode_return: float
+    last_return: float
+    rng: Mapping[str, Any]
+    world: Any
+    horde: Any
+    stop_reference: list[np.ndarray] | None
+
+
+def freeze(
+    sim: Simulation,
+    spec: RunSpec,
+    status: RunStatus,
+    hz: float | None,
+    stop_reference: list[np.ndarray] | None,
+) -> Frozen:
+    """The state `capture` encodes, taken without encoding it (call it from the thread that owns `sim`)."""
+    rng = sim.rng.bit_generator.state
+    if rng.get("bit_generator") != "PCG64":
+        raise ValueError(f"snapshots support PCG64 generators only, not {rng.get('bit_generator')}")
+    return Frozen(
+        spec=spec,
+        status=status,
+        hz=hz,
+        episode=sim.episode,
+        total_steps=sim.total_steps,
+        episode_return=sim.episode_return,
+        last_return=sim.last_return,
+        rng=rng,
+        world=sim.world_state,
+        horde=sim.horde_state,
+        stop_reference=stop_reference,
+    )
+
+
+def encode_frozen(frozen: Frozen) -> Snapshot:
+    """The snapshot document of frozen state (any thread)."""
+    rng = frozen.rng
+    return Snapshot(
+        spec=frozen.spec,
+        status=frozen.status,
+        hz=frozen.hz,
+        episode=frozen.episode,
+        total_steps=frozen.total_steps,
+        episode_return=frozen.episode_return,
+        last_return=frozen.last_return,
+        rng=RngState(
+            state=str(rng["state"]["state"]),
+            inc=str(rng["state"]["inc"]),
+            has_uint32=int(rng["has_uint32"]),
+            uinteger=int(rng["uinteger"]),
+        ),
+        world=_encode_tree(frozen.world),
+        horde=_encode_tree(frozen.horde),
+        stop_reference=[encode(a) for a in frozen.stop_reference] if frozen.stop_reference is not None else None,
+    )
+
+
 def capture(
     sim: Simulation,
     spec: RunSpec,
@@ -192,27 +262,7 @@ def capture(
     stop_reference: list[np.ndarray] | None,
 ) -> Snapshot:
     """Everything needed to resume `sim` exactly (call it from the thread that owns `sim`)."""
-    rng = sim.rng.bit_generator.state
-    if rng.get("bit_generator") != "PCG64":
-        raise ValueError(f"snapshots support PCG64 generators only, not {rng.get('bit_generator')}")
-    return Snapshot(
-        spec=spec,
-        status=status,
-        hz=hz,
-        episode=sim.episode,
-        total_steps=sim.total_steps,
-        episode_return=sim.episode_return,
-        last_return=sim.last_return,
-        rng=RngState(
-            state=str(rng["state"]["state"]),
-            inc=str(rng["state"]["inc"]),
-            has_uint32=int(rng["has_uint32"]),
-            uinteger=int(rng["uinteger"]),
-        ),
-        world=_encode_tree(sim.world_state),
-        horde=_encode_tree(sim.horde_state),
-        stop_reference=[encode(a) for a in stop_reference] if stop_reference is not None else None,
-    )
+    return encode_frozen(freeze(sim, spec, status, hz, stop_reference))
 
 
 def restore(snapshot: Snapshot) -> Restored:

@@ -7,6 +7,7 @@ security). The same models validate TOML scenario files and REST bodies.
 
 from __future__ import annotations
 
+import heapq
 import itertools
 import math
 import re
@@ -32,6 +33,7 @@ MAX_COLORS = 16
 MAX_DEMONS = 10_000
 MAX_FEATURES = 1_000_000
 MAX_EXPR_NODES = 256
+MAX_EXPR_DEPTH = 16  # expressions inside expressions, checked before pydantic validates them
 MAX_STEPS = 1_000_000
 MAX_EPISODES = 1_000_000
 MAX_TRIALS = 1_000
@@ -98,6 +100,29 @@ def expr_children(expr: Expr) -> list[Expr]:
     if isinstance(expr, IfExpr):
         return [expr.if_, expr.then, expr.else_]
     return []
+
+
+def raw_expr_problem(data: Any) -> str | None:
+    """Why unvalidated expression data is too deep or too large, else None.
+
+    Runs before pydantic validates the expression: a union validated on deeply nested input multiplies
+    its errors level by level, so depth and size are checked first, iteratively, on the raw data.
+    """
+    stack: list[tuple[Any, int]] = [(data, 1)]
+    nodes = 0
+    while stack:
+        value, depth = stack.pop()
+        if isinstance(value, dict):
+            nodes += 1
+            if depth > MAX_EXPR_DEPTH:
+                return f"nested more than {MAX_EXPR_DEPTH} expressions deep"
+            for child in value.values():
+                stack.extend((item, depth + 1) for item in (child if isinstance(child, list) else [child]))
+        else:
+            nodes += 1
+        if nodes > MAX_EXPR_NODES:
+            return f"has more than {MAX_EXPR_NODES} nodes"
+    return None
 
 
 def expr_size(expr: Expr) -> int:
@@ -482,6 +507,14 @@ class DemonSpec(Model):
     )
     reset: Literal["never", "episode"] = "never"
 
+    @field_validator("cumulant", "outcome", "continuation", mode="before")
+    @classmethod
+    def _bounded_expr(cls, value: Any) -> Any:
+        problem = raw_expr_problem(value)
+        if problem is not None:
+            raise ValueError(f"this expression is {problem}" if "nested" in problem else f"this expression {problem}")
+        return value
+
     @model_validator(mode="after")
     def _consistent(self) -> DemonSpec:
         for field in ("cumulant", "outcome", "continuation"):
@@ -747,24 +780,39 @@ def check_demon_graph(spec: RunSpec) -> list[str]:
 def topological_order(deps: dict[str, set[str]]) -> list[str]:
     """Order names so that every name comes after the names it depends on.
 
+    Iterative (Kahn's algorithm), so a chain of any length within the limits orders without recursion;
+    ties are broken by name, so the order is the same for the same graph.
+
     Raises:
         ValueError: naming the demons of a cycle.
     """
-    order: list[str] = []
-    state: dict[str, int] = {}  # 1 = visiting, 2 = done
-
-    def visit(name: str, path: list[str]) -> None:
-        if state.get(name) == 2:
-            return
-        if state.get(name) == 1:
-            cycle = [*path[path.index(name) :], name]
-            raise ValueError(f"demons depend on each other in a cycle: {' -> '.join(cycle)}")
-        state[name] = 1
-        for dep in sorted(deps[name]):
-            visit(dep, [*path, name])
-        state[name] = 2
-        order.append(name)
-
+    waiting = {name: len(deps[name]) for name in deps}  # dependencies not yet ordered
+    readers: dict[str, list[str]] = {name: [] for name in deps}
     for name in deps:
-        visit(name, [])
+        for dep in deps[name]:
+            readers[dep].append(name)
+    ready = sorted(name for name, count in waiting.items() if count == 0)
+    heapq.heapify(ready)
+    order: list[str] = []
+    while ready:
+        name = heapq.heappop(ready)
+        order.append(name)
+        for reader in readers[name]:
+            waiting[reader] -= 1
+            if waiting[reader] == 0:
+                heapq.heappush(ready, reader)
+    if len(order) < len(deps):
+        raise ValueError(f"demons depend on each other in a cycle: {' -> '.join(_cycle(deps, set(order)))}")
     return order
+
+
+def _cycle(deps: dict[str, set[str]], ordered: set[str]) -> list[str]:
+    """One cycle among the names left unordered: follow unordered dependencies until a name repeats."""
+    name = min(n for n in deps if n not in ordered)
+    path: list[str] = []
+    seen: dict[str, int] = {}
+    while name not in seen:
+        seen[name] = len(path)
+        path.append(name)
+        name = min(d for d in deps[name] if d not in ordered)
+    return [*path[seen[name] :], name]

@@ -1,4 +1,4 @@
-"""The SQLite store under the data directory: worlds, runs, run summaries and weight snapshots.
+"""The SQLite store under the data directory: worlds, runs, run summaries, weight snapshots, protocol jobs.
 
 One file, `horde.db`, in write-ahead-log mode. Every write is one transaction, so a crash (even
 SIGKILL) leaves either the old or the new row, never half of one; a run's record, its latest
@@ -48,6 +48,18 @@ CREATE TABLE IF NOT EXISTS snapshots (
     created_at REAL NOT NULL,
     data BLOB NOT NULL
 );
+CREATE TABLE IF NOT EXISTS protocol_jobs (
+    id TEXT PRIMARY KEY,
+    spec TEXT NOT NULL,
+    status TEXT NOT NULL,
+    done INTEGER NOT NULL,
+    total INTEGER NOT NULL,
+    result TEXT,
+    error TEXT NOT NULL,
+    created_at REAL NOT NULL,
+    updated_at REAL NOT NULL,
+    finished_at REAL
+);
 """
 
 
@@ -57,6 +69,22 @@ class WorldRecord:
     spec: str  # WorldSpec JSON
     created_at: float
     updated_at: float
+
+
+@dataclass(frozen=True)
+class JobRecord:
+    """A background job (a protocol) and how far it got; `result` is JSON once it finished."""
+
+    id: str
+    spec: str  # RunSpec JSON
+    status: str
+    done: int
+    total: int
+    result: str | None
+    error: str
+    created_at: float
+    updated_at: float
+    finished_at: float | None
 
 
 @dataclass(frozen=True)
@@ -197,3 +225,33 @@ class Store:
     def load_summary(self, run_id: str) -> str | None:
         rows = self._read("SELECT data FROM summaries WHERE run_id = ?", (run_id,))
         return str(rows[0][0]) if rows else None
+
+    # ------------------------------------------------------------------------------------------
+    # Protocol jobs
+
+    def save_protocol_job(self, job: JobRecord) -> None:
+        """Insert or update a protocol job (its progress, status and result) in one transaction."""
+        with self._transaction() as db:
+            db.execute(
+                "INSERT OR REPLACE INTO protocol_jobs VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                (
+                    job.id,
+                    job.spec,
+                    job.status,
+                    job.done,
+                    job.total,
+                    job.result,
+                    job.error,
+                    job.created_at,
+                    job.updated_at,
+                    job.finished_at,
+                ),
+            )
+
+    def list_protocol_jobs(self) -> list[JobRecord]:
+        columns = "id, spec, status, done, total, result, error, created_at, updated_at, finished_at"
+        return [JobRecord(*row) for row in self._read(f"SELECT {columns} FROM protocol_jobs ORDER BY created_at")]
+
+    def delete_protocol_job(self, job_id: str) -> None:
+        with self._transaction() as db:
+            db.execute("DELETE FROM protocol_jobs WHERE id = ?", (job_id,))

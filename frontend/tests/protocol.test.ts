@@ -56,6 +56,9 @@ describe("protocolProgress", () => {
     );
     expect(cancelled.counted).toBe("1,234 / 100,000 episodes · 1 %");
     expect(cancelled.timing).toBe("cancelled");
+    const interrupted = protocolProgress({ ...running, status: "interrupted", episodes_done: 150 }, null);
+    expect(interrupted.counted).toBe("150 / 300 episodes · 50 %");
+    expect(interrupted.timing).toBe("interrupted: the server stopped while it ran");
   });
   it("never shows more than all, nor 100 % before the end", () => {
     expect(protocolProgress({ ...running, episodes_done: 400 }, 1).fraction).toBe(1);

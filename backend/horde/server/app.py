@@ -12,6 +12,7 @@ leave it out unless they ask for it. The built dashboard is served at `/`.
 
 from __future__ import annotations
 
+import gc
 import sys
 from collections.abc import AsyncIterator, Callable
 from contextlib import asynccontextmanager
@@ -22,6 +23,8 @@ from horde.protocols import ProtocolJobs
 from horde.runs import RunManager
 from horde.server.catalog import ScenarioCatalog
 from horde.server.frontend import DIST_DIR, mount_frontend
+from horde.server.guard import BodyGuard, validate_off_loop
+from horde.server.origins import origin_allowed
 from horde.server.responses import add_error_handlers
 from horde.server.routes import ROUTERS
 from horde.server.settings import Settings
@@ -58,12 +61,26 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
             app.state.store = store
             app.state.manager = manager
             app.state.hub = StreamHub(manager, rate=settings.stream_rate)
-            app.state.protocols = ProtocolJobs()
+            app.state.protocols = ProtocolJobs(store)
             app.state.switch_interval = sys.getswitchinterval()
             sys.setswitchinterval(settings.switch_interval)
             manager.start()
+            # The objects of the imports and of start-up live as long as the server: moved out of the
+            # collector's reach, a full collection (which holds the GIL, so stalls the event loop) scans
+            # only what requests made since, instead of 170,000 objects in 130 ms.
+            gc.collect()
+            gc.freeze()
             if settings.viser_port is not None:
-                app.state.live_view = LiveView(ManagerSource(manager), host=settings.host, port=settings.viser_port)
+                token = settings.token.get_secret_value() if settings.token is not None else None
+                app.state.live_view = LiveView(
+                    ManagerSource(manager),
+                    host=settings.host,
+                    port=settings.viser_port,
+                    token=token,
+                    allow_origin=lambda origin, host: origin_allowed(
+                        origin, host, settings.is_loopback(), settings.origins
+                    ),
+                )
                 app.state.live_view.start()
                 if announce is not None:
                     announce(app.state.live_view.url)
@@ -87,7 +104,14 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
     app.state.live_view = None
     app.state.catalog = ScenarioCatalog(settings.scenarios)
     add_error_handlers(app)
+    app.add_middleware(
+        BodyGuard,
+        max_body=settings.max_body,
+        max_import_body=settings.max_import_body,
+        max_demons=settings.max_demons,
+    )
     for router in ROUTERS:
         app.include_router(router, prefix="/api")
+    validate_off_loop(app)
     mount_frontend(app, settings.frontend or DIST_DIR)
     return app

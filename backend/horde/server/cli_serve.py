@@ -25,6 +25,12 @@ def add_serve_arguments(parser: argparse.ArgumentParser) -> None:
         "--viser-port", type=int, default=None, help="port of the viser live view (default: HORDE_VISER_PORT or 8080)"
     )
     parser.add_argument("--no-view", action="store_true", help="do not start the viser live view")
+    parser.add_argument(
+        "--allow-open",
+        action="store_true",
+        default=None,
+        help="bind beyond loopback without HORDE_TOKEN anyway (anyone who reaches the server may change runs)",
+    )
     parser.add_argument("--log-level", default="info", choices=["critical", "error", "warning", "info", "debug"])
 
 
@@ -41,7 +47,7 @@ def add_serve_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 
 def settings_from_args(args: argparse.Namespace) -> Settings:
-    overrides = {key: getattr(args, key, None) for key in ("host", "port", "data", "viser_port")}
+    overrides = {key: getattr(args, key, None) for key in ("host", "port", "data", "viser_port", "allow_open")}
     settings = Settings(**{key: value for key, value in overrides.items() if value is not None})
     if getattr(args, "no_view", False):
         return settings.model_copy(update={"viser_port": None})
@@ -57,12 +63,12 @@ def urls(settings: Settings) -> dict[str, str]:
 
 
 def security_warning(settings: Settings) -> str | None:
-    """A warning when the server listens beyond this machine without a token, else None."""
+    """Why binding this host without a token is dangerous, or None when it is not (loopback, or a token)."""
     if settings.is_loopback() or settings.token is not None:
         return None
     return (
-        f"WARNING: binding {settings.host}, which other machines can reach, without HORDE_TOKEN: "
-        "anyone who reaches it can create, change and delete runs. Set HORDE_TOKEN or bind 127.0.0.1."
+        f"binding {settings.host}, which other machines can reach, without HORDE_TOKEN: "
+        "anyone who reaches it can create, change and delete runs. Set HORDE_TOKEN or bind 127.0.0.1"
     )
 
 
@@ -74,8 +80,14 @@ def serve(args: argparse.Namespace) -> int:
 
     settings = settings_from_args(args)
     warning = security_warning(settings)
+    if warning and not settings.allow_open:
+        print(
+            f"refusing to start: {warning} (or pass --allow-open, HORDE_ALLOW_OPEN=1, to do it anyway).",
+            file=sys.stderr,
+        )
+        return 2
     if warning:
-        print(warning, file=sys.stderr)
+        print(f"WARNING: {warning}.", file=sys.stderr)
     print(f"Horde Lab serving (data in {settings.data.resolve()}):")
     for label, url in urls(settings).items():
         print(f"  {label + ':':10} {url}")

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 from datetime import UTC, datetime
 
 import numpy as np
 
+from horde.divergence import MAX_MAGNITUDE, meaningful
 from horde.events import Event
 from horde.history import Series
 from horde.readout import Evaluation, ValueMap
@@ -28,9 +28,14 @@ from horde.server.schemas import (
 
 
 def finite(value: float) -> float | None:
-    """The number, or None where it is NaN or infinite (JSON has no such numbers)."""
-    value = float(value)
-    return value if math.isfinite(value) else None
+    """The number, or None where it is NaN, infinite or beyond MAX_MAGNITUDE (a diverged demon's)."""
+    return meaningful(value)
+
+
+def predictions(view: RunView) -> np.ndarray:
+    """[D] each demon's prediction, NaN (null on the wire) for diverged demons."""
+    hs = view.horde_state
+    return np.where(hs.diverged, np.nan, hs.prediction)
 
 
 def finite_list(values: Iterable[float]) -> list[float | None]:
@@ -120,7 +125,7 @@ def state_out(view: RunView, events: list[Event]) -> StateOut:
         episode_step=view.episode_step,
         episode_return=finite(view.episode_return),
         last_return=finite(view.last_return),
-        predictions=dict(zip(view.horde.names, finite_list(view.horde_state.prediction), strict=True)),
+        predictions=dict(zip(view.horde.names, finite_list(predictions(view)), strict=True)),
         metrics=demon_metrics(view),
         events=[event_out(e) for e in events],
     )
@@ -128,7 +133,7 @@ def state_out(view: RunView, events: list[Event]) -> StateOut:
 
 def demons_out(view: RunView) -> list[DemonOut]:
     metrics = demon_metrics(view)
-    prediction = view.horde_state.prediction
+    prediction = predictions(view)
     return [
         DemonOut(
             name=spec.name,
@@ -142,8 +147,10 @@ def demons_out(view: RunView) -> list[DemonOut]:
 
 
 def values_out(view: RunView, demon: str, values: ValueMap) -> ValuesOut:
-    grid = values.values
-    finite_cells = grid[np.isfinite(grid)]
+    """A demon's value map; all null when the demon has diverged."""
+    diverged = bool(view.horde_state.diverged[view.horde.index[demon]])
+    grid = np.full_like(values.values, np.nan) if diverged else values.values
+    finite_cells = grid[np.abs(grid) <= MAX_MAGNITUDE]
     return ValuesOut(
         demon=demon,
         resolution=len(values.xs),

@@ -5,14 +5,19 @@ from __future__ import annotations
 from typing import Any
 
 from fastapi import FastAPI, Request
-from fastapi.responses import JSONResponse
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import JSONResponse, Response
 
 from horde.errors import BusyError, ConflictError, NotFoundError, RunError, SpecError
+from horde.server.guard import validation_body, validation_error
 from horde.server.schemas import ErrorOut
 
 Responses = dict[int | str, dict[str, Any]]
 
-BAD_BODY: Responses = {400: {"model": ErrorOut, "description": "The body cannot be parsed (not JSON, not UTF-8)"}}
+BAD_BODY: Responses = {
+    400: {"model": ErrorOut, "description": "The body cannot be parsed (not JSON, not UTF-8)"},
+    413: {"model": ErrorOut, "description": "The body is larger than the server accepts (HORDE_MAX_BODY)"},
+}
 NOT_FOUND: Responses = {404: {"model": ErrorOut, "description": "Unknown run, demon, world or scenario"}}
 CONFLICT: Responses = {409: {"model": ErrorOut, "description": "The resource's state forbids this request"}}
 UNAUTHORIZED: Responses = {
@@ -25,14 +30,15 @@ BUSY: Responses = {
 STATUS: dict[type[RunError], int] = {NotFoundError: 404, ConflictError: 409, BusyError: 429}
 
 
-async def _run_error(request: Request, exc: Exception) -> JSONResponse:
+async def _run_error(request: Request, exc: Exception) -> Response:
     if isinstance(exc, SpecError):
-        detail = [{"loc": list(p.loc), "msg": p.msg, "type": p.type} for p in exc.problems]
-        return JSONResponse(status_code=422, content={"detail": detail})
+        problems = [{"loc": list(p.loc), "msg": p.msg, "type": p.type} for p in exc.problems]
+        return Response(validation_body(problems), status_code=422, media_type="application/json")
     status = next((code for kind, code in STATUS.items() if isinstance(exc, kind)), 409)
     return JSONResponse(status_code=status, content={"detail": str(exc)})
 
 
 def add_error_handlers(app: FastAPI) -> None:
-    """404, 409, 429 with {"detail": message}; 422 in FastAPI's own {"detail": [{loc, msg, type}]} form."""
+    """404, 409, 429 with {"detail": message}; 422 in FastAPI's {"detail": [{loc, msg, type}]} form, bounded."""
     app.add_exception_handler(RunError, _run_error)
+    app.add_exception_handler(RequestValidationError, validation_error)

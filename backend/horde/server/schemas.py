@@ -13,15 +13,13 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag
 
 from horde.events import EventKind
+from horde.run_setup import Hz
 from horde.run_view import RunStatus
 from horde.spec import BehaviourSpec, DemonSpec, Name, RunSpec, WorldSpec
 
 MAX_RESOLUTION = 256
 MAX_EVAL_EPISODES = 5_000
 MAX_EVAL_CAP = 10_000
-MAX_HZ = 10_000.0
-
-Hz = Annotated[float, Field(gt=0.0, le=MAX_HZ, description="steps per second; null: as fast as possible")]
 MaybeFloat = float | None
 
 
@@ -127,7 +125,7 @@ class DemonResultOut(Out):
     """One demon's line of a protocol's results (as `horde run --json` writes it)."""
 
     name: str
-    prediction: float = Field(description="the prediction at the start, mean over trials")
+    prediction: float | None = Field(description="the prediction at the start, mean over trials (null: diverged)")
     truth: float | None = Field(description="Monte-Carlo truth at the start, mean over trials")
     truth_stderr: float | None
     error: float | None = Field(description="prediction - truth")
@@ -141,7 +139,9 @@ class ProtocolOut(Out):
     id: str
     name: str | None
     seed: int
-    status: Literal["running", "finished", "failed", "cancelled"]
+    status: Literal["running", "finished", "failed", "cancelled", "interrupted"] = Field(
+        description="interrupted: the server stopped (or died) while it ran; `error` says how far it got"
+    )
     episodes_done: int
     episodes_total: int
     trials: int

@@ -39,11 +39,29 @@ class Settings(BaseSettings):
     history_interval: float = Field(
         default=0.005, ge=0.0, le=60.0, description="seconds between history rows, at least (a full-speed run samples)"
     )
-    snapshot_every: float = Field(default=30.0, gt=0.0, description="seconds between snapshots of a running run")
+    snapshot_every: float = Field(
+        default=2.0,
+        gt=0.0,
+        le=3600.0,
+        description="seconds between snapshots of a running run: a hard kill loses at most about this much learning",
+    )
     switch_interval: float = Field(
         default=0.001, gt=0.0, le=0.1, description="sys.setswitchinterval of the server process (seconds)"
     )
     stream_rate: float = Field(default=30.0, gt=0.0, le=120.0, description="stream messages per second per client")
+    max_body: int = Field(
+        default=1024 * 1024, ge=1024, le=2**31, description="bytes of a request body at most (413 beyond)"
+    )
+    max_import_body: int = Field(
+        default=256 * 1024 * 1024, ge=1024, le=2**33, description="bytes of a snapshot import (POST /api/runs/import)"
+    )
+    allow_open: bool = Field(
+        default=False, description="bind beyond loopback without HORDE_TOKEN (anyone who reaches it may change runs)"
+    )
+    origins: list[str] = Field(
+        default_factory=list,
+        description="extra browser origins allowed to open WebSockets (besides the server's own), e.g. a dev server",
+    )
 
     @field_validator("token", mode="before")
     @classmethod

@@ -3,10 +3,18 @@
 The panel is shared by every browser that shows the view (a classroom watches one teacher's
 choices). GUI callbacks run on viser's thread pool: they forward commands to the source and record
 the selection, which the view thread reads at its next frame.
+
+With a token (the server's HORDE_TOKEN) the shared panel changes nothing: it has no commands (play,
+pause, step, reset, speed), and a change of its selectors (run, value map, demons shown, 3-D) from a
+browser that has not entered the token is undone and answered with a notification. Each browser gets
+its own "Token" field; once it holds the token, that browser alone gets the commands, in its own
+folder, and may change the selectors. Browsers whose page came from another site (see
+`horde.server.origins`) are disconnected and may change nothing, with or without a token.
 """
 
 from __future__ import annotations
 
+import hmac
 import threading
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -44,10 +52,20 @@ class ControlPanel:
         on_view_mode: called with True (tilted 3-D view) or False (top-down) when the user switches.
     """
 
-    def __init__(self, server: viser.ViserServer, source: ViewSource, on_view_mode: Callable[[bool], None]) -> None:
+    def __init__(
+        self,
+        server: viser.ViserServer,
+        source: ViewSource,
+        on_view_mode: Callable[[bool], None],
+        token: str | None = None,
+    ) -> None:
         self.server = server
         self.source = source
         self.on_view_mode = on_view_mode
+        self.token = token
+        self.unlocked: set[int] = set()  # clients that entered the token
+        self.rejected: set[int] = set()  # clients whose page came from another site
+        self._speed_inputs: dict[int | None, tuple[Any, Any]] = {}  # owner (None: shared) -> (slider, checkbox)
         self.lock = threading.Lock()
         self.run_id: str | None = None
         self.value_demon: str | None = None
@@ -67,38 +85,96 @@ class ControlPanel:
     def _build(self) -> None:
         gui = self.server.gui
         gui.configure_theme(control_width="large")
+        self._syncing = False  # True while the view itself sets widget values
         self.run = gui.add_dropdown("Run", ("(none)",), order=0)
-        self.run.on_update(lambda _: self._select_run(self._run_ids.get(self.run.value)))
+        self.run.on_update(self._on_run)
         self.status = gui.add_text("Status", "", disabled=True, order=1)
-        play, pause = gui.add_button("Play", order=2), gui.add_button("Pause", order=3)
-        play.on_click(lambda _: self._command(self.source.play))
-        pause.on_click(lambda _: self._command(self.source.pause))
-        self.steps = gui.add_number("Steps per click", 1, min=1, max=10_000, step=1, order=4)
-        step = gui.add_button("Step", order=5)
-        step.on_click(lambda _: self._command(lambda run: self.source.step(run, int(self.steps.value))))
-        reset = gui.add_button("Reset", order=6)
-        reset.on_click(lambda _: self._command(self.source.reset))
-        self.hz = gui.add_slider("Speed (steps/s)", 1, 200, 1, 10, order=7)
-        self.full_speed = gui.add_checkbox("Full speed", False, hint="as fast as possible", order=8)
-        self.hz.on_update(lambda _: self._set_hz())
-        self.full_speed.on_update(lambda _: self._set_hz())
+        if self.token is None:
+            self._add_commands(gui, None)
         self.episode = gui.add_number("Episode", 0, disabled=True, order=9)
         self.step = gui.add_number("Step", 0, disabled=True, order=10)
         self.total = gui.add_number("Total steps", 0, disabled=True, order=11)
         self.episode_return = gui.add_number("Return", 0.0, step=0.001, disabled=True, order=12)
         self.view_button = gui.add_button("Tilt to 3-D", order=13)
-        self.view_button.on_click(lambda _: self._toggle_view())
-        self._syncing = False  # True while the view itself sets widget values
+        self.view_button.on_click(lambda event: self._toggle_view() if self._may_change(event) else None)
+        if self.token is not None:
+            self.server.on_client_connect(self._offer_token)
 
-    def _command(self, command: Callable[[str], None]) -> None:
-        if self.run_id is not None:
+    def _add_commands(self, gui: Any, owner: int | None) -> None:
+        """Play, pause, step, reset and speed, on the shared panel or on one unlocked client's own."""
+        play, pause = gui.add_button("Play", order=2), gui.add_button("Pause", order=3)
+        play.on_click(lambda event: self._command(event, self.source.play))
+        pause.on_click(lambda event: self._command(event, self.source.pause))
+        steps = gui.add_number("Steps per click", 1, min=1, max=10_000, step=1, order=4)
+        step = gui.add_button("Step", order=5)
+        step.on_click(lambda event: self._command(event, lambda run: self.source.step(run, int(steps.value))))
+        reset = gui.add_button("Reset", order=6)
+        reset.on_click(lambda event: self._command(event, self.source.reset))
+        hz = gui.add_slider("Speed (steps/s)", 1, 200, 1, 10, order=7)
+        full_speed = gui.add_checkbox("Full speed", False, hint="as fast as possible", order=8)
+        hz.on_update(lambda event: self._set_hz(event, hz, full_speed))
+        full_speed.on_update(lambda event: self._set_hz(event, hz, full_speed))
+        self._speed_inputs[owner] = (hz, full_speed)
+
+    # ------------------------------------------------------------------------------------------
+    # Who may change what
+
+    def _may_change(self, event: Any) -> bool:
+        """Whether the client behind a GUI event may change runs and the shared view; tells it if not."""
+        client_id = getattr(event, "client_id", None)
+        if client_id in self.rejected:
+            return False
+        if self.token is None or client_id in self.unlocked:
+            return True
+        client = getattr(event, "client", None)
+        if client is not None:
+            client.add_notification(
+                "Read-only", "This server needs its token to change anything: enter it under Token.", color="red"
+            )
+        return False
+
+    def _offer_token(self, client: viser.ClientHandle) -> None:
+        """A "Token" field of this client's own; the right token gives it the commands."""
+        field = client.gui.add_text("Token", "", hint="the server's HORDE_TOKEN: unlocks the commands", order=-1)
+
+        def check(_: object) -> None:
+            assert self.token is not None
+            if client.client_id in self.rejected or not field.value:
+                return
+            if not hmac.compare_digest(field.value.encode(), self.token.encode()):
+                client.add_notification("Wrong token", "That is not this server's token.", color="red")
+                return
+            self.unlocked.add(client.client_id)
+            field.remove()
+            with client.gui.add_folder("Commands", order=1.5):
+                self._add_commands(client.gui, client.client_id)
+            client.add_notification("Unlocked", "This browser may now change runs.", color="green")
+
+        field.on_update(check)
+
+    def forget_client(self, client_id: int) -> None:
+        """A client left: drop what the panel knew of it."""
+        self.unlocked.discard(client_id)
+        self.rejected.discard(client_id)
+        self._speed_inputs.pop(client_id, None)
+
+    def _command(self, event: Any, command: Callable[[str], None]) -> None:
+        if self.run_id is not None and self._may_change(event):
             command(self.run_id)
             self.changed.set()
 
-    def _set_hz(self) -> None:
+    def _set_hz(self, event: Any, hz: Any, full_speed: Any) -> None:
         if self._syncing:
             return
-        self._command(lambda run: self.source.set_hz(run, None if self.full_speed.value else float(self.hz.value)))
+        self._command(event, lambda run: self.source.set_hz(run, None if full_speed.value else float(hz.value)))
+
+    def _on_run(self, event: Any) -> None:
+        if self._may_change(event):
+            self._select_run(self._run_ids.get(self.run.value))
+            return
+        option = next((o for o, r in self._run_ids.items() if r == self.run_id), None)  # undo it
+        if option is not None:
+            _set(self.run, option)
 
     def _toggle_view(self) -> None:
         self.three_d = not self.three_d
@@ -151,19 +227,34 @@ class ControlPanel:
         if self.value_demon is None:
             return
         value = gui.add_dropdown("Value map", tuple(names), initial_value=self.value_demon, order=20)
-        value.on_update(lambda _: self._set_value_demon(value.value))
+        value.on_update(lambda event: self._on_value_demon(event, value))
         self._demon_handles.append(value)
         folder = gui.add_folder("Demons shown", order=21)
         with folder:
             for name in names[:MAX_DEMON_CHECKBOXES]:
                 box = gui.add_checkbox(name, name in self.shown)
-                box.on_update(lambda _: self._set_shown())
+                box.on_update(self._shown_callback(box, name))
                 self._checkboxes[name] = box
         self._demon_handles.append(folder)
+
+    def _on_value_demon(self, event: Any, handle: Any) -> None:
+        if self._may_change(event):
+            self._set_value_demon(handle.value)
+        else:
+            _set(handle, self.value_demon)
 
     def _set_value_demon(self, name: str) -> None:
         self.value_demon = name
         self.changed.set()
+
+    def _shown_callback(self, box: Any, name: str) -> Callable[[Any], None]:
+        return lambda event: self._on_shown(event, box, name)
+
+    def _on_shown(self, event: Any, box: Any, name: str) -> None:
+        if self._may_change(event):
+            self._set_shown()
+        else:
+            _set(box, name in self.shown)
 
     def _set_shown(self) -> None:
         self.shown = tuple(name for name, box in self._checkboxes.items() if box.value)
@@ -173,9 +264,10 @@ class ControlPanel:
         """Show the run's speed (it may change elsewhere, say over REST) without commanding it."""
         self._syncing = True
         try:
-            _set(self.full_speed, snapshot.hz is None)
-            if snapshot.hz is not None:
-                _set(self.hz, int(np.clip(round(snapshot.hz), 1, 200)))
+            for hz, full_speed in list(self._speed_inputs.values()):
+                _set(full_speed, snapshot.hz is None)
+                if snapshot.hz is not None:
+                    _set(hz, int(np.clip(round(snapshot.hz), 1, 200)))
         finally:
             self._syncing = False
 

@@ -19,6 +19,8 @@ from __future__ import annotations
 import logging
 import threading
 import time
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 import viser
@@ -45,6 +47,9 @@ class LiveView:
         map_hz: value map refreshes per second while the run moves (at least 2).
         chart_hz: chart refreshes per second.
         resolution: cells per side of the value map.
+        token: when set, browsers must enter it before they may change anything (see `ControlPanel`).
+        allow_origin: `(origin, host) -> bool` for each browser's WebSocket upgrade; a browser refused
+            is disconnected and may change nothing (None: every origin).
     """
 
     def __init__(
@@ -57,8 +62,12 @@ class LiveView:
         map_hz: float = 3.0,
         chart_hz: float = 4.0,
         resolution: int = 32,
+        token: str | None = None,
+        allow_origin: Callable[[str | None, str | None], bool] | None = None,
     ) -> None:
         self.source = source
+        self.token = token
+        self.allow_origin = allow_origin
         self.host = host
         self.requested_port = port
         self.fps, self.map_hz, self.chart_hz = fps, map_hz, chart_hz
@@ -100,10 +109,35 @@ class LiveView:
         self._server = server
         server.scene.world_axes.visible = False
         self.applier = SceneApplier(server.scene)
-        self.panel = ControlPanel(server, self.source, self._set_view_mode)
+        self.panel = ControlPanel(server, self.source, self._set_view_mode, token=self.token)
+        self._guard_origins(server)
+        server.on_client_disconnect(lambda client: self.panel.forget_client(client.client_id))
         self._stop.clear()
         self._thread = threading.Thread(target=self._loop, name="horde-live-view", daemon=True)
         self._thread.start()
+
+    def _guard_origins(self, server: viser.ViserServer) -> None:
+        """Disconnect browsers whose page came from another site, before any of their messages is handled.
+
+        viser has no hook on the WebSocket handshake; its connection callbacks run (awaited) on the
+        server's event loop before the connection's messages are read, and see the raw connection.
+        """
+        allow = self.allow_origin
+        if allow is None:
+            return
+        infra = server._websock_server
+        panel = self.panel
+
+        async def check(connection: Any) -> None:
+            raw = infra._live_connections.get(connection.client_id)
+            headers = raw.request.headers if raw is not None and raw.request is not None else {}
+            if not allow(headers.get("Origin"), headers.get("Host")):
+                panel.rejected.add(connection.client_id)
+                log.warning("live view: refused a browser from origin %r", headers.get("Origin"))
+                if raw is not None:
+                    await raw.close(1008, "this page's origin may not open the live view")
+
+        infra.on_client_connect(check)
 
     def stop(self) -> None:
         """Stop the view thread and the viser server."""

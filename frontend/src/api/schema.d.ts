@@ -11,7 +11,10 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** Server health */
+        /**
+         * Server health
+         * @description Answered on the event loop itself (no worker thread to wait for): a measure of its responsiveness.
+         */
         get: operations["health_api_health_get"];
         put?: never;
         post?: never;
@@ -590,9 +593,9 @@ export interface components {
             name: string;
             /**
              * Prediction
-             * @description the prediction at the start, mean over trials
+             * @description the prediction at the start, mean over trials (null: diverged)
              */
-            prediction: number;
+            prediction: number | null;
             /**
              * Thesis
              * @description the thesis's number, where it has one
@@ -1094,9 +1097,10 @@ export interface components {
             seed: number;
             /**
              * Status
+             * @description interrupted: the server stopped (or died) while it ran; `error` says how far it got
              * @enum {string}
              */
-            status: "running" | "finished" | "failed" | "cancelled";
+            status: "running" | "finished" | "failed" | "cancelled" | "interrupted";
             /** Steps */
             steps: number | null;
             thesis_counts: components["schemas"]["CountsOut"] | null;
@@ -1891,6 +1895,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
+            /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
             /** @description Validation Error */
             422: {
                 headers: {
@@ -2085,6 +2098,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
+            /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
             /** @description Validation Error */
             422: {
                 headers: {
@@ -2138,6 +2160,15 @@ export interface operations {
             };
             /** @description The resource's state forbids this request */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
+            413: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2297,6 +2328,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
+            /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
             /** @description Validation Error */
             422: {
                 headers: {
@@ -2403,6 +2443,15 @@ export interface operations {
             };
             /** @description The resource's state forbids this request */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
+            413: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2659,6 +2708,15 @@ export interface operations {
             };
             /** @description Unknown run, demon, world or scenario */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
+            413: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2997,6 +3055,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
+            /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
             /** @description Validation Error */
             422: {
                 headers: {
@@ -3155,6 +3222,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
+            /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
             /** @description Validation Error */
             422: {
                 headers: {
@@ -3228,6 +3304,15 @@ export interface operations {
             };
             /** @description The resource's state forbids this request */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
+            413: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3341,6 +3426,15 @@ export interface operations {
             };
             /** @description The resource's state forbids this request */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
+            413: {
                 headers: {
                     [name: string]: unknown;
                 };

@@ -55,6 +55,9 @@ export function protocolProgress(job: ProgressOf, elapsed: number | null): Progr
     case "cancelled":
       timing = "cancelled";
       break;
+    case "interrupted":
+      timing = "interrupted: the server stopped while it ran";
+      break;
     case "failed":
       timing = "failed";
       break;

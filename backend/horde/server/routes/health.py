@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from importlib.metadata import PackageNotFoundError, version
 
 from fastapi import APIRouter
@@ -12,6 +13,7 @@ from horde.server.schemas import HealthOut
 router = APIRouter(prefix="/health", tags=["health"])
 
 
+@functools.cache
 def _version() -> str:
     try:
         return version("horde-lab")
@@ -20,5 +22,6 @@ def _version() -> str:
 
 
 @router.get("", summary="Server health")
-def health(manager: ManagerDep) -> HealthOut:
+async def health(manager: ManagerDep) -> HealthOut:
+    """Answered on the event loop itself (no worker thread to wait for): a measure of its responsiveness."""
     return HealthOut(version=_version(), runs=len(manager.list()))

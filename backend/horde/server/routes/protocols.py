@@ -7,11 +7,11 @@ ended. It runs in the background; poll GET /api/protocols/{id} for its progress 
 
 from __future__ import annotations
 
-import math
 from typing import Annotated
 
 from fastapi import APIRouter, Body, Path, Request, status
 
+from horde.divergence import meaningful
 from horde.protocols import ProtocolJob, ProtocolJobs
 from horde.server.convert import timestamp
 from horde.server.deps import CatalogDep, StoreDep, WriteAccess
@@ -30,7 +30,7 @@ def _jobs(request: Request) -> ProtocolJobs:
 
 
 def _finite(value: float | None) -> float | None:
-    return value if value is not None and math.isfinite(value) else None
+    return meaningful(value) if value is not None else None
 
 
 def _out(job: ProtocolJob) -> ProtocolOut:
@@ -53,7 +53,7 @@ def _out(job: ProtocolJob) -> ProtocolOut:
         results=[
             DemonResultOut(
                 name=d.name,
-                prediction=d.prediction,
+                prediction=_finite(d.prediction),
                 truth=_finite(d.truth),
                 truth_stderr=_finite(d.truth_stderr),
                 error=_finite(d.error),

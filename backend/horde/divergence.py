@@ -1,0 +1,33 @@
+"""When a demon has diverged, and how its values are reported then.
+
+The engine marks a demon diverged when its weights turn non-finite, and freezes it. By then its numbers
+have long stopped meaning anything (a GQ demon reached 1.6e307 first), so the run layer also marks a
+demon diverged once a weight or its prediction exceeds MAX_MAGNITUDE in absolute value. Every route
+reports the values of a diverged demon, and any number beyond MAX_MAGNITUDE, as null.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from horde.core.horde import Horde, HordeState
+
+MAX_MAGNITUDE = 1e12  # weights, predictions: beyond this a demon counts as diverged
+
+
+def meaningful(value: float) -> float | None:
+    """The number, or None where it is NaN, infinite or beyond MAX_MAGNITUDE (JSON has no NaN)."""
+    value = float(value)
+    return value if math.isfinite(value) and abs(value) <= MAX_MAGNITUDE else None
+
+
+def beyond_magnitude(horde: Horde, state: HordeState) -> np.ndarray:
+    """[D] bool: demons whose prediction or any weight is non-finite or beyond MAX_MAGNITUDE."""
+    out = ~(np.abs(state.prediction) <= MAX_MAGNITUDE)  # [D]; NaN compares False, so it counts
+    for group, learner in zip(horde.groups, state.learners, strict=True):
+        theta = np.abs(learner.theta).max(axis=1, initial=0.0)  # [Dg]
+        w = np.abs(learner.w).max(axis=1, initial=0.0)  # [Dg]
+        out[group.demons] |= ~((theta <= MAX_MAGNITUDE) & (w <= MAX_MAGNITUDE))
+    return out

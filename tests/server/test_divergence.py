@@ -1,0 +1,76 @@
+"""Diverged demons: detected before their numbers stop meaning anything, reported as null on every route."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+import pytest
+from fastapi.testclient import TestClient
+
+from horde.divergence import MAX_MAGNITUDE, beyond_magnitude, meaningful
+from horde.run_setup import new_simulation
+from horde.spec import RunSpec
+
+from .helpers import make_spec
+
+pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")  # the wild demons' error measures overflow
+
+# Step sizes of 10 / 5 active features = 2 with lambda = 1: both learners blow up within a few steps.
+WILD = [
+    {"name": "gq_wild", "learner": "gq", "policy": "uniform", "cumulant": 1, "alpha": 10, "lambda": 1},
+    {"name": "td_wild", "learner": "td", "policy": "uniform", "cumulant": 1, "alpha": 10, "lambda": 1},
+]
+
+
+def test_meaningful_numbers() -> None:
+    assert meaningful(1.5) == 1.5 and meaningful(-MAX_MAGNITUDE) == -MAX_MAGNITUDE
+    assert meaningful(1.6e307) is None and meaningful(float("nan")) is None and meaningful(float("-inf")) is None
+
+
+def test_beyond_magnitude_finds_the_demon_by_its_weights() -> None:
+    spec = RunSpec.model_validate(make_spec())
+    sim = new_simulation(spec)
+    state = sim.horde_state
+    assert not beyond_magnitude(sim.horde, state).any()
+    group = next(g for g in sim.horde.groups if sim.horde.index["steps"] in g.demons.tolist())
+    row = group.demons.tolist().index(sim.horde.index["steps"])
+    g = sim.horde.groups.index(group)
+    theta = state.learners[g].theta.copy()
+    theta[row, 3] = 2 * MAX_MAGNITUDE
+    learners = list(state.learners)
+    learners[g] = learners[g]._replace(theta=theta)
+    flagged = beyond_magnitude(sim.horde, state._replace(learners=tuple(learners)))
+    assert flagged.tolist() == [name == "steps" for name in sim.horde.names]
+
+
+def test_a_diverged_gq_demon_is_reported_like_a_diverged_td_demon(
+    client: TestClient, create_run: Callable[..., str]
+) -> None:
+    run = create_run(make_spec(demons=make_spec()["demons"] + WILD))
+    state = client.post(f"/api/runs/{run}/step", json={"steps": 500}).json()
+    for name in ("gq_wild", "td_wild"):
+        assert state["metrics"][name]["diverged"] is True, state["metrics"][name]
+        assert state["predictions"][name] is None
+        demon = client.get(f"/api/runs/{run}/demons/{name}").json()
+        assert demon["prediction"] is None and demon["metrics"]["diverged"] is True
+        values = client.get(f"/api/runs/{run}/demons/{name}/values", params={"resolution": 4}).json()
+        assert values["values"] == [[None] * 4] * 4 and values["min"] is None and values["max"] is None
+        evaluation = client.post(f"/api/runs/{run}/evaluate", json={"demon": name, "from": [0, 0], "episodes": 3})
+        assert evaluation.status_code == 200 and evaluation.json()["prediction"] is None
+        history = client.get(f"/api/runs/{run}/demons/{name}/history").json()
+        assert all(v is None or abs(v) <= MAX_MAGNITUDE for v in history["prediction"])
+    assert state["metrics"]["steps"]["diverged"] is False and state["predictions"]["steps"] is not None
+    events = [e["message"] for e in client.get(f"/api/runs/{run}/state").json()["events"] if e["kind"] == "error"]
+    assert sorted(m.split("'")[1] for m in events if "diverged" in m) == ["gq_wild", "td_wild"], events
+
+
+def test_a_protocol_reports_diverged_predictions_as_null(client: TestClient) -> None:
+    spec = make_spec(episodes=20, demons=make_spec()["demons"] + WILD)
+    job = client.post("/api/protocols", json=spec).json()
+    deadline = time.monotonic() + 60
+    while (job := client.get(f"/api/protocols/{job['id']}").json())["status"] == "running":
+        assert time.monotonic() < deadline, "the protocol did not finish"
+        time.sleep(0.05)
+    results = {r["name"]: r["prediction"] for r in job["results"]}
+    assert results["gq_wild"] is None and results["td_wild"] is None and results["steps"] is not None, results

@@ -1,0 +1,90 @@
+"""Durable work: protocol jobs in the store, periodic snapshots written off the learner thread.
+
+(The hard kills themselves are in test_kill_loop.py and test_restart.py.)
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Any
+
+from fastapi.testclient import TestClient
+
+from horde.live_run import LiveRun
+from horde.run_setup import Limits, new_simulation
+from horde.saver import Saver
+from horde.server import Settings, create_app
+from horde.snapshot import from_bytes
+from horde.spec import RunSpec
+from horde.store import Store
+
+from .helpers import make_spec
+
+
+def wait_job(client: TestClient, job_id: str, status: str, timeout: float = 60.0) -> dict[str, Any]:
+    deadline = time.monotonic() + timeout
+    while (job := client.get(f"/api/protocols/{job_id}").json())["status"] != status:
+        assert time.monotonic() < deadline, f"protocol {job_id} is {job['status']}, not {status}"
+        time.sleep(0.05)
+    return job
+
+
+def test_protocol_jobs_outlive_the_server(tmp_path: Path) -> None:
+    settings = Settings(data=tmp_path / "data", token=None, snapshot_every=3600.0)
+    with TestClient(create_app(settings)) as client:
+        short = {"scenario": "experiment1", "protocol": {"trials": 1, "episodes": 50}}
+        done = wait_job(client, client.post("/api/protocols", json=short).json()["id"], "finished")
+        forgotten = wait_job(client, client.post("/api/protocols", json=short).json()["id"], "finished")
+        assert client.delete(f"/api/protocols/{forgotten['id']}").status_code == 200
+        long = {"scenario": "experiment1", "protocol": {"episodes": 1_000_000}}
+        running = client.post("/api/protocols", json=long).json()
+        deadline = time.monotonic() + 30
+        while client.get(f"/api/protocols/{running['id']}").json()["episodes_done"] == 0:
+            assert time.monotonic() < deadline, "the long protocol made no progress"
+            time.sleep(0.05)
+
+    with TestClient(create_app(settings)) as client:
+        jobs = {j["id"]: j for j in client.get("/api/protocols").json()}
+        assert set(jobs) == {done["id"], running["id"]}, "finished jobs come back, forgotten ones do not"
+        assert jobs[done["id"]] == done
+        interrupted = jobs[running["id"]]
+        assert interrupted["status"] == "interrupted" and interrupted["episodes_done"] > 0, interrupted
+        assert "stopped after" in interrupted["error"]
+        # A new protocol may start: the interrupted one does not hold the slot.
+        assert client.post("/api/protocols", json=short).status_code == 202
+
+
+def test_periodic_snapshots_are_written_by_the_saver_thread(tmp_path: Path) -> None:
+    """The learner freezes the state; encoding and the SQLite write happen in the saver's thread."""
+    store = Store(tmp_path)
+    saver = Saver()
+    spec = RunSpec.model_validate(make_spec())
+    run = LiveRun("r1", new_simulation(spec), Limits(snapshot_every=0.05), store, saver=saver)
+    writers: list[str] = []
+    save_run = store.save_run
+
+    def spy(*args: Any, **kwargs: Any) -> None:
+        import threading
+
+        writers.append(threading.current_thread().name)
+        save_run(*args, **kwargs)
+
+    store.save_run = spy  # type: ignore[method-assign]
+    try:
+        run.save()
+        run.start_thread()
+        run.start()
+        deadline = time.monotonic() + 30
+        while run.snapshot_cost.bytes == 0 or writers.count("horde-saver") < 3:
+            assert time.monotonic() < deadline, f"no periodic snapshots: {writers}"
+            time.sleep(0.02)
+        data = store.load_snapshot("r1")
+        assert data is not None and from_bytes(data).status == "running"
+        cost = run.snapshot_cost
+        assert cost.freeze_seconds < cost.encode_seconds + cost.write_seconds, cost
+    finally:
+        run.close()
+        saver.stop()
+        store.close()
+    assert "horde-saver" in writers and "horde-run-r1" not in writers[1:], writers

@@ -1,0 +1,47 @@
+"""WebSocket upgrades accept only the server's own pages (their Origin), never another site's (the live view's
+port: tests/e2e/test_view_auth_e2e.py)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from fastapi.testclient import TestClient
+from starlette.websockets import WebSocketDisconnect
+
+from horde.server import Settings, create_app
+from horde.server.origins import origin_allowed
+
+from .helpers import make_spec
+
+
+def test_origin_rules() -> None:
+    assert origin_allowed(None, "127.0.0.1:8000", True), "no Origin: not a browser page"
+    assert origin_allowed("http://127.0.0.1:8000", "127.0.0.1:8000", True)
+    assert origin_allowed("http://localhost:8080/", "localhost:8080", True)
+    assert origin_allowed("http://[::1]:8000", "[::1]:8000", True)
+    assert not origin_allowed("http://evil.example", "127.0.0.1:8000", True), "another site"
+    assert not origin_allowed("http://127.0.0.1:9999", "127.0.0.1:8000", True), "another port"
+    assert not origin_allowed("null", "127.0.0.1:8000", True), "a sandboxed page"
+    # DNS rebinding: the attacker's name points at 127.0.0.1; Origin and Host agree, but not a loopback name.
+    assert not origin_allowed("http://evil.example:8000", "evil.example:8000", True)
+    assert origin_allowed("http://lab.school.example:8000", "lab.school.example:8000", False), "served openly"
+    assert origin_allowed("http://localhost:5173", "127.0.0.1:8000", True, ["http://localhost:5173/"])
+
+
+def test_the_stream_refuses_other_sites(tmp_path: Path) -> None:
+    with TestClient(create_app(Settings(data=tmp_path, token=None, snapshot_every=3600.0))) as client:
+        run = client.post("/api/runs", json=make_spec()).json()["id"]
+        own = {"origin": "http://127.0.0.1:8000", "host": "127.0.0.1:8000"}
+        with client.websocket_connect(f"/api/runs/{run}/stream", headers=own) as ws:
+            assert json.loads(ws.receive_text())["run"] == run
+        with client.websocket_connect(f"/api/runs/{run}/stream") as ws:  # no Origin: a script, not a page
+            assert json.loads(ws.receive_text())["run"] == run
+        other = {**own, "origin": "http://evil.example"}
+        with (
+            pytest.raises(WebSocketDisconnect) as refused,
+            client.websocket_connect(f"/api/runs/{run}/stream", headers=other),
+        ):
+            pass
+        assert refused.value.code == 1008
