@@ -100,6 +100,7 @@ class RayExecutor:
                 ray.init(address=self.address, log_to_driver=False)
             else:
                 ray.init(
+                    address="local",  # a new Ray of this process, never a cluster that happens to run here
                     num_cpus=self.workers or os.cpu_count() or 1,
                     include_dashboard=False,
                     _node_ip_address=LOOPBACK,
