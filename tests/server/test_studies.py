@@ -120,22 +120,22 @@ def test_one_study_at_a_time(client: TestClient) -> None:
     wait_study(client, first, "cancelled")
 
 
+def FORTY(path: str) -> dict[str, Any]:  # noqa: N802 - reads as a constant in the table below
+    return {"path": path, "values": [0.001 * i for i in range(1, 41)]}
+
+
+def forty(path: str) -> dict[str, Any]:
+    """An axis of 40 values: two of them make a grid past the bound of 1000 configurations."""
+    return {"path": path, "values": [0.001 * i for i in range(1, 41)]}
+
+
 @pytest.mark.parametrize(
     ("change", "loc", "words"),
     [
         ({"axes": [{"path": "learning.alfa", "values": [0.1]}]}, ["body", "axes", 0, "path"], "learning.alfa"),
         ({"axes": [{"path": "learning.lambda", "values": [0.5, 2]}]}, ["body", "axes", 0, "values", 1], "lambda = 2"),
         ({"axes": [{"path": "demons.*.learner", "values": ["sarsa"]}]}, ["body", "axes", 0, "values", 0], "sarsa"),
-        (
-            {
-                "axes": [
-                    {"path": "learning.alpha", "values": [0.001 * i for i in range(1, 41)]},
-                    {"path": "learning.alpha_w", "values": [0.001 * i for i in range(1, 41)]},
-                ]
-            },
-            ["body", "axes"],
-            "1600 configurations",
-        ),  # fmt: skip
+        ({"axes": [forty("learning.alpha"), forty("learning.alpha_w")]}, ["body", "axes"], "1600 configurations"),
         ({"axes": [{"path": "seed", "values": [1]}], "runs": 101}, ["body", "runs"], "less than or equal to 100"),
     ],
 )
