@@ -169,7 +169,12 @@ export function studiesPanel(store: AppStore): HTMLElement {
       ["auc", "mean error over training (AUC)"],
     ] as const),
   );
-  for (const select of [xAxis, groupAxis, metric]) select.addEventListener("change", () => drawSensitivity());
+  let axesChosen = false;
+  for (const select of [xAxis, groupAxis, metric])
+    select.addEventListener("change", () => {
+      axesChosen = true;
+      drawSensitivity();
+    });
   const table = h("div", { class: "study-table" });
 
   cancel.addEventListener("click", () => {
@@ -286,9 +291,10 @@ export function studiesPanel(store: AppStore): HTMLElement {
     if (shownFor !== detail.id) {
       shownFor = detail.id;
       userChose = false;
-      const { x, group } = defaultAxes(results);
-      fillAxisChoices(results, x, group);
-    } else if (xAxis.options.length === 0) {
+      axesChosen = false;
+    }
+    if (!axesChosen) {
+      // until the user picks, the defaults follow the results as they come in
       const { x, group } = defaultAxes(results);
       fillAxisChoices(results, x, group);
     }

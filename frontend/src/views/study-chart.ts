@@ -32,6 +32,7 @@ const H = 300;
 const M = { left: 62, right: 14, top: 12, bottom: 42 };
 
 type Scale = (v: number) => number;
+let chartCount = 0; // ids of clip paths, unique in the document
 
 function extent(values: number[], log: boolean): [number, number] {
   const usable = values.filter((v) => Number.isFinite(v) && (!log || v > 0));
@@ -55,12 +56,17 @@ function scale(lo: number, hi: number, from: number, to: number, log: boolean): 
 /** Tick positions: decades on a log axis, about five round numbers on a linear one. */
 export function ticks(lo: number, hi: number, log: boolean): number[] {
   if (log) {
+    // 1, 2, 5 x 10^k inside the range; only the powers of ten when that makes too many
     const out: number[] = [];
     for (let e = Math.floor(Math.log10(lo)); e <= Math.ceil(Math.log10(hi)); e += 1) {
-      const v = 10 ** e;
-      if (v >= lo * 0.999 && v <= hi * 1.001) out.push(v);
+      for (const m of [1, 2, 5]) {
+        const v = m * 10 ** e;
+        if (v >= lo * 0.999 && v <= hi * 1.001) out.push(Number(v.toPrecision(6)));
+      }
     }
-    return out.length >= 2 ? out : [lo, hi];
+    const decades = out.filter((v) => Math.abs(Math.log10(v) - Math.round(Math.log10(v))) < 1e-9);
+    if (out.length > 8 && decades.length >= 2) return decades;
+    return out.length >= 3 ? out : ticks(lo, hi, false);
   }
   const step0 = (hi - lo) / 5;
   const power = 10 ** Math.floor(Math.log10(step0));
@@ -86,9 +92,17 @@ export function bandChart(series: readonly ChartSeries[], options: ChartOptions)
   const xs = series.flatMap((one) => one.x);
   const ys = series.flatMap((one) => [...one.low, ...one.high, ...one.mean].filter((v): v is number => v !== null));
   const [x0, x1] = extent(xs, logX);
-  const [y0, y1] = extent(ys, logY);
-  const pad = options.categories ? 0.5 : 0;
-  const sx = scale(x0 - pad, x1 + pad, M.left, W - M.right, logX);
+  const [ya, yb] = extent(ys, logY);
+  const [y0, y1] = logY ? [ya / 1.08, yb * 1.08] : [ya - (yb - ya) * 0.04, yb + (yb - ya) * 0.04];
+  // points (sensitivity) keep off the frame: half a category, or a few percent of the range
+  const [xa, xb] = options.categories
+    ? [x0 - 0.5, x1 + 0.5]
+    : options.style === "bars"
+      ? logX
+        ? [x0 / 1.15, x1 * 1.15]
+        : [x0 - (x1 - x0) * 0.04, x1 + (x1 - x0) * 0.04]
+      : [x0, x1];
+  const sx = scale(xa, xb, M.left, W - M.right, logX);
   const sy = scale(y0, y1, H - M.bottom, M.top, logY);
   const svg = s("svg", {
     viewBox: `0 0 ${W} ${H}`,
@@ -105,7 +119,12 @@ export function bandChart(series: readonly ChartSeries[], options: ChartOptions)
     axes.append(s("line", { x1: M.left, x2: W - M.right, y1: y, y2: y, class: "grid" }));
     axes.append(s("text", { x: M.left - 6, y: y + 4, "text-anchor": "end" }, tickLabel(v)));
   }
-  const xTicks = options.categories ? options.categories.map((_, i) => i) : ticks(x0, x1, logX);
+  const distinct = [...new Set(xs)].sort((a, b) => a - b);
+  const xTicks = options.categories
+    ? options.categories.map((_, i) => i)
+    : options.style === "bars" && distinct.length <= 8
+      ? distinct // the swept values themselves
+      : ticks(x0, x1, logX);
   for (const v of xTicks) {
     const x = sx(v);
     axes.append(s("line", { x1: x, x2: x, y1: H - M.bottom, y2: H - M.bottom + 4, class: "tick" }));
@@ -128,11 +147,23 @@ export function bandChart(series: readonly ChartSeries[], options: ChartOptions)
       options.yLabel,
     ),
   );
+  const clip = `clip-${(chartCount += 1)}`;
+  svg.append(
+    s(
+      "defs",
+      {},
+      s(
+        "clipPath",
+        { id: clip },
+        s("rect", { x: M.left, y: M.top, width: W - M.left - M.right, height: H - M.top - M.bottom }),
+      ),
+    ),
+  );
   svg.append(axes);
 
   series.forEach((one, i) => {
     const color = PALETTE[i % PALETTE.length] as string;
-    const group = s("g", { class: "series", "data-label": one.label });
+    const group = s("g", { class: "series", "data-label": one.label, "clip-path": `url(#${clip})` });
     const idx = one.x.map((_, k) => k).filter((k) => one.mean[k] !== null && (!logY || (one.mean[k] as number) > 0));
     if (options.style === "band") {
       const banded = idx.filter(
