@@ -153,3 +153,18 @@ def test_an_unknown_scenario_or_study_is_a_404(client: TestClient) -> None:
     assert client.post("/api/studies", json={**STUDY, "scenario": "nope"}).status_code == 404
     assert client.get("/api/studies/nope").status_code == 404
     assert client.get("/api/studies/nope/export").status_code == 404
+
+
+@pytest.mark.slow
+def test_the_server_runs_a_study_on_ray(tmp_path: Path) -> None:
+    """The server's default executor: Ray on this machine, started from the study's thread."""
+    from fastapi.testclient import TestClient as Client
+
+    from horde.server import create_app
+
+    settings = Settings(data=tmp_path / "ray-data", token=None, snapshot_every=3600.0, study_workers=2)
+    assert settings.study_executor == "ray"
+    with Client(create_app(settings)) as client:
+        study_id = client.post("/api/studies", json=STUDY).json()["id"]
+        body = wait_study(client, study_id, "finished", timeout=180)
+        assert body["tasks_done"] == 8 and len(body["results"]) == 4

@@ -77,3 +77,10 @@ def test_the_best_configuration_has_the_lowest_final_error() -> None:
     b = summarize_configuration(1, {"x": 2}, [_task([1.0, 0.2], 1.0)])
     mark_best([a, b])
     assert (a.best, b.best) == (False, True)
+
+
+def test_test_run_counts_become_the_share_of_positive_endings() -> None:
+    tasks = [_task([1.0], 1.0) | {"counts": {"positive": p, "negative": 10 - p, "none": 0}} for p in (6, 8)]
+    summary = summarize_configuration(0, {}, tasks)
+    positive = summary.extra["positive"]
+    assert positive.mean == [0.7] and positive.low == [0.6] and positive.high == [0.8]  # type: ignore[attr-defined]

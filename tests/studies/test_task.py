@@ -82,3 +82,12 @@ def test_a_noisy_world_is_measured_against_monte_carlo(classroom: RunSpec) -> No
 def test_unknown_measured_demons_are_refused(classroom: RunSpec) -> None:
     with pytest.raises(ValueError, match="nobody"):
         run_task(classroom, 0, MeasureSpec(demons=["nobody"]))
+
+
+def test_a_control_protocol_counts_where_its_test_runs_end() -> None:
+    spec = find_scenario("experiment3")
+    spec = spec.model_copy(update={"protocol": spec.protocol.model_copy(update={"episodes": 20})})
+    out = run_task(spec, 0, MeasureSpec(checkpoints=1))
+    counts = out["counts"]
+    assert sum(counts.values()) == spec.protocol.test.runs  # type: ignore[union-attr]
+    assert out["truth"] == "monte_carlo"  # an indicator's colour is hidden state: no exact answers

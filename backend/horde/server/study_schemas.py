@@ -57,6 +57,9 @@ class StudyConfigOut(_Out):
     auc_high: MaybeFloat
     curve: BandOut = Field(description="relative error per checkpoint")
     returns: BandOut = Field(description="mean return of the episodes before each checkpoint")
+    positive: BandOut | None = Field(
+        default=None, description="control protocols: the share of test runs ending in a positive terminal"
+    )
     demons: dict[str, StudyDemonOut]
 
 

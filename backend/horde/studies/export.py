@@ -45,6 +45,7 @@ def summary_json(summary: ConfigSummary) -> dict[str, Any]:
         "auc_high": _num(summary.auc.high[0]),
         "curve": _curve(summary.curve),
         "returns": _curve(summary.returns),
+        "positive": _curve(positive) if isinstance(positive := summary.extra.get("positive"), Band) else None,
         "demons": {
             name: {
                 "error": _num(d.final.mean[0]),

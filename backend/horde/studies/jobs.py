@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from horde.errors import BusyError, ConflictError, NotFoundError
 from horde.spec import RunSpec
 from horde.store import Store, StudyRecord
-from horde.studies.runner import Executor, create_study, run_study, summarize_study
+from horde.studies.runner import Executor, RayExecutor, create_study, run_study, summarize_study
 from horde.studies.spec import StudySpec
 from horde.studies.stats import ConfigSummary
 
@@ -151,3 +151,4 @@ class StudyJobs:
             progress.cancel.set()
         for thread in self._threads:
             thread.join(timeout=30)
+        RayExecutor.shutdown()

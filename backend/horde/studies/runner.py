@@ -84,6 +84,7 @@ class RayExecutor:
     """
 
     _lock = threading.Lock()
+    _started = False  # whether this process started (or joined) Ray through an executor
 
     def __init__(self, address: str | None = None, workers: int | None = None) -> None:
         self.address = address or os.environ.get("HORDE_RAY_ADDRESS") or None
@@ -95,6 +96,7 @@ class RayExecutor:
         with self._lock:
             if ray.is_initialized():
                 return
+            RayExecutor._started = True
             os.environ.setdefault("RAY_NODE_IP_ADDRESS", LOOPBACK)
             if self.address:
                 ray.init(address=self.address, log_to_driver=False)
@@ -106,6 +108,16 @@ class RayExecutor:
                     _node_ip_address=LOOPBACK,
                     log_to_driver=False,
                 )
+
+    @classmethod
+    def shutdown(cls) -> None:
+        """Stop the Ray this process started (or leave the cluster it joined); the server calls it on exit."""
+        with cls._lock:
+            if cls._started:
+                import ray
+
+                ray.shutdown()
+                cls._started = False
 
     def map(self, tasks: Sequence[Task], measure: MeasureSpec, on_done: OnDone, cancelled: Callable[[], bool]) -> None:
         import ray

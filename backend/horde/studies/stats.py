@@ -107,6 +107,10 @@ def summarize_configuration(index: int, axes: dict[str, AxisValue], tasks: list[
         relative.append(error / np.where(scale > 0, scale, 1.0))
     rel = np.mean(relative, axis=0)  # [R, C]
     returns = np.array([t["returns"] for t in tasks])  # [R, C]
+    extra: dict[str, object] = {}
+    if all("counts" in t for t in tasks):  # the share of test runs ending in a positive terminal
+        shares = np.array([t["counts"]["positive"] / max(1, sum(t["counts"].values())) for t in tasks])  # [R]
+        extra["positive"] = Band.of(shares)
     return ConfigSummary(
         index=index,
         axes=axes,
@@ -119,6 +123,7 @@ def summarize_configuration(index: int, axes: dict[str, AxisValue], tasks: list[
         auc=Band.of(_area(rel)),
         returns=Band.of(returns),
         seconds=float(sum(t["seconds"] for t in tasks)),
+        extra=extra,
     )
 
 

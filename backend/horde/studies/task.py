@@ -16,7 +16,8 @@ points up to the last episode):
   the Monte-Carlo truth's magnitude), so errors of questions on different scales can be averaged as
   relative errors.
 - `rupee`: RUPEE (White 2015), the online error measure a learner can compute without the truth.
-And per checkpoint: the mean return of the episodes since the last checkpoint (the control return).
+And per checkpoint: the mean return of the episodes since the last checkpoint (the control return); after
+training, for a control protocol (`protocol.test`), where its greedy test runs end (`counts`).
 """
 
 from __future__ import annotations
@@ -69,7 +70,8 @@ def run_task(spec: RunSpec, run: int, measure: MeasureSpec) -> TaskData:
 
     Returns:
         {"episodes": [C], "truth": "exact" | "monte_carlo", "steps", "seconds", "returns": [C] (nan at 0),
-         "demons": {name: {"error": [C], "scale": [C], "rupee": [C], "prediction": [C]}}}: C checkpoints.
+         "demons": {name: {"error": [C], "scale": [C], "rupee": [C], "prediction": [C]}},
+         "counts": {"positive", "negative", "none"} (control protocols only)}: C checkpoints.
     """
     began = time.perf_counter()
     rng = np.random.default_rng([spec.seed, run])
@@ -114,5 +116,13 @@ def run_task(spec: RunSpec, run: int, measure: MeasureSpec) -> TaskData:
                 row["error"].append(abs(at_start[name] - truth.mean))
                 row["scale"].append(abs(truth.mean))
     out["steps"] = sim.total_steps
+    test = spec.protocol.test
+    if test is not None:  # a control protocol: where the test runs end after training, as horde run counts them
+        learning = np.array([d.reset == "episode" for d in horde.demon_specs])
+        tally = {1.0: 0, -1.0: 0, 0.0: 0}
+        for _ in range(test.runs):
+            sim.new_episode()
+            tally[sim.run_episode(behaviour=test.behaviour, learning=learning).terminal_sign] += 1
+        out["counts"] = {"positive": tally[1.0], "negative": tally[-1.0], "none": tally[0.0]}
     out["seconds"] = time.perf_counter() - began
     return out

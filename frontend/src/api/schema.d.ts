@@ -1734,6 +1734,8 @@ export interface components {
             error: number | null;
             /** Index */
             index: number;
+            /** @description control protocols: the share of test runs ending in a positive terminal */
+            positive?: components["schemas"]["BandOut"] | null;
             /** @description mean return of the episodes before each checkpoint */
             returns: components["schemas"]["BandOut"];
             /** Runs */
