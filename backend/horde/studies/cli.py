@@ -78,6 +78,10 @@ def cmd_study(args: argparse.Namespace) -> int:
         summaries = summarize_study(store, study_id)
     finally:
         store.close()
+    if status != "finished":
+        print(f"\nstudy {study_id} {status}; finish it with: horde study --resume {study_id}", file=sys.stderr)
+    if not summaries:
+        return 1
     print(format_table(summaries))
     if args.json:
         Path(args.json).write_text(json.dumps(results_json(summaries), indent=2) + "\n")

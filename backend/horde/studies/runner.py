@@ -205,7 +205,7 @@ def run_study(
 
     try:
         executor.map(todo, study.measure, on_done, cancelled)
-    except CancelledError:
+    except (CancelledError, KeyboardInterrupt):  # Ctrl-C on the command line is a cancel too
         store.set_study_status(study_id, "cancelled", f"cancelled after {done} of {total} tasks")
         return "cancelled"
     except BaseException as exc:
