@@ -18,6 +18,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+from matplotlib import ticker
 
 from horde.studies.spec import AxisValue, label
 from horde.studies.stats import ConfigSummary
@@ -61,7 +62,7 @@ def _best_by(summaries: list[ConfigSummary], keys: Sequence[str | None], metric:
 
 def learning_curves(summaries: list[ConfigSummary], group: str | None, path: Path) -> None:
     shown = summaries
-    title = "Learning curves: mean over runs, 95 % bootstrap band"
+    title = "Learning curves: mean over runs, 95\u00a0% bootstrap band"
     if len(summaries) > MAX_LINES:
         shown = list(_best_by(summaries, [group], "final").values())[:MAX_LINES]
         title += f"\nbest configuration per {group.split('.')[-1] if group else 'study'}"
@@ -105,13 +106,24 @@ def sensitivity(summaries: list[ConfigSummary], x: str, group: str | None, metri
     ax.set_yscale("log")
     rest = [p for p in summaries[0].axes if p not in (x, group)]
     note = f" (best over {', '.join(rest)})" if rest else ""
-    ax.set_title(textwrap.fill(f"Sensitivity to {x}{note}; 95 % bootstrap intervals", 80), fontsize=9)
+    ax.set_title(textwrap.fill(f"Sensitivity to {x}{note}; 95\u00a0% bootstrap intervals", 80), fontsize=9)
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     _save(fig, path)
 
 
+def _plain_numbers(ax: plt.Axes) -> None:
+    """0.2, 0.3, 0.5 on log axes rather than 2 x 10^-1."""
+    plain = ticker.FuncFormatter(lambda v, _: f"{v:g}")
+    for axis in (ax.xaxis, ax.yaxis):
+        if axis.get_scale() == "log":
+            axis.set_major_formatter(plain)
+            axis.set_minor_formatter(plain)
+
+
 def _save(fig: plt.Figure, path: Path) -> None:
+    for ax in fig.axes:
+        _plain_numbers(ax)
     fig.tight_layout()
     for suffix in (".png", ".svg"):
         fig.savefig(path.with_suffix(suffix), dpi=120)
