@@ -101,6 +101,9 @@ def sensitivity(summaries: list[ConfigSummary], x: str, group: str | None, metri
         ax.set_xscale("log")
     if not numeric:
         ax.set_xticks(range(len(order)), [str(v) for v in order])
+    else:
+        ax.set_xticks([float(v) for v in order], [f"{float(v):g}" for v in order])
+        ax.xaxis.set_minor_locator(ticker.NullLocator())
     ax.set_xlabel(x)
     ax.set_ylabel(("final " if metric == "final" else "mean over training: ") + YLABEL, fontsize=8)
     ax.set_yscale("log")
@@ -113,12 +116,14 @@ def sensitivity(summaries: list[ConfigSummary], x: str, group: str | None, metri
 
 
 def _plain_numbers(ax: plt.Axes) -> None:
-    """0.2, 0.3, 0.5 on log axes rather than 2 x 10^-1."""
+    """0.2, 0.3, 0.5 on log axes rather than 2 x 10^-1; minor ticks labelled only on a short y axis."""
     plain = ticker.FuncFormatter(lambda v, _: f"{v:g}")
-    for axis in (ax.xaxis, ax.yaxis):
-        if axis.get_scale() == "log":
-            axis.set_major_formatter(plain)
-            axis.set_minor_formatter(plain)
+    for axis, limits in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+        if axis.get_scale() != "log":
+            continue
+        axis.set_major_formatter(plain)
+        short = axis is ax.yaxis and limits[0] > 0 and limits[1] / limits[0] < 30
+        axis.set_minor_formatter(plain if short else ticker.NullFormatter())
 
 
 def _save(fig: plt.Figure, path: Path) -> None:

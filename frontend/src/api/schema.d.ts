@@ -1076,17 +1076,17 @@ export interface components {
         };
         /**
          * LearningSpec
-         * @description Defaults for demons that do not set their own (chosen by experiment, see README).
+         * @description Defaults for demons that do not set their own, chosen by `studies/stepsizes.toml` (see README).
          */
         LearningSpec: {
             /**
              * Alpha
-             * @default 0.1
+             * @default 0.03
              */
             alpha: number;
             /**
              * Alpha W
-             * @default 0.001
+             * @default 0.0001
              */
             alpha_w: number;
             /**
