@@ -42,8 +42,8 @@ values = ["td", "gtd"]
 WARM_UP = STUDY.replace("episodes = 3000", "episodes = 5").replace("runs = 2", "runs = 1")
 
 
-def run_study(text: str, workers: int) -> tuple[float, float]:
-    """(wall seconds of `horde study`, seconds spent inside its tasks)."""
+def run_study(text: str, workers: int) -> tuple[float, float, float]:
+    """(wall seconds of `horde study`, wall and CPU seconds spent inside its tasks)."""
     with tempfile.TemporaryDirectory(prefix="horde-bench-study-") as folder:
         path = Path(folder) / "study.toml"
         path.write_text(text)
@@ -53,8 +53,8 @@ def run_study(text: str, workers: int) -> tuple[float, float]:
         subprocess.run([*command, "--data", str(data)], check=True, capture_output=True, timeout=1800)
         wall = time.perf_counter() - began
         with sqlite3.connect(data / "horde.db") as db:
-            inside = sum(json.loads(row[0])["seconds"] for row in db.execute("SELECT data FROM study_tasks"))
-    return wall, inside
+            tasks = [json.loads(row[0]) for row in db.execute("SELECT data FROM study_tasks")]
+    return wall, sum(t["seconds"] for t in tasks), sum(t["cpu_seconds"] for t in tasks)
 
 
 def main() -> int:
@@ -68,10 +68,14 @@ def main() -> int:
     rounds = []
     for r in range(args.rounds):
         for workers in (1, 2):
-            wall, inside = run_study(STUDY, workers)
+            wall, inside, cpu = run_study(STUDY, workers)
             walls[workers].append(wall)
-            rounds.append({"round": r + 1, "workers": workers, "wall": wall, "task_seconds": inside})
-            print(f"round {r + 1}, {workers} worker(s): {wall:6.1f} s wall, {inside:6.1f} s inside tasks", flush=True)
+            rounds.append({"round": r + 1, "workers": workers, "wall": wall, "task_wall": inside, "task_cpu": cpu})
+            print(
+                f"round {r + 1}, {workers} worker(s): {wall:6.1f} s wall; inside tasks {inside:6.1f} s wall, "
+                f"{cpu:6.1f} s CPU",
+                flush=True,
+            )
     one, two = (sum(walls[w]) / len(walls[w]) for w in (1, 2))
     print(f"mean wall: 1 worker {one:.1f} s, 2 workers {two:.1f} s; ratio {two / one:.2f} (goal <= 0.6)")
     if args.json:

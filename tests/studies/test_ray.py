@@ -65,7 +65,7 @@ def stored_tasks(data: Path) -> dict[tuple[int, int], dict[str, Any]]:
 
 
 def measurements(task: dict[str, Any]) -> dict[str, Any]:
-    return {k: v for k, v in task.items() if k not in ("seconds", "node")}
+    return {k: v for k, v in task.items() if k not in ("seconds", "cpu_seconds", "node")}
 
 
 def assert_equal_results(

@@ -69,11 +69,12 @@ def run_task(spec: RunSpec, run: int, measure: MeasureSpec) -> TaskData:
         measure: which demons, how many checkpoints, Monte-Carlo settings.
 
     Returns:
-        {"episodes": [C], "truth": "exact" | "monte_carlo", "steps", "seconds", "returns": [C] (nan at 0),
+        {"episodes": [C], "truth": "exact" | "monte_carlo", "steps", "seconds", "cpu_seconds" (of this
+         process), "returns": [C] (nan at 0),
          "demons": {name: {"error": [C], "scale": [C], "rupee": [C], "prediction": [C]}},
          "counts": {"positive", "negative", "none"} (control protocols only)}: C checkpoints.
     """
-    began = time.perf_counter()
+    began, began_cpu = time.perf_counter(), time.process_time()
     rng = np.random.default_rng([spec.seed, run])
     sim = Simulation(spec, rng)
     horde = sim.horde
@@ -125,4 +126,5 @@ def run_task(spec: RunSpec, run: int, measure: MeasureSpec) -> TaskData:
             tally[sim.run_episode(behaviour=test.behaviour, learning=learning).terminal_sign] += 1
         out["counts"] = {"positive": tally[1.0], "negative": tally[-1.0], "none": tally[0.0]}
     out["seconds"] = time.perf_counter() - began
+    out["cpu_seconds"] = time.process_time() - began_cpu
     return out
