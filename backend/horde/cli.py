@@ -1,4 +1,4 @@
-"""The `horde` command: `horde run | scenarios | serve | bench`."""
+"""The `horde` command: `horde run | scenarios | serve | bench | study`."""
 
 from __future__ import annotations
 
@@ -16,13 +16,15 @@ from horde.core.batch import run_protocol_batched
 from horde.core.experiment import ProtocolResult, run_protocol
 from horde.scenarios import ScenarioError, list_scenarios, load_scenario
 from horde.spec import RunSpec
+from horde.studies.cli import add_study_parser
 
 
 class ProgressBar:
     """A one-line progress bar on a terminal stream (redrawn at most 10 times a second)."""
 
-    def __init__(self, label: str, stream: TextIO | None = None, width: int = 30) -> None:
+    def __init__(self, label: str, stream: TextIO | None = None, width: int = 30, unit: str = "episodes") -> None:
         self.label = label
+        self.unit = unit
         self.stream = stream or sys.stderr
         self.width = width
         self.began = time.perf_counter()
@@ -39,7 +41,7 @@ class ProgressBar:
         eta = elapsed / fraction - elapsed if fraction > 0 else math.nan
         bar = "#" * filled + "-" * (self.width - filled)
         eta_text = f"{eta:5.0f}s left" if math.isfinite(eta) else "  ...  "
-        self.stream.write(f"\r{self.label} [{bar}] {done}/{total} episodes  {elapsed:5.0f}s  {eta_text}")
+        self.stream.write(f"\r{self.label} [{bar}] {done}/{total} {self.unit}  {elapsed:5.0f}s  {eta_text}")
         if done >= total:
             self.stream.write("\n")
         self.stream.flush()
@@ -154,6 +156,7 @@ def build_parser() -> argparse.ArgumentParser:
     scenarios.set_defaults(func=cmd_scenarios)
 
     add_bench_parser(sub)
+    add_study_parser(sub)
 
     try:
         from horde.server.cli_serve import add_serve_parser

@@ -41,6 +41,9 @@ def _line_of(text: str, loc: tuple[int | str, ...]) -> int | None:
     return None
 
 
+line_of = _line_of  # public: study files (horde.studies.files) locate their problems the same way
+
+
 def parse_scenario(text: str, source: str = "<scenario>") -> RunSpec:
     """Validate TOML text as a RunSpec.
 

@@ -528,11 +528,11 @@ class DemonSpec(Model):
 
 
 class LearningSpec(Model):
-    """Defaults for demons that do not set their own (chosen by experiment, see README)."""
+    """Defaults for demons that do not set their own, chosen by `studies/stepsizes.toml` (see README)."""
 
     lambda_: Probability = Field(default=0.9, alias="lambda")
-    alpha: Annotated[float, Field(ge=0.0, le=10.0, allow_inf_nan=False)] = 0.1
-    alpha_w: Annotated[float, Field(ge=0.0, le=10.0, allow_inf_nan=False)] = 0.001
+    alpha: Annotated[float, Field(ge=0.0, le=10.0, allow_inf_nan=False)] = 0.03
+    alpha_w: Annotated[float, Field(ge=0.0, le=10.0, allow_inf_nan=False)] = 0.0001
 
 
 # ----------------------------------------------------------------------------------------------

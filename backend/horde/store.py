@@ -61,6 +61,48 @@ CREATE TABLE IF NOT EXISTS protocol_jobs (
     finished_at REAL
 );
 """
+# Parameter studies (horde.studies): a study's spec and status, and one row per finished task, written
+# as the task finishes, so that a study killed halfway resumes without redoing finished tasks.
+STUDY_SCHEMA = """
+CREATE TABLE IF NOT EXISTS studies (
+    id TEXT PRIMARY KEY,
+    name TEXT,
+    spec TEXT NOT NULL,
+    status TEXT NOT NULL,
+    message TEXT NOT NULL,
+    tasks INTEGER NOT NULL,
+    created_at REAL NOT NULL,
+    updated_at REAL NOT NULL
+);
+CREATE TABLE IF NOT EXISTS study_tasks (
+    study_id TEXT NOT NULL REFERENCES studies(id) ON DELETE CASCADE,
+    config INTEGER NOT NULL,
+    run INTEGER NOT NULL,
+    data TEXT NOT NULL,
+    finished_at REAL NOT NULL,
+    PRIMARY KEY (study_id, config, run)
+);
+"""
+
+
+@dataclass(frozen=True)
+class StudyRecord:
+    id: str
+    name: str | None
+    spec: str  # StudySpec JSON, with the base run spec inlined
+    status: str  # running, finished, failed, cancelled, interrupted
+    message: str
+    tasks: int  # configurations x runs
+    created_at: float
+    updated_at: float
+
+
+@dataclass(frozen=True)
+class StudyTaskRecord:
+    config: int
+    run: int
+    data: str  # the task's measurements, JSON
+    finished_at: float
 
 
 @dataclass(frozen=True)
@@ -117,7 +159,7 @@ class Store:
         self._db.execute("PRAGMA synchronous=FULL")
         self._db.execute("PRAGMA foreign_keys=ON")
         with self._transaction() as db:
-            for statement in SCHEMA.split(";"):
+            for statement in (SCHEMA + STUDY_SCHEMA).split(";"):
                 if statement.strip():
                     db.execute(statement)
             db.execute(f"PRAGMA user_version={SCHEMA_VERSION}")
@@ -255,3 +297,50 @@ class Store:
     def delete_protocol_job(self, job_id: str) -> None:
         with self._transaction() as db:
             db.execute("DELETE FROM protocol_jobs WHERE id = ?", (job_id,))
+
+    # ------------------------------------------------------------------------------------------
+    # Studies and their finished tasks
+
+    def create_study(self, record: StudyRecord) -> None:
+        with self._transaction() as db:
+            db.execute(
+                "INSERT INTO studies VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
+                (record.id, record.name, record.spec, record.status, record.message, record.tasks,
+                 record.created_at, record.updated_at),
+            )  # fmt: skip
+
+    def set_study_status(self, study_id: str, status: str, message: str = "") -> None:
+        with self._transaction() as db:
+            db.execute(
+                "UPDATE studies SET status = ?, message = ?, updated_at = ? WHERE id = ?",
+                (status, message, time.time(), study_id),
+            )
+
+    def list_studies(self) -> list[StudyRecord]:
+        rows = self._read("SELECT * FROM studies ORDER BY created_at")
+        return [StudyRecord(*row) for row in rows]
+
+    def get_study(self, study_id: str) -> StudyRecord | None:
+        rows = self._read("SELECT * FROM studies WHERE id = ?", (study_id,))
+        return StudyRecord(*rows[0]) if rows else None
+
+    def delete_study(self, study_id: str) -> bool:
+        with self._transaction() as db:
+            return db.execute("DELETE FROM studies WHERE id = ?", (study_id,)).rowcount > 0
+
+    def put_study_task(self, study_id: str, config: int, run: int, data: str) -> None:
+        """Record one finished task (a repeat of a finished task keeps the first result)."""
+        with self._transaction() as db:
+            db.execute(
+                "INSERT OR IGNORE INTO study_tasks VALUES (?, ?, ?, ?, ?)", (study_id, config, run, data, time.time())
+            )
+
+    def study_tasks(self, study_id: str) -> list[StudyTaskRecord]:
+        rows = self._read(
+            "SELECT config, run, data, finished_at FROM study_tasks WHERE study_id = ? ORDER BY config, run",
+            (study_id,),
+        )
+        return [StudyTaskRecord(*row) for row in rows]
+
+    def count_study_tasks(self, study_id: str) -> int:
+        return int(self._read("SELECT COUNT(*) FROM study_tasks WHERE study_id = ?", (study_id,))[0][0])

@@ -15,6 +15,7 @@ import { launcher } from "./views/launcher";
 import { protocolPanel } from "./views/protocol-panel";
 import { runResults } from "./views/run-results";
 import { runsPanel } from "./views/runs-panel";
+import { studiesPanel } from "./views/studies-panel";
 import { tabs } from "./views/tabs";
 import { viserEmbed } from "./views/viser-embed";
 import { worldEditor } from "./views/world-editor";
@@ -46,6 +47,7 @@ const app = h(
         { tab: "protocol", label: "Protocol", panel: protocolPanel(store) },
         { tab: "world", label: "World editor", panel: worldEditor(store) },
         { tab: "demon", label: "Demon editor", panel: demonEditor(store) },
+        { tab: "studies", label: "Studies", panel: studiesPanel(store) },
       ]),
     ),
   ),

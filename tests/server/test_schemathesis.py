@@ -30,7 +30,7 @@ from horde.server import Settings, create_app
 
 MAX_EXAMPLES = 20
 DATA = Path(tempfile.mkdtemp(prefix="horde-schemathesis-"))
-APP = create_app(Settings(data=DATA, token=None, max_runs=16, snapshot_every=3600.0))
+APP = create_app(Settings(data=DATA, token=None, max_runs=16, snapshot_every=3600.0, study_executor="local"))
 CONFIG = SchemathesisConfig.from_dict(
     {
         "generation": {"max-examples": MAX_EXAMPLES},

@@ -30,6 +30,7 @@ from horde.server.routes import ROUTERS
 from horde.server.settings import Settings
 from horde.server.stream import StreamHub
 from horde.store import Store
+from horde.studies.jobs import StudyJobs
 from horde.view.live import LiveView
 from horde.view.manager_source import ManagerSource
 
@@ -62,6 +63,7 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
             app.state.manager = manager
             app.state.hub = StreamHub(manager, rate=settings.stream_rate)
             app.state.protocols = ProtocolJobs(store)
+            app.state.studies = StudyJobs(store, settings.study_executor_factory())
             app.state.switch_interval = sys.getswitchinterval()
             sys.setswitchinterval(settings.switch_interval)
             manager.start()
@@ -91,6 +93,7 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
             if app.state.lifespans == 0:
                 await app.state.hub.close()
                 app.state.protocols.stop()
+                app.state.studies.stop()
                 if app.state.live_view is not None:
                     app.state.live_view.stop()
                     app.state.live_view = None

@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 import ipaddress
+from collections.abc import Callable
 from pathlib import Path
+from typing import Literal
 
 from pydantic import Field, SecretStr, field_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
 from horde.run_setup import Limits
+from horde.studies.runner import Executor, InProcess, RayExecutor
 
 
 class Settings(BaseSettings):
@@ -62,11 +65,22 @@ class Settings(BaseSettings):
         default_factory=list,
         description="extra browser origins allowed to open WebSockets (besides the server's own), e.g. a dev server",
     )
+    study_executor: Literal["ray", "local"] = Field(
+        default="ray", description="where study tasks run: Ray (this machine, or ray_address), or one by one here"
+    )
+    ray_address: str | None = Field(default=None, description="a Ray cluster to join (HORDE_RAY_ADDRESS)")
+    study_workers: int | None = Field(default=None, ge=1, le=4096, description="CPUs of the local Ray (default all)")
 
     @field_validator("token", mode="before")
     @classmethod
     def _empty_is_none(cls, value: object) -> object:
         return None if value == "" else value
+
+    def study_executor_factory(self) -> Callable[[], Executor]:
+        """Makes the executor of each study the server runs."""
+        if self.study_executor == "local":
+            return InProcess
+        return lambda: RayExecutor(self.ray_address, self.study_workers)
 
     def limits(self) -> Limits:
         return Limits(

@@ -63,6 +63,23 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/protocols/{job_id}/export": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** A protocol job's results: per demon prediction, truth ± stderr, error, thesis, test-run counts */
+        get: operations["export_protocol_api_protocols__job_id__export_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/runs": {
         parameters: {
             query?: never;
@@ -225,6 +242,40 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/runs/{run_id}/export/history": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** A run's history: step, demon, prediction, cumulant, delta, RUPEE, UDE for every kept row */
+        get: operations["export_history_api_runs__run_id__export_history_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/runs/{run_id}/export/spec": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** A run's spec as a TOML scenario file (horde run reads it back) */
+        get: operations["export_spec_api_runs__run_id__export_spec_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/runs/{run_id}/pause": {
         parameters: {
             query?: never;
@@ -376,6 +427,79 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/studies": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Every study (running, finished, interrupted) */
+        get: operations["list_studies_api_studies_get"];
+        put?: never;
+        /**
+         * Start a parameter study in the background
+         * @description The body is a study, as in a study file: a `scenario` name (or a `base` run spec), `axes` (a field path and its values each), `sample`, `runs` per configuration and `measure`. Every axis is checked before any task starts: an unknown path, a value the field refuses, or a grid past the bounds is a 422 located at the axis. One study runs at a time (429 while one runs).
+         */
+        post: operations["start_study_api_studies_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/studies/{study_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** A study: progress, then results per configuration */
+        get: operations["get_study_api_studies__study_id__get"];
+        put?: never;
+        post?: never;
+        /** Cancel a running study (finished tasks are kept), or delete a study that is not running */
+        delete: operations["cancel_study_api_studies__study_id__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/studies/{study_id}/export": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** A study's results as CSV (a row per configuration and demon) or JSON (as horde study --json) */
+        get: operations["export_study_api_studies__study_id__export_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/studies/{study_id}/resume": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Run the unfinished tasks of a cancelled, failed or interrupted study */
+        post: operations["resume_study_api_studies__study_id__resume_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/view": {
         parameters: {
             query?: never;
@@ -457,6 +581,31 @@ export interface components {
             x: number;
             /** Y */
             y: number;
+        };
+        /**
+         * AxisSpec
+         * @description One field to vary and the values it takes.
+         */
+        AxisSpec: {
+            /**
+             * Path
+             * @description a dotted field path of the run spec, e.g. learning.alpha or demons.*.learner
+             */
+            path: string;
+            /** Values */
+            values: (number | string | boolean)[];
+        };
+        /**
+         * BandOut
+         * @description A mean over runs per checkpoint with its 95 % bootstrap interval.
+         */
+        BandOut: {
+            /** High */
+            high: (number | null)[];
+            /** Low */
+            low: (number | null)[];
+            /** Mean */
+            mean: (number | null)[];
         };
         /**
          * BehaviourSpec
@@ -969,17 +1118,17 @@ export interface components {
         };
         /**
          * LearningSpec
-         * @description Defaults for demons that do not set their own (chosen by experiment, see README).
+         * @description Defaults for demons that do not set their own, chosen by `studies/stepsizes.toml` (see README).
          */
         LearningSpec: {
             /**
              * Alpha
-             * @default 0.1
+             * @default 0.03
              */
             alpha: number;
             /**
              * Alpha W
-             * @default 0.001
+             * @default 0.0001
              */
             alpha_w: number;
             /**
@@ -997,6 +1146,39 @@ export interface components {
         "MaxExpr-Output": {
             /** Max */
             max: (number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Output"] | components["schemas"]["MulExpr-Output"] | components["schemas"]["MinExpr-Output"] | components["schemas"]["MaxExpr-Output"] | components["schemas"]["IfExpr-Output"])[];
+        };
+        /**
+         * MeasureSpec
+         * @description What each run measures, at `checkpoints` evenly spaced points of its training (and before it).
+         */
+        MeasureSpec: {
+            /**
+             * Cap
+             * @description rollout length limit
+             * @default 10000
+             */
+            cap: number;
+            /**
+             * Checkpoints
+             * @default 10
+             */
+            checkpoints: number;
+            /**
+             * Demons
+             * @description which demons (default: every prediction demon)
+             */
+            demons?: string[] | null;
+            /**
+             * Episodes
+             * @description training episodes per run (default: the base protocol's)
+             */
+            episodes?: number | null;
+            /**
+             * Rollouts
+             * @description Monte-Carlo rollouts per checkpoint where no exact answer exists
+             * @default 300
+             */
+            rollouts: number;
         };
         /** MinExpr */
         "MinExpr-Input": {
@@ -1363,6 +1545,28 @@ export interface components {
                 [key: string]: unknown;
             } | null;
         };
+        /**
+         * SampleSpec
+         * @description Every configuration of the grid, or `size` of them drawn at random (without repeats, seeded).
+         */
+        SampleSpec: {
+            /**
+             * Kind
+             * @default grid
+             * @enum {string}
+             */
+            kind: "grid" | "random";
+            /**
+             * Seed
+             * @default 0
+             */
+            seed: number;
+            /**
+             * Size
+             * @description random: how many
+             */
+            size?: number | null;
+        };
         /** ScenarioOut */
         ScenarioOut: {
             /** Description */
@@ -1540,6 +1744,230 @@ export interface components {
              * @default 100
              */
             window: number;
+        };
+        /**
+         * StudyConfigOut
+         * @description One configuration over its finished runs.
+         */
+        StudyConfigOut: {
+            /** Auc */
+            auc: number | null;
+            /** Auc High */
+            auc_high: number | null;
+            /** Auc Low */
+            auc_low: number | null;
+            /** Axes */
+            axes: {
+                [key: string]: number | string | boolean;
+            };
+            /**
+             * Best
+             * @description the lowest final relative error of the study
+             */
+            best: boolean;
+            /** Ci High */
+            ci_high: number | null;
+            /** Ci Low */
+            ci_low: number | null;
+            /** @description relative error per checkpoint */
+            curve: components["schemas"]["BandOut"];
+            /** Demons */
+            demons: {
+                [key: string]: components["schemas"]["StudyDemonOut"];
+            };
+            /**
+             * Episodes
+             * @description training episodes at each checkpoint
+             */
+            episodes: number[];
+            /**
+             * Error
+             * @description final relative error: error / scale, mean over the demons
+             */
+            error: number | null;
+            /** Index */
+            index: number;
+            /** @description control protocols: the share of test runs ending in a positive terminal */
+            positive?: components["schemas"]["BandOut"] | null;
+            /** @description mean return of the episodes before each checkpoint */
+            returns: components["schemas"]["BandOut"];
+            /** Runs */
+            runs: number;
+            /**
+             * Truth
+             * @enum {string}
+             */
+            truth: "exact" | "monte_carlo";
+        };
+        /**
+         * StudyDemonOut
+         * @description One demon of one configuration: final error (the question's own units), its interval, its curve.
+         */
+        StudyDemonOut: {
+            /**
+             * Auc
+             * @description mean error over the checkpoints after episode 0
+             */
+            auc: number | null;
+            /** Ci High */
+            ci_high: number | null;
+            /** Ci Low */
+            ci_low: number | null;
+            curve: components["schemas"]["BandOut"];
+            /** Error */
+            error: number | null;
+            rupee: components["schemas"]["BandOut"];
+        };
+        /**
+         * StudyOut
+         * @description A study and how far it has got.
+         */
+        StudyOut: {
+            /** Axes */
+            axes: components["schemas"]["AxisSpec"][];
+            /** Configurations */
+            configurations: number;
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /**
+             * Episodes
+             * @description training episodes per run
+             */
+            episodes: number;
+            /** Id */
+            id: string;
+            /** Message */
+            message: string;
+            /** Name */
+            name: string | null;
+            /**
+             * Runs
+             * @description runs per configuration
+             */
+            runs: number;
+            /**
+             * Scenario
+             * @description the base run spec's name
+             */
+            scenario: string | null;
+            /**
+             * Seconds Left
+             * @description estimated from the pace so far (running studies only)
+             */
+            seconds_left: number | null;
+            /**
+             * Status
+             * @enum {string}
+             */
+            status: "created" | "running" | "finished" | "failed" | "cancelled" | "interrupted";
+            /**
+             * Tasks
+             * @description configurations x runs
+             */
+            tasks: number;
+            /** Tasks Done */
+            tasks_done: number;
+            /**
+             * Updated At
+             * Format: date-time
+             */
+            updated_at: string;
+        };
+        /**
+         * StudyResultsOut
+         * @description A study with every configuration that has a finished run.
+         */
+        StudyResultsOut: {
+            /** Axes */
+            axes: components["schemas"]["AxisSpec"][];
+            /** Configurations */
+            configurations: number;
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /**
+             * Episodes
+             * @description training episodes per run
+             */
+            episodes: number;
+            /** Id */
+            id: string;
+            /** Message */
+            message: string;
+            /** Name */
+            name: string | null;
+            /** Results */
+            results: components["schemas"]["StudyConfigOut"][];
+            /**
+             * Runs
+             * @description runs per configuration
+             */
+            runs: number;
+            /**
+             * Scenario
+             * @description the base run spec's name
+             */
+            scenario: string | null;
+            /**
+             * Seconds Left
+             * @description estimated from the pace so far (running studies only)
+             */
+            seconds_left: number | null;
+            /**
+             * Status
+             * @enum {string}
+             */
+            status: "created" | "running" | "finished" | "failed" | "cancelled" | "interrupted";
+            /**
+             * Tasks
+             * @description configurations x runs
+             */
+            tasks: number;
+            /** Tasks Done */
+            tasks_done: number;
+            /**
+             * Updated At
+             * Format: date-time
+             */
+            updated_at: string;
+        };
+        /**
+         * StudySpec
+         * @description A parameter study (DESIGN: studies/).
+         */
+        StudySpec: {
+            /**
+             * Axes
+             * @description none: one configuration, the base, over `runs`
+             */
+            axes?: components["schemas"]["AxisSpec"][];
+            /** @description the base run spec (or name a `scenario`) */
+            base?: components["schemas"]["RunSpec-Input"] | null;
+            /**
+             * Description
+             * @default
+             */
+            description: string;
+            measure?: components["schemas"]["MeasureSpec"];
+            /** Name */
+            name?: string | null;
+            /**
+             * Runs
+             * @description independent runs per configuration
+             * @default 5
+             */
+            runs: number;
+            sample?: components["schemas"]["SampleSpec"];
+            /**
+             * Scenario
+             * @description the base scenario's name (or give `base`)
+             */
+            scenario?: string | null;
         };
         /**
          * SummaryOut
@@ -1997,6 +2425,59 @@ export interface operations {
             };
             /** @description Unknown run, demon, world or scenario */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    export_protocol_api_protocols__job_id__export_get: {
+        parameters: {
+            query?: {
+                /** @description csv or json */
+                format?: string;
+            };
+            header?: never;
+            path: {
+                job_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description A file (Content-Disposition: attachment) */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": unknown;
+                    "text/csv": string;
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -2744,6 +3225,93 @@ export interface operations {
             };
         };
     };
+    export_history_api_runs__run_id__export_history_get: {
+        parameters: {
+            query?: {
+                /** @description csv or json */
+                format?: string;
+            };
+            header?: never;
+            path: {
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description A file (Content-Disposition: attachment) */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": unknown;
+                    "text/csv": string;
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    export_spec_api_runs__run_id__export_spec_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description A TOML file */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": unknown;
+                    "application/toml": string;
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
     pause_run_api_runs__run_id__pause_post: {
         parameters: {
             query?: never;
@@ -3140,6 +3708,298 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    list_studies_api_studies_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["StudyOut"][];
+                };
+            };
+        };
+    };
+    start_study_api_studies_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["StudySpec"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            202: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["StudyOut"];
+                };
+            };
+            /** @description The body cannot be parsed (not JSON, not UTF-8) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+            /** @description Too many evaluations or protocols at once, or the run is busy */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+        };
+    };
+    get_study_api_studies__study_id__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the study's id */
+                study_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["StudyResultsOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    cancel_study_api_studies__study_id__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the study's id */
+                study_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["StudyOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    export_study_api_studies__study_id__export_get: {
+        parameters: {
+            query?: {
+                format?: string;
+            };
+            header?: never;
+            path: {
+                /** @description the study's id */
+                study_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description A file (Content-Disposition: attachment) */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": unknown;
+                    "text/csv": string;
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    resume_study_api_studies__study_id__resume_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the study's id */
+                study_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            202: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["StudyOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+            /** @description Too many evaluations or protocols at once, or the run is busy */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
                 };
             };
         };

@@ -2,7 +2,19 @@
 
 from fastapi import APIRouter
 
-from horde.server.routes import demons, health, protocols, runs, scenarios, snapshots, stream, view, worlds
+from horde.server.routes import (
+    demons,
+    exports,
+    health,
+    protocols,
+    runs,
+    scenarios,
+    snapshots,
+    stream,
+    studies,
+    view,
+    worlds,
+)
 
 ROUTERS: tuple[APIRouter, ...] = (
     health.router,
@@ -14,6 +26,8 @@ ROUTERS: tuple[APIRouter, ...] = (
     stream.router,
     view.router,
     protocols.router,
+    studies.router,
+    exports.router,
 )
 
 __all__ = ["ROUTERS"]

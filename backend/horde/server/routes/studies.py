@@ -1,0 +1,161 @@
+"""Parameter studies: POST /api/studies, GET /api/studies[/{id}], cancel, resume, export, progress stream.
+
+A study runs in the background on the server's executor (Ray on this machine by default, the cluster at
+HORDE_RAY_ADDRESS when set), as `horde study` runs it; its finished tasks go to the store as they finish.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+from typing import Annotated
+
+from fastapi import APIRouter, Body, Path, Query, Request, WebSocket, WebSocketDisconnect, status
+from fastapi.responses import PlainTextResponse, Response
+
+from horde.errors import NotFoundError, SpecError
+from horde.server.convert import timestamp
+from horde.server.deps import CatalogDep, WriteAccess
+from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND, UNAUTHORIZED
+from horde.server.routes.exports import FILE_RESPONSES
+from horde.server.study_schemas import StudyConfigOut, StudyOut, StudyResultsOut
+from horde.store import StudyRecord
+from horde.studies.export import results_csv, results_json
+from horde.studies.jobs import StudyJobs
+from horde.studies.spec import StudySpec
+
+router = APIRouter(prefix="/studies", tags=["studies"])
+
+StudyId = Annotated[str, Path(min_length=1, max_length=64, description="the study's id")]
+STREAM_INTERVAL = 0.5  # seconds between progress messages
+
+
+def _jobs(request: Request) -> StudyJobs:
+    jobs: StudyJobs = request.app.state.studies
+    return jobs
+
+
+def _out(jobs: StudyJobs, record: StudyRecord) -> StudyOut:
+    study = StudySpec.model_validate_json(record.spec)
+    progress = jobs.progress(record.id)
+    done = progress.done if progress is not None else jobs.tasks_done(record.id)
+    base = study.base
+    return StudyOut(
+        id=record.id,
+        name=record.name,
+        scenario=base.name if base else study.scenario,
+        status=record.status,
+        message=record.message,
+        axes=study.axes,
+        runs=study.runs,
+        episodes=study.measure.episodes or (base.protocol.episodes if base else 0),
+        configurations=record.tasks // study.runs,
+        tasks=record.tasks,
+        tasks_done=done,
+        seconds_left=progress.seconds_left() if progress is not None else None,
+        created_at=timestamp(record.created_at),
+        updated_at=timestamp(record.updated_at),
+    )
+
+
+@router.get("", summary="Every study (running, finished, interrupted)")
+def list_studies(request: Request) -> list[StudyOut]:
+    jobs = _jobs(request)
+    return [_out(jobs, r) for r in jobs.records()]
+
+
+@router.post(
+    "",
+    summary="Start a parameter study in the background",
+    status_code=status.HTTP_202_ACCEPTED,
+    dependencies=[WriteAccess],
+    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **BUSY},
+    description=(
+        "The body is a study, as in a study file: a `scenario` name (or a `base` run spec), `axes` (a field path "
+        "and its values each), `sample`, `runs` per configuration and `measure`. Every axis is checked before any "
+        "task starts: an unknown path, a value the field refuses, or a grid past the bounds is a 422 located at "
+        "the axis. One study runs at a time (429 while one runs)."
+    ),
+)
+def start_study(body: Annotated[StudySpec, Body()], request: Request, catalog: CatalogDep) -> StudyOut:
+    jobs = _jobs(request)
+    base = body.base if body.base is not None else catalog.get(body.scenario or "")
+    try:
+        record = jobs.start(body, base)
+    except SpecError as exc:
+        raise SpecError([type(p)(("body", *p.loc), p.msg, p.type) for p in exc.problems]) from None
+    return _out(jobs, record)
+
+
+@router.get("/{study_id}", summary="A study: progress, then results per configuration", responses=NOT_FOUND)
+def get_study(study_id: StudyId, request: Request) -> StudyResultsOut:
+    jobs = _jobs(request)
+    record = jobs.get(study_id)
+    out = _out(jobs, record)
+    results = [StudyConfigOut.model_validate(r) for r in results_json(jobs.summaries(study_id))]
+    return StudyResultsOut(**dict(out), results=results)
+
+
+@router.delete(
+    "/{study_id}",
+    summary="Cancel a running study (finished tasks are kept), or delete a study that is not running",
+    dependencies=[WriteAccess],
+    responses={**NOT_FOUND, **UNAUTHORIZED},
+)
+def cancel_study(study_id: StudyId, request: Request) -> StudyOut:
+    jobs = _jobs(request)
+    return _out(jobs, jobs.cancel(study_id))
+
+
+@router.post(
+    "/{study_id}/resume",
+    summary="Run the unfinished tasks of a cancelled, failed or interrupted study",
+    status_code=status.HTTP_202_ACCEPTED,
+    dependencies=[WriteAccess],
+    responses={**NOT_FOUND, **UNAUTHORIZED, **CONFLICT, **BUSY},
+)
+def resume_study(study_id: StudyId, request: Request) -> StudyOut:
+    jobs = _jobs(request)
+    return _out(jobs, jobs.resume(study_id))
+
+
+@router.get(
+    "/{study_id}/export",
+    summary="A study's results as CSV (a row per configuration and demon) or JSON (as horde study --json)",
+    responses={**NOT_FOUND, **FILE_RESPONSES},
+)
+def export_study(
+    study_id: StudyId, request: Request, format: Annotated[str, Query(pattern="^(csv|json)$")] = "csv"
+) -> Response:
+    jobs = _jobs(request)
+    record = jobs.get(study_id)
+    summaries = jobs.summaries(study_id)
+    name = record.name or study_id
+    if format == "json":
+        text, media = json.dumps(results_json(summaries), indent=2) + "\n", "application/json"
+    else:
+        text, media = results_csv(summaries), "text/csv"
+    headers = {"Content-Disposition": f'attachment; filename="study-{name}.{format}"'}
+    return PlainTextResponse(text, media_type=media, headers=headers)
+
+
+@router.websocket("/{study_id}/stream")
+async def stream_study(websocket: WebSocket, study_id: str) -> None:
+    """Messages have the shape of GET /api/studies (a StudyOut), twice a second while the study runs; the
+    last one is sent when it stops. Close codes: 4404 unknown study, 1000 the study stopped."""
+    jobs: StudyJobs = websocket.app.state.studies
+    await websocket.accept()
+    try:
+        while True:
+            try:
+                out = _out(jobs, jobs.get(study_id))
+            except NotFoundError:
+                await websocket.close(code=4404)
+                return
+            await websocket.send_json(out.model_dump(mode="json"))
+            if out.status not in ("running", "created"):
+                await websocket.close(code=1000)
+                return
+            await asyncio.sleep(STREAM_INTERVAL)
+    except WebSocketDisconnect:
+        return

@@ -1,0 +1,151 @@
+"""Static figures of a study for papers (matplotlib, PNG and SVG): learning curves and sensitivity curves.
+
+- `learning-curves`: relative error (mean over the measured demons of error / scale, see `task.py`)
+  against training episodes, the mean over runs with its 95 % bootstrap band, one line per configuration
+  (past `MAX_LINES`, the best configuration of each value of the grouping axis).
+- `sensitivity-final`, `sensitivity-auc`: the final error, or its mean over the learning curve, against one
+  swept axis (`x`), one curve per value of another (`group`); where further axes were swept, each point is
+  the best configuration over them. Error bars are the 95 % bootstrap intervals.
+"""
+
+from __future__ import annotations
+
+import textwrap
+from collections.abc import Sequence
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+from matplotlib import ticker
+
+from horde.studies.spec import AxisValue, label
+from horde.studies.stats import ConfigSummary
+
+MAX_LINES = 8
+YLABEL = "relative error (RMSE / RMS of the exact answers)"
+
+
+def _numeric(values: Sequence[AxisValue]) -> bool:
+    return all(isinstance(v, int | float) and not isinstance(v, bool) for v in values)
+
+
+def choose_axes(
+    summaries: list[ConfigSummary], x: str | None = None, group: str | None = None
+) -> tuple[str, str | None]:
+    """The axis along the sensitivity plot (default: the first numeric one that varies) and the grouping one
+    (default: the last other axis that varies)."""
+    paths = list(summaries[0].axes)
+    varying = [p for p in paths if len({repr(s.axes[p]) for s in summaries}) > 1] or paths
+    if x is None:
+        numeric = [p for p in varying if _numeric([s.axes[p] for s in summaries])]
+        x = numeric[0] if numeric else varying[0]
+    if group is None:
+        others = [p for p in varying if p != x]
+        group = others[-1] if others else None
+    for name in (x, group):
+        if name is not None and name not in paths:
+            raise ValueError(f"{name!r} is not an axis of this study (axes: {', '.join(paths)})")
+    return x, group
+
+
+def _best_by(summaries: list[ConfigSummary], keys: Sequence[str | None], metric: str) -> dict[tuple, ConfigSummary]:
+    best: dict[tuple, ConfigSummary] = {}
+    for s in summaries:
+        key = tuple(repr(s.axes[k]) if k else None for k in keys)
+        value = getattr(s, metric).mean[0]
+        if key not in best or value < getattr(best[key], metric).mean[0]:
+            best[key] = s
+    return best
+
+
+def learning_curves(summaries: list[ConfigSummary], group: str | None, path: Path) -> None:
+    shown = summaries
+    title = "Learning curves: mean over runs, 95\u00a0% bootstrap band"
+    if len(summaries) > MAX_LINES:
+        shown = list(_best_by(summaries, [group], "final").values())[:MAX_LINES]
+        title += f"\nbest configuration per {group.split('.')[-1] if group else 'study'}"
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    for s in shown:
+        name = (label(s.axes) or "the base") + ("  (best)" if s.best and len(shown) > 1 else "")
+        (line,) = ax.plot(s.episodes, s.curve.mean, label=f"{name}, {s.runs} runs")
+        ax.fill_between(s.episodes, s.curve.low, s.curve.high, color=line.get_color(), alpha=0.2, linewidth=0)
+    ax.set_xlabel("training episodes")
+    ax.set_ylabel(YLABEL)
+    ax.set_yscale("log")
+    ax.set_title(title, fontsize=10)
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    _save(fig, path)
+
+
+def sensitivity(summaries: list[ConfigSummary], x: str, group: str | None, metric: str, path: Path) -> None:
+    """`metric`: "final" or "auc"."""
+    best = _best_by(summaries, [x, group], metric)
+    groups = sorted({k[1] for k in best}, key=str)
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    xs_all = [s.axes[x] for s in summaries]
+    numeric = _numeric(xs_all)
+    order = sorted({repr(v): v for v in xs_all}.values(), key=lambda v: v if numeric else str(v))
+    for g in groups:
+        points = [best[(repr(v), g)] for v in order if (repr(v), g) in best]
+        xs = [p.axes[x] if numeric else order.index(p.axes[x]) for p in points]
+        mean = [getattr(p, metric).mean[0] for p in points]
+        low = [m - getattr(p, metric).low[0] for m, p in zip(mean, points, strict=True)]
+        high = [getattr(p, metric).high[0] - m for m, p in zip(mean, points, strict=True)]
+        name = f"{group.split('.')[-1]}={g}" if group else "all"
+        ax.errorbar(xs, mean, yerr=[low, high], marker="o", capsize=3, label=name)
+    positive = [float(v) for v in order if numeric and float(v) > 0]
+    if numeric and len(positive) == len(order) and max(positive) / min(positive) >= 10:
+        ax.set_xscale("log")
+    if not numeric:
+        ax.set_xticks(range(len(order)), [str(v) for v in order])
+    else:
+        ax.set_xticks([float(v) for v in order], [f"{float(v):g}" for v in order])
+        ax.xaxis.set_minor_locator(ticker.NullLocator())
+    ax.set_xlabel(x)
+    ax.set_ylabel(("final " if metric == "final" else "mean over training: ") + YLABEL, fontsize=8)
+    ax.set_yscale("log")
+    rest = [p for p in summaries[0].axes if p not in (x, group)]
+    note = f" (best over {', '.join(rest)})" if rest else ""
+    ax.set_title(textwrap.fill(f"Sensitivity to {x}{note}; 95\u00a0% bootstrap intervals", 80), fontsize=9)
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    _save(fig, path)
+
+
+def _plain_numbers(ax: plt.Axes) -> None:
+    """0.2, 0.3, 0.5 on log axes rather than 2 x 10^-1; minor ticks labelled only on a short y axis."""
+    plain = ticker.FuncFormatter(lambda v, _: f"{v:g}")
+    for axis, limits in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+        if axis.get_scale() != "log":
+            continue
+        axis.set_major_formatter(plain)
+        short = axis is ax.yaxis and limits[0] > 0 and limits[1] / limits[0] < 30
+        axis.set_minor_formatter(plain if short else ticker.NullFormatter())
+
+
+def _save(fig: plt.Figure, path: Path) -> None:
+    for ax in fig.axes:
+        _plain_numbers(ax)
+    fig.tight_layout()
+    for suffix in (".png", ".svg"):
+        fig.savefig(path.with_suffix(suffix), dpi=120)
+    plt.close(fig)
+
+
+def write_plots(
+    summaries: list[ConfigSummary], directory: Path, x: str | None = None, group: str | None = None
+) -> list[Path]:
+    """Write every figure into `directory`; return the files written."""
+    directory.mkdir(parents=True, exist_ok=True)
+    if not summaries[0].axes:  # one configuration: its learning curve is the whole story
+        learning_curves(summaries, None, directory / "learning-curves")
+        return [directory / f"learning-curves{suffix}" for suffix in (".png", ".svg")]
+    x, group = choose_axes(summaries, x, group)
+    learning_curves(summaries, group, directory / "learning-curves")
+    sensitivity(summaries, x, group, "final", directory / "sensitivity-final")
+    sensitivity(summaries, x, group, "auc", directory / "sensitivity-auc")
+    stems = ("learning-curves", "sensitivity-final", "sensitivity-auc")
+    return [directory / f"{stem}{suffix}" for stem in stems for suffix in (".png", ".svg")]

@@ -1,0 +1,228 @@
+"""Run a study's tasks, in this process or on Ray, streaming each finished task into the store.
+
+Every configuration x run is one task (`task.run_task`). `RayExecutor` makes each a Ray task: by default
+it starts Ray on this machine (every core, no dashboard, loopback only); given an address (`--address`,
+`HORDE_RAY_ADDRESS`) it joins that cluster instead. `InProcess` runs them one after the other here (the
+tests' reference, and small studies). Either way, each result is written to the store the moment its
+task finishes, and a study resumed later runs only the tasks that have no row yet.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import secrets
+import threading
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+from horde.errors import NotFoundError
+from horde.spec import RunSpec
+from horde.store import Store, StudyRecord
+from horde.studies.spec import Configuration, MeasureSpec, StudySpec, expand
+from horde.studies.stats import ConfigSummary, mark_best, summarize_configuration
+from horde.studies.task import TaskData, run_task
+
+Progress = Callable[[int, int], None]  # (tasks done, tasks in all)
+LOOPBACK = "127.0.0.1"
+
+
+class CancelledError(Exception):
+    """The study was asked to stop; its finished tasks are kept."""
+
+
+@dataclass(frozen=True)
+class Task:
+    config: int
+    run: int
+    spec: str  # the configuration's RunSpec, JSON
+
+
+OnDone = Callable[[Task, TaskData], None]
+
+
+class Executor(Protocol):
+    """Runs tasks and reports each as it finishes; stops early when `cancelled()` turns true."""
+
+    def map(
+        self, tasks: Sequence[Task], measure: MeasureSpec, on_done: OnDone, cancelled: Callable[[], bool]
+    ) -> None: ...  # fmt: skip
+
+
+def execute(spec_json: str, run: int, measure_json: str) -> TaskData:
+    """One task from its JSON form (what a Ray worker runs)."""
+    return run_task(RunSpec.model_validate_json(spec_json), run, MeasureSpec.model_validate_json(measure_json))
+
+
+class InProcess:
+    """Run the tasks one after the other in this process."""
+
+    def map(self, tasks: Sequence[Task], measure: MeasureSpec, on_done: OnDone, cancelled: Callable[[], bool]) -> None:
+        measure_json = measure.model_dump_json()
+        for task in tasks:
+            if cancelled():
+                raise CancelledError
+            on_done(task, execute(task.spec, task.run, measure_json))
+
+
+def _ray_task(spec_json: str, run: int, measure_json: str) -> TaskData:
+    import ray
+
+    data = execute(spec_json, run, measure_json)
+    data["node"] = ray.get_runtime_context().get_node_id()
+    return data
+
+
+class RayExecutor:
+    """Each task a Ray task of one CPU.
+
+    Args:
+        address: a running cluster's address (host:port); None starts Ray on this machine.
+        workers: CPUs of the local Ray (default: every core); ignored when joining a cluster.
+    """
+
+    _lock = threading.Lock()
+    _started = False  # whether this process started (or joined) Ray through an executor
+
+    def __init__(self, address: str | None = None, workers: int | None = None) -> None:
+        self.address = address or os.environ.get("HORDE_RAY_ADDRESS") or None
+        self.workers = workers
+
+    def start(self) -> None:
+        import ray
+
+        with self._lock:
+            if ray.is_initialized():
+                return
+            RayExecutor._started = True
+            os.environ.setdefault("RAY_NODE_IP_ADDRESS", LOOPBACK)
+            if self.address:
+                ray.init(address=self.address, log_to_driver=False)
+            else:
+                ray.init(
+                    address="local",  # a new Ray of this process, never a cluster that happens to run here
+                    num_cpus=self.workers or os.cpu_count() or 1,
+                    include_dashboard=False,
+                    _node_ip_address=LOOPBACK,
+                    log_to_driver=False,
+                )
+
+    @classmethod
+    def shutdown(cls) -> None:
+        """Stop the Ray this process started (or leave the cluster it joined); the server calls it on exit."""
+        with cls._lock:
+            if cls._started:
+                import ray
+
+                ray.shutdown()
+                cls._started = False
+
+    def map(self, tasks: Sequence[Task], measure: MeasureSpec, on_done: OnDone, cancelled: Callable[[], bool]) -> None:
+        import ray
+
+        self.start()
+        remote = ray.remote(num_cpus=1, max_retries=2)(_ray_task)
+        measure_ref = measure.model_dump_json()
+        pending: dict[Any, Task] = {remote.remote(t.spec, t.run, measure_ref): t for t in tasks}
+        try:
+            while pending:
+                if cancelled():
+                    raise CancelledError
+                ready, _ = ray.wait(list(pending), num_returns=1, timeout=0.5)
+                for ref in ready:
+                    on_done(pending.pop(ref), ray.get(ref))
+        finally:
+            for ref in pending:
+                ray.cancel(ref, force=True)
+
+
+def create_study(store: Store, study: StudySpec, base: RunSpec) -> tuple[StudyRecord, list[Configuration]]:
+    """Validate and expand a study (SpecError before anything is stored), then record it as `created`.
+
+    The stored spec has the base run spec inlined, so a resumed study runs exactly what was asked even if
+    the scenario file has changed since.
+    """
+    configurations = expand(study, base)
+    resolved = study.model_copy(update={"base": base, "scenario": None, "name": study.name or base.name})
+    now = time.time()
+    record = StudyRecord(
+        id=secrets.token_hex(6),
+        name=resolved.name,
+        spec=resolved.model_dump_json(by_alias=True),
+        status="created",
+        message="",
+        tasks=len(configurations) * study.runs,
+        created_at=now,
+        updated_at=now,
+    )
+    store.create_study(record)
+    return record, configurations
+
+
+def load_study(store: Store, study_id: str) -> tuple[StudyRecord, StudySpec, list[Configuration]]:
+    record = store.get_study(study_id)
+    if record is None:
+        raise NotFoundError(f"no study {study_id!r}")
+    study = StudySpec.model_validate_json(record.spec)
+    assert study.base is not None  # stored studies have their base inlined
+    return record, study, expand(study, study.base)
+
+
+def run_study(
+    store: Store,
+    study_id: str,
+    executor: Executor,
+    progress: Progress | None = None,
+    cancelled: Callable[[], bool] = lambda: False,
+) -> str:
+    """Run every task of the study that has not finished yet; return the study's final status.
+
+    Finished tasks are written one by one as they finish. A cancelled study keeps them (status
+    `cancelled`, resumable); a failing task marks the study `failed` with the error and re-raises.
+    """
+    _, study, configurations = load_study(store, study_id)
+    finished = {(t.config, t.run) for t in store.study_tasks(study_id)}
+    todo = [
+        Task(c.index, run, c.spec.model_dump_json(by_alias=True))
+        for c in configurations
+        for run in range(study.runs)
+        if (c.index, run) not in finished
+    ]
+    total = len(configurations) * study.runs
+    done = total - len(todo)
+    store.set_study_status(study_id, "running")
+    if progress:
+        progress(done, total)
+
+    def on_done(task: Task, data: TaskData) -> None:
+        nonlocal done
+        store.put_study_task(study_id, task.config, task.run, json.dumps(data))
+        done += 1
+        if progress:
+            progress(done, total)
+
+    try:
+        executor.map(todo, study.measure, on_done, cancelled)
+    except (CancelledError, KeyboardInterrupt):  # Ctrl-C on the command line is a cancel too
+        store.set_study_status(study_id, "cancelled", f"cancelled after {done} of {total} tasks")
+        return "cancelled"
+    except BaseException as exc:
+        store.set_study_status(study_id, "failed", f"{type(exc).__name__}: {exc}")
+        raise
+    store.set_study_status(study_id, "finished")
+    return "finished"
+
+
+def summarize_study(store: Store, study_id: str) -> list[ConfigSummary]:
+    """Every configuration with at least one finished run, averaged over its runs; the best one marked."""
+    _, _, configurations = load_study(store, study_id)
+    by_config: dict[int, list[TaskData]] = {}
+    for task in store.study_tasks(study_id):
+        by_config.setdefault(task.config, []).append(json.loads(task.data))
+    summaries = [
+        summarize_configuration(c.index, c.axes, by_config[c.index]) for c in configurations if c.index in by_config
+    ]
+    mark_best(summaries)
+    return summaries

@@ -1,0 +1,156 @@
+"""The Studies tab in a real browser: define and launch a small study, see its learning curves with their
+bands, its sensitivity curves and its table with the best marked; a bad axis shows its 422 at the field;
+export a run's history as CSV from the dashboard and read it back; compare two runs side by side.
+
+The server runs studies in process here (HORDE_STUDY_EXECUTOR=local): Ray itself is tested in
+tests/studies/test_ray.py; this file tests the dashboard.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+from collections.abc import Iterator
+from typing import TYPE_CHECKING
+
+import pytest
+
+from horde.server import Settings
+
+from .conftest import CHROMIUM, CHROMIUM_ARGS, ROOT, RunningServer, serve_in_thread
+
+if TYPE_CHECKING:
+    from playwright.sync_api import Browser, Page
+
+DIST = ROOT / "frontend" / "dist"
+TIMEOUT_MS = 20_000
+
+pytestmark = [
+    pytest.mark.e2e,
+    pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium at /usr/bin/chromium"),
+    pytest.mark.skipif(not (DIST / "index.html").exists(), reason="frontend/dist is not built: run `make frontend`"),
+]
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[RunningServer]:
+    settings = Settings(
+        data=tmp_path_factory.mktemp("horde-data"), token=None, snapshot_every=3600.0, study_executor="local"
+    )
+    with serve_in_thread(settings) as running:
+        yield running
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[Browser]:
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
+        yield browser
+        browser.close()
+
+
+@pytest.fixture
+def page(browser: Browser, server: RunningServer) -> Iterator[Page]:
+    context = browser.new_context(viewport={"width": 1280, "height": 900}, accept_downloads=True)
+    page = context.new_page()
+    page.set_default_timeout(TIMEOUT_MS)
+    errors: list[str] = []
+    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    page.on("pageerror", lambda e: errors.append(f"uncaught: {e}"))
+    page.goto(server.url)
+    page.get_by_role("heading", name="Horde Lab").wait_for()
+    page.get_by_role("tab", name="Studies").click()
+    try:
+        yield page
+    finally:
+        context.close()
+    assert [e for e in errors if "422" not in e] == [], "errors in the browser console"
+
+
+def test_run_a_small_study_and_see_curves_bands_and_the_best(page: Page) -> None:
+    from playwright.sync_api import expect
+
+    panel = page.locator(".studies-panel")
+    panel.get_by_label("Runs per configuration").fill("3")
+    panel.get_by_label("Episodes per run").fill("60")
+    panel.get_by_label("Checkpoints").fill("3")
+    panel.get_by_role("button", name="Launch").click()
+    badge = panel.locator(".study-job .badge")
+    expect(badge).to_have_text("finished", timeout=90_000)
+    expect(panel.get_by_test_id("study-count")).to_have_text("18 of 18 tasks")
+
+    curves = panel.locator(".study-curves svg.study-chart")
+    expect(curves).to_be_visible()
+    bands = curves.locator("path.band")
+    expect(bands).to_have_count(6)  # the six configurations, each a band over its three runs
+    expect(curves.locator("path.line")).to_have_count(6)
+    # a band is drawn with a height: the runs differ, so the interval is not a line
+    box = bands.first.bounding_box()
+    assert box is not None and box["height"] > 2 and box["width"] > 100
+
+    sensitivity = panel.locator(".study-sensitivity svg.study-chart")
+    expect(sensitivity.locator("circle.point")).to_have_count(6)  # 3 alphas x 2 learners
+    expect(sensitivity.locator("path.line")).to_have_count(2)  # one curve per learner
+    assert sensitivity.locator("line.errorbar").count() >= 1
+
+    rows = panel.locator("table.study-configs tbody tr")
+    expect(rows).to_have_count(6)
+    expect(panel.locator("table.study-configs tr.best")).to_have_count(1)
+    expect(panel.locator("table.study-configs tr.best")).to_contain_text("best")
+    # sorted by error, best first; a click on the column's header reverses the order
+    expect(rows.first).to_have_class("best")
+    panel.locator("table.study-configs").get_by_role("button", name="error").click()
+    expect(rows.last).to_have_class("best")
+    # untick a configuration: its curve leaves the chart
+    rows.last.get_by_role("checkbox").uncheck()
+    expect(curves.locator("path.band")).to_have_count(5)
+
+
+def test_a_bad_axis_shows_the_servers_422_at_its_field(page: Page) -> None:
+    from playwright.sync_api import expect
+
+    panel = page.locator(".studies-panel")
+    panel.get_by_label("Axis 1: field path").fill("learning.alfa")
+    panel.get_by_role("button", name="Launch").click()
+    error = panel.locator(".field", has=page.get_by_label("Axis 1: field path")).locator(".field-error")
+    expect(error).to_contain_text("learning.alfa")
+    expect(error).to_contain_text("unknown path")
+
+
+def test_export_a_runs_history_as_csv_and_read_it_back(page: Page, server: RunningServer) -> None:
+    created = server.client.post("/api/runs", json={"scenario": "experiment1", "seed": 3})
+    run_id = created.json()["id"]
+    server.client.post(f"/api/runs/{run_id}/step", json={"steps": 40})
+    page.reload()
+    page.get_by_role("tab", name="Studies").click()
+    item = page.locator(f'.compare-list li[data-run="{run_id}"]')
+    with page.expect_download() as download_info:
+        item.get_by_role("link", name="History CSV").click()
+    download = download_info.value
+    assert download.suggested_filename == f"run-{run_id}-history.csv"
+    rows = list(csv.DictReader(io.StringIO(open(download.path(), encoding="utf-8").read())))  # noqa: SIM115
+    history = server.client.get(f"/api/runs/{run_id}/demons/steps_to_end/history").json()
+    mine = [r for r in rows if r["demon"] == "steps_to_end"]
+    assert [int(r["step"]) for r in mine] == history["step"]
+    assert [float(r["prediction"]) for r in mine] == history["prediction"]
+
+
+def test_compare_two_runs_side_by_side(page: Page, server: RunningServer) -> None:
+    from playwright.sync_api import expect
+
+    ids = []
+    for seed in (1, 2):
+        run_id = server.client.post("/api/runs", json={"scenario": "experiment1", "seed": seed}).json()["id"]
+        server.client.post(f"/api/runs/{run_id}/step", json={"steps": 30})
+        ids.append(run_id)
+    page.reload()
+    page.get_by_role("tab", name="Studies").click()
+    for run_id in ids:
+        page.locator(f'.compare-list li[data-run="{run_id}"]').get_by_role("checkbox").check()
+    page.get_by_role("button", name="Compare", exact=True).click()
+    for run_id in ids:
+        column = page.locator(f'.compare-column[data-run="{run_id}"]')
+        expect(column).to_contain_text("steps_to_end")
+        expect(column.locator("svg.study-chart path.line")).to_have_count(2)  # base and steps_to_end
