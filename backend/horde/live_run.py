@@ -54,6 +54,10 @@ MAX_BATCH = 100_000
 PUBLISH_INTERVAL = 1.0 / 60.0  # while running, views are published at most this often
 MAX_LAG = 0.1  # hz pacing: time lost beyond this is not caught up
 COMMAND_TIMEOUT = 600.0  # a command waits this long for the learner thread at most
+# The compiled kernels are compiled (or loaded from numba's cache) at their first call in a process; until
+# that call returns, a run says so instead of standing at step 0 without a word.
+PREPARING = "preparing the learning kernels (compiling them takes about a minute on a machine's first run)"
+_kernels_ready = threading.Event()
 
 
 @dataclass
@@ -284,12 +288,21 @@ class LiveRun:
         sim = self._sim
         behaviour = self._spec.behaviour
         done = 0
+        preparing = not _kernels_ready.is_set()
+        if preparing:
+            told, self._message = self._message, PREPARING
+            self._publish()
         try:
             while True:
                 batch = self._batch if steps is None else min(self._batch, steps - done)
                 episode, before = sim.episode, sim.total_steps
                 began = time.perf_counter()
                 sim.run(batch, 1, behaviour)
+                if preparing:
+                    _kernels_ready.set()
+                    preparing = False
+                    if self._message == PREPARING:
+                        self._message = told
                 taken = sim.total_steps - before
                 self._adapt_batch(taken, time.perf_counter() - began)
                 done += taken
