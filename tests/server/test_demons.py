@@ -152,3 +152,18 @@ def test_evaluate_errors(client: TestClient, create_run: Callable[..., str]) -> 
     assert "obstacle 'wall'" in messages(client.post(url, json={"demon": "steps", "from": [150, 250]}))
     assert ["body", "episodes"] in locs(client.post(url, json={"demon": "steps", "from": [0, 0], "episodes": 10**6}))
     assert ["body", "from"] in locs(client.post(url, json={"demon": "steps", "from": [0]}))
+
+
+def test_each_demon_has_its_colour_and_the_live_view_charts_it_in_that_colour(
+    client: TestClient, create_run: Callable[..., str]
+) -> None:
+    from horde.view.gui import _series
+
+    run_id = create_run()
+    client.post(f"/api/runs/{run_id}/demons", json=BUMP)
+    demons = client.get(f"/api/runs/{run_id}/demons").json()
+    colours = {d["name"]: d["colour"] for d in demons}
+    assert len(set(colours.values())) == 3, "three demons, three colours"
+    # The view charts a subset of the demons, in another order: each keeps its colour.
+    series = _series(["bump", "steps"], [d["name"] for d in demons])
+    assert [(s["label"], s.get("stroke")) for s in series[1:]] == [("bump", colours["bump"]), ("steps", colours["steps"])]

@@ -25,6 +25,7 @@ from horde.server.schemas import (
     SummaryOut,
     ValuesOut,
 )
+from horde.view.palette import demon_colour
 
 
 def finite(value: float) -> float | None:
@@ -136,8 +137,9 @@ def demons_out(view: RunView) -> list[DemonOut]:
             control=view.horde.is_control(spec.name),
             prediction=finite(prediction[view.horde.index[spec.name]]),
             metrics=metrics[spec.name],
+            colour=demon_colour(i),
         )
-        for spec in view.horde.demon_specs
+        for i, spec in enumerate(view.horde.demon_specs)
     ]
 
 

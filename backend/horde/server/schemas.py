@@ -261,6 +261,7 @@ class DemonOut(Out):
     control: bool = Field(description="a control demon (its target policy acts on its own action values)")
     prediction: MaybeFloat
     metrics: DemonMetricsOut
+    colour: str = Field(description="the demon's colour in the dashboard and the live view (#rrggbb)")
 
 
 class ValuesOut(Out):

@@ -15,18 +15,18 @@ import numpy as np
 import viser
 import viser.uplot
 
+from horde.view.palette import demon_colour
 from horde.view.source import ViewSnapshot, ViewSource
 
 MAX_DEMON_CHECKBOXES = 12  # demons that can be ticked for labels and charts (the first ones)
 DEFAULT_SHOWN = 3  # demons ticked when a run is chosen
-CHART_COLORS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f")
 
 
-def _series(names: Sequence[str]) -> tuple[viser.uplot.Series, ...]:
-    """uPlot series: the step axis, then one coloured line per demon."""
+def _series(names: Sequence[str], order: Sequence[str]) -> tuple[viser.uplot.Series, ...]:
+    """uPlot series: the step axis, then one line per demon in its colour (by its place in `order`)."""
     series: list[viser.uplot.Series] = [{"label": "step"}]
-    for k, name in enumerate(names):
-        series.append({"label": name, "stroke": CHART_COLORS[k % len(CHART_COLORS)], "width": 2})
+    for name in names:
+        series.append({"label": name, "stroke": demon_colour(order.index(name)), "width": 2})
     return tuple(series)
 
 
@@ -209,19 +209,22 @@ class ControlPanel:
         rupee = (steps, *(snapshot.history.rupee[n] for n in names))
         if self._charts is None:
             gui = self.server.gui
+            demon_order = [d.name for d in snapshot.spec.demons]
             scales: dict[str, viser.uplot.Scale] = {"x": {"time": False}}
             axes: tuple[viser.uplot.Axis, ...] = ({"label": "step"}, {"label": ""})
             self._charts = (
                 gui.add_uplot(
                     predictions,
-                    _series(names),
+                    _series(names, demon_order),
                     title="Predictions",
                     scales=scales,
                     axes=axes,
                     aspect=1.6,
                     order=30,
                 ),
-                gui.add_uplot(rupee, _series(names), title="RUPEE", scales=scales, axes=axes, aspect=1.6, order=31),
+                gui.add_uplot(
+                    rupee, _series(names, demon_order), title="RUPEE", scales=scales, axes=axes, aspect=1.6, order=31
+                ),
             )
             self._chart_names = names
         else:

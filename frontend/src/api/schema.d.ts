@@ -534,6 +534,11 @@ export interface components {
         /** DemonOut */
         DemonOut: {
             /**
+             * Colour
+             * @description the demon's colour in the dashboard and the live view (#rrggbb)
+             */
+            colour: string;
+            /**
              * Control
              * @description a control demon (its target policy acts on its own action values)
              */
