@@ -187,4 +187,5 @@ def evaluation_out(evaluation: Evaluation) -> EvaluationOut:
         cap=truth.cap,
         capped=truth.capped,
         seed=evaluation.seed,
+        exact=finite(evaluation.exact) if evaluation.exact is not None else None,
     )

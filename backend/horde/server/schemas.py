@@ -307,3 +307,6 @@ class EvaluationOut(Out):
     cap: int
     capped: int = Field(description="rollouts still running at the cap")
     seed: int
+    exact: MaybeFloat = Field(
+        default=None, description="the exact answer at `from` on a small lattice world (no noise), else null"
+    )

@@ -761,6 +761,11 @@ export interface components {
              * @description prediction - truth
              */
             error: number | null;
+            /**
+             * Exact
+             * @description the exact answer at `from` on a small lattice world (no noise), else null
+             */
+            exact?: number | null;
             /** From */
             from: number[];
             /** Prediction */

@@ -101,6 +101,12 @@ export async function stepRun(store: AppStore, runId: string, steps: number): Pr
   await refreshRuns(store);
 }
 
+/** PATCH /api/runs/{id} {hz}: steps per second, or null for full speed. */
+export async function setRunSpeed(store: AppStore, runId: string, hz: number | null): Promise<void> {
+  await unwrap(api.PATCH("/api/runs/{run_id}", { params: { path: { run_id: runId } }, body: { hz } }));
+  await refreshRuns(store);
+}
+
 export async function deleteRun(store: AppStore, runId: string): Promise<void> {
   await unwrap(api.DELETE("/api/runs/{run_id}", { params: { path: { run_id: runId } } }));
   if (store.state.selectedRunId === runId) clearSelection(store);

@@ -98,7 +98,9 @@ export function demonEditor(store: AppStore): HTMLElement {
           : `Adds the demon to run ${runLabel(run)} (${run.status}); it learns from the next step on.`;
     const world = run?.spec.world ?? {};
     const names = demons.map((d) => d.name);
-    const context: ExprContext = { sensors: sensorNames(world), regions: regionNames(world), demons: names };
+    // The agent is never inside an obstacle: "1 in region" offers the regions it can enter.
+    const regions = regionNames(world, ["terminal", "zone", "indicator"]);
+    const context: ExprContext = { sensors: sensorNames(world), regions, demons: names };
     for (const expr of exprs) expr.setContext(context);
     policy.setDemons(names);
     replaceChildren(

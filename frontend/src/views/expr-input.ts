@@ -114,7 +114,16 @@ export function exprInput(label: string, path: string, errors: FormErrors, initi
     "div",
     { class: "field expr" },
     h("label", { for: id }, label),
-    h("div", { class: "expr-row" }, kind, constant, sensor, region, demon, json),
+    h(
+      "div",
+      { class: "expr-row", oninput: () => errors.clearField(path), onchange: () => errors.clearField(path) },
+      kind,
+      constant,
+      sensor,
+      region,
+      demon,
+      json,
+    ),
     message,
   );
   return { element, read, set, setContext };
