@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 import time
-
-import pytest
 from collections.abc import Callable
 
+import pytest
 from fastapi.testclient import TestClient
 
 from horde.server import Settings, create_app
@@ -168,7 +167,8 @@ def test_each_demon_has_its_colour_and_the_live_view_charts_it_in_that_colour(
     assert len(set(colours.values())) == 3, "three demons, three colours"
     # The view charts a subset of the demons, in another order: each keeps its colour.
     series = _series(["bump", "steps"], [d["name"] for d in demons])
-    assert [(s["label"], s.get("stroke")) for s in series[1:]] == [("bump", colours["bump"]), ("steps", colours["steps"])]
+    strokes = [(s["label"], s.get("stroke")) for s in series[1:]]
+    assert strokes == [("bump", colours["bump"]), ("steps", colours["steps"])]
 
 
 def test_evaluate_gives_the_exact_answer_on_a_lattice_world(client: TestClient) -> None:
