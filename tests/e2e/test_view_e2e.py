@@ -61,8 +61,11 @@ def test_the_agent_moves_in_the_browser_when_the_run_steps(live: tuple[LiveView,
             assert [x, y] == pytest.approx(drawn_at(world, 0.0, 0.0))  # experiment1 starts at (0, 0)
             assert z == pytest.approx(agent_radius(spec.world))
 
-            # Step with the GUI's button until the agent has left its start (a bump leaves it there).
+            # The panel starts minimized (embedded, it would cover the world): one click opens it.
             step = page.get_by_role("button", name="Step", exact=True)
+            assert not step.is_visible()
+            page.get_by_role("button", name="Expand panel").click()
+            # Step with the GUI's button until the agent has left its start (a bump leaves it there).
             for _ in range(30):
                 before = source.snapshot(run).total_steps
                 step.click()

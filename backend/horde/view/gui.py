@@ -67,6 +67,9 @@ class ControlPanel:
     def _build(self) -> None:
         gui = self.server.gui
         gui.configure_theme(control_width="large")
+        # Minimized to a bar at first: embedded in the dashboard the panel would cover half the world, and
+        # the dashboard has the same controls; one click on the bar opens it.
+        gui.main_panel.minimize()
         self.run = gui.add_dropdown("Run", ("(none)",), order=0)
         self.run.on_update(lambda _: self._select_run(self._run_ids.get(self.run.value)))
         self.status = gui.add_text("Status", "", disabled=True, order=1)

@@ -8,7 +8,7 @@ import { startPoint } from "../lib/world";
 import type { AppStore } from "./state";
 
 /** At most this many demons are charted when a run is selected; the user picks others in the table. */
-const DEFAULT_CHARTED = 3;
+const DEFAULT_CHARTED = 12;
 
 export function notify(store: AppStore, text: string, kind: "info" | "error" = "info"): void {
   store.update({ notice: { text, kind } });

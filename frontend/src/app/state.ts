@@ -35,6 +35,10 @@ export interface AppState {
   liveView: LiveView;
   tab: Tab;
   notice: Notice | null;
+  /** classroom mode: every demon charted, the guided tour on offer */
+  classroom: boolean;
+  /** "Large text" for a projector: the page, the charts and the embedded view scale up */
+  large: boolean;
 }
 
 export function createStore(): Store<AppState> {
@@ -53,6 +57,8 @@ export function createStore(): Store<AppState> {
     liveView: { state: "unknown" },
     tab: "live",
     notice: null,
+    classroom: false,
+    large: false,
   });
 }
 

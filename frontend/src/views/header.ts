@@ -9,7 +9,7 @@ import { h, setText } from "../ui/dom";
 
 const LARGE_KEY = "horde-lab-large-text";
 
-export function header(store: AppStore): HTMLElement {
+export function header(store: AppStore, openHelp: () => void): HTMLElement {
   const runName = h("span", { class: "run-name" });
   const status = h("span", { class: "badge" });
   const episode = h("span", { dataset: { testid: "episode" } });
@@ -32,6 +32,7 @@ export function header(store: AppStore): HTMLElement {
   const setLarge = (on: boolean) => {
     document.documentElement.classList.toggle("large", on);
     large.setAttribute("aria-pressed", String(on));
+    store.update({ large: on });
     try {
       localStorage.setItem(LARGE_KEY, on ? "1" : "");
     } catch {
@@ -105,6 +106,12 @@ export function header(store: AppStore): HTMLElement {
     h("h1", {}, "Horde Lab"),
     runStatus,
     notice,
-    h("div", { class: "tools" }, large, tokenBox),
+    h(
+      "div",
+      { class: "tools" },
+      h("button", { type: "button", onclick: openHelp, "aria-keyshortcuts": "?" }, "Help (?)"),
+      large,
+      tokenBox,
+    ),
   );
 }
