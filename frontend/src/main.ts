@@ -10,6 +10,7 @@ import { watchProtocol, watchRuns, watchSelectedRun } from "./app/watch";
 import { h } from "./ui/dom";
 import { charts } from "./views/charts";
 import { demonEditor } from "./views/demon-editor";
+import { demonOverview } from "./views/demon-overview";
 import { demonTable } from "./views/demon-table";
 import { header } from "./views/header";
 import { help } from "./views/help";
@@ -32,6 +33,7 @@ const live = h(
   { class: "live" },
   liveToolbar(store, guide.start),
   demonTable(store),
+  demonOverview(store),
   runResults(store),
   h("div", { class: "live-bottom" }, charts(store), viserEmbed(store)),
 );
