@@ -288,7 +288,8 @@ class LiveRun:
         sim = self._sim
         behaviour = self._spec.behaviour
         done = 0
-        preparing = not _kernels_ready.is_set()
+        # Said while running; a step command's caller waits for its answer anyway.
+        preparing = not _kernels_ready.is_set() and self._status == "running"
         if preparing:
             told, self._message = self._message, PREPARING
             self._publish()

@@ -250,8 +250,13 @@ class StateOut(Out):
     episode_step: int
     episode_return: MaybeFloat
     last_return: MaybeFloat
-    predictions: dict[str, MaybeFloat] = Field(description="each demon's prediction at the agent's state")
+    predictions: dict[str, MaybeFloat] = Field(
+        description="each demon's prediction at the agent's state (a stream message of a large Horde: some of them)"
+    )
     metrics: dict[str, DemonMetricsOut]
+    demon_total: int = Field(
+        default=0, description="the run's demons; a stream message carries at most 200 of them, the next ones in turn"
+    )
     events: list[EventOut] = Field(description="recent events (a stream message: those since the last message)")
 
 

@@ -1430,6 +1430,12 @@ export interface components {
          */
         StateOut: {
             agent: components["schemas"]["AgentOut"];
+            /**
+             * Demon Total
+             * @description the run's demons; a stream message carries at most 200 of them, the next ones in turn
+             * @default 0
+             */
+            demon_total: number;
             /** Episode */
             episode: number;
             /** Episode Return */
@@ -1453,7 +1459,7 @@ export interface components {
             };
             /**
              * Predictions
-             * @description each demon's prediction at the agent's state
+             * @description each demon's prediction at the agent's state (a stream message of a large Horde: some of them)
              */
             predictions: {
                 [key: string]: number | null;
