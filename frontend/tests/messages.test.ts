@@ -40,3 +40,18 @@ describe("humanMessage", () => {
     expect(humanMessage(problem)).toBe("Choose one of: gq or gtd.");
   });
 });
+
+describe("humanMessage without ctx", () => {
+  it("reads the limit from pydantic's message", () => {
+    const ge = { type: "greater_than_equal", msg: "Input should be greater than or equal to 1" };
+    expect(humanMessage(ge)).toBe("Must be 1 or more.");
+    expect(humanMessage({ type: "less_than_equal", msg: "Input should be less than or equal to 0.5" })).toBe(
+      "Must be 0.5 or less.",
+    );
+    const short = { type: "too_short", msg: "List should have at least 4 items after validation, not 3" };
+    expect(humanMessage(short)).toBe("Needs at least 4 items.");
+    expect(humanMessage({ type: "literal_error", msg: "Input should be 'a' or 'b'" })).toBe(
+      "Input should be 'a' or 'b'",
+    );
+  });
+});

@@ -1,5 +1,6 @@
 import { describe, expect, it } from "vitest";
-import { FULL_SPEED, formatDuration, matchesFilter, runDuration, speedChoice } from "../src/lib/runs";
+import { formatDuration } from "../src/lib/protocol";
+import { FULL_SPEED, matchesFilter, runDuration, speedChoice } from "../src/lib/runs";
 
 describe("runDuration", () => {
   it("is the thesis's 6.5 hours at 20 steps a second, seconds at full speed", () => {
@@ -7,16 +8,6 @@ describe("runDuration", () => {
     expect(runDuration(10_000, 100, 20, 200_000)).toBe(50_000);
     expect(formatDuration(runDuration(10_000, 100, 20, 200_000))).toBe("13 h 53 min");
     expect(runDuration(10_000, 100, null, 200_000)).toBe(5);
-  });
-});
-
-describe("formatDuration", () => {
-  it("reads in the largest units", () => {
-    expect(formatDuration(0.2)).toBe("under a second");
-    expect(formatDuration(45)).toBe("45 s");
-    expect(formatDuration(200)).toBe("3 min 20 s");
-    expect(formatDuration(3600)).toBe("1 h");
-    expect(formatDuration(3 * 86400)).toBe("3 days");
   });
 });
 

@@ -426,7 +426,7 @@ def test_run_experiment3_from_the_protocol_tab(page: Page, server: Server, conso
     panel.get_by_role("button", name="Run").click()
     message = panel.locator(".field", has=page.get_by_label("Trials")).locator(".field-error")
     message.wait_for()
-    assert "greater than or equal to 1" in message.inner_text()
+    assert message.inner_text() == "Must be 1 or more."
 
     # 1 trial x 300 episodes: a progress bar while it runs, then horde run's table.
     panel.get_by_label("Trials").fill("1")

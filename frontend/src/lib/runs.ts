@@ -1,6 +1,6 @@
 /** Runs in the list: their speed choices, the filter, and how long a run will take at a speed. */
 import type { RunBrief } from "../api/types";
-import { formatCount, formatNumber } from "./format";
+import { formatNumber } from "./format";
 
 /** The speed select's value for "as fast as possible" (hz null on the wire). */
 export const FULL_SPEED = "full";
@@ -29,19 +29,6 @@ export function matchesFilter(run: Pick<RunBrief, "id" | "name" | "status" | "de
   if (words.length === 0) return true;
   const text = [run.name ?? "", run.id, run.status, ...run.demons].join(" ").toLowerCase();
   return words.every((word) => text.includes(word));
-}
-
-/** "6 h 57 min", "3 min 20 s", "45 s", "under a second". */
-export function formatDuration(seconds: number): string {
-  if (!Number.isFinite(seconds)) return "–";
-  if (seconds < 1) return "under a second";
-  const s = Math.round(seconds);
-  if (s < 60) return `${s} s`;
-  const minutes = Math.floor(s / 60);
-  if (minutes < 60) return `${minutes} min${s % 60 ? ` ${s % 60} s` : ""}`;
-  const hours = Math.floor(minutes / 60);
-  if (hours < 48) return `${hours} h${minutes % 60 ? ` ${minutes % 60} min` : ""}`;
-  return `${formatCount(hours / 24)} days`;
 }
 
 /** A protocol this long (in steps, at most) is better run at full speed than watched. */

@@ -9,7 +9,8 @@ import { ApiError, api, unwrap } from "../api/client";
 import type { RunTemplate } from "../api/types";
 import { runLabel } from "../lib/format";
 import { readNumber, readOptionalNumber } from "../lib/parse";
-import { WATCHABLE_SECONDS, formatDuration, runDuration } from "../lib/runs";
+import { formatDuration } from "../lib/protocol";
+import { WATCHABLE_SECONDS, runDuration } from "../lib/runs";
 import { h, options, replaceChildren, setText } from "../ui/dom";
 import { FormErrors, checkbox, field, numberInput, textInput } from "../ui/form";
 
