@@ -229,6 +229,8 @@ export async function refreshProtocol(store: AppStore): Promise<void> {
   if (store.state.protocol?.id !== job.id) return;
   store.update({ protocol: job });
   if (shown.status === "running" && job.status !== "running") {
+    // Its results join the table of every job.
+    store.update({ protocols: [...store.state.protocols.filter((j) => j.id !== job.id), job] });
     const name = job.name ?? "the protocol";
     if (job.status === "failed") notify(store, `Protocol ${name} failed: ${job.error}`, "error");
     else notify(store, `Protocol ${name} ${job.status}.`);
@@ -249,6 +251,7 @@ export async function cancelProtocol(store: AppStore): Promise<void> {
  */
 export async function loadProtocols(store: AppStore): Promise<Protocol | null> {
   const jobs = await unwrap(api.GET("/api/protocols")); // oldest first
+  store.update({ protocols: jobs });
   const job = jobs.filter((j) => j.status === "running").at(-1) ?? jobs.at(-1) ?? null;
   if (job !== null && job.id !== store.state.protocol?.id) {
     // Begun before this page knew of it: its elapsed time counts from the server's clock.

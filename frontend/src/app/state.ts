@@ -28,6 +28,8 @@ export interface AppState {
   charted: string[];
   scenarios: Scenario[];
   worlds: WorldRecord[];
+  /** every protocol job the server keeps, oldest first (the Protocol tab's table of results) */
+  protocols: Protocol[];
   /** the protocol job the Protocol tab shows (the server's latest answer about it) */
   protocol: Protocol | null;
   /** when that job began, by this browser's clock (ms since the epoch), for its elapsed time */
@@ -52,6 +54,7 @@ export function createStore(): Store<AppState> {
     charted: [],
     scenarios: [],
     worlds: [],
+    protocols: [],
     protocol: null,
     protocolStartedAt: null,
     liveView: { state: "unknown" },
