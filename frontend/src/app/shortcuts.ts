@@ -1,18 +1,20 @@
 /**
  * Keyboard shortcuts (listed in the Help panel): Space start/pause, s step, r reset, c classroom mode,
- * ? help. None fires while the focus is in a field, a select or on a button (where the keys mean
- * typing or pressing), nor with a modifier held.
+ * ? help. None fires while the focus is in a field or a select (where the keys are typing), nor with a
+ * modifier held; Space is the button's own while the focus is on one.
  */
 import { attempt, commandRun, stepRun } from "./actions";
 import type { AppStore } from "./state";
 
-const TYPING = new Set(["INPUT", "SELECT", "TEXTAREA", "BUTTON", "SUMMARY", "A"]);
+const TYPING = new Set(["INPUT", "SELECT", "TEXTAREA"]);
+const PRESSABLE = new Set(["BUTTON", "SUMMARY", "A"]);
 
 export function installShortcuts(store: AppStore, openHelp: () => void, stepSize: () => number): void {
   document.addEventListener("keydown", (event) => {
     if (event.ctrlKey || event.metaKey || event.altKey || event.defaultPrevented) return;
     const target = event.target as HTMLElement | null;
     if (target && (TYPING.has(target.tagName) || target.isContentEditable)) return;
+    if (target && PRESSABLE.has(target.tagName) && (event.key === " " || event.key === "Enter")) return;
     if (document.querySelector("dialog[open]") && event.key !== "?") return;
     const runId = store.state.selectedRunId;
     const status = store.state.live?.status ?? store.state.runs.find((r) => r.id === runId)?.status;
