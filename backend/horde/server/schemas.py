@@ -169,6 +169,9 @@ class ViewIn(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     run: str = Field(min_length=1, max_length=64, description="the run the live view should show")
+    demons: list[Name] | None = Field(
+        default=None, max_length=12, description="the demons to label and chart (the first ones by default)"
+    )
 
 
 class ScenarioOut(Out):

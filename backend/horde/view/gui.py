@@ -19,6 +19,7 @@ from horde.view.palette import demon_colour
 from horde.view.source import ViewSnapshot, ViewSource
 
 MAX_DEMON_CHECKBOXES = 12  # demons that can be ticked for labels and charts (the first ones)
+MAX_SHOWN = 12  # demons labelled and charted at once (the dashboard may choose them among thousands)
 DEFAULT_SHOWN = 3  # demons ticked when a run is chosen
 
 
@@ -57,6 +58,7 @@ class ControlPanel:
         self._run_ids: dict[str, str] = {}  # dropdown option -> run id
         self._demon_handles: list[viser.GuiDropdownHandle[str] | viser.GuiFolderHandle] = []
         self._checkboxes: dict[str, viser.GuiCheckboxHandle] = {}
+        self._ticking = False
         self._charts: tuple[viser.GuiUplotHandle, viser.GuiUplotHandle] | None = None
         self._chart_names: tuple[str, ...] = ()
         self._build()
@@ -149,7 +151,7 @@ class ControlPanel:
         gui = self.server.gui
         with self.lock:  # keep what is still there (demons joined or left), else the first ones
             self.value_demon = self.value_demon if self.value_demon in names else (names[0] if names else None)
-            ticked = [name for name in self.shown if name in names[:MAX_DEMON_CHECKBOXES]]
+            ticked = [name for name in self.shown if name in names]
             self.shown = tuple(ticked or names[:DEFAULT_SHOWN])
         if self.value_demon is None:
             return
@@ -164,12 +166,29 @@ class ControlPanel:
                 self._checkboxes[name] = box
         self._demon_handles.append(folder)
 
+    def show_demons(self, names: Sequence[str]) -> None:
+        """Label and chart these demons (the dashboard's selection; the first MAX_SHOWN of them)."""
+        with self.lock:
+            self.shown = tuple(dict.fromkeys(names))[:MAX_SHOWN]
+        self._ticking = True  # the boxes follow; their callbacks must not undo the choice half-way
+        try:
+            for name, box in self._checkboxes.items():
+                _set(box, name in self.shown)
+        finally:
+            self._ticking = False
+        self.changed.set()
+
     def _set_value_demon(self, name: str) -> None:
         self.value_demon = name
         self.changed.set()
 
     def _set_shown(self) -> None:
-        self.shown = tuple(name for name, box in self._checkboxes.items() if box.value)
+        if self._ticking:
+            return
+        # A tick changes the demons with boxes; those beyond them that the dashboard chose stay.
+        beyond = tuple(name for name in self.shown if name not in self._checkboxes)
+        ticked = tuple(name for name, box in self._checkboxes.items() if box.value)
+        self.shown = (ticked + beyond)[:MAX_SHOWN]
         self.changed.set()
 
     def _sync_speed(self, snapshot: ViewSnapshot) -> None:

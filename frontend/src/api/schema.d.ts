@@ -1593,6 +1593,11 @@ export interface components {
         /** ViewIn */
         ViewIn: {
             /**
+             * Demons
+             * @description the demons to label and chart (the first ones by default)
+             */
+            demons?: string[] | null;
+            /**
              * Run
              * @description the run the live view should show
              */

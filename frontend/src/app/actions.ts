@@ -5,7 +5,10 @@
 import { ApiError, api, errorMessage, unwrap } from "../api/client";
 import type { Demon, DemonSpec, Protocol, Run, RunTemplate } from "../api/types";
 import { startPoint } from "../lib/world";
-import type { AppStore } from "./state";
+import { type AppStore, chartedDemons } from "./state";
+
+/** The live view labels and charts at most this many demons: the first charted ones. */
+const VIEW_DEMONS = 12;
 
 /** At most this many demons are charted when a run is selected; the user picks others in the table. */
 const DEFAULT_CHARTED = 12;
@@ -200,8 +203,11 @@ export async function loadLiveView(store: AppStore): Promise<void> {
  */
 export async function showInLiveView(store: AppStore, runId: string): Promise<void> {
   if (store.state.liveView.state !== "on") return;
+  // The dashboard's choice of demons, once the run's demons are known (else the view's own first ones).
+  const demons = store.state.selectedRunId === runId ? chartedDemons(store.state).slice(0, VIEW_DEMONS) : [];
   try {
-    const shown = await unwrap(api.POST("/api/view", { body: { run: runId } }));
+    const body = demons.length > 0 ? { run: runId, demons } : { run: runId };
+    const shown = await unwrap(api.POST("/api/view", { body }));
     const view = store.state.liveView;
     if (view.state === "on") store.update({ liveView: { ...view, run: shown.run ?? null } });
   } catch (error) {

@@ -66,3 +66,12 @@ export function createStore(): Store<AppState> {
 }
 
 export type AppStore = Store<AppState>;
+
+/** Charts at most this many demons at once (the selection in the table picks among thousands). */
+export const MAX_MULTIPLES = 48;
+
+/** The demons to chart: every demon in classroom mode (the first MAX_MULTIPLES), else the ticked ones. */
+export function chartedDemons(state: Readonly<AppState>): string[] {
+  const names = state.classroom ? state.demons.map((d) => d.name) : state.charted;
+  return names.slice(0, MAX_MULTIPLES);
+}

@@ -6,8 +6,8 @@
 import { ApiError } from "../api/client";
 import { RunStream } from "../api/stream";
 import type { RunState } from "../api/types";
-import { attempt, notify, refreshProtocol, refreshRuns, reloadSelectedRun } from "./actions";
-import type { AppState, AppStore } from "./state";
+import { attempt, notify, refreshProtocol, refreshRuns, reloadSelectedRun, showInLiveView } from "./actions";
+import { type AppState, type AppStore, chartedDemons } from "./state";
 
 const RUNS_PERIOD_MS = 1000;
 const PROTOCOL_PERIOD_MS = 250;
@@ -97,6 +97,25 @@ export function mergeWindow(
     if (m !== undefined) metrics[name] = m;
   }
   return { ...message, predictions, metrics };
+}
+
+/** The live view labels the demons the dashboard charts: told again when the choice changes. */
+export function watchChartedForView(store: AppStore): void {
+  let timer: number | undefined;
+  let told = "";
+  store.subscribe(
+    (state) => {
+      const runId = state.selectedRunId;
+      const key = `${runId}|${chartedDemons(state).slice(0, 12).join(",")}`;
+      if (runId === null || key === told || state.liveView.state !== "on") return;
+      window.clearTimeout(timer);
+      timer = window.setTimeout(() => {
+        told = key;
+        void attempt(store, () => showInLiveView(store, runId));
+      }, 300);
+    },
+    ["charted", "classroom", "demons"],
+  );
 }
 
 export function watchProtocol(store: AppStore): void {

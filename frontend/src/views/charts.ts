@@ -1,20 +1,20 @@
 /**
  * Small multiples (uPlot): one chart per charted demon, each with its own y-axis, the demon's prediction
- * over the steps in its colour, and its truth as a dashed line (exact on a small lattice world, else the
- * Monte-Carlo mean with its 95 % band) once evaluated. Classroom mode charts every demon (up to
+ * (where the agent is) over the steps in its colour, and, once evaluated, its truth from the start state
+ * as a dashed line (exact on a small lattice world, else the Monte-Carlo mean with its 95 % band) with
+ * the prediction there named beside it. Classroom mode charts every demon (up to
  * MAX_MULTIPLES); otherwise the demons ticked in the table. Each chart is sized by its grid cell, never
  * by its content, so the page cannot grow sideways; the fonts follow "Large text".
  */
 import uPlot from "uplot";
 import "uplot/dist/uPlot.min.css";
-import type { AppState, AppStore } from "../app/state";
+import { type AppState, type AppStore, chartedDemons } from "../app/state";
 import { api, unwrap } from "../api/client";
 import type { Evaluation, History } from "../api/types";
+import { formatNumber } from "../lib/format";
 import { alignHistories } from "../lib/series";
 import { h, replaceChildren, setText } from "../ui/dom";
 
-/** Charts at most this many demons at once (the selection in the table picks among thousands). */
-export const MAX_MULTIPLES = 48;
 const REFRESH_MS = 1000;
 const FALLBACK_COLOUR = "#0072B2";
 
@@ -26,12 +26,6 @@ interface Multiple {
   plot: uPlot | null;
   /** what the plot was built for (colour, truth, font size): rebuilt when it changes */
   key: string;
-}
-
-/** The demons to chart: every demon in classroom mode (the first MAX_MULTIPLES), else the ticked ones. */
-export function chartedDemons(state: Readonly<AppState>): string[] {
-  const names = state.classroom ? state.demons.map((d) => d.name) : state.charted;
-  return names.slice(0, MAX_MULTIPLES);
 }
 
 export function charts(store: AppStore): HTMLElement {
@@ -57,7 +51,7 @@ export function charts(store: AppStore): HTMLElement {
         ? "Tick “chart” under a demon’s name in the table, or switch on classroom mode, to follow it here."
         : all > names.length
           ? `The first ${names.length} of ${all} demons; pick others with “chart” in the table.`
-          : "Each chart has its own scale. Dashed: the truth once evaluated (exact, or Monte-Carlo with its 95 % band).",
+          : "Each chart has its own scale. Solid: the prediction where the agent is. Dashed, once evaluated: the truth from the start (exact, or Monte-Carlo with its 95 % band), and the caption gives the prediction there.",
     );
     for (const [name, multiple] of multiples) {
       if (!names.includes(name)) {
@@ -164,8 +158,8 @@ function draw(multiple: Multiple, history: History, state: Readonly<AppState>): 
     : [steps, values];
   setText(
     multiple.caption,
-    truth
-      ? `${multiple.demon}: truth ${truth[0].toFixed(3)}${evaluation?.exact != null ? " (exact)" : ` ± ${(truth[2] - truth[0]).toFixed(3)}`}`
+    truth && evaluation
+      ? `${multiple.demon} · at the start: truth ${formatNumber(truth[0])}${evaluation.exact != null ? " (exact)" : ` ± ${formatNumber(truth[2] - truth[0])}`}, prediction ${formatNumber(evaluation.prediction)}`
       : multiple.demon,
   );
   multiple.caption.style.borderLeftColor = colour;

@@ -24,7 +24,7 @@ export const STOPS: Stop[] = [
   {
     target: ".charts-panel",
     title: "One chart per demon",
-    text: "Each demon's prediction over the steps, on its own scale. Press Evaluate in the table and a dashed line shows the truth: watch the prediction settle on it.",
+    text: "Each demon's prediction where the agent stands, step by step, on its own scale. Press Evaluate in the table: a dashed line shows the true answer from the start, and the caption the demon's prediction there. Evaluate again later and watch the two meet.",
   },
   {
     target: ".demons-panel",
