@@ -10,6 +10,7 @@ from __future__ import annotations
 import time
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
+from urllib.parse import urlparse
 
 import pytest
 
@@ -65,7 +66,8 @@ def new_page(browser: Browser, width: int, height: int, *scripts: str) -> tuple[
     errors: list[str] = []
 
     def on_console(message: Any) -> None:
-        if message.type == "error" and page.main_frame.url.split("/")[2] in message.location.get("url", ""):
+        host = urlparse(page.main_frame.url).netloc
+        if message.type == "error" and (not host or host in message.location.get("url", "")):
             errors.append(f"{message.text} ({message.location.get('url', '')})")
 
     page.on("console", on_console)
