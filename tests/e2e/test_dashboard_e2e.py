@@ -323,7 +323,10 @@ def test_the_viser_view_is_embedded_and_follows_the_selected_run(page: Page, ser
     assert page.frame_locator("iframe.viser-frame").get_by_text("viser here").is_visible()
     run_id = server.create_run()
     select_run(page, run_id)
-    wait_until(lambda: shown == [{"run": run_id}], what="POST /api/view with the selected run")
+    # With the demons it charts, which the view labels too (prediction demons first).
+    wanted = {"run": run_id, "demons": ["steps_to_end", "base"]}
+    wait_until(lambda: wanted in shown, what="POST /api/view with the selected run and its charted demons")
+    assert all(body["run"] == run_id for body in shown)
 
 
 def test_the_live_view_of_a_real_server_follows_the_selected_run(

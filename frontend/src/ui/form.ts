@@ -3,6 +3,7 @@
  * request field it edits, so that a 422's problems appear next to the field they concern.
  */
 import type { ValidationProblem } from "../api/types";
+import { type Term, tip } from "../lib/glossary";
 import { placeProblems } from "../lib/field-errors";
 import { h, replaceChildren, uid } from "./dom";
 
@@ -119,6 +120,8 @@ export interface FieldOptions {
   errors?: FormErrors;
   hint?: string;
   class?: string;
+  /** a word of the Horde papers: the label explains it in its tooltip */
+  term?: Term;
 }
 
 /** A label, its control, an optional hint and the place for the field's error message. */
@@ -130,11 +133,18 @@ export function field(label: string, control: Control, opts: FieldOptions = {}):
   return h(
     "div",
     { class: `field ${opts.class ?? ""}` },
-    h("label", { for: control.id }, label),
+    termLabel(label, control.id, opts.term),
     control,
     hint,
     message,
   );
+}
+
+/** A label; given a term, dotted and explained in its tooltip. */
+export function termLabel(label: string, forId: string, term?: Term): HTMLLabelElement {
+  return term
+    ? h("label", { for: forId, title: tip(term) }, h("span", { class: "term" }, label))
+    : h("label", { for: forId }, label);
 }
 
 /** A checkbox with its label after it. */

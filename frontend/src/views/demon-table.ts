@@ -343,7 +343,7 @@ export function demonTable(store: AppStore): HTMLElement {
       h(
         "div",
         { class: "row tight" },
-        field("Rollouts per evaluation", rollouts, { class: "inline-field" }),
+        field("Rollouts per evaluation", rollouts, { class: "inline-field", term: "truth" }),
         evaluateAll,
       ),
     ),

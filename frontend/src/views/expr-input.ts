@@ -14,8 +14,9 @@ import {
 } from "../lib/expr";
 import { InputError } from "../lib/input-error";
 import { readNumber } from "../lib/parse";
+import { GLOSSARY, type Term } from "../lib/glossary";
 import { h, options, replaceChildren, uid } from "../ui/dom";
-import type { FormErrors } from "../ui/form";
+import { type FormErrors, termLabel } from "../ui/form";
 
 export interface ExprContext {
   sensors: string[];
@@ -113,7 +114,7 @@ export function exprInput(label: string, path: string, errors: FormErrors, initi
   const element = h(
     "div",
     { class: "field expr" },
-    h("label", { for: id }, label),
+    path in GLOSSARY ? termLabel(label, id, path as Term) : h("label", { for: id }, label),
     h(
       "div",
       { class: "expr-row", oninput: () => errors.clearField(path), onchange: () => errors.clearField(path) },

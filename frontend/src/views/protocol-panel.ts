@@ -13,6 +13,7 @@ import type { AppState, AppStore } from "../app/state";
 import { ApiError, api, unwrap } from "../api/client";
 import type { Protocol, RunTemplate } from "../api/types";
 import { countsTable, protocolProgress, protocolSummary, protocolTitle, resultRows } from "../lib/protocol";
+import { tip } from "../lib/glossary";
 import { jobsTable } from "./protocol-jobs";
 import { scenarioGroups } from "../lib/protocol-jobs";
 import { readOptionalNumber } from "../lib/parse";
@@ -21,6 +22,12 @@ import { FormErrors, field, numberInput } from "../ui/form";
 
 const DEFAULT_SCENARIO = "experiment1";
 const GROUP = "group:";
+const HEAD_TIPS: Record<string, string | undefined> = {
+  demon: tip("demon"),
+  prediction: tip("prediction"),
+  "truth (MC) ± se": tip("truth"),
+  thesis: tip("thesis"),
+};
 const BUSY_MESSAGE = "One protocol at a time: another one is running already (shown below). Wait for it, or cancel it.";
 
 export function protocolPanel(store: AppStore): HTMLElement {
@@ -259,7 +266,7 @@ export function protocolPanel(store: AppStore): HTMLElement {
         "div",
         { class: "row protocol-fields" },
         field("Scenario", scenario, { path: "scenario", errors, class: "wide" }),
-        field("Trials", trials, { path: "protocol.trials", errors }),
+        field("Trials", trials, { path: "protocol.trials", errors, term: "protocol" }),
         field("Episodes per trial", episodes, { path: "protocol.episodes", errors, class: "episodes-field" }),
         field("Seed", seed, { path: "seed", errors }),
         h("div", { class: "submit-cell" }, submit),
@@ -284,7 +291,13 @@ function resultsTables(job: Protocol): HTMLElement[] {
       h(
         "tr",
         {},
-        labels.map((label, i) => h("th", { scope: "col", class: i ? "num" : "" }, label)),
+        labels.map((label, i) =>
+          h(
+            "th",
+            { scope: "col", class: i ? "num" : "", title: HEAD_TIPS[label] },
+            HEAD_TIPS[label] ? h("span", { class: "term" }, label) : label,
+          ),
+        ),
       ),
     );
   const tables: HTMLElement[] = [
