@@ -35,7 +35,7 @@ const live = h(
   demonTable(store),
   demonOverview(store),
   runResults(store),
-  h("div", { class: "live-bottom" }, charts(store), viserEmbed(store)),
+  h("div", { class: "live-bottom" }, viserEmbed(store), charts(store)),
 );
 
 const app = h(

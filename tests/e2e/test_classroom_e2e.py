@@ -7,12 +7,14 @@ One server with the viser live view serves every test here; screenshots go to te
 
 from __future__ import annotations
 
+import contextlib
 import time
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 from urllib.parse import urlparse
 
 import pytest
+from playwright.sync_api import Error as PlaywrightError
 
 from horde.server import Settings
 
@@ -88,6 +90,7 @@ def select(page: Page, server: RunningServer, run_id: str) -> None:
     page.locator(f'li.run-item.selected[data-run="{run_id}"]').wait_for()
 
 
+AGENT_NODE = """() => !!window.__viserMutable?.nodeRefFromName?.["/agent"]"""
 # Widths that must not grow: the page's, and the widest chart's.
 WIDTHS = """() => ({
     page: document.documentElement.scrollWidth,
@@ -131,10 +134,25 @@ def test_three_screen_sizes_with_large_text_grow_nothing_and_cover_no_world(
             now = page.evaluate(WIDTHS)
             assert now["page"] <= width, f"{width} px: the page grew sideways to {now['page']} px"
             assert now["charts"] <= first[width]["charts"] + 1, f"{width} px: a chart grew: {first[width]} -> {now}"
+    view_url = server.client.get("/api/view").json()["url"]
     for width, page, errors in pages:
         assert page.evaluate("document.documentElement.classList.contains('large')")
         assert first[width]["count"] >= 6, "classroom mode charts every demon of the classroom scenario"
         assert page.evaluate(COVERING) == [], f"{width} px: something covers the live view's world"
+        # For the pictures: the view drawn, and the truth beside the predictions.
+        frame = next(f for f in page.frames if f.url.startswith(view_url))
+        frame.wait_for_function(AGENT_NODE, timeout=30_000)
+        # Inside the frame: wide enough for the viser client's desktop layout (its phone layout lays the
+        # panel over the world), and its panel minimized to a bar.
+        assert frame.evaluate("innerWidth") > 576, f"{width} px: the embedded view gets its phone layout"
+        assert frame.get_by_role("button", name="Expand panel").count() == 1, f"{width} px: the view's panel is open"
+        # The "software WebGL" notice of a GPU-less browser, closed for the picture where it lets itself be.
+        for close in page.frame_locator("iframe.viser-frame").locator(".mantine-Notification-root button").all():
+            with contextlib.suppress(PlaywrightError):
+                close.click(timeout=2000)
+        if width == 1440:
+            page.get_by_role("button", name="Evaluate all").click()
+            page.locator(".chart figcaption", has_text="at the start").nth(5).wait_for(timeout=60_000)
         page.evaluate("window.scrollTo(0, 0)")
         SHOTS.mkdir(parents=True, exist_ok=True)
         page.screenshot(path=str(SHOTS / f"classroom-{width}.png"), full_page=True)

@@ -13,7 +13,7 @@ import type { AppState, AppStore } from "../app/state";
 import type { Demon } from "../api/types";
 import { type DemonFilter, demonSummary, filterDemons } from "../lib/demons";
 import { exprText } from "../lib/expr";
-import { formatEstimate, formatNumber, formatRelativeError } from "../lib/format";
+import { formatNumber, formatRelativeError, formatTruth, truthOf } from "../lib/format";
 import { type Term, tip } from "../lib/glossary";
 import { readNumber } from "../lib/parse";
 import { startPoint } from "../lib/world";
@@ -266,9 +266,11 @@ export function demonTable(store: AppStore): HTMLElement {
       const evaluation = evaluations[demon.name];
       setText(row.now, formatNumber(prediction));
       setText(row.atStart, formatNumber(evaluation?.prediction));
-      setText(row.truth, formatEstimate(evaluation?.truth, evaluation?.stderr));
-      setText(row.error, formatNumber(evaluation?.error));
-      setText(row.relative, evaluation ? formatRelativeError(evaluation.prediction, evaluation.truth) : "");
+      // Against the exact answer where the world has one (the Monte-Carlo mean is cut at the rollouts' cap).
+      const truth = truthOf(evaluation);
+      setText(row.truth, formatTruth(evaluation));
+      setText(row.error, formatNumber(evaluation && truth !== null ? (evaluation.prediction ?? NaN) - truth : null));
+      setText(row.relative, evaluation ? formatRelativeError(evaluation.prediction, truth) : "");
       setText(row.thesis, formatNumber(thesis[demon.name]));
       setText(row.rupee, formatNumber(metrics?.rupee));
       setText(row.ude, formatNumber(metrics?.ude));
@@ -314,7 +316,7 @@ export function demonTable(store: AppStore): HTMLElement {
         "tr",
         {},
         explained("th", "prediction", { scope: "col", class: "num" }, "prediction"),
-        explained("th", "truth", { scope: "col", class: "num" }, "truth ± se"),
+        explained("th", "truth", { scope: "col", class: "num" }, "truth (± se)"),
         h("th", { scope: "col", class: "num", title: "prediction − truth, and relative to the truth" }, "error"),
       ),
     ),
