@@ -12,7 +12,7 @@ DIST := $(FRONTEND)/dist/index.html
 FRONTEND_SOURCES := $(shell find $(FRONTEND)/src -type f 2>/dev/null) \
 	$(addprefix $(FRONTEND)/,index.html vite.config.ts tsconfig.json package.json)
 
-.PHONY: serve test lint typecheck pytest vitest setup frontend api-types clean
+.PHONY: serve test lint typecheck pytest vitest setup frontend api-types screenshots clean
 
 setup: $(INSTALLED)
 
@@ -56,6 +56,14 @@ pytest: $(INSTALLED) $(DIST)
 	$(BIN)/python -m pytest
 
 test: lint typecheck vitest pytest
+
+# The browser tests write their screenshots to test-artifacts/screenshots; this refreshes the ones the
+# README and docs/ show, on purpose (make test never touches docs/).
+DOC_SHOTS := dashboard-live.png dashboard.png demon-editor.png protocol.png world-editor.png view.png \
+	classroom-1024.png classroom-1440.png classroom-1920.png world-drawn.png protocol-group.png
+screenshots: $(INSTALLED) $(DIST)
+	$(BIN)/python -m pytest -q -m e2e tests/e2e
+	cd test-artifacts/screenshots && cp $(DOC_SHOTS) ../../docs/
 
 clean:
 	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache $(FRONTEND)/node_modules $(FRONTEND)/dist

@@ -59,6 +59,10 @@ MAX_PUBLISH_INTERVAL = 0.5  # ... and at least this often, however long a view t
 MAX_LAG = 0.1  # hz pacing: time lost beyond this is not caught up
 MAX_WAIT = 1.0  # hz pacing: the longest single wait for the next step (then the loop looks again)
 COMMAND_TIMEOUT = 600.0  # a command waits this long for the learner thread at most
+# The compiled kernels are compiled (or loaded from numba's cache) at their first call in a process; until
+# that call returns, a run says so instead of standing at step 0 without a word.
+PREPARING = "preparing the learning kernels (compiling them takes about a minute on a machine's first run)"
+_kernels_ready = threading.Event()
 
 
 @dataclass(frozen=True)
@@ -306,12 +310,22 @@ class LiveRun:
         sim = self._sim
         behaviour = self._spec.behaviour
         done = 0
+        # Said while running; a step command's caller waits for its answer anyway.
+        preparing = not _kernels_ready.is_set() and self._status == "running"
+        if preparing:
+            told, self._message = self._message, PREPARING
+            self._publish()
         try:
             while True:
                 batch = self._batch if steps is None else min(self._batch, steps - done)
                 episode, before = sim.episode, sim.total_steps
                 began = time.perf_counter()
                 sim.run(batch, 1, behaviour)
+                if preparing:
+                    _kernels_ready.set()
+                    preparing = False
+                    if self._message == PREPARING:
+                        self._message = told
                 taken = sim.total_steps - before
                 self._adapt_batch(taken, time.perf_counter() - began)
                 done += taken

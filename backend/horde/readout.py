@@ -7,13 +7,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from horde.core.evaluate import Truth, monte_carlo
+from horde.core.evaluate import Truth, exact, monte_carlo
 from horde.core.world import World
 from horde.errors import NotFoundError, SpecError
 from horde.run_view import RunView
 
 # Positions x demons x actions evaluated in one batch of a value map (bounds its memory).
 MAX_BATCH_NUMBERS = 2_000_000
+# The exact answer solves a dense system over the lattice points: beyond this many, Monte-Carlo only.
+MAX_EXACT_POINTS = 2_500
 
 
 @dataclass(frozen=True)
@@ -34,6 +36,7 @@ class Evaluation:
     prediction: float
     truth: Truth
     seed: int
+    exact: float | None = None  # the exact answer at `start`, on a lattice world that has one
 
 
 def _demon_index(view: RunView, name: str) -> int:
@@ -87,4 +90,23 @@ def evaluate(
     if view.horde_state.diverged[demon]:
         prediction = math.nan  # reported as null, as everywhere else
     truth = monte_carlo(view.horde, view.horde_state, name, (x, y), episodes, cap, rng)
-    return Evaluation(name, (x, y), prediction, truth, seed)
+    return Evaluation(name, (x, y), prediction, truth, seed, exact_at(view, name, (x, y)))
+
+
+def exact_at(view: RunView, name: str, point: tuple[float, float]) -> float | None:
+    """The exact answer of the demon's question at `point` under its frozen policy, where one exists.
+
+    That is on a small lattice world (no noise, no indicators, at most MAX_EXACT_POINTS lattice points,
+    `point` one of them) for a question that does not read the `steps` sensor (`core.evaluate.exact`).
+    """
+    world = view.spec.world
+    if (world.width / world.step) * (world.height / world.step) > MAX_EXACT_POINTS:
+        return None
+    if '"sensor":"steps"' in view.horde.demon_specs[view.horde.index[name]].model_dump_json():
+        return None
+    try:
+        lattice = exact(view.horde, view.horde_state, name)
+    except ValueError:
+        return None  # not a lattice world
+    at = np.nonzero((np.abs(lattice.x - point[0]) < 1e-6) & (np.abs(lattice.y - point[1]) < 1e-6))[0]
+    return float(lattice.value[at[0]]) if len(at) else None

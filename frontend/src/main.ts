@@ -5,36 +5,45 @@
 import "./styles.css";
 import { attempt, loadCatalog, loadLiveView, loadProtocols } from "./app/actions";
 import { createStore } from "./app/state";
-import { watchProtocol, watchRuns, watchSelectedRun } from "./app/watch";
+import { installShortcuts } from "./app/shortcuts";
+import { watchChartedForView, watchProtocol, watchRuns, watchSelectedRun } from "./app/watch";
 import { h } from "./ui/dom";
 import { charts } from "./views/charts";
 import { demonEditor } from "./views/demon-editor";
+import { demonOverview } from "./views/demon-overview";
 import { demonTable } from "./views/demon-table";
 import { header } from "./views/header";
+import { help } from "./views/help";
 import { launcher } from "./views/launcher";
+import { liveToolbar } from "./views/live-toolbar";
 import { protocolPanel } from "./views/protocol-panel";
 import { runResults } from "./views/run-results";
 import { runsPanel } from "./views/runs-panel";
 import { studiesPanel } from "./views/studies-panel";
 import { tabs } from "./views/tabs";
+import { tour } from "./views/tour";
 import { viserEmbed } from "./views/viser-embed";
 import { worldEditor } from "./views/world-editor";
 
 const store = createStore();
+const helpPanel = help();
+const guide = tour(store);
 
 const live = h(
   "div",
   { class: "live" },
+  liveToolbar(store, guide.start),
   demonTable(store),
+  demonOverview(store),
   runResults(store),
-  h("div", { class: "live-bottom" }, charts(store), viserEmbed(store)),
+  h("div", { class: "live-bottom" }, viserEmbed(store), charts(store)),
 );
 
 const app = h(
   "div",
   { class: "app" },
   h("a", { href: "#main", class: "skip-link" }, "Skip to the main view"),
-  header(store),
+  header(store, helpPanel.open),
   h(
     "div",
     { class: "layout" },
@@ -54,9 +63,14 @@ const app = h(
 );
 
 document.getElementById("app")?.replaceWith(app);
+document.body.append(helpPanel.element, guide.element);
+installShortcuts(store, helpPanel.open, () =>
+  Number((document.getElementById("step-size") as HTMLSelectElement | null)?.value ?? 1),
+);
 void attempt(store, () => loadCatalog(store));
 void attempt(store, () => loadProtocols(store));
 void loadLiveView(store);
 watchRuns(store);
 watchSelectedRun(store);
 watchProtocol(store);
+watchChartedForView(store);

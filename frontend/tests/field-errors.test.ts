@@ -1,6 +1,7 @@
 import { describe, expect, it } from "vitest";
 import type { ValidationProblem } from "../src/api/types";
-import { cleanMessage, locationPath, placeProblems } from "../src/lib/field-errors";
+import { locationPath, placeProblems } from "../src/lib/field-errors";
+import { cleanMessage } from "../src/lib/messages";
 
 const problem = (loc: (string | number)[], msg: string): ValidationProblem => ({ loc, msg, type: "value_error" });
 

@@ -59,3 +59,15 @@ describe("counts, estimates, errors and speeds", () => {
     expect(runLabel({ id: "abcdef123456", name: null })).toBe("abcdef");
   });
 });
+
+describe("formatTruth and truthOf", () => {
+  it("prefer the exact answer to the Monte-Carlo mean", async () => {
+    const { formatTruth, truthOf } = await import("../src/lib/format");
+    expect(formatTruth({ truth: 14.8, stderr: 0.641, exact: 16.021 })).toBe("16.021 exact");
+    expect(formatTruth({ truth: 14.8, stderr: 0.641, exact: null })).toBe("14.800 ± 0.641");
+    expect(formatTruth(undefined)).toBe("–");
+    expect(truthOf({ truth: 14.8, exact: 16 })).toBe(16);
+    expect(truthOf({ truth: 14.8, exact: null })).toBe(14.8);
+    expect(truthOf(undefined)).toBeNull();
+  });
+});

@@ -33,6 +33,8 @@ CHROMIUM_ARGS = [
     "--enable-unsafe-swiftshader",
 ]
 ROOT = Path(__file__).resolve().parents[2]
+# Screenshots go to a build folder (git-ignored); `make screenshots` copies the ones the docs show.
+SHOTS = ROOT / "test-artifacts" / "screenshots"
 # True once the viser client's agent node (its THREE.Object3D, from the client's own test hook
 # window.__viserMutable.nodeRefFromName) stands at scene position [x, y].
 AGENT_AT = """([x, y]) => {

@@ -1,3 +1,343 @@
+"""The dashboard for a class, in a real browser: readable at 1024, 1440 and 1920 pixels with Large text,
+a world drawn by hand and run, no serious accessibility problem on any tab (axe-core), and the help layer
+(glossary, tooltips, keyboard shortcuts, the guided tour).
+
+One server with the viser live view serves every test here; screenshots go to test-artifacts/screenshots.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import time
+from collections.abc import Iterator
+from typing import TYPE_CHECKING, Any
+from urllib.parse import urlparse
+
+import pytest
+from playwright.sync_api import Error as PlaywrightError
+
+from horde.server import Settings
+
+from .conftest import CHROMIUM, CHROMIUM_ARGS, ROOT, SHOTS, RunningServer, free_port, serve_in_thread
+
+if TYPE_CHECKING:
+    from playwright.sync_api import Browser, Page
+
+DIST = ROOT / "frontend" / "dist"
+AXE = ROOT / "frontend" / "node_modules" / "axe-core" / "axe.min.js"
+SIZES = [(1024, 768), (1440, 900), (1920, 1080)]
+WATCH_SECONDS = 30
+# The tour and Large text are remembered in the browser; these set them before the page loads.
+TOUR_DONE = "localStorage.setItem('horde-lab-tour-done', '1')"
+LARGE_TEXT = "localStorage.setItem('horde-lab-large-text', '1')"
+
+pytestmark = [
+    pytest.mark.e2e,
+    pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium at /usr/bin/chromium"),
+    pytest.mark.skipif(not (DIST / "index.html").exists(), reason="frontend/dist is not built: run `make frontend`"),
+]
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[RunningServer]:
+    settings = Settings(
+        data=tmp_path_factory.mktemp("classroom-data"), token=None, viser_port=free_port(), snapshot_every=3600.0
+    )
+    with serve_in_thread(settings) as running:
+        yield running
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[Browser]:
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
+        yield browser
+        browser.close()
+
+
+def new_page(browser: Browser, width: int, height: int, *scripts: str) -> tuple[Page, list[str]]:
+    """A page whose dashboard errors are collected (the embedded viser client's own are its business: it
+    logs stale updates to charts it has just replaced when the run shown changes)."""
+    context = browser.new_context(viewport={"width": width, "height": height})
+    for script in scripts:
+        context.add_init_script(script)
+    page = context.new_page()
+    page.set_default_timeout(20_000)
+    errors: list[str] = []
+
+    def on_console(message: Any) -> None:
+        host = urlparse(page.main_frame.url).netloc
+        if message.type == "error" and (not host or host in message.location.get("url", "")):
+            errors.append(f"{message.text} ({message.location.get('url', '')})")
+
+    page.on("console", on_console)
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    return page, errors
+
+
+def launch(server: RunningServer, **template: Any) -> str:
+    body = {"scenario": "classroom-offpolicy", "seed": 3, **template}
+    response = server.client.post("/api/runs", params={"hz": 30, "start": True}, json=body)
+    assert response.status_code == 201, response.text
+    return str(response.json()["id"])
+
+
+def select(page: Page, server: RunningServer, run_id: str) -> None:
+    page.goto(server.url)
+    page.locator(f'li.run-item[data-run="{run_id}"] button.run-select').click()
+    page.locator(f'li.run-item.selected[data-run="{run_id}"]').wait_for()
+
+
+AGENT_NODE = """() => !!window.__viserMutable?.nodeRefFromName?.["/agent"]"""
+# Widths that must not grow: the page's, and the widest chart's.
+WIDTHS = """() => ({
+    page: document.documentElement.scrollWidth,
+    charts: Math.max(0, ...[...document.querySelectorAll('.chart canvas')].map(c => c.getBoundingClientRect().width)),
+    count: document.querySelectorAll('.chart canvas').length,
+})"""
+
+# What lies on top at points spread over the live view's frame: the frame itself, or what covers it.
+COVERING = """() => {
+    const frame = document.querySelector('iframe.viser-frame');
+    frame.scrollIntoView({block: 'center'});
+    const box = frame.getBoundingClientRect();
+    const hits = [];
+    for (const fx of [0.1, 0.5, 0.9]) for (const fy of [0.1, 0.5, 0.9]) {
+        const x = box.left + fx * box.width, y = box.top + fy * box.height;
+        if (y < 0 || y > innerHeight) continue;
+        const top = document.elementFromPoint(x, y);
+        if (top !== frame) hits.push(`${top?.tagName}.${top?.className} at ${fx},${fy}`);
+    }
+    return hits;
+}"""
+
+
+def test_three_screen_sizes_with_large_text_grow_nothing_and_cover_no_world(
+    browser: Browser, server: RunningServer
+) -> None:
+    run_id = launch(server, name="sizes")
+    pages = []
+    for width, height in SIZES:
+        page, errors = new_page(browser, width, height, TOUR_DONE, LARGE_TEXT)
+        select(page, server, run_id)
+        page.get_by_role("button", name="Classroom mode").click()
+        page.locator(".chart canvas").first.wait_for()
+        pages.append((width, page, errors))
+    time.sleep(2)  # the first history readings arrive
+    first = {width: page.evaluate(WIDTHS) for width, page, _ in pages}
+    began = time.monotonic()
+    while time.monotonic() - began < WATCH_SECONDS:  # a running run, watched on three screens at once
+        time.sleep(5)
+        for width, page, _ in pages:
+            now = page.evaluate(WIDTHS)
+            assert now["page"] <= width, f"{width} px: the page grew sideways to {now['page']} px"
+            assert now["charts"] <= first[width]["charts"] + 1, f"{width} px: a chart grew: {first[width]} -> {now}"
+    view_url = server.client.get("/api/view").json()["url"]
+    for width, page, errors in pages:
+        assert page.evaluate("document.documentElement.classList.contains('large')")
+        assert first[width]["count"] >= 6, "classroom mode charts every demon of the classroom scenario"
+        assert page.evaluate(COVERING) == [], f"{width} px: something covers the live view's world"
+        # For the pictures: the view drawn, and the truth beside the predictions.
+        frame = next(f for f in page.frames if f.url.startswith(view_url))
+        frame.wait_for_function(AGENT_NODE, timeout=30_000)
+        # Inside the frame: wide enough for the viser client's desktop layout (its phone layout lays the
+        # panel over the world), and its panel minimized to a bar.
+        assert frame.evaluate("innerWidth") > 576, f"{width} px: the embedded view gets its phone layout"
+        assert frame.get_by_role("button", name="Expand panel").count() == 1, f"{width} px: the view's panel is open"
+        # The "software WebGL" notice of a GPU-less browser, closed for the picture where it lets itself be.
+        for close in page.frame_locator("iframe.viser-frame").locator(".mantine-Notification-root button").all():
+            with contextlib.suppress(PlaywrightError):
+                close.click(timeout=2000)
+        if width == 1440:
+            page.get_by_role("button", name="Evaluate all").click()
+            page.locator(".chart figcaption", has_text="at the start").nth(5).wait_for(timeout=60_000)
+        page.evaluate("window.scrollTo(0, 0)")
+        SHOTS.mkdir(parents=True, exist_ok=True)
+        page.screenshot(path=str(SHOTS / f"classroom-{width}.png"), full_page=True)
+        assert errors == [], f"{width} px: errors in the browser console"
+        page.context.close()
+    server.client.post(f"/api/runs/{run_id}/pause")
+
+
+def drag(page: Page, world: dict[str, float], start: tuple[float, float], end: tuple[float, float]) -> None:
+    """Drag on the world drawing from one world point to another (world units, y up)."""
+    svg = page.locator("svg.world-svg")
+    box = svg.bounding_box()
+    assert box is not None
+    # The drawing keeps the world's aspect and a margin of 1/20 of its smaller side all round.
+    margin = min(world["width"], world["height"]) / 20
+    span_x, span_y = world["width"] + 2 * margin, world["height"] + 2 * margin
+    scale = min(box["width"] / span_x, box["height"] / span_y)
+    left = box["x"] + (box["width"] - scale * span_x) / 2
+    top = box["y"] + (box["height"] - scale * span_y) / 2
+
+    def at(x: float, y: float) -> tuple[float, float]:
+        return left + scale * (x + margin), top + scale * (world["height"] - y + margin)
+
+    page.mouse.move(*at(*start))
+    page.mouse.down()
+    for k in range(1, 6):
+        f = k / 5
+        page.mouse.move(*at(start[0] + f * (end[0] - start[0]), start[1] + f * (end[1] - start[1])))
+    page.mouse.up()
+
+
+def test_draw_a_world_by_dragging_save_it_run_it_and_see_its_value_map(browser: Browser, server: RunningServer) -> None:
+    page, errors = new_page(browser, 1440, 1000, TOUR_DONE)
+    page.goto(server.url)
+    page.get_by_role("tab", name="World editor").click()
+    editor = page.locator("form.world-form")
+    editor.get_by_role("group", name="World").get_by_label("Name").fill("drawn")
+    world = {"width": 500.0, "height": 500.0}
+    regions = editor.locator("fieldset.region")
+    assert regions.count() == 1  # the new world's goal
+
+    # A wall by dragging: snapped to the grid of 100.
+    page.get_by_label("Draw new regions as").select_option("obstacle")
+    drag(page, world, (110, 190), (190, 290))
+    assert regions.count() == 2
+    wall = regions.nth(1)
+    assert wall.get_by_label("Name").input_value() == "obstacle1"
+    assert wall.get_by_label("Rectangle").input_value() == "100, 200, 200, 300"
+    # Moved one step right, then resized from its top-right corner, then the resize taken back.
+    drag(page, world, (150, 250), (250, 250))
+    assert wall.get_by_label("Rectangle").input_value() == "200, 200, 300, 300"
+    drag(page, world, (300, 300), (400, 400))
+    assert wall.get_by_label("Rectangle").input_value() == "200, 200, 400, 400"
+    page.get_by_role("button", name="Undo").click()
+    assert regions.nth(1).get_by_label("Rectangle").input_value() == "200, 200, 300, 300"
+
+    # A second terminal, renamed pit with reward -1 in the form: the drawing follows the form too.
+    page.get_by_label("Draw new regions as").select_option("terminal")
+    drag(page, world, (410, 110), (490, 190))
+    pit = regions.nth(2)
+    assert pit.get_by_label("Rectangle").input_value() == "400, 100, 500, 200"
+    pit.get_by_label("Name").fill("pit")
+    pit.get_by_label("Reward").fill("-1")
+    page.locator('svg.world-svg g[data-region="pit"]').wait_for()
+    # A click sets the start on the nearest lattice point.
+    drag(page, world, (95, 105), (95, 105))
+    assert editor.get_by_label("Start", exact=True).input_value() == "100, 100"
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    page.screenshot(path=str(SHOTS / "world-drawn.png"), full_page=True)
+    editor.get_by_role("button", name="Save to library").click()
+    page.get_by_role("status").filter(has_text="world 'drawn'").wait_for()
+    saved = server.client.get("/api/worlds/drawn").json()["world"]
+    assert saved["start"] == [100, 100]
+    assert [(r["name"], r["kind"], r["rect"]) for r in saved["regions"]] == [
+        ("goal", "terminal", [400, 400, 500, 500]),
+        ("obstacle1", "obstacle", [200, 200, 300, 300]),
+        ("pit", "terminal", [400, 100, 500, 200]),
+    ]
+
+    # Experiment 1's demons on the drawn world, launched from the page; the live view shows a value map.
+    launcher = page.locator("section.launcher")
+    launcher.get_by_label("Scenario").select_option("experiment1")
+    launcher.get_by_label("World").select_option("drawn")
+    launcher.get_by_label("Name", exact=True).fill("on-drawn")
+    launcher.get_by_label("Steps/s").fill("50")
+    launcher.get_by_role("button", name="Launch").click()
+    page.locator("li.run-item.selected", has_text="on-drawn").wait_for()
+    view_url = server.client.get("/api/view").json()["url"]
+    frame = next(f for f in page.frames if f.url.startswith(view_url))
+    frame.wait_for_function(
+        """() => Object.keys(window.__viserMutable?.nodeRefFromName ?? {}).some(n => n.startsWith("/value_map/"))""",
+        timeout=30_000,
+    )
+    run = next(r for r in server.client.get("/api/runs").json() if r["name"] == "on-drawn")
+    assert server.client.get(f"/api/runs/{run['id']}").json()["spec"]["world"]["start"] == [100, 100]
+    server.client.post(f"/api/runs/{run['id']}/pause")
+    assert errors == []
+    page.context.close()
+
+
+def axe_violations(page: Page) -> list[str]:
+    """axe-core's serious and critical violations on the page as it stands (the viser frame aside)."""
+    if not page.evaluate("!!window.axe"):
+        page.add_script_tag(path=str(AXE))
+    found = page.evaluate(
+        """async () => {
+            const result = await axe.run(document, {iframes: false, resultTypes: ["violations"]});
+            return result.violations
+                .filter(v => v.impact === "serious" || v.impact === "critical")
+                .map(v => `${v.impact} ${v.id}: ${v.nodes.slice(0, 3).map(n => n.target.join(" ")).join(" | ")}`);
+        }"""
+    )
+    return list(found)
+
+
+def test_no_serious_accessibility_violation_on_any_tab(browser: Browser, server: RunningServer) -> None:
+    run_id = launch(server, name="axe")
+    page, errors = new_page(browser, 1440, 900, TOUR_DONE)
+    select(page, server, run_id)
+    page.locator(".chart canvas").first.wait_for()
+    found: dict[str, list[str]] = {}
+    for tab in ("Live", "Protocol", "World editor", "Demon editor"):
+        page.get_by_role("tab", name=tab).click()
+        found[tab] = axe_violations(page)
+    page.get_by_role("button", name="Help (?)").click()
+    found["Help"] = axe_violations(page)
+    assert found == {tab: [] for tab in found}
+    server.client.post(f"/api/runs/{run_id}/pause")
+    assert errors == []
+    page.context.close()
+
+
+def test_help_tooltips_shortcuts_and_the_tour(browser: Browser, server: RunningServer) -> None:
+    run_id = launch(server)  # named after the classroom scenario: the tour is for it
+    page, errors = new_page(browser, 1440, 900)
+    select(page, server, run_id)
+
+    # A classroom run offers the tour the first time: four stops, then it is remembered.
+    tour = page.get_by_role("dialog", name="The world")
+    tour.wait_for()
+    titles = []
+    for _ in range(4):
+        dialog = page.locator(".tour")
+        titles.append(dialog.locator("h2").inner_text())
+        assert page.locator(".tour-target").count() == 1
+        dialog.get_by_role("button", name="Next").or_(dialog.get_by_role("button", name="Done")).click()
+    assert titles == ["The world", "One chart per demon", "The demons", "Speed and control"]
+    assert page.locator(".tour").is_hidden()
+    page.reload()
+    page.locator(f'li.run-item[data-run="{run_id}"] button.run-select').click()
+    page.locator(f'li.run-item.selected[data-run="{run_id}"]').wait_for()
+    page.wait_for_timeout(500)
+    assert page.locator(".tour").is_hidden(), "the tour, once done, does not come back"
+
+    # Every column head of the demon table explains its word.
+    heads = page.locator("table.demon-table thead th[title]")
+    titles = heads.evaluate_all("hs => hs.map(h => h.title)")
+    assert any(t.startswith("RUPEE: Root of the Unbiased Projected Error Estimate") for t in titles)
+    assert any(t.startswith("UDE: ") for t in titles)
+
+    # ? opens the help with the glossary; Escape closes it.
+    page.keyboard.press("?")  # the focus is on the run's button: keys other than Space and Enter still work
+    help_dialog = page.get_by_role("dialog", name="Help: words and keys")
+    help_dialog.wait_for()
+    words = ("Cumulant", "Continuation (γ)", "Importance ratio (ρ)", "RUPEE", "UDE", "GVF (general value function)")
+    for word in words:
+        assert help_dialog.locator("dt", has_text=word).count() == 1, word
+    page.keyboard.press("Escape")
+    help_dialog.wait_for(state="hidden")
+
+    # Space pauses the selected run, s steps it, Space starts it again.
+    page.evaluate("document.activeElement.blur()")
+    page.keyboard.press(" ")
+    page.locator(f'li.run-item[data-run="{run_id}"] .badge', has_text="paused").wait_for()
+    before = server.client.get(f"/api/runs/{run_id}").json()["step"]
+    page.keyboard.press("s")
+    deadline = time.monotonic() + 10
+    while server.client.get(f"/api/runs/{run_id}").json()["step"] == before:
+        assert time.monotonic() < deadline, "s took no step"
+        time.sleep(0.05)
+    page.keyboard.press(" ")
+    page.locator(f'li.run-item[data-run="{run_id}"] .badge', has_text="running").wait_for()
+    server.client.post(f"/api/runs/{run_id}/pause")
+    assert errors == []
+    page.context.close()
 
 
 def test_a_horde_of_800_demons_keeps_the_table_small_searchable_and_summarised(
@@ -22,7 +362,7 @@ def test_a_horde_of_800_demons_keeps_the_table_small_searchable_and_summarised(
     page.locator(".table-scroll.virtual").evaluate("box => box.scrollTo(0, box.scrollHeight)")
     page.locator('table.demon-table tr[data-demon="d799"]').wait_for()
     assert page.locator('table.demon-table tr[data-demon="d000"]').count() == 0
-    # The search finds one demon among 800; its predictions come from the stream's turns.
+    # The search finds one demon among 800.
     page.get_by_label("Find demons").fill("d417")
     page.locator('table.demon-table tr[data-demon="d417"]').wait_for()
     assert rows.count() == 1

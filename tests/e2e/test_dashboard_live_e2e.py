@@ -1,5 +1,5 @@
 """The whole picture in a real browser: the dashboard with the real viser live view embedded beside
-the demon table, following a learning run. It takes the README's main screenshot (docs/dashboard-live.png).
+the demon table, following a learning run. It takes the README's main screenshot (dashboard-live.png).
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import pytest
 
 from horde.server import Settings
 
-from .conftest import CHROMIUM, CHROMIUM_ARGS, ROOT, RunningServer, free_port, serve_in_thread
+from .conftest import CHROMIUM, CHROMIUM_ARGS, ROOT, SHOTS, RunningServer, free_port, serve_in_thread
 
 DIST = ROOT / "frontend" / "dist"
 AGENT_NODE = """() => !!window.__viserMutable?.nodeRefFromName?.["/agent"]"""
@@ -60,7 +60,8 @@ def test_the_dashboard_embeds_the_live_view_of_the_selected_run(server: RunningS
             for close in frame.locator(".mantine-Notification-root button").all():
                 close.click()  # the "software WebGL" notice of a GPU-less browser
             page.evaluate("window.scrollTo(0, 0)")
-            page.screenshot(path=str(ROOT / "docs" / "dashboard-live.png"), full_page=True)
+            SHOTS.mkdir(parents=True, exist_ok=True)
+            page.screenshot(path=str(SHOTS / "dashboard-live.png"), full_page=True)
         finally:
             browser.close()
     assert errors == []

@@ -7,7 +7,6 @@ of a scene node; `.position` is the node's position in its parent frame (here th
 
 from __future__ import annotations
 
-import shutil
 import time
 from collections.abc import Iterator
 
@@ -17,7 +16,7 @@ from horde.scenarios import load_scenario
 from horde.view import LiveView, SimulationSource
 from horde.view.scene import agent_radius
 
-from .conftest import AGENT_AT, CHROMIUM, CHROMIUM_ARGS, ROOT, drawn_at, free_port
+from .conftest import AGENT_AT, CHROMIUM, CHROMIUM_ARGS, ROOT, SHOTS, drawn_at, free_port
 
 AGENT_POSITION = """() => {
     const node = window.__viserMutable?.nodeRefFromName?.["/agent"];
@@ -61,8 +60,11 @@ def test_the_agent_moves_in_the_browser_when_the_run_steps(live: tuple[LiveView,
             assert [x, y] == pytest.approx(drawn_at(world, 0.0, 0.0))  # experiment1 starts at (0, 0)
             assert z == pytest.approx(agent_radius(spec.world))
 
-            # Step with the GUI's button until the agent has left its start (a bump leaves it there).
+            # The panel starts minimized (embedded, it would cover the world): one click opens it.
             step = page.get_by_role("button", name="Step", exact=True)
+            assert not step.is_visible()
+            page.get_by_role("button", name="Expand panel").click()
+            # Step with the GUI's button until the agent has left its start (a bump leaves it there).
             for _ in range(30):
                 before = source.snapshot(run).total_steps
                 step.click()
@@ -83,11 +85,8 @@ def test_the_agent_moves_in_the_browser_when_the_run_steps(live: tuple[LiveView,
             for close in page.locator(".mantine-Notification-root button").all():
                 close.click()  # the "software WebGL" notice of a GPU-less browser
             page.wait_for_timeout(300)
-            artifacts = ROOT / "test-artifacts"
-            artifacts.mkdir(exist_ok=True)
-            page.screenshot(path=str(artifacts / "view.png"))
+            SHOTS.mkdir(parents=True, exist_ok=True)
+            page.screenshot(path=str(SHOTS / "view.png"))
         finally:
             browser.close()
-    (ROOT / "docs").mkdir(exist_ok=True)
-    shutil.copyfile(ROOT / "test-artifacts" / "view.png", ROOT / "docs" / "view.png")
     assert errors == []

@@ -5,6 +5,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 
+import pytest
 from fastapi.testclient import TestClient
 
 from horde.server import Settings, create_app
@@ -178,3 +179,42 @@ def test_a_family_past_the_limit_is_refused_before_anything_is_built(client: Tes
     tiled = {"kind": "sensors", "tilings": 2, "tiles": 2, "size": 8, "sensors": [{"sensor": "x", "low": 0}]}
     response = client.post("/api/runs", json=make_spec(features=tiled))
     assert response.status_code == 422 and ["body", "RunSpec", "features", "sensors", 0, "high"] in locs(response)
+
+
+def test_each_demon_has_its_colour_and_the_live_view_charts_it_in_that_colour(
+    client: TestClient, create_run: Callable[..., str]
+) -> None:
+    from horde.view.gui import _series
+
+    run_id = create_run()
+    client.post(f"/api/runs/{run_id}/demons", json=BUMP)
+    demons = client.get(f"/api/runs/{run_id}/demons").json()
+    colours = {d["name"]: d["colour"] for d in demons}
+    assert len(set(colours.values())) == 3, "three demons, three colours"
+    # The view charts a subset of the demons, in another order: each keeps its colour.
+    series = _series(["bump", "steps"], [d["name"] for d in demons])
+    strokes = [(s["label"], s.get("stroke")) for s in series[1:]]
+    assert strokes == [("bump", colours["bump"]), ("steps", colours["steps"])]
+
+
+def test_evaluate_gives_the_exact_answer_on_a_lattice_world(client: TestClient) -> None:
+    # A corridor of three cells; always right: two steps to the end from (0, 0), one from (100, 0).
+    world = {
+        "width": 300,
+        "height": 100,
+        "step": 100,
+        "start": [0, 0],
+        "max_steps": 50,
+        "regions": [{"name": "end", "kind": "terminal", "rect": [200, 0, 300, 100], "reward": 0}],
+    }
+    right = {"name": "right", "policy": {"kind": "fixed", "probabilities": [0, 0, 0, 1]}, "cumulant": 1}
+    spec = {"name": "corridor", "seed": 1, "world": world, "behaviour": "uniform", "demons": [right]}
+    run_id = client.post("/api/runs", json=spec).json()["id"]
+    for start, steps in (([0, 0], 2.0), ([100, 0], 1.0)):
+        body = client.post(f"/api/runs/{run_id}/evaluate", json={"demon": "right", "from": start, "episodes": 5}).json()
+        assert body["exact"] == pytest.approx(steps) and body["truth"] == pytest.approx(steps)
+    # A noisy world has no lattice: Monte-Carlo only.
+    noisy = {**spec, "world": {**world, "noise": 5.0}}
+    run_id = client.post("/api/runs", json=noisy).json()["id"]
+    body = client.post(f"/api/runs/{run_id}/evaluate", json={"demon": "right", "from": [0, 0], "episodes": 5}).json()
+    assert body["exact"] is None and body["truth"] > 0

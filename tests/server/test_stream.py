@@ -127,3 +127,21 @@ def test_a_run_at_full_speed_sends_only_its_latest_events(client: TestClient, cr
             seqs = [e["seq"] for e in message["events"]]
             assert seqs == sorted(seqs), "events come oldest first"
     assert max(sizes) <= MAX_EVENTS_PER_MESSAGE
+
+
+def test_a_large_hordes_messages_stay_bounded_and_take_turns(client: TestClient) -> None:
+    from horde.server.stream import MAX_STREAM_DEMONS
+
+    count = 2 * MAX_STREAM_DEMONS + 50
+    demons = [{"name": f"d{i}", "policy": "uniform", "cumulant": 1, "learner": "td"} for i in range(count)]
+    run_id = client.post("/api/runs", json=make_spec(demons=demons, behaviour="uniform")).json()["id"]
+    seen: set[str] = set()
+    with client.websocket_connect(f"/api/runs/{run_id}/stream") as ws:
+        for steps in range(1, 5):
+            message = ws.receive_json()
+            assert message["demon_total"] == count
+            assert len(message["predictions"]) == len(message["metrics"]) == MAX_STREAM_DEMONS
+            assert set(message["predictions"]) == set(message["metrics"])
+            seen |= set(message["predictions"])
+            client.post(f"/api/runs/{run_id}/step", json={"steps": steps})
+    assert len(seen) == count, "three messages in turn carry every demon"

@@ -165,3 +165,25 @@ def test_demons_joining_the_run_shown_keep_the_choices_still_possible() -> None:
     finally:
         view.stop()
         source.close()
+
+
+def test_the_dashboard_chooses_the_demons_labelled_beyond_the_checkboxes() -> None:
+    spec = load_scenario(SCENARIOS / "experiment1.toml")
+    many = [spec.demons[1].model_copy(update={"name": f"d{i}"}) for i in range(20)]
+    source = JoiningSource([spec.model_copy(update={"demons": [*spec.demons, *many]})])
+    view = started_by_hand(source)
+    try:
+        run = source.list_runs()[0][0]
+        view.show(run, ["d17", "base", "d17"])
+        view.refresh()
+        assert view.panel.shown == ("d17", "base")  # d17 has no checkbox (only the first 12 have)
+        assert "d17" not in view.panel._checkboxes and view.panel._checkboxes["base"].value
+        label = next(node for node in view.applier.drawn["/predictions"] if node.text)
+        assert "d17" in label.text and "steps_to_end" not in label.text
+        # A tick keeps the dashboard's choice beyond the boxes.
+        view.panel._checkboxes["steps_to_end"].value = True
+        view.panel._set_shown()
+        assert view.panel.shown == ("base", "steps_to_end", "d17")
+    finally:
+        view.stop()
+        source.close()

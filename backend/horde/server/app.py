@@ -21,6 +21,7 @@ from fastapi import FastAPI
 
 from horde.protocols import ProtocolJobs
 from horde.runs import RunManager
+from horde.server.api_docs import add_api_docs
 from horde.server.catalog import ScenarioCatalog
 from horde.server.frontend import DIST_DIR, mount_frontend
 from horde.server.guard import BodyGuard, validate_off_loop
@@ -101,7 +102,10 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
                 app.state.store.close()
                 sys.setswitchinterval(app.state.switch_interval)
 
-    app = FastAPI(title="Horde Lab", description=DESCRIPTION, version="0.1.0", lifespan=lifespan)
+    app = FastAPI(
+        title="Horde Lab", description=DESCRIPTION, version="0.1.0", lifespan=lifespan, docs_url=None, redoc_url=None
+    )
+    add_api_docs(app)
     app.state.settings = settings
     app.state.lifespans = 0
     app.state.live_view = None

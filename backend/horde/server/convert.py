@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from datetime import UTC, datetime
 
 import numpy as np
@@ -25,6 +25,7 @@ from horde.server.schemas import (
     SummaryOut,
     ValuesOut,
 )
+from horde.view.palette import demon_colour
 
 
 def finite(value: float) -> float | None:
@@ -86,17 +87,18 @@ def _brief_fields(view: RunView) -> dict[str, object]:
     }
 
 
-def demon_metrics(view: RunView) -> dict[str, DemonMetricsOut]:
-    hs, rupee, ude = view.horde_state, view.rupee, view.ude
+def demon_metrics(view: RunView, indices: Sequence[int] | None = None) -> dict[str, DemonMetricsOut]:
+    """The metrics of the demons at `indices` (all by default), by name."""
+    hs, rupee, ude, names = view.horde_state, view.rupee, view.ude, view.horde.names
     return {
-        name: DemonMetricsOut(
+        names[i]: DemonMetricsOut(
             rupee=finite(rupee[i]),
             ude=finite(ude[i]),
             delta=finite(hs.delta[i]),
             cumulant=finite(hs.cumulant[i]),
             diverged=bool(hs.diverged[i]),
         )
-        for i, name in enumerate(view.horde.names)
+        for i in (range(len(names)) if indices is None else indices)
     }
 
 
@@ -112,8 +114,11 @@ def event_out(event: Event) -> EventOut:
     )
 
 
-def state_out(view: RunView, events: list[Event]) -> StateOut:
+def state_out(view: RunView, events: list[Event], demons: Sequence[int] | None = None) -> StateOut:
+    """The run's state with the predictions and metrics of the demons at `demons` (all by default)."""
     x, y = view.position
+    names, prediction = view.horde.names, predictions(view)
+    indices = range(len(names)) if demons is None else demons
     return StateOut(
         run=view.id,
         status=view.status,
@@ -125,8 +130,9 @@ def state_out(view: RunView, events: list[Event]) -> StateOut:
         episode_step=view.episode_step,
         episode_return=finite(view.episode_return),
         last_return=finite(view.last_return),
-        predictions=dict(zip(view.horde.names, finite_list(predictions(view)), strict=True)),
-        metrics=demon_metrics(view),
+        predictions={names[i]: finite(prediction[i]) for i in indices},
+        metrics=demon_metrics(view, indices),
+        demon_total=len(names),
         events=[event_out(e) for e in events],
     )
 
@@ -141,8 +147,9 @@ def demons_out(view: RunView) -> list[DemonOut]:
             control=view.horde.is_control(spec.name),
             prediction=finite(prediction[view.horde.index[spec.name]]),
             metrics=metrics[spec.name],
+            colour=demon_colour(i),
         )
-        for spec in view.horde.demon_specs
+        for i, spec in enumerate(view.horde.demon_specs)
     ]
 
 
@@ -192,4 +199,5 @@ def evaluation_out(evaluation: Evaluation) -> EvaluationOut:
         cap=truth.cap,
         capped=truth.capped,
         seed=evaluation.seed,
+        exact=finite(evaluation.exact) if evaluation.exact is not None else None,
     )

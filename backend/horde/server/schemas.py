@@ -169,6 +169,9 @@ class ViewIn(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     run: str = Field(min_length=1, max_length=64, description="the run the live view should show")
+    demons: list[Name] | None = Field(
+        default=None, max_length=12, description="the demons to label and chart (the first ones by default)"
+    )
 
 
 class ScenarioOut(Out):
@@ -250,8 +253,13 @@ class StateOut(Out):
     episode_step: int
     episode_return: MaybeFloat
     last_return: MaybeFloat
-    predictions: dict[str, MaybeFloat] = Field(description="each demon's prediction at the agent's state")
+    predictions: dict[str, MaybeFloat] = Field(
+        description="each demon's prediction at the agent's state (a stream message of a large Horde: some of them)"
+    )
     metrics: dict[str, DemonMetricsOut]
+    demon_total: int = Field(
+        default=0, description="the run's demons; a stream message carries at most 200 of them, the next ones in turn"
+    )
     events: list[EventOut] = Field(description="recent events (a stream message: those since the last message)")
 
 
@@ -261,6 +269,7 @@ class DemonOut(Out):
     control: bool = Field(description="a control demon (its target policy acts on its own action values)")
     prediction: MaybeFloat
     metrics: DemonMetricsOut
+    colour: str = Field(description="the demon's colour in the dashboard and the live view (#rrggbb)")
 
 
 class ValuesOut(Out):
@@ -306,3 +315,6 @@ class EvaluationOut(Out):
     cap: int
     capped: int = Field(description="rollouts still running at the cap")
     seed: int
+    exact: MaybeFloat = Field(
+        default=None, description="the exact answer at `from` on a small lattice world (no noise), else null"
+    )

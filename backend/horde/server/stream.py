@@ -30,6 +30,17 @@ INITIAL_EVENTS = 20
 # messages, and their events would make every message tens of kilobytes. A gap in the events' `seq`
 # says that some were left out.
 MAX_EVENTS_PER_MESSAGE = 20
+# Demons per message at most: a Horde of thousands would make every message megabytes. Each message
+# carries the next ones in turn, so every demon is refreshed every `demons / MAX_STREAM_DEMONS` messages.
+MAX_STREAM_DEMONS = 200
+
+
+def demon_window(offset: int, total: int, size: int = MAX_STREAM_DEMONS) -> tuple[list[int], int]:
+    """The demon indices of the next message, from `offset` on (wrapping), and the offset after them."""
+    if total <= size:
+        return list(range(total)), 0
+    start = offset % total
+    return [(start + k) % total for k in range(size)], (start + size) % total
 
 
 @dataclass(eq=False)
@@ -45,6 +56,7 @@ class _Channel:
     last_seq: int
     last_event: int
     clients: set[_Client] = field(default_factory=set)
+    demon_offset: int = 0
 
 
 class StreamHub:
@@ -80,7 +92,9 @@ class StreamHub:
         client = _Client(asyncio.Queue(maxsize=self.backlog))
         channel = self._join(run, client)
         events = [e for e in run.events.recent(INITIAL_EVENTS) if e.seq <= channel.last_event]
-        client.queue.put_nowait(state_out(run.view, events).model_dump_json())
+        view = run.view
+        first, _ = demon_window(0, view.horde.num_demons)
+        client.queue.put_nowait(state_out(view, events, first).model_dump_json())
         sender = asyncio.create_task(self._send(websocket, channel, client), name=f"stream-client-{run.id}")
         try:
             await self._receive(websocket)
@@ -133,7 +147,8 @@ class StreamHub:
         channel.last_seq = view.seq
         if events:
             channel.last_event = events[-1].seq
-        message = state_out(view, events).model_dump_json()
+        demons, channel.demon_offset = demon_window(channel.demon_offset, view.horde.num_demons)
+        message = state_out(view, events, demons).model_dump_json()
         for client in list(channel.clients):
             try:
                 client.queue.put_nowait(message)

@@ -23,18 +23,19 @@ import numpy as np
 import viser
 import viser.uplot
 
+from horde.view.palette import demon_colour
 from horde.view.source import ViewSnapshot, ViewSource
 
 MAX_DEMON_CHECKBOXES = 12  # demons that can be ticked for labels and charts (the first ones)
+MAX_SHOWN = 12  # demons labelled and charted at once (the dashboard may choose them among thousands)
 DEFAULT_SHOWN = 3  # demons ticked when a run is chosen
-CHART_COLORS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f")
 
 
-def _series(names: Sequence[str]) -> tuple[viser.uplot.Series, ...]:
-    """uPlot series: the step axis, then one coloured line per demon."""
+def _series(names: Sequence[str], order: Sequence[str]) -> tuple[viser.uplot.Series, ...]:
+    """uPlot series: the step axis, then one line per demon in its colour (by its place in `order`)."""
     series: list[viser.uplot.Series] = [{"label": "step"}]
-    for k, name in enumerate(names):
-        series.append({"label": name, "stroke": CHART_COLORS[k % len(CHART_COLORS)], "width": 2})
+    for name in names:
+        series.append({"label": name, "stroke": demon_colour(order.index(name)), "width": 2})
     return tuple(series)
 
 
@@ -75,6 +76,7 @@ class ControlPanel:
         self._run_ids: dict[str, str] = {}  # dropdown option -> run id
         self._demon_handles: list[viser.GuiDropdownHandle[str] | viser.GuiFolderHandle] = []
         self._checkboxes: dict[str, viser.GuiCheckboxHandle] = {}
+        self._ticking = False
         self._charts: tuple[viser.GuiUplotHandle, viser.GuiUplotHandle] | None = None
         self._chart_names: tuple[str, ...] = ()
         self._build()
@@ -86,6 +88,9 @@ class ControlPanel:
         gui = self.server.gui
         gui.configure_theme(control_width="large")
         self._syncing = False  # True while the view itself sets widget values
+        # Minimized to a bar at first: embedded in the dashboard the panel would cover half the world, and
+        # the dashboard has the same controls; one click on the bar opens it.
+        gui.main_panel.minimize()
         self.run = gui.add_dropdown("Run", ("(none)",), order=0)
         self.run.on_update(self._on_run)
         self.status = gui.add_text("Status", "", disabled=True, order=1)
@@ -222,7 +227,7 @@ class ControlPanel:
         gui = self.server.gui
         with self.lock:  # keep what is still there (demons joined or left), else the first ones
             self.value_demon = self.value_demon if self.value_demon in names else (names[0] if names else None)
-            ticked = [name for name in self.shown if name in names[:MAX_DEMON_CHECKBOXES]]
+            ticked = [name for name in self.shown if name in names]
             self.shown = tuple(ticked or names[:DEFAULT_SHOWN])
         if self.value_demon is None:
             return
@@ -243,6 +248,18 @@ class ControlPanel:
         else:
             _set(handle, self.value_demon)
 
+    def show_demons(self, names: Sequence[str]) -> None:
+        """Label and chart these demons (the dashboard's selection; the first MAX_SHOWN of them)."""
+        with self.lock:
+            self.shown = tuple(dict.fromkeys(names))[:MAX_SHOWN]
+        self._ticking = True  # the boxes follow; their callbacks must not undo the choice half-way
+        try:
+            for name, box in self._checkboxes.items():
+                _set(box, name in self.shown)
+        finally:
+            self._ticking = False
+        self.changed.set()
+
     def _set_value_demon(self, name: str) -> None:
         self.value_demon = name
         self.changed.set()
@@ -257,7 +274,12 @@ class ControlPanel:
             _set(box, name in self.shown)
 
     def _set_shown(self) -> None:
-        self.shown = tuple(name for name, box in self._checkboxes.items() if box.value)
+        if self._ticking:
+            return
+        # A tick changes the demons with boxes; those beyond them that the dashboard chose stay.
+        beyond = tuple(name for name in self.shown if name not in self._checkboxes)
+        ticked = tuple(name for name, box in self._checkboxes.items() if box.value)
+        self.shown = (ticked + beyond)[:MAX_SHOWN]
         self.changed.set()
 
     def _sync_speed(self, snapshot: ViewSnapshot) -> None:
@@ -301,19 +323,22 @@ class ControlPanel:
         rupee = (steps, *(snapshot.history.rupee[n] for n in names))
         if self._charts is None:
             gui = self.server.gui
+            demon_order = [d.name for d in snapshot.spec.demons]
             scales: dict[str, viser.uplot.Scale] = {"x": {"time": False}}
             axes: tuple[viser.uplot.Axis, ...] = ({"label": "step"}, {"label": ""})
             self._charts = (
                 gui.add_uplot(
                     predictions,
-                    _series(names),
+                    _series(names, demon_order),
                     title="Predictions",
                     scales=scales,
                     axes=axes,
                     aspect=1.6,
                     order=30,
                 ),
-                gui.add_uplot(rupee, _series(names), title="RUPEE", scales=scales, axes=axes, aspect=1.6, order=31),
+                gui.add_uplot(
+                    rupee, _series(names, demon_order), title="RUPEE", scales=scales, axes=axes, aspect=1.6, order=31
+                ),
             )
             self._chart_names = names
         else:

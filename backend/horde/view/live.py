@@ -19,7 +19,7 @@ from __future__ import annotations
 import logging
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -150,8 +150,8 @@ class LiveView:
             self._server.stop()
             self._server = None
 
-    def show(self, run_id: str) -> None:
-        """Switch the view (every connected browser) to this run.
+    def show(self, run_id: str, demons: Sequence[str] | None = None) -> None:
+        """Switch the view (every connected browser) to this run, labelling `demons` if given.
 
         Raises:
             KeyError: the source has no such run.
@@ -161,6 +161,8 @@ class LiveView:
             raise KeyError(run_id)
         self.panel.set_runs(runs)
         self.panel.select_run(run_id)
+        if demons is not None:
+            self.panel.show_demons(demons)
 
     @property
     def shown_run(self) -> str | None:

@@ -715,6 +715,11 @@ export interface components {
         /** DemonOut */
         DemonOut: {
             /**
+             * Colour
+             * @description the demon's colour in the dashboard and the live view (#rrggbb)
+             */
+            colour: string;
+            /**
              * Control
              * @description a control demon (its target policy acts on its own action values)
              */
@@ -937,6 +942,11 @@ export interface components {
              * @description prediction - truth
              */
             error: number | null;
+            /**
+             * Exact
+             * @description the exact answer at `from` on a small lattice world (no noise), else null
+             */
+            exact?: number | null;
             /** From */
             from: number[];
             /** Prediction */
@@ -1677,6 +1687,12 @@ export interface components {
          */
         StateOut: {
             agent: components["schemas"]["AgentOut"];
+            /**
+             * Demon Total
+             * @description the run's demons; a stream message carries at most 200 of them, the next ones in turn
+             * @default 0
+             */
+            demon_total: number;
             /** Episode */
             episode: number;
             /** Episode Return */
@@ -1700,7 +1716,7 @@ export interface components {
             };
             /**
              * Predictions
-             * @description each demon's prediction at the agent's state
+             * @description each demon's prediction at the agent's state (a stream message of a large Horde: some of them)
              */
             predictions: {
                 [key: string]: number | null;
@@ -2078,6 +2094,11 @@ export interface components {
         };
         /** ViewIn */
         ViewIn: {
+            /**
+             * Demons
+             * @description the demons to label and chart (the first ones by default)
+             */
+            demons?: string[] | null;
             /**
              * Run
              * @description the run the live view should show

@@ -5,10 +5,13 @@
 import { ApiError, api, errorMessage, unwrap } from "../api/client";
 import type { Demon, DemonSpec, Protocol, Run, RunTemplate } from "../api/types";
 import { startPoint } from "../lib/world";
-import type { AppStore } from "./state";
+import { type AppStore, chartedDemons } from "./state";
+
+/** The live view labels and charts at most this many demons: the first charted ones. */
+const VIEW_DEMONS = 12;
 
 /** At most this many demons are charted when a run is selected; the user picks others in the table. */
-const DEFAULT_CHARTED = 3;
+const DEFAULT_CHARTED = 12;
 
 export function notify(store: AppStore, text: string, kind: "info" | "error" = "info"): void {
   store.update({ notice: { text, kind } });
@@ -98,6 +101,12 @@ export async function commandRun(store: AppStore, runId: string, command: RunCom
 
 export async function stepRun(store: AppStore, runId: string, steps: number): Promise<void> {
   await unwrap(api.POST("/api/runs/{run_id}/step", { params: { path: { run_id: runId } }, body: { steps } }));
+  await refreshRuns(store);
+}
+
+/** PATCH /api/runs/{id} {hz}: steps per second, or null for full speed. */
+export async function setRunSpeed(store: AppStore, runId: string, hz: number | null): Promise<void> {
+  await unwrap(api.PATCH("/api/runs/{run_id}", { params: { path: { run_id: runId } }, body: { hz } }));
   await refreshRuns(store);
 }
 
@@ -194,8 +203,11 @@ export async function loadLiveView(store: AppStore): Promise<void> {
  */
 export async function showInLiveView(store: AppStore, runId: string): Promise<void> {
   if (store.state.liveView.state !== "on") return;
+  // The dashboard's choice of demons, once the run's demons are known (else the view's own first ones).
+  const demons = store.state.selectedRunId === runId ? chartedDemons(store.state).slice(0, VIEW_DEMONS) : [];
   try {
-    const shown = await unwrap(api.POST("/api/view", { body: { run: runId } }));
+    const body = demons.length > 0 ? { run: runId, demons } : { run: runId };
+    const shown = await unwrap(api.POST("/api/view", { body }));
     const view = store.state.liveView;
     if (view.state === "on") store.update({ liveView: { ...view, run: shown.run ?? null } });
   } catch (error) {
@@ -223,6 +235,8 @@ export async function refreshProtocol(store: AppStore): Promise<void> {
   if (store.state.protocol?.id !== job.id) return;
   store.update({ protocol: job });
   if (shown.status === "running" && job.status !== "running") {
+    // Its results join the table of every job.
+    store.update({ protocols: [...store.state.protocols.filter((j) => j.id !== job.id), job] });
     const name = job.name ?? "the protocol";
     if (job.status === "failed") notify(store, `Protocol ${name} failed: ${job.error}`, "error");
     else notify(store, `Protocol ${name} ${job.status}.`);
@@ -243,6 +257,7 @@ export async function cancelProtocol(store: AppStore): Promise<void> {
  */
 export async function loadProtocols(store: AppStore): Promise<Protocol | null> {
   const jobs = await unwrap(api.GET("/api/protocols")); // oldest first
+  store.update({ protocols: jobs });
   const job = jobs.filter((j) => j.status === "running").at(-1) ?? jobs.at(-1) ?? null;
   if (job !== null && job.id !== store.state.protocol?.id) {
     // Begun before this page knew of it: its elapsed time counts from the server's clock.

@@ -28,6 +28,8 @@ export interface AppState {
   charted: string[];
   scenarios: Scenario[];
   worlds: WorldRecord[];
+  /** every protocol job the server keeps, oldest first (the Protocol tab's table of results) */
+  protocols: Protocol[];
   /** the protocol job the Protocol tab shows (the server's latest answer about it) */
   protocol: Protocol | null;
   /** when that job began, by this browser's clock (ms since the epoch), for its elapsed time */
@@ -35,6 +37,10 @@ export interface AppState {
   liveView: LiveView;
   tab: Tab;
   notice: Notice | null;
+  /** classroom mode: every demon charted, the guided tour on offer */
+  classroom: boolean;
+  /** "Large text" for a projector: the page, the charts and the embedded view scale up */
+  large: boolean;
 }
 
 export function createStore(): Store<AppState> {
@@ -48,12 +54,24 @@ export function createStore(): Store<AppState> {
     charted: [],
     scenarios: [],
     worlds: [],
+    protocols: [],
     protocol: null,
     protocolStartedAt: null,
     liveView: { state: "unknown" },
     tab: "live",
     notice: null,
+    classroom: false,
+    large: false,
   });
 }
 
 export type AppStore = Store<AppState>;
+
+/** Charts at most this many demons at once (the selection in the table picks among thousands). */
+export const MAX_MULTIPLES = 48;
+
+/** The demons to chart: every demon in classroom mode (the first MAX_MULTIPLES), else the ticked ones. */
+export function chartedDemons(state: Readonly<AppState>): string[] {
+  const names = state.classroom ? state.demons.map((d) => d.name) : state.charted;
+  return names.slice(0, MAX_MULTIPLES);
+}

@@ -6,8 +6,8 @@
 import { ApiError } from "../api/client";
 import { RunStream } from "../api/stream";
 import type { RunState } from "../api/types";
-import { attempt, notify, refreshProtocol, refreshRuns, reloadSelectedRun } from "./actions";
-import type { AppState, AppStore } from "./state";
+import { attempt, notify, refreshProtocol, refreshRuns, reloadSelectedRun, showInLiveView } from "./actions";
+import { type AppState, type AppStore, chartedDemons } from "./state";
 
 const RUNS_PERIOD_MS = 1000;
 const PROTOCOL_PERIOD_MS = 250;
@@ -50,12 +50,14 @@ export function watchSelectedRun(store: AppStore): void {
 // One reading of the run at a time: messages keep coming (30 a second) while it is under way.
 let reloading = false;
 
-function onMessage(store: AppStore, runId: string, message: RunState): void {
-  const { selectedRunId, run, demons } = store.state;
+function onMessage(store: AppStore, runId: string, incoming: RunState): void {
+  const { selectedRunId, run, demons, live } = store.state;
   if (selectedRunId !== runId) return;
+  const message = mergeWindow(live, incoming, demons);
   store.update({ live: message });
-  const names = Object.keys(message.predictions);
-  const demonsChanged = names.length !== demons.length || demons.some((d) => !(d.name in message.predictions));
+  const total = incoming.demon_total || Object.keys(incoming.predictions).length;
+  const known = demonNames(demons);
+  const demonsChanged = total !== demons.length || Object.keys(incoming.predictions).some((name) => !known.has(name));
   // Compared with what was last read (not the previous message), so a change missed during a reading
   // is caught by the next message.
   const statusChanged = run !== null && run.status !== message.status;
@@ -63,6 +65,57 @@ function onMessage(store: AppStore, runId: string, message: RunState): void {
     reloading = true;
     void attempt(store, () => reloadSelectedRun(store)).finally(() => (reloading = false));
   }
+}
+
+// The names of the demon list last read, kept while the list is the same.
+let namesOf: { demons: readonly { name: string }[]; names: Set<string> } | null = null;
+
+function demonNames(demons: readonly { name: string }[]): Set<string> {
+  if (namesOf?.demons !== demons) namesOf = { demons, names: new Set(demons.map((d) => d.name)) };
+  return namesOf.names;
+}
+
+/**
+ * A large Horde's stream message carries some demons only (the next ones in turn): the others keep their
+ * last known values, so the table and the overview always hold every demon.
+ */
+export function mergeWindow(
+  previous: RunState | null,
+  message: RunState,
+  demons: readonly { name: string }[],
+): RunState {
+  const total = message.demon_total || 0;
+  if (total <= Object.keys(message.predictions).length || previous === null || previous.run !== message.run) {
+    return message;
+  }
+  const predictions: RunState["predictions"] = {};
+  const metrics: RunState["metrics"] = {};
+  for (const { name } of demons) {
+    const p = message.predictions[name] !== undefined ? message.predictions[name] : previous.predictions[name];
+    if (p !== undefined) predictions[name] = p;
+    const m = message.metrics[name] ?? previous.metrics[name];
+    if (m !== undefined) metrics[name] = m;
+  }
+  return { ...message, predictions, metrics };
+}
+
+/** The live view labels the demons the dashboard charts: told again when the choice changes. */
+export function watchChartedForView(store: AppStore): void {
+  let timer: number | undefined;
+  let told = "";
+  store.subscribe(
+    (state) => {
+      const runId = state.selectedRunId;
+      const key = `${runId}|${chartedDemons(state).slice(0, 12).join(",")}`;
+      if (runId === null || key === told || state.liveView.state !== "on") return;
+      window.clearTimeout(timer);
+      timer = window.setTimeout(() => {
+        told = key;
+        void attempt(store, () => showInLiveView(store, runId));
+      }, 300);
+    },
+    ["charted", "classroom", "demons"],
+  );
 }
 
 export function watchProtocol(store: AppStore): void {

@@ -8,6 +8,7 @@
  * message names, if it names exactly one; the rest are shown for the form as a whole.
  */
 import type { ValidationProblem } from "../api/types";
+import { humanMessage } from "./messages";
 
 export interface ProblemPlacement {
   /** field path -> messages for it */
@@ -32,17 +33,12 @@ function isUnionTag(part: string): boolean {
   return /^[A-Z]/.test(part) || SCALAR_TAGS.has(part) || part.includes("[");
 }
 
-/** Pydantic prefixes custom checks with "Value error, "; the user needs only what follows. */
-export function cleanMessage(msg: string): string {
-  return msg.replace(/^(Value|Assertion) error, /, "");
-}
-
 export function placeProblems(problems: readonly ValidationProblem[], fields: Iterable<string>): ProblemPlacement {
   const known = new Set(fields);
   const byField = new Map<string, string[]>();
   const general: string[] = [];
   for (const problem of problems) {
-    const message = cleanMessage(problem.msg);
+    const message = humanMessage(problem);
     const field = fieldFor(locationPath(problem.loc), message, known);
     if (field === null) {
       general.push(message);

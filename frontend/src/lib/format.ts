@@ -57,3 +57,17 @@ export function runLabel(run: { id: string; name?: string | null }): string {
   const short = run.id.slice(0, 6);
   return run.name ? `${run.name} · ${short}` : short;
 }
+
+/** An evaluation's truth as shown: the exact answer where there is one ("16.021 exact"), else mean ± se. */
+export function formatTruth(
+  evaluation: { truth?: number | null; stderr?: number | null; exact?: number | null } | undefined,
+): string {
+  if (!evaluation) return MISSING;
+  if (evaluation.exact !== null && evaluation.exact !== undefined) return `${formatNumber(evaluation.exact)} exact`;
+  return formatEstimate(evaluation.truth, evaluation.stderr);
+}
+
+/** The truth an evaluation's error is measured against: the exact answer, else the Monte-Carlo mean. */
+export function truthOf(evaluation: { truth?: number | null; exact?: number | null } | undefined): number | null {
+  return evaluation?.exact ?? evaluation?.truth ?? null;
+}

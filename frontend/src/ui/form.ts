@@ -3,6 +3,7 @@
  * request field it edits, so that a 422's problems appear next to the field they concern.
  */
 import type { ValidationProblem } from "../api/types";
+import { type Term, tip } from "../lib/glossary";
 import { placeProblems } from "../lib/field-errors";
 import { h, replaceChildren, uid } from "./dom";
 
@@ -27,13 +28,37 @@ export class FormErrors {
     message = h("p", { class: "field-error", id: uid("error") }),
   ): HTMLElement {
     message.hidden = true;
-    this.slots.set(path, { control, message });
-    if (control)
+    const slot = { control, message };
+    this.slots.set(path, slot);
+    if (control) {
       control.setAttribute(
         "aria-describedby",
         [control.getAttribute("aria-describedby"), message.id].filter(Boolean).join(" "),
       );
+      // A message about a value goes as soon as the value changes: it may be fixed now, and the next
+      // submission says again if not.
+      // Groups above it ("policy" above "policy.kind") speak of the value as a whole: they go too.
+      const clearPath = () => this.clearField(path);
+      control.addEventListener("input", clearPath);
+      control.addEventListener("change", clearPath);
+    }
     return message;
+  }
+
+  /** Clear the messages of the field registered under `path` and of the groups that hold it. */
+  clearField(path: string): void {
+    const parts = path.split(".");
+    for (let length = parts.length; length > 0; length--) {
+      const slot = this.slots.get(parts.slice(0, length).join("."));
+      if (slot) this.clearSlot(slot);
+    }
+  }
+
+  private clearSlot(slot: Slot): void {
+    if (slot.message.hidden) return;
+    slot.message.hidden = true;
+    slot.message.textContent = "";
+    slot.control?.removeAttribute("aria-invalid");
   }
 
   /** Forget the fields under `prefix` (a removed region). */
@@ -44,11 +69,7 @@ export class FormErrors {
   }
 
   clear(): void {
-    for (const slot of this.slots.values()) {
-      slot.message.hidden = true;
-      slot.message.textContent = "";
-      slot.control?.removeAttribute("aria-invalid");
-    }
+    for (const slot of this.slots.values()) this.clearSlot(slot);
     this.general.hidden = true;
     this.general.textContent = "";
   }
@@ -99,6 +120,8 @@ export interface FieldOptions {
   errors?: FormErrors;
   hint?: string;
   class?: string;
+  /** a word of the Horde papers: the label explains it in its tooltip */
+  term?: Term;
 }
 
 /** A label, its control, an optional hint and the place for the field's error message. */
@@ -110,11 +133,18 @@ export function field(label: string, control: Control, opts: FieldOptions = {}):
   return h(
     "div",
     { class: `field ${opts.class ?? ""}` },
-    h("label", { for: control.id }, label),
+    termLabel(label, control.id, opts.term),
     control,
     hint,
     message,
   );
+}
+
+/** A label; given a term, dotted and explained in its tooltip. */
+export function termLabel(label: string, forId: string, term?: Term): HTMLLabelElement {
+  return term
+    ? h("label", { for: forId, title: tip(term) }, h("span", { class: "term" }, label))
+    : h("label", { for: forId }, label);
 }
 
 /** A checkbox with its label after it. */

@@ -1,71 +1,109 @@
 /**
- * Time-series charts (uPlot) of the charted demons: prediction and RUPEE against the step, read from
- * GET /api/runs/{id}/demons/{name}/history about once a second while the run moves.
+ * Small multiples (uPlot): one chart per charted demon, each with its own y-axis, the demon's prediction
+ * (where the agent is) over the steps in its colour, and, once evaluated, its truth from the start state
+ * as a dashed line (exact on a small lattice world, else the Monte-Carlo mean with its 95 % band) with
+ * the prediction there named beside it. Classroom mode charts every demon (up to
+ * MAX_MULTIPLES); otherwise the demons ticked in the table. Each chart is sized by its grid cell, never
+ * by its content, so the page cannot grow sideways; the fonts follow "Large text".
  */
 import uPlot from "uplot";
 import "uplot/dist/uPlot.min.css";
-import type { AppStore } from "../app/state";
+import { type AppState, type AppStore, chartedDemons } from "../app/state";
 import { api, unwrap } from "../api/client";
-import type { History } from "../api/types";
-import { type ChartData, type Metric, alignHistories } from "../lib/series";
-import { h } from "../ui/dom";
+import type { Evaluation, History } from "../api/types";
+import { formatNumber } from "../lib/format";
+import { alignHistories } from "../lib/series";
+import { h, replaceChildren, setText } from "../ui/dom";
 
 const REFRESH_MS = 1000;
-const HEIGHT = 180;
-// Distinguishable on a projector and for the common colour-vision deficiencies (Okabe-Ito).
-const PALETTE = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000"];
+const FALLBACK_COLOUR = "#0072B2";
 
-interface Chart {
-  metric: Metric;
+interface Multiple {
+  demon: string;
+  figure: HTMLElement;
+  caption: HTMLElement;
   box: HTMLElement;
   plot: uPlot | null;
-  series: string;
+  /** what the plot was built for (colour, truth, font size): rebuilt when it changes */
+  key: string;
 }
 
 export function charts(store: AppStore): HTMLElement {
-  const note = h("p", { class: "muted" }, "Tick “chart” under a demon’s name in the table to follow it here.");
-  const list: Chart[] = (
-    [
-      ["prediction", "Prediction"],
-      ["rupee", "RUPEE"],
-    ] as const
-  ).map(([metric, title]) => ({
-    metric,
-    box: h("figure", { class: "chart", "aria-label": `${title} over steps` }, h("figcaption", {}, title)),
-    plot: null,
-    series: "",
-  }));
+  const note = h("p", { class: "muted" });
+  const grid = h("div", { class: "chart-grid" });
   const element = h(
     "section",
     { class: "panel charts-panel", "aria-labelledby": "charts-title" },
-    h("h2", { id: "charts-title" }, "Over time"),
+    h("h2", { id: "charts-title" }, "Predictions over time"),
     note,
-    list.map((c) => c.box),
+    grid,
   );
-
+  const multiples = new Map<string, Multiple>();
   let lastKey = "";
   let busy = false;
 
-  const refresh = async (force = false) => {
-    const { selectedRunId: runId, charted, live, tab } = store.state;
-    note.hidden = charted.length > 0;
-    if (runId === null || charted.length === 0 || tab !== "live" || document.hidden) {
-      if (charted.length === 0) for (const chart of list) destroy(chart);
-      return;
+  const layout = (state: Readonly<AppState>) => {
+    const names = chartedDemons(state);
+    const all = state.classroom ? state.demons.length : names.length;
+    setText(
+      note,
+      names.length === 0
+        ? "Tick “chart” under a demon’s name in the table, or switch on classroom mode, to follow it here."
+        : all > names.length
+          ? `The first ${names.length} of ${all} demons; pick others with “chart” in the table.`
+          : "Each chart has its own scale. Solid: the prediction where the agent is. Dashed, once evaluated: the truth from the start (exact, or Monte-Carlo with its 95 % band), and the caption gives the prediction there.",
+    );
+    for (const [name, multiple] of multiples) {
+      if (!names.includes(name)) {
+        multiple.plot?.destroy();
+        multiples.delete(name);
+      }
     }
-    // Nothing new to read while the run stands still.
-    const key = `${runId}|${charted.join(",")}|${live?.step ?? ""}`;
+    const figures = names.map((name) => {
+      let multiple = multiples.get(name);
+      if (!multiple) {
+        const caption = h("figcaption", {});
+        const box = h("div", { class: "chart-box" });
+        multiple = {
+          demon: name,
+          figure: h("figure", { class: "chart", dataset: { demon: name } }, caption, box),
+          caption,
+          box,
+          plot: null,
+          key: "",
+        };
+        multiples.set(name, multiple);
+      }
+      return multiple.figure;
+    });
+    // Only when the set changed: re-adding figures would reset their plots' sizes for nothing.
+    const order = names.join("\u0000");
+    if (grid.dataset.order !== order) {
+      grid.dataset.order = order;
+      replaceChildren(grid, figures);
+    }
+  };
+
+  const refresh = async (force = false) => {
+    const state = store.state;
+    const { selectedRunId: runId, live, tab } = state;
+    const names = chartedDemons(state);
+    if (runId === null || names.length === 0 || tab !== "live" || document.hidden) return;
+    const key = `${runId}|${names.join(",")}|${live?.step ?? ""}`;
     if ((!force && key === lastKey) || busy) return;
     busy = true;
     try {
       const histories = await Promise.all(
-        charted.map((name) =>
+        names.map((name) =>
           unwrap(api.GET("/api/runs/{run_id}/demons/{name}/history", { params: { path: { run_id: runId, name } } })),
         ),
       );
       if (store.state.selectedRunId !== runId) return;
       lastKey = key;
-      for (const chart of list) draw(chart, histories);
+      for (const history of histories) {
+        const multiple = multiples.get(history.demon);
+        if (multiple) draw(multiple, history, store.state);
+      }
     } catch {
       // A demon removed or a run deleted between two reads: the next refresh catches up.
     } finally {
@@ -73,60 +111,94 @@ export function charts(store: AppStore): HTMLElement {
     }
   };
 
-  store.subscribe(() => void refresh(true), ["selectedRunId", "charted", "tab"]);
+  store.subscribe(
+    (state) => {
+      layout(state);
+      void refresh(true);
+    },
+    ["selectedRunId", "charted", "tab", "classroom", "demons", "evaluations", "large"],
+  );
+  layout(store.state);
   window.setInterval(() => void refresh(), REFRESH_MS);
+  // The grid decides each cell's width; the plots follow it (and never the other way round).
   new ResizeObserver(() => {
-    for (const chart of list) chart.plot?.setSize({ width: chartWidth(chart.box), height: HEIGHT });
-  }).observe(element);
+    for (const multiple of multiples.values()) multiple.plot?.setSize(plotSize(multiple.box));
+  }).observe(grid);
   return element;
 }
 
-function chartWidth(box: HTMLElement): number {
-  return Math.max(240, box.clientWidth - 4);
+function remPx(): number {
+  return parseFloat(getComputedStyle(document.documentElement).fontSize) || 16;
 }
 
-function destroy(chart: Chart): void {
-  chart.plot?.destroy();
-  chart.plot = null;
-  chart.series = "";
+function plotSize(box: HTMLElement): { width: number; height: number } {
+  const width = Math.max(160, Math.floor(box.clientWidth));
+  return { width, height: Math.round(Math.min(14 * remPx(), Math.max(9 * remPx(), width * 0.55))) };
 }
 
-function draw(chart: Chart, histories: History[]): void {
-  const data: ChartData = alignHistories(histories, chart.metric);
-  const names = histories.map((h) => h.demon).join(",");
-  if (chart.plot && chart.series === names) {
-    chart.plot.setData(data as uPlot.AlignedData);
+/** The truth to draw: [value, low, high] (low = high = value when exact), or null before an evaluation. */
+export function truthLine(evaluation: Evaluation | undefined): [number, number, number] | null {
+  if (!evaluation) return null;
+  if (evaluation.exact !== null && evaluation.exact !== undefined) {
+    return [evaluation.exact, evaluation.exact, evaluation.exact];
+  }
+  if (evaluation.truth === null || evaluation.truth === undefined) return null;
+  const half = 1.96 * (evaluation.stderr ?? 0);
+  return [evaluation.truth, evaluation.truth - half, evaluation.truth + half];
+}
+
+function draw(multiple: Multiple, history: History, state: Readonly<AppState>): void {
+  const demon = state.demons.find((d) => d.name === multiple.demon);
+  const colour = demon?.colour ?? FALLBACK_COLOUR;
+  const evaluation = state.evaluations[multiple.demon];
+  const truth = truthLine(evaluation);
+  const [steps, values] = alignHistories([history], "prediction") as [number[], (number | null)[]];
+  const data: uPlot.AlignedData = truth
+    ? [steps, values, steps.map(() => truth[0]), steps.map(() => truth[1]), steps.map(() => truth[2])]
+    : [steps, values];
+  setText(
+    multiple.caption,
+    truth && evaluation
+      ? `${multiple.demon} · at the start: truth ${formatNumber(truth[0])}${evaluation.exact != null ? " (exact)" : ` ± ${formatNumber(truth[2] - truth[0])}`}, prediction ${formatNumber(evaluation.prediction)}`
+      : multiple.demon,
+  );
+  multiple.caption.style.borderLeftColor = colour;
+  const font = remPx();
+  const key = `${colour}|${truth?.join(",") ?? ""}|${font}`;
+  if (multiple.plot && multiple.key === key) {
+    multiple.plot.setData(data);
     return;
   }
-  destroy(chart);
-  chart.series = names;
-  chart.plot = new uPlot(
+  multiple.plot?.destroy();
+  multiple.key = key;
+  const axisFont = `${Math.round(0.8 * font)}px system-ui`;
+  const axis = { stroke: "#111827", grid: { stroke: "#e5e7eb" }, font: axisFont, labelFont: `bold ${axisFont}` };
+  const series: uPlot.Series[] = [
+    { label: "step" },
+    { label: "prediction", stroke: colour, width: 2.5, spanGaps: false },
+  ];
+  if (truth) {
+    series.push(
+      { label: "truth", stroke: "#111827", width: 2, dash: [8, 6] },
+      { label: "low", stroke: "transparent", width: 0, show: true },
+      { label: "high", stroke: "transparent", width: 0, show: true },
+    );
+  }
+  multiple.plot = new uPlot(
     {
-      width: chartWidth(chart.box),
-      height: HEIGHT,
-      legend: { show: true, live: false }, // names only: the values under the cursor would jump at 1 Hz
+      ...plotSize(multiple.box),
+      title: undefined,
+      legend: { show: false },
+      cursor: { show: false },
       scales: { x: { time: false } },
       axes: [
-        {
-          label: "step",
-          stroke: "#111827",
-          grid: { stroke: "#e5e7eb" },
-          font: "14px system-ui",
-          labelFont: "bold 14px system-ui",
-        },
-        { stroke: "#111827", grid: { stroke: "#e5e7eb" }, font: "14px system-ui", size: 70 },
+        { ...axis, label: "step", size: Math.round(2.6 * font) },
+        { ...axis, size: Math.round(3.6 * font) },
       ],
-      series: [
-        { label: "step" },
-        ...histories.map((h, i) => ({
-          label: h.demon,
-          stroke: PALETTE[i % PALETTE.length],
-          width: 2.5,
-          spanGaps: false,
-        })),
-      ],
+      series,
+      bands: truth ? [{ series: [4, 3], fill: "rgba(17, 24, 39, 0.12)" }] : [],
     },
-    data as uPlot.AlignedData,
-    chart.box,
+    data,
+    multiple.box,
   );
 }

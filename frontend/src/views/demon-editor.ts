@@ -98,7 +98,9 @@ export function demonEditor(store: AppStore): HTMLElement {
           : `Adds the demon to run ${runLabel(run)} (${run.status}); it learns from the next step on.`;
     const world = run?.spec.world ?? {};
     const names = demons.map((d) => d.name);
-    const context: ExprContext = { sensors: sensorNames(world), regions: regionNames(world), demons: names };
+    // The agent is never inside an obstacle: "1 in region" offers the regions it can enter.
+    const regions = regionNames(world, ["terminal", "zone", "indicator"]);
+    const context: ExprContext = { sensors: sensorNames(world), regions, demons: names };
     for (const expr of exprs) expr.setContext(context);
     policy.setDemons(names);
     replaceChildren(
@@ -166,7 +168,7 @@ export function demonEditor(store: AppStore): HTMLElement {
     },
     runNote,
     h("div", { class: "row load-row" }, field("Start from", template), copy),
-    field("Name", name, { path: "name", errors }),
+    field("Name", name, { path: "name", errors, term: "demon" }),
     h(
       "div",
       { class: "editor-columns" },
@@ -178,20 +180,25 @@ export function demonEditor(store: AppStore): HTMLElement {
         cumulant.element,
         outcome.element,
         continuation.element,
-        field("Discount", discount, { path: "discount", errors, hint: "multiplies the continuation" }),
+        field("Discount", discount, {
+          path: "discount",
+          errors,
+          hint: "multiplies the continuation",
+          term: "continuation",
+        }),
       ),
       h(
         "fieldset",
         {},
         h("legend", {}, "Answer: how to learn it"),
-        field("Learner", learner, { path: "learner", errors }),
+        field("Learner", learner, { path: "learner", errors, term: "learner" }),
         features.element,
         h(
           "div",
           { class: "row" },
-          field("λ (lambda)", lambda, { path: "lambda", errors }),
-          field("α (alpha)", alpha, { path: "alpha", errors }),
-          field("α_w (alpha_w)", alphaW, { path: "alpha_w", errors }),
+          field("λ (lambda)", lambda, { path: "lambda", errors, term: "lambda" }),
+          field("α (alpha)", alpha, { path: "alpha", errors, term: "alpha" }),
+          field("α_w (alpha_w)", alphaW, { path: "alpha_w", errors, term: "alphaW" }),
         ),
         field("Forget the weights", reset, { path: "reset", errors }),
         h(

@@ -1,25 +1,39 @@
 /**
  * The live demon table of the selected run: per demon its prediction now (at the agent's state), the
- * Monte-Carlo truth once evaluated (from the world's start, beside the prediction there and the
- * error), the thesis's number when the scenario has one, RUPEE, UDE, and a `diverged` mark; a chart
+ * truth once evaluated (from the world's start, beside the prediction there and the error), the
+ * thesis's number when the scenario has one, RUPEE, UDE, and a `diverged` mark; a colour dot and a chart
  * toggle under each name, and an Evaluate and a Remove button per demon (removing takes two presses).
- * Cells are updated in place from the stream.
+ * Above it a summary (how many demons learn, how many diverged, mean RUPEE) and a filter. At Horde scale
+ * the table scrolls in its own box and only the rows in sight exist (@tanstack/virtual-core). Cells are
+ * updated in place from the stream.
  */
+import { Virtualizer, elementScroll, observeElementOffset, observeElementRect } from "@tanstack/virtual-core";
 import { attempt, evaluateDemon, notify, removeDemon, toggleCharted } from "../app/actions";
 import type { AppState, AppStore } from "../app/state";
 import type { Demon } from "../api/types";
+import { type DemonFilter, demonSummary, filterDemons } from "../lib/demons";
 import { exprText } from "../lib/expr";
-import { formatEstimate, formatNumber, formatRelativeError } from "../lib/format";
+import { formatNumber, formatRelativeError, formatTruth, truthOf } from "../lib/format";
+import { type Term, tip } from "../lib/glossary";
 import { readNumber } from "../lib/parse";
 import { startPoint } from "../lib/world";
-import { h, setText } from "../ui/dom";
+import { h, options, setText } from "../ui/dom";
 import { field, numberInput } from "../ui/form";
 
 const DEFAULT_ROLLOUTS = 100;
 const REMOVE_CONFIRM_MS = 4000;
+/** Above this many shown demons the table scrolls in its own box and keeps only the rows in sight. */
+export const VIRTUAL_FROM = 60;
+const ROW_ESTIMATE_PX = 72;
+const COLUMNS = 9;
+
+function explained(tag: "th", term: Term, props: Record<string, unknown>, label: string): HTMLElement {
+  return h(tag, { ...props, title: tip(term) }, h("span", { class: "term" }, label));
+}
 
 interface Row {
   tr: HTMLTableRowElement;
+  dot: HTMLElement;
   now: HTMLElement;
   atStart: HTMLElement;
   truth: HTMLElement;
@@ -42,6 +56,27 @@ export function demonTable(store: AppStore): HTMLElement {
   const caption = h("caption", {});
   const body = h("tbody", {});
   const empty = h("p", { class: "muted" }, "Select a run to see its demons.");
+  const summary = h("p", { class: "demon-summary", "aria-live": "off", dataset: { testid: "demon-summary" } });
+  const search = h("input", {
+    type: "search",
+    id: "demon-search",
+    autocomplete: "off",
+    placeholder: "name or question",
+  });
+  const show = h(
+    "select",
+    { id: "demon-show" },
+    options([
+      ["all", "all demons"],
+      ["learning", "learning"],
+      ["diverged", "diverged"],
+      ["charted", "charted"],
+      ["control", "control demons"],
+    ]),
+  );
+  const topSpacer = h("tr", { class: "spacer", "aria-hidden": "true" }, h("td", { colspan: COLUMNS }));
+  const bottomSpacer = h("tr", { class: "spacer", "aria-hidden": "true" }, h("td", { colspan: COLUMNS }));
+  const scrollBox = h("div", { class: "table-scroll" });
   const rows = new Map<string, Row>();
   const pending = new Set<string>();
   const removing = new Set<string>();
@@ -57,17 +92,43 @@ export function demonTable(store: AppStore): HTMLElement {
     pending.delete(demon);
     render(store.state);
   };
-  // One after the other: the server runs at most two evaluations at once (429 beyond).
+  // One after the other: the server runs at most two evaluations at once (429 beyond). "All" means the
+  // demons the filter shows.
   evaluateAll.addEventListener("click", async () => {
     evaluateAll.disabled = true;
-    for (const demon of store.state.demons) if (!pending.has(demon.name)) await evaluate(demon.name);
+    for (const demon of shownDemons(store.state)) if (!pending.has(demon.name)) await evaluate(demon.name);
     evaluateAll.disabled = false;
   });
+
+  const filterNow = (): DemonFilter => ({ text: search.value, show: show.value as DemonFilter["show"] });
+  const shownDemons = (state: Readonly<AppState>): Demon[] =>
+    filterDemons(state.demons, filterNow(), state.live?.metrics ?? {}, state.charted);
+  search.addEventListener("input", () => render(store.state));
+  show.addEventListener("change", () => render(store.state));
+
+  // Only the rows in sight (plus a few) exist once the table is long.
+  const virtualizer = new Virtualizer<HTMLDivElement, HTMLTableRowElement>({
+    count: 0,
+    getScrollElement: () => scrollBox,
+    estimateSize: () => ROW_ESTIMATE_PX,
+    overscan: 8,
+    observeElementRect,
+    observeElementOffset,
+    scrollToFn: elementScroll,
+    getItemKey: (index) => currentNames[index] ?? index,
+    onChange: () => {
+      if (!rendering) render(store.state);
+    },
+  });
+  let rendering = false;
+  let currentNames: string[] = [];
+  let mounted = false;
 
   const makeRow = (demon: Demon): Row => {
     const cell = (cls = "num") => h("td", { class: cls });
     const row: Row = {
       tr: h("tr", { dataset: { demon: demon.name } }),
+      dot: h("span", { class: "swatch-dot", "aria-hidden": "true" }),
       now: cell(),
       atStart: cell(),
       truth: cell(),
@@ -76,7 +137,7 @@ export function demonTable(store: AppStore): HTMLElement {
       thesis: cell(),
       rupee: cell(),
       ude: cell(),
-      diverged: h("span", { class: "tag diverged", hidden: true }, "diverged"),
+      diverged: h("span", { class: "tag diverged", hidden: true, title: tip("diverged") }, "diverged"),
       chart: h("input", { type: "checkbox", "aria-label": `Chart ${demon.name}` }), // beside the name: saves a column
       evaluate: h("button", { type: "button", class: "small", "aria-label": `Evaluate ${demon.name}` }, "Evaluate"),
       remove: h("button", { type: "button", class: "small danger" }),
@@ -90,8 +151,9 @@ export function demonTable(store: AppStore): HTMLElement {
       h(
         "th",
         { scope: "row" },
+        row.dot,
         h("span", { class: "demon-name" }, demon.name),
-        demon.control ? h("span", { class: "tag" }, "control") : null,
+        demon.control ? h("span", { class: "tag", title: tip("control") }, "control") : null,
         row.diverged,
         h("span", { class: "question" }, question),
         h("label", { class: "chart-toggle" }, row.chart, "chart"),
@@ -132,36 +194,83 @@ export function demonTable(store: AppStore): HTMLElement {
   };
 
   const render = (state: Readonly<AppState>) => {
+    rendering = true;
+    try {
+      renderNow(state);
+    } finally {
+      rendering = false;
+    }
+  };
+
+  const renderNow = (state: Readonly<AppState>) => {
     const { run, demons, live, evaluations, charted } = state;
     empty.hidden = run !== null;
     table.hidden = run === null;
+    tools.hidden = run === null;
     if (run === null) return;
     const [x, y] = startPoint(run.spec.world ?? {});
     setText(caption, `Demons of ${run.name ?? run.id.slice(0, 6)}: evaluated from the start (${x}, ${y})`);
+    const totals = demonSummary(demons, live?.metrics ?? {});
+    setText(
+      summary,
+      `${totals.demons.toLocaleString("en-US")} demons · ${totals.learning.toLocaleString("en-US")} learning · ` +
+        `${totals.diverged.toLocaleString("en-US")} diverged · mean RUPEE ${formatNumber(totals.meanRupee)}`,
+    );
     const thesis = run.spec.thesis?.predictions ?? {};
     // The server refuses (409) to change a finished or failed run.
     const status = live?.status ?? run.status;
     const closed = status === "finished" || status === "failed";
+    const shown = shownDemons(state);
+    currentNames = shown.map((d) => d.name);
+    const virtual = shown.length > VIRTUAL_FROM;
+    scrollBox.classList.toggle("virtual", virtual);
+    let visible: Demon[] = shown;
+    let before = 0;
+    let after = 0;
+    if (virtual) {
+      if (virtualizer.options.count !== shown.length) {
+        virtualizer.setOptions({ ...virtualizer.options, count: shown.length });
+      }
+      if (!mounted) {
+        mounted = true;
+        virtualizer._didMount();
+      }
+      virtualizer._willUpdate();
+      const items = virtualizer.getVirtualItems();
+      visible = items.map((item) => shown[item.index]).filter((d): d is Demon => d !== undefined);
+      before = items[0]?.start ?? 0;
+      after = Math.max(0, virtualizer.getTotalSize() - (items.at(-1)?.end ?? 0));
+    }
+    (topSpacer.firstChild as HTMLElement).style.height = `${before}px`;
+    (bottomSpacer.firstChild as HTMLElement).style.height = `${after}px`;
+    topSpacer.hidden = before === 0;
+    bottomSpacer.hidden = after === 0;
+    if (body.firstChild !== topSpacer) body.prepend(topSpacer);
     const seen = new Set<string>();
-    for (const demon of demons) {
+    for (const demon of visible) {
       seen.add(demon.name);
       let row = rows.get(demon.name);
       if (!row) {
         row = makeRow(demon);
         rows.set(demon.name, row);
       }
+      row.tr.dataset.index = String(currentNames.indexOf(demon.name));
       // Moved only when out of place: a row taken out of the page, even for a moment, loses the focus
       // and the click under way on its buttons (render runs 30 times a second).
-      const at = body.children[seen.size - 1];
+      const at = body.children[seen.size];
       if (at !== row.tr) body.insertBefore(row.tr, at ?? null);
+      if (virtual) virtualizer.measureElement(row.tr);
+      row.dot.style.background = demon.colour;
       const metrics = live?.metrics[demon.name] ?? demon.metrics;
       const prediction = live ? live.predictions[demon.name] : demon.prediction;
       const evaluation = evaluations[demon.name];
       setText(row.now, formatNumber(prediction));
       setText(row.atStart, formatNumber(evaluation?.prediction));
-      setText(row.truth, formatEstimate(evaluation?.truth, evaluation?.stderr));
-      setText(row.error, formatNumber(evaluation?.error));
-      setText(row.relative, evaluation ? formatRelativeError(evaluation.prediction, evaluation.truth) : "");
+      // Against the exact answer where the world has one (the Monte-Carlo mean is cut at the rollouts' cap).
+      const truth = truthOf(evaluation);
+      setText(row.truth, formatTruth(evaluation));
+      setText(row.error, formatNumber(evaluation && truth !== null ? (evaluation.prediction ?? NaN) - truth : null));
+      setText(row.relative, evaluation ? formatRelativeError(evaluation.prediction, truth) : "");
       setText(row.thesis, formatNumber(thesis[demon.name]));
       setText(row.rupee, formatNumber(metrics?.rupee));
       setText(row.ude, formatNumber(metrics?.ude));
@@ -182,6 +291,7 @@ export function demonTable(store: AppStore): HTMLElement {
         rows.delete(name);
       }
     }
+    if (body.lastChild !== bottomSpacer) body.append(bottomSpacer);
   };
 
   const table = h(
@@ -194,24 +304,33 @@ export function demonTable(store: AppStore): HTMLElement {
       h(
         "tr",
         {},
-        h("th", { scope: "col", rowspan: 2 }, "Demon"),
-        h("th", { scope: "col", rowspan: 2, class: "num" }, "Prediction now"),
-        h("th", { scope: "colgroup", colspan: 3, class: "group" }, "At the start: Monte-Carlo evaluation"),
-        h("th", { scope: "col", rowspan: 2, class: "num" }, "Thesis"),
-        h("th", { scope: "col", rowspan: 2, class: "num" }, "RUPEE"),
-        h("th", { scope: "col", rowspan: 2, class: "num" }, "UDE"),
+        explained("th", "demon", { scope: "col", rowspan: 2 }, "Demon"),
+        explained("th", "prediction", { scope: "col", rowspan: 2, class: "num" }, "Prediction now"),
+        explained("th", "truth", { scope: "colgroup", colspan: 3, class: "group" }, "At the start: evaluation"),
+        explained("th", "thesis", { scope: "col", rowspan: 2, class: "num" }, "Thesis"),
+        explained("th", "rupee", { scope: "col", rowspan: 2, class: "num" }, "RUPEE"),
+        explained("th", "ude", { scope: "col", rowspan: 2, class: "num" }, "UDE"),
         h("th", { scope: "col", rowspan: 2 }, h("span", { class: "visually-hidden" }, "Actions")),
       ),
       h(
         "tr",
         {},
-        h("th", { scope: "col", class: "num" }, "prediction"),
-        h("th", { scope: "col", class: "num" }, "truth ± se"),
-        h("th", { scope: "col", class: "num" }, "error"),
+        explained("th", "prediction", { scope: "col", class: "num" }, "prediction"),
+        explained("th", "truth", { scope: "col", class: "num" }, "truth (± se)"),
+        h("th", { scope: "col", class: "num", title: "prediction − truth, and relative to the truth" }, "error"),
       ),
     ),
     body,
   );
+
+  const tools = h(
+    "div",
+    { class: "row tight demon-tools" },
+    summary,
+    field("Find demons", search, { class: "inline-field" }),
+    field("Show", show, { class: "inline-field" }),
+  );
+  scrollBox.append(table);
 
   store.subscribe(render, ["run", "demons", "live", "evaluations", "charted"]);
   render(store.state);
@@ -226,11 +345,12 @@ export function demonTable(store: AppStore): HTMLElement {
       h(
         "div",
         { class: "row tight" },
-        field("Rollouts per evaluation", rollouts, { class: "inline-field" }),
+        field("Rollouts per evaluation", rollouts, { class: "inline-field", term: "truth" }),
         evaluateAll,
       ),
     ),
+    tools,
     empty,
-    h("div", { class: "table-scroll" }, table),
+    scrollBox,
   );
 }

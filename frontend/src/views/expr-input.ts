@@ -14,8 +14,9 @@ import {
 } from "../lib/expr";
 import { InputError } from "../lib/input-error";
 import { readNumber } from "../lib/parse";
+import { GLOSSARY, type Term } from "../lib/glossary";
 import { h, options, replaceChildren, uid } from "../ui/dom";
-import type { FormErrors } from "../ui/form";
+import { type FormErrors, termLabel } from "../ui/form";
 
 export interface ExprContext {
   sensors: string[];
@@ -113,8 +114,17 @@ export function exprInput(label: string, path: string, errors: FormErrors, initi
   const element = h(
     "div",
     { class: "field expr" },
-    h("label", { for: id }, label),
-    h("div", { class: "expr-row" }, kind, constant, sensor, region, demon, json),
+    path in GLOSSARY ? termLabel(label, id, path as Term) : h("label", { for: id }, label),
+    h(
+      "div",
+      { class: "expr-row", oninput: () => errors.clearField(path), onchange: () => errors.clearField(path) },
+      kind,
+      constant,
+      sensor,
+      region,
+      demon,
+      json,
+    ),
     message,
   );
   return { element, read, set, setContext };

@@ -67,7 +67,7 @@ export function featuresFields(errors: FormErrors): FeaturesFields {
   const element = h(
     "div",
     { class: "row" },
-    field("Features", kind, { path: "features.kind", errors }),
+    field("Features", kind, { path: "features.kind", errors, term: "features" }),
     ...Object.values(sizeFields),
     errors.register("features", null),
   );

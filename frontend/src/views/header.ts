@@ -9,12 +9,13 @@ import { h, setText } from "../ui/dom";
 
 const LARGE_KEY = "horde-lab-large-text";
 
-export function header(store: AppStore): HTMLElement {
+export function header(store: AppStore, openHelp: () => void): HTMLElement {
   const runName = h("span", { class: "run-name" });
   const status = h("span", { class: "badge" });
   const episode = h("span", { dataset: { testid: "episode" } });
   const step = h("span", { dataset: { testid: "step" } });
   const ret = h("span", {});
+  const says = h("span", { class: "run-says", dataset: { testid: "run-says" } });
   const runStatus = h(
     "div",
     { class: "run-status", "aria-label": "Selected run" },
@@ -23,6 +24,7 @@ export function header(store: AppStore): HTMLElement {
     episode,
     step,
     ret,
+    says,
   );
   const notice = h("p", { class: "notice", role: "status" });
 
@@ -30,6 +32,7 @@ export function header(store: AppStore): HTMLElement {
   const setLarge = (on: boolean) => {
     document.documentElement.classList.toggle("large", on);
     large.setAttribute("aria-pressed", String(on));
+    store.update({ large: on });
     try {
       localStorage.setItem(LARGE_KEY, on ? "1" : "");
     } catch {
@@ -71,7 +74,21 @@ export function header(store: AppStore): HTMLElement {
       status.className = `badge status-${current}`;
       setText(episode, `episode ${formatCount(live?.episode ?? brief?.episode ?? run.episode)}`);
       setText(step, `step ${formatCount(live?.step ?? brief?.step ?? run.step)}`);
-      setText(ret, live ? `return ${formatNumber(live.episode_return, 2)}` : "");
+      const message = live?.message ?? brief?.message ?? run.message;
+      says.hidden = !message.startsWith("preparing");
+      setText(says, says.hidden ? "" : `${message}…`);
+      // The return of the episode under way, and of the last one that ended (the Results' "last return").
+      const last = live?.last_return ?? run.summary?.last_return;
+      const under = live && (current === "running" || current === "paused") ? live.episode_return : null;
+      setText(
+        ret,
+        [
+          under !== null && under !== undefined ? `return so far ${formatNumber(under, 2)}` : "",
+          last !== null && last !== undefined ? `last return ${formatNumber(last, 3)}` : "",
+        ]
+          .filter(Boolean)
+          .join(" · "),
+      );
     }
     notice.hidden = message === null;
     if (message) {
@@ -89,6 +106,12 @@ export function header(store: AppStore): HTMLElement {
     h("h1", {}, "Horde Lab"),
     runStatus,
     notice,
-    h("div", { class: "tools" }, large, tokenBox),
+    h(
+      "div",
+      { class: "tools" },
+      h("button", { type: "button", onclick: openHelp, "aria-keyshortcuts": "?" }, "Help (?)"),
+      large,
+      tokenBox,
+    ),
   );
 }

@@ -1,6 +1,7 @@
 /**
- * The scenario launcher: a scenario (or none), a world (the scenario's or one from the library), the
- * seed and a few overrides (episodes, speed), then POST /api/runs with the template form.
+ * The scenario launcher: a name, a scenario (or none), a world (the scenario's or one from the library),
+ * the seed and a few overrides (episodes, speed), then POST /api/runs with the template form. The speed
+ * starts at full speed for a protocol too long to watch, and a line says how long the run will take.
  */
 import { attempt, launchRun, notify } from "../app/actions";
 import type { AppStore } from "../app/state";
@@ -8,12 +9,16 @@ import { ApiError, api, unwrap } from "../api/client";
 import type { RunTemplate } from "../api/types";
 import { runLabel } from "../lib/format";
 import { readNumber, readOptionalNumber } from "../lib/parse";
-import { h, options, replaceChildren } from "../ui/dom";
-import { FormErrors, checkbox, field, numberInput } from "../ui/form";
+import { formatDuration } from "../lib/protocol";
+import { WATCHABLE_SECONDS, runDuration } from "../lib/runs";
+import { h, options, replaceChildren, setText } from "../ui/dom";
+import { FormErrors, checkbox, field, numberInput, textInput } from "../ui/form";
 
 const NO_SCENARIO = "";
 const SCENARIO_WORLD = "";
-const DEFAULT_HZ = 20;
+const WATCH_HZ = 20;
+/** A live run of a thesis scenario at full speed on the 2-core development machine (measured). */
+const FULL_SPEED_HZ = 200_000;
 
 export function launcher(store: AppStore): HTMLElement {
   const errors = new FormErrors();
@@ -22,7 +27,32 @@ export function launcher(store: AppStore): HTMLElement {
   const world = h("select", { name: "world" });
   const seed = numberInput(0, { name: "seed" });
   const episodes = numberInput(null, { name: "episodes" });
-  const hz = numberInput(DEFAULT_HZ, { name: "hz" });
+  const hz = numberInput(WATCH_HZ, { name: "hz" });
+  const name = textInput("", { name: "name", placeholder: "the scenario's name" });
+  const estimate = h("p", { class: "hint estimate", "aria-live": "polite", dataset: { testid: "estimate" } });
+  let maxSteps = 100;
+  let hzTouched = false;
+  const showEstimate = () => {
+    const count = readOptionalNumber(episodes.value);
+    const speed = readOptionalNumber(hz.value) ?? null;
+    if (count === undefined || count <= 0) {
+      setText(estimate, "Runs until paused (no episode count).");
+      return;
+    }
+    const at = runDuration(count, maxSteps, speed, FULL_SPEED_HZ);
+    const full = runDuration(count, maxSteps, null, FULL_SPEED_HZ);
+    setText(
+      estimate,
+      speed === null
+        ? `${count.toLocaleString("en-US")} episodes of up to ${maxSteps} steps: about ${formatDuration(full)} at full speed.`
+        : `${count.toLocaleString("en-US")} episodes of up to ${maxSteps} steps: up to ${formatDuration(at)} at ${speed} steps/s (full speed: about ${formatDuration(full)}).`,
+    );
+  };
+  hz.addEventListener("input", () => {
+    hzTouched = true;
+    showEstimate();
+  });
+  episodes.addEventListener("input", showEstimate);
   const startNow = h("input", { name: "start", checked: true });
   const submit = h("button", { type: "submit", class: "primary" }, "Launch");
 
@@ -52,6 +82,7 @@ export function launcher(store: AppStore): HTMLElement {
   // so that a refreshed list does not undo what the user typed).
   let described: string | null = null;
   const describe = () => {
+    showEstimate();
     const name = scenario.value;
     const entry = store.state.scenarios.find((s) => s.name === name);
     description.textContent = entry
@@ -64,6 +95,13 @@ export function launcher(store: AppStore): HTMLElement {
       if (scenario.value !== name) return;
       seed.value = String(spec.seed);
       episodes.value = String(spec.protocol?.episodes ?? "");
+      maxSteps = spec.world?.max_steps ?? 100;
+      // A protocol too long to watch starts at full speed (the run card's speed control slows it down).
+      if (!hzTouched) {
+        const long = runDuration(spec.protocol?.episodes ?? 0, maxSteps, WATCH_HZ, FULL_SPEED_HZ) > WATCHABLE_SECONDS;
+        hz.value = long ? "" : String(WATCH_HZ);
+      }
+      showEstimate();
     });
   };
   scenario.addEventListener("change", () => {
@@ -75,6 +113,9 @@ export function launcher(store: AppStore): HTMLElement {
     event.preventDefault();
     errors.clear();
     const template: RunTemplate = { seed: readNumber(seed.value) };
+    // A run is named after its scenario unless the user names it.
+    const runName = name.value.trim() || scenario.value;
+    if (runName) template.name = runName;
     if (scenario.value) template.scenario = scenario.value;
     if (world.value) template.world = world.value;
     const episodeCount = readOptionalNumber(episodes.value);
@@ -104,14 +145,16 @@ export function launcher(store: AppStore): HTMLElement {
       { novalidate: true, onsubmit: onSubmit, "aria-labelledby": "launcher-title" },
       field("Scenario", scenario, { path: "scenario", errors }),
       description,
+      field("Name", name, { path: "name", errors, hint: "to find the run in the list" }),
       field("World", world, { path: "world", errors }),
       h(
         "div",
         { class: "row" },
         field("Seed", seed, { path: "seed", errors }),
-        field("Episodes", episodes, { path: "protocol.episodes", errors }),
-        field("Steps/s", hz, { path: "hz", errors, hint: "empty: full speed" }),
+        field("Episodes", episodes, { path: "protocol.episodes", errors, term: "episode" }),
+        field("Steps/s", hz, { path: "hz", errors, hint: "empty: full speed", term: "speed" }),
       ),
+      estimate,
       checkbox("Start at once", startNow),
       errors.general,
       h("div", { class: "actions" }, submit),

@@ -80,7 +80,12 @@ export function policyFields(errors: FormErrors): PolicyFields {
   const element = h(
     "div",
     { class: "policy" },
-    h("div", { class: "row" }, field("Target policy", kind, { path: "policy.kind", errors }), ...Object.values(fields)),
+    h(
+      "div",
+      { class: "row" },
+      field("Target policy", kind, { path: "policy.kind", errors, term: "policy" }),
+      ...Object.values(fields),
+    ),
     errors.register("policy", null),
   );
   return { element, read, set, setDemons };

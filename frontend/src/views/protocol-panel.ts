@@ -5,17 +5,29 @@
  * demon's prediction at the start, the Monte-Carlo truth ± its standard error, the error and the
  * thesis's number) and, for control protocols, where the greedy test runs ended beside the thesis's
  * counts. A 422 appears at its field; a 429 (one protocol at a time) says so and shows the job that runs.
+ * A group (all of Experiment 2) runs its scenarios one after another from this page; below, a sortable
+ * table keeps the results of every job the server holds beside the thesis's numbers.
  */
 import { attempt, cancelProtocol, loadProtocols, startProtocol } from "../app/actions";
 import type { AppState, AppStore } from "../app/state";
 import { ApiError, api, unwrap } from "../api/client";
 import type { Protocol, RunTemplate } from "../api/types";
 import { countsTable, protocolProgress, protocolSummary, protocolTitle, resultRows } from "../lib/protocol";
+import { tip } from "../lib/glossary";
+import { jobsTable } from "./protocol-jobs";
+import { scenarioGroups } from "../lib/protocol-jobs";
 import { readOptionalNumber } from "../lib/parse";
 import { h, options, replaceChildren, setText } from "../ui/dom";
 import { FormErrors, field, numberInput } from "../ui/form";
 
 const DEFAULT_SCENARIO = "experiment1";
+const GROUP = "group:";
+const HEAD_TIPS: Record<string, string | undefined> = {
+  demon: tip("demon"),
+  prediction: tip("prediction"),
+  "truth (MC) ± se": tip("truth"),
+  thesis: tip("thesis"),
+};
 const BUSY_MESSAGE = "One protocol at a time: another one is running already (shown below). Wait for it, or cancel it.";
 
 export function protocolPanel(store: AppStore): HTMLElement {
@@ -32,16 +44,48 @@ export function protocolPanel(store: AppStore): HTMLElement {
   const renderChoices = () => {
     const names = store.state.scenarios.filter((s) => !s.error).map((s) => s.name);
     const chosen = scenario.dataset.chosen ? scenario.value : DEFAULT_SCENARIO;
-    replaceChildren(scenario, options(names, chosen));
+    const groups = scenarioGroups(names);
+    replaceChildren(
+      scenario,
+      h("optgroup", { label: "One scenario" }, options(names, chosen)),
+      groups.length
+        ? h(
+            "optgroup",
+            { label: "A group" },
+            options(
+              groups.map((g) => [`${GROUP}${g.key}`, g.label] as const),
+              chosen,
+            ),
+          )
+        : null,
+    );
     describe();
+  };
+
+  /** The scenarios the choice stands for: one, or a group's. */
+  const chosenScenarios = (): string[] => {
+    const value = scenario.value;
+    if (!value.startsWith(GROUP)) return [value];
+    const names = store.state.scenarios.filter((s) => !s.error).map((s) => s.name);
+    return scenarioGroups(names).find((g) => `${GROUP}${g.key}` === value)?.scenarios ?? [];
   };
 
   // The scenario's own protocol and seed fill the fields, once per choice (a refreshed list keeps
   // what the user typed).
   let described: string | null = null;
   const describe = () => {
-    const name = scenario.value;
-    description.textContent = store.state.scenarios.find((s) => s.name === name)?.description ?? "";
+    const members = chosenScenarios();
+    const name = members[0] ?? "";
+    description.textContent =
+      members.length > 1
+        ? `Runs ${members.join(", ")} one after another, each with its own protocol (the fields below apply to each; empty keeps each scenario's own). Keep this page open until the last one has started.`
+        : (store.state.scenarios.find((s) => s.name === name)?.description ?? "");
+    if (members.length > 1) {
+      // Each keeps its own numbers unless the user types some.
+      trials.value = episodes.value = seed.value = "";
+      described = scenario.value;
+      return;
+    }
     if (!name || name === described) return;
     described = name;
     void attempt(store, async () => {
@@ -57,11 +101,15 @@ export function protocolPanel(store: AppStore): HTMLElement {
     describe();
   });
 
-  const onSubmit = async (event: Event) => {
-    event.preventDefault();
-    errors.clear();
+  // The scenarios of a group still to start, and the job of the group that runs now.
+  let queue: string[] = [];
+  let groupJob: string | null = null;
+  let groupSize = 0;
+  const groupNote = h("p", { class: "hint group-note", "aria-live": "polite", hidden: true });
+
+  const templateFor = (name: string): RunTemplate => {
     // Fields left empty keep the scenario's values; the server checks the rest (422 at the field).
-    const template: RunTemplate = { scenario: scenario.value };
+    const template: RunTemplate = { scenario: name };
     const seedValue = readOptionalNumber(seed.value);
     if (seedValue !== undefined) template.seed = seedValue;
     const protocol: Record<string, number> = {};
@@ -70,9 +118,58 @@ export function protocolPanel(store: AppStore): HTMLElement {
     if (trialCount !== undefined) protocol.trials = trialCount;
     if (episodeCount !== undefined) protocol.episodes = episodeCount;
     if (Object.keys(protocol).length > 0) template.protocol = protocol;
+    return template;
+  };
+
+  const startNext = async () => {
+    const name = queue.shift();
+    if (name === undefined) {
+      groupJob = null;
+      return;
+    }
+    const job = await attempt(store, () => startProtocol(store, templateFor(name)));
+    groupJob = job?.id ?? null;
+    if (groupJob === null) queue = []; // refused: the group stops here, the notice says why
+    showGroup();
+  };
+
+  const showGroup = () => {
+    groupNote.hidden = groupSize === 0;
+    const done = groupSize - queue.length - (groupJob ? 1 : 0);
+    setText(
+      groupNote,
+      groupJob || queue.length
+        ? `Group: ${done} of ${groupSize} done; ${queue.length} waiting.`
+        : `Group: all ${groupSize} done; their results are in the table below.`,
+    );
+  };
+
+  // The group's job has ended (finished, failed or cancelled): the next one starts.
+  store.subscribe(
+    ({ protocol }) => {
+      if (groupJob !== null && protocol?.id === groupJob && protocol.status !== "running") {
+        if (protocol.status === "cancelled") queue = [];
+        groupJob = null;
+        void startNext().then(showGroup);
+      }
+    },
+    ["protocol"],
+  );
+
+  const onSubmit = async (event: Event) => {
+    event.preventDefault();
+    errors.clear();
+    const members = chosenScenarios();
+    const template = templateFor(members[0] ?? "");
     submit.disabled = true;
     try {
-      await startProtocol(store, template);
+      const job = await startProtocol(store, template);
+      if (members.length > 1) {
+        queue = members.slice(1);
+        groupJob = job.id;
+        groupSize = members.length;
+        showGroup();
+      }
     } catch (error) {
       if (error instanceof ApiError && error.problems.length > 0) errors.showProblems(error.problems);
       else if (error instanceof ApiError && error.status === 429) {
@@ -169,15 +266,17 @@ export function protocolPanel(store: AppStore): HTMLElement {
         "div",
         { class: "row protocol-fields" },
         field("Scenario", scenario, { path: "scenario", errors, class: "wide" }),
-        field("Trials", trials, { path: "protocol.trials", errors }),
+        field("Trials", trials, { path: "protocol.trials", errors, term: "protocol" }),
         field("Episodes per trial", episodes, { path: "protocol.episodes", errors, class: "episodes-field" }),
         field("Seed", seed, { path: "seed", errors }),
         h("div", { class: "submit-cell" }, submit),
       ),
       description,
+      groupNote,
       errors.general,
     ),
     job,
+    jobsTable(store),
   );
 }
 
@@ -192,7 +291,13 @@ function resultsTables(job: Protocol): HTMLElement[] {
       h(
         "tr",
         {},
-        labels.map((label, i) => h("th", { scope: "col", class: i ? "num" : "" }, label)),
+        labels.map((label, i) =>
+          h(
+            "th",
+            { scope: "col", class: i ? "num" : "", title: HEAD_TIPS[label] },
+            HEAD_TIPS[label] ? h("span", { class: "term" }, label) : label,
+          ),
+        ),
       ),
     );
   const tables: HTMLElement[] = [

@@ -5,7 +5,7 @@
  * runs for a live run, so the truth comes from the dashboard's own evaluations.
  */
 import type { AppState, AppStore } from "../app/state";
-import { formatCount, formatEstimate, formatNumber, formatRelativeError } from "../lib/format";
+import { formatCount, formatNumber, formatRelativeError, formatTruth, truthOf } from "../lib/format";
 import { h, replaceChildren } from "../ui/dom";
 
 export function runResults(store: AppStore): HTMLElement {
@@ -43,7 +43,7 @@ export function runResults(store: AppStore): HTMLElement {
           h(
             "tr",
             {},
-            ...["demon", "prediction", "truth (MC) ± se", "error", "thesis"].map((label, i) =>
+            ...["demon", "prediction", "truth (± se)", "error", "thesis"].map((label, i) =>
               h("th", { scope: "col", class: i ? "num" : "" }, label),
             ),
           ),
@@ -59,12 +59,8 @@ export function runResults(store: AppStore): HTMLElement {
               {},
               h("th", { scope: "row" }, name),
               h("td", { class: "num" }, formatNumber(prediction)),
-              h(
-                "td",
-                { class: "num" },
-                evaluation ? formatEstimate(evaluation.truth, evaluation.stderr) : "evaluate in the table",
-              ),
-              h("td", { class: "num" }, evaluation ? formatRelativeError(prediction, evaluation.truth) : "–"),
+              h("td", { class: "num" }, evaluation ? formatTruth(evaluation) : "evaluate in the table"),
+              h("td", { class: "num" }, evaluation ? formatRelativeError(prediction, truthOf(evaluation)) : "–"),
               h("td", { class: "num" }, formatNumber(thesis.predictions?.[name])),
             );
           }),

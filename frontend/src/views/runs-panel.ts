@@ -1,12 +1,14 @@
 /**
- * The list of runs: status, episode and step of each, and its commands (start or pause, step, reset,
- * delete). Rows are kept and updated in place, so the focus stays on a button while the list refreshes.
+ * The list of runs: status, episode and step of each, its speed, and its commands (start or pause,
+ * step, reset, delete); a filter over names, scenarios and ids, and "Delete finished". Rows are kept and
+ * updated in place, so the focus stays on a button while the list refreshes.
  */
-import { attempt, commandRun, deleteRun, notify, selectRun, stepRun } from "../app/actions";
+import { attempt, commandRun, deleteRun, notify, selectRun, setRunSpeed, stepRun } from "../app/actions";
 import type { AppStore } from "../app/state";
 import type { RunBrief } from "../api/types";
 import { formatCount, formatHz, formatStatus, runLabel } from "../lib/format";
-import { h, options, setText } from "../ui/dom";
+import { FULL_SPEED, matchesFilter, speedChoice } from "../lib/runs";
+import { h, options, replaceChildren, setText } from "../ui/dom";
 
 const STEP_SIZES = ["1", "10", "100", "1000"];
 const DELETE_CONFIRM_MS = 4000;
@@ -20,6 +22,9 @@ interface Row {
   step: HTMLButtonElement;
   reset: HTMLButtonElement;
   remove: HTMLButtonElement;
+  speed: HTMLSelectElement;
+  fullSpeed: HTMLButtonElement;
+  message: HTMLElement;
   run: RunBrief;
   confirmUntil: number;
 }
@@ -28,6 +33,15 @@ export function runsPanel(store: AppStore): HTMLElement {
   const stepSize = h("select", { id: "step-size" }, options(STEP_SIZES, "1"));
   const list = h("ul", { class: "run-list", "aria-label": "Runs" });
   const empty = h("p", { class: "muted" }, "No runs yet: launch a scenario above.");
+  const filter = h("input", {
+    type: "search",
+    id: "run-filter",
+    placeholder: "name, scenario, id or status",
+    autocomplete: "off",
+  });
+  const matching = h("p", { class: "hint", "aria-live": "polite" });
+  const deleteFinished = h("button", { type: "button", class: "danger small" }, "Delete finished");
+  let finishedConfirmUntil = 0;
   const rows = new Map<string, Row>();
 
   const makeRow = (run: RunBrief): Row => {
@@ -58,11 +72,32 @@ export function runsPanel(store: AppStore): HTMLElement {
       "Reset",
     );
     row.remove = h("button", { type: "button", class: "danger", onclick: () => onDelete(row) });
+    row.speed = h("select", {
+      class: "speed",
+      title: "Steps per second: slow enough to watch each step, or as fast as the machine can learn",
+      onchange: () => {
+        const hz = row.speed.value === FULL_SPEED ? null : Number(row.speed.value);
+        void attempt(store, () => setRunSpeed(store, row.run.id, hz));
+      },
+    });
+    row.fullSpeed = h(
+      "button",
+      {
+        type: "button",
+        class: "small",
+        title: "Learn as fast as the machine can (the live view then shows a sample of the steps)",
+        onclick: () => void attempt(store, () => setRunSpeed(store, row.run.id, null)),
+      },
+      "Full speed",
+    );
+    row.message = h("p", { class: "run-message", role: "status", hidden: true });
     row.item = h(
       "li",
       { class: "run-item", dataset: { run: run.id } },
       h("div", { class: "run-head" }, row.select, row.status),
       row.counters,
+      row.message,
+      h("div", { class: "run-speed" }, row.speed, row.fullSpeed),
       h("div", { class: "run-actions" }, row.toggle, row.step, row.reset, row.remove),
     );
     return row;
@@ -82,16 +117,47 @@ export function runsPanel(store: AppStore): HTMLElement {
     window.setTimeout(() => updateRow(row, row.run, store.state.selectedRunId), DELETE_CONFIRM_MS + 50);
   };
 
+  // Deleting every finished (or failed) run takes two presses as well.
+  deleteFinished.addEventListener("click", () => {
+    const done = store.state.runs.filter((r) => r.status === "finished" || r.status === "failed");
+    if (Date.now() >= finishedConfirmUntil) {
+      finishedConfirmUntil = Date.now() + DELETE_CONFIRM_MS;
+      render();
+      window.setTimeout(render, DELETE_CONFIRM_MS + 50);
+      return;
+    }
+    finishedConfirmUntil = 0;
+    void attempt(store, async () => {
+      for (const run of done) await deleteRun(store, run.id);
+      notify(store, `Deleted ${done.length} finished run${done.length === 1 ? "" : "s"}.`);
+    });
+  });
+  filter.addEventListener("input", () => render());
+
   const render = () => {
     const { runs, selectedRunId, live } = store.state;
     empty.hidden = runs.length > 0;
+    const finished = runs.filter((r) => r.status === "finished" || r.status === "failed").length;
+    deleteFinished.disabled = finished === 0;
+    const confirmingFinished = Date.now() < finishedConfirmUntil;
+    setText(deleteFinished, confirmingFinished ? `Really delete ${finished}?` : `Delete finished (${finished})`);
+    const shown = runs.filter((r) => matchesFilter(r, filter.value));
+    matching.hidden = filter.value.trim() === "";
+    setText(matching, `${shown.length} of ${runs.length} runs match`);
     const seen = new Set<string>();
-    for (const brief of runs) {
+    for (const brief of shown) {
       seen.add(brief.id);
       // The selected run's stream is fresher than the list's once-a-second reading.
       const run =
         live && live.run === brief.id
-          ? { ...brief, status: live.status, step: live.step, episode: live.episode }
+          ? {
+              ...brief,
+              status: live.status,
+              step: live.step,
+              episode: live.episode,
+              hz: live.hz,
+              message: live.message,
+            }
           : brief;
       let row = rows.get(run.id);
       if (!row) {
@@ -123,6 +189,8 @@ export function runsPanel(store: AppStore): HTMLElement {
       h("h2", { id: "runs-title" }, "Runs"),
       h("label", { for: "step-size", class: "inline" }, "Steps per Step ", stepSize),
     ),
+    h("div", { class: "run-filter" }, h("label", { for: "run-filter" }, "Filter runs"), filter, matching),
+    h("div", { class: "actions" }, deleteFinished),
     empty,
     list,
   );
@@ -139,6 +207,19 @@ function updateRow(row: Row, run: RunBrief, selectedRunId: string | null): void 
   setText(row.status, formatStatus(run.status));
   row.status.className = `badge status-${run.status}`;
   setText(row.counters, `episode ${formatCount(run.episode)} · step ${formatCount(run.step)} · ${formatHz(run.hz)}`);
+  // The server's word when it matters: kernels being prepared, or why the run failed.
+  const says = run.status === "failed" || run.message.startsWith("preparing") ? run.message : "";
+  row.message.hidden = says === "";
+  setText(row.message, says);
+  const choice = speedChoice(run.hz);
+  if (row.speed.dataset.choices !== choice.key) {
+    row.speed.dataset.choices = choice.key;
+    replaceChildren(row.speed, options(choice.items, choice.value));
+  }
+  if (document.activeElement !== row.speed) row.speed.value = choice.value;
+  row.speed.setAttribute("aria-label", `Speed of run ${label}`);
+  row.fullSpeed.disabled = run.hz === null || run.hz === undefined;
+  row.fullSpeed.setAttribute("aria-label", `Run ${label} at full speed`);
   const running = run.status === "running";
   const done = run.status === "finished" || run.status === "failed";
   setText(row.toggle, running ? "Pause" : "Start");

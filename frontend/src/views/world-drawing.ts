@@ -1,18 +1,42 @@
 /**
  * The live drawing of a world (SVG, y up): the grid of its steps, its regions coloured by kind with
  * their names, and the start point or rectangle. Redrawn from the form's current values on every edit.
+ *
+ * Given `onEdit`, it is also drawn on by hand: a drag on empty ground draws a new region (of the kind
+ * `newKind()` names), a drag on a region moves it, a drag on a corner handle resizes it, a click on
+ * empty ground sets the start; all snapped to the step grid. `onEdit(world, false)` follows the drag,
+ * `onEdit(world, true)` ends it (the editor then updates its form and its undo history).
  */
-import type { WorldSpec } from "../api/types";
+import type { Region, WorldSpec } from "../api/types";
 import { gridLines, regionFills } from "../lib/world";
+import { type Corner, type Rect, moveRect, newRegion, rectFrom, resizeRect, startAt } from "../lib/world-edit";
 import { h, replaceChildren, s } from "../ui/dom";
+
+const CORNERS: Corner[] = ["x0y0", "x1y0", "x0y1", "x1y1"];
+
+type Drag =
+  | { mode: "new"; from: [number, number]; moved: boolean }
+  | { mode: "move"; index: number; from: [number, number]; rect: Rect; moved: boolean }
+  | { mode: "resize"; index: number; corner: Corner; rect: Rect; moved: boolean };
+
+export interface DrawingEdits {
+  onEdit: (world: WorldSpec, done: boolean) => void;
+  newKind: () => Region["kind"];
+}
 
 const isCssColor = (name: string): boolean => typeof CSS !== "undefined" && CSS.supports("color", name);
 
 const finite = (...values: (number | undefined)[]): boolean =>
   values.every((v) => v !== undefined && Number.isFinite(v));
 
-export function worldDrawing(): { element: HTMLElement; draw: (world: WorldSpec) => void } {
-  const svg = s("svg", { class: "world-svg", role: "img", "aria-labelledby": "world-drawing-title" });
+export function worldDrawing(edits?: DrawingEdits): { element: HTMLElement; draw: (world: WorldSpec) => void } {
+  const svg = s("svg", {
+    class: `world-svg${edits ? " editable" : ""}`,
+    role: "img",
+    "aria-labelledby": "world-drawing-title",
+  });
+  let current: WorldSpec | null = null;
+  let drag: Drag | null = null;
   const title = s("title", { id: "world-drawing-title" });
   const legend = h(
     "ul",
@@ -26,6 +50,7 @@ export function worldDrawing(): { element: HTMLElement; draw: (world: WorldSpec)
   const note = h("p", { class: "hint", hidden: true });
 
   const draw = (world: WorldSpec) => {
+    current = world;
     const { width, height } = world;
     const drawable = finite(width, height) && width > 0 && height > 0;
     note.hidden = drawable;
@@ -39,7 +64,9 @@ export function worldDrawing(): { element: HTMLElement; draw: (world: WorldSpec)
     const flipY = (y: number) => height - y; // SVG's y points down, the world's up
     const regions = (world.regions ?? []).filter((r) => r.rect.length === 4 && finite(...r.rect));
     title.textContent = `The world: ${width} by ${height}, ${regions.length} regions`;
-    svg.setAttribute("viewBox", `0 0 ${width} ${height}`);
+    // A margin, so that a start on the edge is drawn whole.
+    const margin = size / 20;
+    svg.setAttribute("viewBox", `${-margin} ${-margin} ${width + 2 * margin} ${height + 2 * margin}`);
     svg.setAttribute("preserveAspectRatio", "xMidYMid meet");
 
     const grid = s(
@@ -52,9 +79,14 @@ export function worldDrawing(): { element: HTMLElement; draw: (world: WorldSpec)
       const [x0, y0, x1, y1] = region.rect as [number, number, number, number];
       const fills = regionFills(region, isCssColor);
       const band = (x1 - x0) / fills.length;
+      const handle = Math.min(size / 30, (x1 - x0) / 3, (y1 - y0) / 3);
       return s(
         "g",
-        { class: `region region-${region.kind}`, "data-region": region.name },
+        {
+          class: `region region-${region.kind}`,
+          "data-region": region.name,
+          "data-index": (world.regions ?? []).indexOf(region),
+        },
         fills.map((f, i) =>
           s("rect", {
             x: x0 + i * band,
@@ -88,6 +120,21 @@ export function worldDrawing(): { element: HTMLElement; draw: (world: WorldSpec)
           },
           region.name,
         ),
+        edits
+          ? CORNERS.map((corner) =>
+              s("rect", {
+                class: `handle handle-${corner}`,
+                "data-corner": corner,
+                x: (corner.startsWith("x0") ? x0 : x1) - handle / 2,
+                y: flipY(corner.endsWith("y0") ? y0 : y1) - handle / 2,
+                width: handle,
+                height: handle,
+                fill: "#ffffff",
+                stroke: "#111827",
+                "stroke-width": line,
+              }),
+            )
+          : null,
       );
     });
     replaceChildren(
@@ -99,6 +146,65 @@ export function worldDrawing(): { element: HTMLElement; draw: (world: WorldSpec)
       startMark(world.start ?? [0, 0], flipY, size),
     );
   };
+
+  if (edits) {
+    /** The pointer's position in world units (y up). */
+    const toWorld = (event: PointerEvent): [number, number] => {
+      const matrix = svg.getScreenCTM()?.inverse();
+      const point = new DOMPoint(event.clientX, event.clientY).matrixTransform(matrix);
+      return [point.x, (current?.height ?? 0) - point.y];
+    };
+    const edited = (world: WorldSpec, index: number, rect: Rect): WorldSpec => ({
+      ...world,
+      regions: (world.regions ?? []).map((r, i) => (i === index ? { ...r, rect } : r)),
+    });
+    let before: WorldSpec | null = null;
+    let next: WorldSpec | null = null;
+    svg.addEventListener("pointerdown", (event) => {
+      if (event.button !== 0 || !current) return;
+      const at = toWorld(event);
+      const target = event.target as Element;
+      const group = target.closest("[data-index]");
+      const index = Number(group?.getAttribute("data-index") ?? -1);
+      const rect = current.regions?.[index]?.rect as Rect | undefined;
+      const corner = target.getAttribute("data-corner") as Corner | null;
+      if (rect && corner) drag = { mode: "resize", index, corner, rect, moved: false };
+      else if (rect) drag = { mode: "move", index, from: at, rect, moved: false };
+      else drag = { mode: "new", from: at, moved: false };
+      before = current;
+      next = null;
+      svg.setPointerCapture(event.pointerId);
+      event.preventDefault();
+    });
+    svg.addEventListener("pointermove", (event) => {
+      if (!drag || !before) return;
+      const at = toWorld(event);
+      const base = before;
+      if (drag.mode === "new") {
+        drag.moved ||= Math.hypot(at[0] - drag.from[0], at[1] - drag.from[1]) > base.step / 3;
+        if (!drag.moved) return;
+        const regions = base.regions ?? [];
+        next = { ...base, regions: [...regions, newRegion(edits.newKind(), rectFrom(drag.from, at, base), regions)] };
+      } else if (drag.mode === "move") {
+        drag.moved = true;
+        next = edited(base, drag.index, moveRect(drag.rect, at[0] - drag.from[0], at[1] - drag.from[1], base));
+      } else {
+        drag.moved = true;
+        next = edited(base, drag.index, resizeRect(drag.rect, drag.corner, at, base));
+      }
+      edits.onEdit(next, false);
+    });
+    const end = (event: PointerEvent) => {
+      if (!drag || !before) return;
+      const wasClick = drag.mode === "new" && !drag.moved;
+      if (wasClick && event.type === "pointerup") next = { ...before, start: startAt(toWorld(event), before) };
+      drag = null;
+      if (next) edits.onEdit(next, true);
+      before = next = null;
+    };
+    svg.addEventListener("pointerup", end);
+    svg.addEventListener("pointercancel", end);
+  }
 
   return { element: h("div", { class: "world-drawing" }, svg, note, legend), draw };
 }

@@ -2,6 +2,8 @@
  * The world editor: a form for the world and its regions beside a live drawing of it, loaded from the
  * library, a scenario or the selected run, saved to the library (PUT /api/worlds/{name}) or deleted
  * from it (DELETE /api/worlds/{name}, two presses). The server's 422s appear at the fields they concern.
+ * The drawing is drawn on: drag to add a region, drag a region to move it, drag a corner to resize it,
+ * click to set the start; the form follows, and Undo (or Ctrl+Z) takes back the last change.
  */
 import { attempt, deleteWorld, notify, refreshWorlds } from "../app/actions";
 import type { AppStore } from "../app/state";
@@ -30,9 +32,36 @@ const DELETE_CONFIRM_MS = 4000;
 
 const NEW_REGION: RegionText = { name: "", kind: "zone", rect: "0, 0, 100, 100", reward: "", colors: "" };
 
+const UNDO_DEPTH = 50;
+
+/** Everything the form holds, as typed: what Undo restores. */
+interface Snapshot {
+  fields: string[];
+  regions: RegionText[];
+}
+
 export function worldEditor(store: AppStore): HTMLElement {
   const errors = new FormErrors();
-  const drawing = worldDrawing();
+  const newKind = h(
+    "select",
+    { id: "new-region-kind" },
+    options(["obstacle", "terminal", "zone", "indicator"], "obstacle"),
+  );
+  const undo = h("button", { type: "button", disabled: true, "aria-keyshortcuts": "Control+Z" }, "Undo");
+  const history: Snapshot[] = [];
+  const drawing = worldDrawing({
+    newKind: () => newKind.value as Region["kind"],
+    onEdit: (world, done) => {
+      if (!done) {
+        drawing.draw(world);
+        return;
+      }
+      remember();
+      start.value = formatList(world.start ?? [0, 0]);
+      setRegions((world.regions ?? []).map(regionText));
+      redraw();
+    },
+  });
 
   const source = h("select", { id: "world-source" });
   const load = h("button", { type: "button" }, "Load");
@@ -48,6 +77,27 @@ export function worldEditor(store: AppStore): HTMLElement {
   const transient = numberInput(null, { name: "transient_reward" });
   const maxSteps = numberInput(null, { name: "max_steps" });
   const regionList = h("div", { class: "region-list" });
+  const plainFields = () => [name, width, height, step, slip, noise, start, transient, maxSteps];
+
+  const snapshot = (): Snapshot => ({
+    fields: plainFields().map((f) => f.value),
+    regions: regions.map((r) => r.text()),
+  });
+  /** Keep the form as it is now, for Undo (before a change by drawing, adding or removing). */
+  const remember = () => {
+    history.push(snapshot());
+    if (history.length > UNDO_DEPTH) history.shift();
+    undo.disabled = false;
+  };
+  const takeBack = () => {
+    const last = history.pop();
+    undo.disabled = history.length === 0;
+    if (!last) return;
+    plainFields().forEach((f, i) => (f.value = last.fields[i] ?? ""));
+    setRegions(last.regions);
+    redraw();
+  };
+  undo.addEventListener("click", takeBack);
   const addRegion = h("button", { type: "button" }, "Add region");
   const save = h("button", { type: "submit", class: "primary" }, "Save to library");
   let regions: RegionFields[] = [];
@@ -56,6 +106,7 @@ export function worldEditor(store: AppStore): HTMLElement {
     errors.unregister("regions");
     regions = texts.map((text, i) =>
       regionFields(text, `regions.${i}`, errors, redraw, () => {
+        remember();
         setRegions(regions.filter((_, j) => j !== i).map((r) => r.text()));
         redraw();
         addRegion.focus();
@@ -188,6 +239,7 @@ export function worldEditor(store: AppStore): HTMLElement {
   load.addEventListener("click", () => void loadChosen());
 
   addRegion.addEventListener("click", () => {
+    remember();
     const texts = regions.map((r) => r.text());
     setRegions([...texts, { ...NEW_REGION, name: `region${texts.length + 1}` }]);
     redraw();
@@ -269,10 +321,34 @@ export function worldEditor(store: AppStore): HTMLElement {
     h("div", { class: "actions sticky-actions" }, save),
   );
 
-  return h(
+  const editor = h(
     "div",
     { class: "editor-grid" },
     form,
-    h("aside", { class: "drawing-column", "aria-label": "Drawing of the world" }, drawing.element),
+    h(
+      "aside",
+      { class: "drawing-column", "aria-label": "Drawing of the world" },
+      h(
+        "div",
+        { class: "row tight drawing-tools" },
+        field("Draw new regions as", newKind, { class: "inline-field" }),
+        undo,
+      ),
+      h(
+        "p",
+        { class: "hint" },
+        "Drag on empty ground to draw a region, drag a region to move it, drag a corner to resize it; click to set the start. Everything snaps to the step grid.",
+      ),
+      drawing.element,
+    ),
   );
+  // Ctrl+Z undoes a drawing change, except in a text field (which undoes its own typing).
+  editor.addEventListener("keydown", (event) => {
+    const typing = event.target instanceof HTMLInputElement || event.target instanceof HTMLTextAreaElement;
+    if ((event.ctrlKey || event.metaKey) && event.key === "z" && !typing && !undo.disabled) {
+      takeBack();
+      event.preventDefault();
+    }
+  });
+  return editor;
 }

@@ -41,7 +41,7 @@ def show_run(request: Request, body: ViewIn) -> ViewOut:
     if view is None:
         raise ConflictError("the live view is off: `horde serve` starts it (unless --no-view)")
     try:
-        view.show(body.run)
+        view.show(body.run, body.demons)
     except KeyError:
         raise NotFoundError(f"no run {body.run!r}") from None
     return ViewOut(enabled=True, url=view.url, run=body.run)

@@ -1,0 +1,72 @@
+"""`/docs` (Swagger UI) and `/redoc` render the API's operations in a browser that may reach nothing
+but the server itself: every request to another host is aborted and recorded."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from urllib.parse import urlparse
+
+import pytest
+
+from horde.server import Settings
+
+from .conftest import CHROMIUM, CHROMIUM_ARGS, RunningServer, serve_in_thread
+
+pytestmark = [
+    pytest.mark.e2e,
+    pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium at /usr/bin/chromium"),
+]
+
+LOOPBACK = {"127.0.0.1", "localhost", "[::1]", "::1"}
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[RunningServer]:
+    with serve_in_thread(Settings(data=tmp_path_factory.mktemp("docs-data"), token=None)) as running:
+        yield running
+
+
+@pytest.mark.parametrize(
+    ("path", "operation"),
+    [
+        ("/docs", "#operations-runs-create_run_api_runs_post"),
+        ("/redoc", "[id='operation/create_run_api_runs_post'] h2"),
+    ],
+)
+def test_the_api_docs_render_with_the_network_cut_off(server: RunningServer, path: str, operation: str) -> None:
+    from playwright.sync_api import Route, sync_playwright
+
+    blocked: list[str] = []
+    errors: list[str] = []
+
+    def only_loopback(route: Route) -> None:
+        host = urlparse(route.request.url).hostname or ""
+        if route.request.url.startswith(("data:", "blob:")) or host in LOOPBACK:
+            route.continue_()
+        else:
+            blocked.append(route.request.url)
+            route.abort()
+
+    with sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
+        try:
+            page = browser.new_page(viewport={"width": 1280, "height": 900})
+            page.route("**/*", only_loopback)
+            page.on("pageerror", lambda e: errors.append(str(e)))
+            page.goto(server.url + path)
+            page.locator(operation).first.wait_for(state="attached", timeout=30_000)
+            summary = page.locator(operation).get_by_text("Create a run").first
+            assert summary.is_visible(), f"{path} shows the operation's summary"
+        finally:
+            browser.close()
+    assert blocked == [], f"{path} asked for something beyond the server: {blocked}"
+    assert errors == [], f"{path} raised in the browser: {errors}"
+
+
+def test_the_docs_pages_name_only_local_assets(server: RunningServer) -> None:
+    for path in ("/docs", "/redoc"):
+        html = server.client.get(path).text
+        assert "cdn." not in html and "https://" not in html, f"{path} loads from another host"
+    for asset in ("swagger-ui-bundle.js", "swagger-ui.css", "redoc.standalone.js"):
+        response = server.client.get(f"/api-docs-assets/{asset}")
+        assert response.status_code == 200 and len(response.content) > 100_000, asset

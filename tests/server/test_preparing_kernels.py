@@ -1,0 +1,49 @@
+"""A run whose first call into the compiled kernels is under way says so, then says it runs."""
+
+from __future__ import annotations
+
+import threading
+import time
+from typing import Any
+
+import pytest
+
+from horde import live_run
+from horde.runs import RunManager
+from horde.spec import RunSpec
+
+from .helpers import make_spec
+
+
+def wait_for(predicate: Any, what: str, timeout: float = 30.0) -> None:
+    deadline = time.monotonic() + timeout
+    while not predicate():
+        assert time.monotonic() < deadline, f"timed out waiting for {what}"
+        time.sleep(0.01)
+
+
+def test_the_first_batch_in_a_process_is_announced_as_preparing_the_kernels(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(live_run, "_kernels_ready", threading.Event())  # as in a fresh process
+    manager = RunManager()
+    release = threading.Event()
+    try:
+        run = manager.get(manager.create(RunSpec.model_validate(make_spec())).id)
+        real_run = run._sim.run
+
+        def compiling(*args: Any, **kwargs: Any) -> Any:
+            assert release.wait(30), "the test never released the first batch"
+            return real_run(*args, **kwargs)
+
+        run._sim.run = compiling  # type: ignore[method-assign]
+        run.start()
+        wait_for(lambda: run.view.message == live_run.PREPARING, "the preparing message")
+        assert run.view.status == "running" and run.view.total_steps == 0
+        release.set()
+        wait_for(lambda: run.view.total_steps > 0, "the first steps")
+        wait_for(lambda: run.view.message == "running", "the message to say running again")
+        # Later runs in the same process start without the message.
+        second = manager.get(manager.create(RunSpec.model_validate(make_spec())).id)
+        assert second.step(5).message != live_run.PREPARING
+    finally:
+        release.set()
+        manager.stop()
