@@ -26,8 +26,10 @@ def meaningful(value: float) -> float | None:
 def beyond_magnitude(horde: Horde, state: HordeState) -> np.ndarray:
     """[D] bool: demons whose prediction or any weight is non-finite or beyond MAX_MAGNITUDE."""
     out = ~(np.abs(state.prediction) <= MAX_MAGNITUDE)  # [D]; NaN compares False, so it counts
-    for group, learner in zip(horde.groups, state.learners, strict=True):
-        theta = np.abs(learner.theta).max(axis=1, initial=0.0)  # [Dg]
-        w = np.abs(learner.w).max(axis=1, initial=0.0)  # [Dg]
-        out[group.demons] |= ~((theta <= MAX_MAGNITUDE) & (w <= MAX_MAGNITUDE))
+    per_block = [
+        np.maximum(np.abs(theta).max(axis=0, initial=0.0), np.abs(w).max(axis=0, initial=0.0))  # [Db]; NaN propagates
+        for theta, w in zip(state.theta, state.w, strict=True)
+    ]
+    if per_block:
+        out[horde.slot_demon] |= ~(np.concatenate(per_block) <= MAX_MAGNITUDE)
     return out

@@ -33,14 +33,11 @@ def test_beyond_magnitude_finds_the_demon_by_its_weights() -> None:
     sim = new_simulation(spec)
     state = sim.horde_state
     assert not beyond_magnitude(sim.horde, state).any()
-    group = next(g for g in sim.horde.groups if sim.horde.index["steps"] in g.demons.tolist())
-    row = group.demons.tolist().index(sim.horde.index["steps"])
-    g = sim.horde.groups.index(group)
-    theta = state.learners[g].theta.copy()
-    theta[row, 3] = 2 * MAX_MAGNITUDE
-    learners = list(state.learners)
-    learners[g] = learners[g]._replace(theta=theta)
-    flagged = beyond_magnitude(sim.horde, state._replace(learners=tuple(learners)))
+    b, col = sim.horde.locate("steps")  # the block holding the demon, and its column there
+    theta = list(state.theta)
+    theta[b] = theta[b].copy()
+    theta[b][3, col] = 2 * MAX_MAGNITUDE  # one weight of one demon
+    flagged = beyond_magnitude(sim.horde, state._replace(theta=tuple(theta)))
     assert flagged.tolist() == [name == "steps" for name in sim.horde.names]
 
 

@@ -222,6 +222,11 @@ class Simulation:
         return dict(zip(self.horde.names, self._loop.prediction().tolist(), strict=True))
 
     def predictions_at(self, x: float, y: float) -> dict[str, float]:
-        """Each demon's prediction at a position, with the current weights (nothing learns)."""
+        """Each demon's prediction at a position, with the current weights (nothing learns); NaN if diverged.
+
+        The engine zeroes a diverged demon's weights (so that demons reading it go on), which would read as a
+        prediction of 0: NaN says instead that it has no answer.
+        """
         forward = self.horde.forward(self.horde_state, np.array([x]), np.array([y]))
-        return dict(zip(self.horde.names, forward.prediction[0].tolist(), strict=True))
+        prediction = np.where(self.horde_state.diverged, np.nan, forward.prediction[0])  # [D]
+        return dict(zip(self.horde.names, prediction.tolist(), strict=True))

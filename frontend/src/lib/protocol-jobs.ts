@@ -34,7 +34,8 @@ export interface JobRow {
   job: string;
   scenario: string;
   demon: string;
-  prediction: number;
+  /** null when the demon diverged */
+  prediction: number | null;
   truth: number | null;
   stderr: number | null;
   error: number | null;
@@ -58,12 +59,12 @@ export function jobRows(jobs: readonly Protocol[], thesisOnly: boolean): JobRow[
         job: job.id,
         scenario: job.name ?? "",
         demon: result.name,
-        prediction: result.prediction,
+        prediction: result.prediction ?? null,
         truth: result.truth ?? null,
         stderr: result.truth_stderr ?? null,
         error: result.error ?? null,
         thesis,
-        offThesis: thesis === null ? null : result.prediction - thesis,
+        offThesis: thesis === null || result.prediction == null ? null : result.prediction - thesis,
         trials: job.trials,
         episodes: job.episodes,
         finished: job.finished_at ?? "",
