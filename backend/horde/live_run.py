@@ -573,9 +573,9 @@ class LiveRun:
             hz=self._hz,
             spec=self._spec,
             horde=sim.horde,
-            horde_state=(state := sim.horde_state),  # a copy: the learner never changes it
-            rupee=sim.horde.rupee(state),
-            ude=sim.horde.ude(state),
+            horde_state=sim.view_state(),  # a copy of what readers need: the learner never changes it
+            rupee=(out := sim.readout()).rupee,
+            ude=out.ude,
             world_state=WorldState(*(np.array(a, copy=True) for a in sim.world_state)),
             episode=sim.episode,
             total_steps=sim.total_steps,

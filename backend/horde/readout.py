@@ -57,7 +57,9 @@ def value_map(view: RunView, name: str, resolution: int) -> ValueMap:
     values = np.empty(len(px))
     for begin in range(0, len(px), batch):
         end = begin + batch
-        values[begin:end] = view.horde.forward(view.horde_state, px[begin:end], py[begin:end]).prediction[:, demon]
+        values[begin:end] = view.horde.forward(
+            view.horde_state, px[begin:end], py[begin:end], demons=[name]
+        ).prediction[:, demon]
     return ValueMap(xs, ys, values.reshape(resolution, resolution))
 
 
@@ -86,7 +88,9 @@ def evaluate(
         raise SpecError.at(("body", "from"), f"({x}, {y}) lies inside obstacle {blocked[0]!r}")
     seed = seed if seed is not None else int(view.spec.seed * 1_000_003 + view.total_steps) % 2**63
     rng = np.random.default_rng(seed)
-    prediction = float(view.horde.forward(view.horde_state, np.array([x]), np.array([y])).prediction[0, demon])
+    prediction = float(
+        view.horde.forward(view.horde_state, np.array([x]), np.array([y]), demons=[name]).prediction[0, demon]
+    )
     if view.horde_state.diverged[demon]:
         prediction = math.nan  # reported as null, as everywhere else
     truth = monte_carlo(view.horde, view.horde_state, name, (x, y), episodes, cap, rng)

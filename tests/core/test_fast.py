@@ -14,10 +14,11 @@ from horde.spec import RunSpec
 
 
 def assert_same(a: HordeState, b: HordeState) -> None:
-    for field in ("theta", "w", "e", "h", "delta_e"):
+    for field in ("theta", "w", "e", "h", "delta_e"):  # delta_e_scale, rupee_dot below
         for x, y in zip(getattr(a, field), getattr(b, field), strict=True):
             np.testing.assert_array_equal(x, y, err_msg=field)
-    for field in ("prediction", "pi", "q", "delta", "delta_stats", "diverged", "class_gamma", "class_pi"):
+    for field in ("prediction", "pi", "q", "delta", "delta_stats", "diverged", "class_gamma", "class_pi",
+                  "delta_e_scale", "rupee_dot"):  # fmt: skip
         np.testing.assert_array_equal(getattr(a, field), getattr(b, field), err_msg=field)
 
 
@@ -145,7 +146,10 @@ def test_compiled_metrics_equal_the_numpy_form() -> None:
     for b, block in enumerate(horde.blocks):
         slots = np.arange(horde.block_lo[b], horde.block_lo[b] + block.size)
         np.testing.assert_allclose(state.h[b], blocks[b].h, rtol=0, atol=1e-9)
-        np.testing.assert_allclose(state.delta_e[b], blocks[b].delta_e, rtol=1e-9, atol=1e-12)
+        scale = state.delta_e_scale[horde.block_group[b]]  # the engine keeps the average divided by it
+        np.testing.assert_allclose(state.delta_e[b] * scale, blocks[b].delta_e, rtol=1e-9, atol=1e-12)
+        dot = np.einsum("nd,nd->d", state.h[b], state.delta_e[b])
+        np.testing.assert_allclose(state.rupee_dot[horde.slot_demon[slots]], dot, rtol=1e-9, atol=1e-15)
         np.testing.assert_allclose(state.delta_stats[horde.slot_demon[slots]], blocks[b].delta_stats, atol=1e-12)
     assert horde.rupee(state).max() > 0 and np.isfinite(horde.ude(state)).all()
 
@@ -184,3 +188,19 @@ def test_a_changed_set_of_demons_keeps_the_others_and_codes_the_sensors_where_th
     expected = fewer.horde.groups[0].coder.active(np.zeros(1), np.zeros(1), sensors=sensors)[0]
     np.testing.assert_array_equal(features, expected)
     fewer.run(20)
+
+
+def test_forward_of_some_demons_equals_forward_of_all() -> None:
+    spec = load_scenario(scenario_dir() / "experiment3.toml")
+    sim = Simulation(spec, np.random.default_rng(3))
+    sim.run(1500)
+    state = sim.horde_state
+    x, y = np.array([50.0, 250.0, 420.0]), np.array([30.0, 260.0, 410.0])
+    full = sim.horde.forward(state, x, y)
+    for name in sim.horde.names:
+        i = sim.horde.index[name]
+        some = sim.horde.forward(state, x, y, demons=[name])
+        np.testing.assert_array_equal(some.prediction[:, i], full.prediction[:, i])
+        np.testing.assert_array_equal(some.pi[:, i], full.pi[:, i])
+        np.testing.assert_array_equal(some.q[:, i], full.q[:, i])
+    assert sim.horde.needs([sim.horde.names[0]]).sum() < sim.horde.num_demons or len(sim.horde.names) == 1

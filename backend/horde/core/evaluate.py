@@ -61,13 +61,13 @@ def monte_carlo(
     total = np.zeros(rollouts)
     weight = np.ones(rollouts)
     alive = np.arange(rollouts)
-    forward = horde.forward(state, ws.x, ws.y)
+    forward = horde.forward(state, ws.x, ws.y, demons=[name])
     for _ in range(cap):
         pi = forward.pi[:, demon]  # [B, A]
         actions = sample(pi, rng)
         ws, transition = world.step(ws, actions, rng)
         sensors = world.sensors(ws, transition)
-        forward = horde.forward(state, ws.x, ws.y, sensors)
+        forward = horde.forward(state, ws.x, ws.y, sensors, demons=[name])
         r, z, gamma = program.evaluate(sensors, forward.prediction).T  # [B] each
         gamma = np.where(transition.terminated, 0.0, np.clip(gamma, 0.0, 1.0) * discount)
         total[alive] += weight * (r + (1.0 - gamma) * z)
@@ -122,7 +122,7 @@ def exact(horde: Horde, state: HordeState, name: str) -> Lattice:
     xs, ys = lattice_points(world)
     n = len(xs)
     where = {(round(float(a), 6), round(float(b), 6)): i for i, (a, b) in enumerate(zip(xs, ys, strict=True))}
-    pi = horde.forward(state, xs, ys).pi[:, demon]  # [N, A]
+    pi = horde.forward(state, xs, ys, demons=[name]).pi[:, demon]  # [N, A]
     slip = world.spec.slip
     matrix = np.zeros((n, n))
     reward = np.zeros(n)
@@ -140,7 +140,7 @@ def exact(horde: Horde, state: HordeState, name: str) -> Lattice:
                 step_reward = step_reward + world._terminal_rewards(inside & world.is_terminal, colors)
             after = WorldState(nx, ny, np.ones(n, dtype=np.int64), colors)
             sensors = world.sensors(after, Transition(step_reward, bump, terminated, np.zeros(n, bool), inside))
-            predictions = horde.forward(state, nx, ny, sensors).prediction
+            predictions = horde.forward(state, nx, ny, sensors, demons=[name]).prediction
             r, z, gamma = program.evaluate(sensors, predictions).T
             gamma = np.where(terminated, 0.0, np.clip(gamma, 0.0, 1.0) * discount)
             p = pi[:, action] * probability  # [N]

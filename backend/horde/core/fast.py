@@ -995,19 +995,21 @@ class FastLoop:
     def thetas(self) -> list[np.ndarray]:
         return [self._weights(self.buf.theta, b).copy() for b in range(len(self.horde.blocks))]
 
-    def horde_state(self) -> HordeState:
-        """A copy of the state in `horde.py`'s form."""
+    def horde_state(self, weights_only: bool = False) -> HordeState:
+        """A copy of the state in `horde.py`'s form (weights_only: w, e, h and delta_e left empty)."""
         horde, buf = self.horde, self.buf
         blocks = range(len(horde.blocks))
-        scale = buf.mscale[horde.block_group] if len(horde.blocks) else np.zeros(0)
+        rest = range(0 if weights_only else len(horde.blocks))
         q = self._per_demon(buf.q)
         q[~horde.is_action_value] = np.nan
         return HordeState(
             theta=tuple(self._weights(buf.theta, b).copy() for b in blocks),
-            w=tuple(self._weights(buf.w, b).copy() for b in blocks),
-            e=tuple(self._traces(b).copy() for b in blocks),
-            h=tuple(self._weights(buf.h, b).copy() for b in blocks),
-            delta_e=tuple(self._weights(buf.u, b) * scale[b] for b in blocks),
+            w=tuple(self._weights(buf.w, b).copy() for b in rest),
+            e=tuple(self._traces(b).copy() for b in rest),
+            h=tuple(self._weights(buf.h, b).copy() for b in rest),
+            delta_e=tuple(self._weights(buf.u, b).copy() for b in rest),
+            delta_e_scale=buf.mscale.copy(),
+            rupee_dot=self._per_demon(buf.hu),
             tau=buf.tau.copy(),
             delta_stats=self._per_demon(buf.dstats),
             features=tuple(buf.feat[g, : group.coder.k].copy() for g, group in enumerate(horde.groups)),
@@ -1042,10 +1044,8 @@ class FastLoop:
             rows = np.flatnonzero((e != 0.0).any(axis=1))
             buf.support[self._toff[b] : self._toff[b] + len(rows)] = rows
             buf.nnz[b] = len(rows)
-        buf.mscale[:] = 1.0
-        for b in range(len(horde.blocks)):
-            lo = int(horde.block_lo[b])
-            buf.hu[lo : lo + horde.blocks[b].size] = np.einsum("nd,nd->d", state.h[b], state.delta_e[b])
+        buf.mscale[:] = state.delta_e_scale
+        buf.hu[:] = state.rupee_dot[slot]
         buf.tau[:] = state.tau
         buf.dstats[:] = state.delta_stats[slot]
         for g, group in enumerate(horde.groups):

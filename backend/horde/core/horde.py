@@ -67,7 +67,9 @@ class HordeState(NamedTuple):
     w: tuple[np.ndarray, ...]  # per block [n_b, Db] secondary weights
     e: tuple[np.ndarray, ...]  # per block [n_b, C_b] one trace per class
     h: tuple[np.ndarray, ...]  # per block [n_b, Db] RUPEE's weights
-    delta_e: tuple[np.ndarray, ...]  # per block [n_b, Db] RUPEE's average of delta e
+    delta_e: tuple[np.ndarray, ...]  # per block [n_b, Db] RUPEE's average of delta e, divided by delta_e_scale
+    delta_e_scale: np.ndarray  # [G] per group: the average of delta e decays lazily, by this one number
+    rupee_dot: np.ndarray  # [D] h . delta_e of each demon (kept up to date; RUPEE = sqrt(|scale rupee_dot|))
     tau: np.ndarray  # [G, 2] the unbiased-start weights of RUPEE and UDE, per group
     delta_stats: np.ndarray  # [D, 3] averages of delta, delta^2 and |delta|
     features: tuple[np.ndarray, ...]  # per group [k] active state features at s_t (sorted)
@@ -260,6 +262,8 @@ class Horde:
             e=tuple(np.zeros((int(r), b.num_classes)) for r, b in zip(self.block_rows, self.blocks, strict=True)),
             h=tuple(np.zeros_like(a) for a in weights),
             delta_e=tuple(np.zeros_like(a) for a in weights),
+            delta_e_scale=np.ones(len(self.groups)),
+            rupee_dot=np.zeros(d),
             tau=np.zeros((len(self.groups), 2)),
             delta_stats=np.zeros((d, 3)),
             features=tuple(np.zeros(g.coder.k, dtype=np.int64) for g in self.groups),
@@ -298,10 +302,12 @@ class Horde:
                 (state.theta, old_state.theta),
                 (state.w, old_state.w),
                 (state.h, old_state.h),
-                (state.delta_e, old_state.delta_e),
             ):
                 new_arrays[b][:, col] = old_arrays[ob][:, ocol]
+            scale = old_state.delta_e_scale[old.block_group[ob]]  # the new state's scale is 1
+            state.delta_e[b][:, col] = old_state.delta_e[ob][:, ocol] * scale
             i, oi = self.index[name], old.index[name]
+            state.rupee_dot[i] = old_state.rupee_dot[oi] * scale
             state.delta_stats[i] = old_state.delta_stats[oi]
             state.diverged[i] = old_state.diverged[oi]
         tau = old_state.tau[0] if len(old_state.tau) else np.zeros(2)
@@ -317,16 +323,37 @@ class Horde:
             return np.stack([theta[idx + a * n_s].sum(axis=1) for a in range(A)], axis=-1)
         return theta[idx].sum(axis=1)
 
-    def forward(self, state: HordeState, x: np.ndarray, y: np.ndarray, sensors: np.ndarray | None = None) -> Forward:
-        """Predictions, policies and action values of every demon at a batch of positions, frozen.
+    def needs(self, names: list[str]) -> np.ndarray:
+        """[D] bool: the demons named and every demon they read (predictions, policies, conditions)."""
+        wanted = np.zeros(self.num_demons, dtype=bool)
+        todo = [self.index[n] for n in names]
+        while todo:
+            i = todo.pop()
+            if not wanted[i]:
+                wanted[i] = True
+                todo.extend(self.index[d] for d in demon_dependencies(self.demon_specs[i], self.spec.features))
+        return wanted
+
+    def forward(
+        self,
+        state: HordeState,
+        x: np.ndarray,
+        y: np.ndarray,
+        sensors: np.ndarray | None = None,
+        demons: list[str] | None = None,
+    ) -> Forward:
+        """Predictions, policies and action values of the demons at a batch of positions, frozen.
 
         Args:
-            state: the Horde's state.
+            state: the Horde's state (its primary weights and per-demon arrays are read).
             x, y: [B] positions.
             sensors: [B, S] the sensors there, for features tiled over sensors (default: what the sensors
                 read at an episode's first state at each position, `World.start_sensors`).
+            demons: compute only these demons and those they read (default all); the other columns of
+                the result stay 0 (prediction), uniform (pi) and nan (q).
         """
         batch = len(x)
+        wanted = self.needs(demons) if demons is not None else np.ones(self.num_demons, dtype=bool)
         if sensors is None and any(g.coder.spec.kind == "sensors" for g in self.groups):
             world = World(self.spec.world)
             colors = np.zeros((batch, world.num_indicators), dtype=np.int64)
@@ -337,6 +364,9 @@ class Horde:
         q = np.full((batch, self.num_demons, A), np.nan)
         features: list[np.ndarray] = []
         for group in self.groups:
+            if not wanted[group.demons].any():
+                features.append(np.zeros((batch, group.coder.k), dtype=np.int64))
+                continue
             condition = prediction[:, group.condition] if group.condition >= 0 else None
             idx = group.coder.active(x, y, condition, sensors)  # [B, k]
             features.append(idx)
@@ -346,10 +376,16 @@ class Horde:
                 members = group.demons[lo : lo + block.size]
                 classes = self.slot_class[self.block_lo[b] : self.block_lo[b] + block.size]
                 lo += block.size
-                values = self._block_values(group, b, state.theta[b], idx)
+                keep = wanted[members]
+                if not keep.any():
+                    continue
+                members, classes = members[keep], classes[keep]
+                theta = state.theta[b] if keep.all() else state.theta[b][:, keep]
+                values = self._block_values(group, b, theta, idx)
                 if block.policy != "given":
-                    pi_b = value_policy(values, np.full(block.size, scale.POLICY_CODES[block.policy]),
-                                        np.asarray(block.temperature), np.asarray(block.epsilon))  # fmt: skip
+                    kinds = np.full(len(members), scale.POLICY_CODES[block.policy])
+                    temperature, epsilon = np.asarray(block.temperature)[keep], np.asarray(block.epsilon)[keep]
+                    pi_b = value_policy(values, kinds, temperature, epsilon)
                 else:
                     pi_b = np.repeat(self.class_fixed[classes][None], batch, axis=0)  # [B, Db, A]
                     follows = self.class_of[classes]
@@ -390,8 +426,11 @@ class Horde:
         return out
 
     def rupee(self, state: HordeState) -> np.ndarray:
-        """[D] sqrt(|h . average(delta e)|) (metrics.py)."""
-        return self._per_demon([metrics.rupee_columns(h, de) for h, de in zip(state.h, state.delta_e, strict=True)])
+        """[D] sqrt(|h . average(delta e)|) (metrics.py), from the dot products the engine keeps."""
+        scale = np.zeros(self.num_demons)
+        for group, s in zip(self.groups, state.delta_e_scale, strict=True):
+            scale[group.demons] = s
+        return np.sqrt(np.abs(scale * state.rupee_dot))
 
     def ude(self, state: HordeState) -> np.ndarray:
         return metrics.ude_of(state.delta_stats)

@@ -45,11 +45,6 @@ def update(state: BlockMetrics, delta: np.ndarray, e: np.ndarray, x_t: np.ndarra
     return BlockMetrics(h, delta_e, tau_rupee, (1 - b) * state.delta_stats + b * stats, tau_ude)
 
 
-def rupee_columns(h: np.ndarray, delta_e: np.ndarray) -> np.ndarray:
-    """[Db] sqrt(|h . average(delta e)|) of each column of [n, Db] arrays."""
-    return np.sqrt(np.abs(np.einsum("nd,nd->d", h, delta_e)))
-
-
 def ude_of(delta_stats: np.ndarray) -> np.ndarray:
     """[D] |average delta| / (std of delta + epsilon), from [D, 3] averages of delta, delta^2, |delta|."""
     mean, square = delta_stats[:, 0], delta_stats[:, 1]

@@ -89,6 +89,11 @@ class Simulation:
     def horde_state(self, state: HordeState) -> None:
         self._loop.load(state, self.world_state)
 
+    def view_state(self) -> HordeState:
+        """A copy for readers (value maps, policies, predictions): the state with the primary weights, and
+        without the secondary weights, traces and RUPEE's arrays (empty tuples), a fifth of the copy."""
+        return self._loop.horde_state(weights_only=True)
+
     @property
     def world_state(self) -> WorldState:
         return self._loop.world_state()

@@ -113,7 +113,9 @@ class ManagerSource:
         xs = (np.arange(resolution) + 0.5) * world.width / resolution
         ys = (np.arange(resolution) + 0.5) * world.height / resolution
         gx, gy = np.meshgrid(xs, ys)  # [N, N] each, rows along y
-        q = view.horde.forward(view.horde_state, gx.ravel(), gy.ravel()).q[:, view.horde.index[demon]]  # [N*N, A]
+        q = view.horde.forward(view.horde_state, gx.ravel(), gy.ravel(), demons=[demon]).q[
+            :, view.horde.index[demon]
+        ]  # [N*N, A]
         return np.argmax(q, axis=1).reshape(resolution, resolution)
 
     def _command(self, run_id: str, name: str, *args: object) -> None:
