@@ -115,14 +115,27 @@ async def poll(http: httpx.AsyncClient, poller: Poller, hz: float, stop: asyncio
         await asyncio.sleep(max(0.0, next_at - time.monotonic()))
 
 
-def cpu_seconds(pid: int) -> float:
-    """User + system CPU time of a process so far (Linux /proc), 0 elsewhere."""
+def cpu_seconds(pid: int, learners_only: bool = False) -> float:
+    """User + system CPU time so far of a process, or of its learner threads (Linux /proc, else 0).
+
+    Learner threads are the niced ones (`horde.live_run.LEARNER_NICENESS`): Python does not name OS threads.
+    """
+
+    def read(path: str) -> tuple[float, int]:
+        try:
+            with open(path) as stat:
+                fields = stat.read().rsplit(")", 1)[1].split()
+            return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK"), int(fields[16])
+        except (OSError, IndexError, ValueError):
+            return 0.0, 0
+
+    if not learners_only:
+        return read(f"/proc/{pid}/stat")[0]
     try:
-        with open(f"/proc/{pid}/stat") as stat:
-            fields = stat.read().rsplit(")", 1)[1].split()
-        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
-    except (OSError, IndexError, ValueError):
+        tasks = os.listdir(f"/proc/{pid}/task")
+    except OSError:
         return 0.0
+    return sum(seconds for seconds, nice in (read(f"/proc/{pid}/task/{tid}/stat") for tid in tasks) if nice >= 10)
 
 
 @dataclass
@@ -164,6 +177,7 @@ async def bench(args: argparse.Namespace) -> float:
     dropped = 0
     pollers: list[Poller] = []
     cpu: dict[str, list[float]] = {"alone": [], "loaded": []}
+    learner_cpu: dict[str, list[float]] = {"alone": [], "loaded": []}
     with tempfile.TemporaryDirectory(prefix="horde-bench-") as data:
         server = start_server(port, data)
         try:
@@ -178,6 +192,7 @@ async def bench(args: argparse.Namespace) -> float:
                 await asyncio.sleep(args.warmup)
                 for phase in range(2 * args.rounds + 1):
                     cpu_began, wall_began = cpu_seconds(server.pid), time.monotonic()
+                    learner_began = cpu_seconds(server.pid, learners_only=True)
                     if phase % 2 == 0:
                         alone.append(await steps_per_second(http, run_ids, args.seconds))
                         print(f"  without clients: {alone[-1]:10,.0f} steps/s", flush=True)
@@ -194,8 +209,10 @@ async def bench(args: argparse.Namespace) -> float:
                             f"{mean_rate:.1f} messages/s each, {answers:.0f} polls/s answered",
                             flush=True,
                         )
-                    used = (cpu_seconds(server.pid) - cpu_began) / (time.monotonic() - wall_began)
-                    cpu["alone" if phase % 2 == 0 else "loaded"].append(used)
+                    wall = time.monotonic() - wall_began
+                    cpu["alone" if phase % 2 == 0 else "loaded"].append((cpu_seconds(server.pid) - cpu_began) / wall)
+                    learner = (cpu_seconds(server.pid, learners_only=True) - learner_began) / wall
+                    learner_cpu["alone" if phase % 2 == 0 else "loaded"].append(learner)
         finally:
             server.terminate()
             server.wait(timeout=30)
@@ -209,6 +226,13 @@ async def bench(args: argparse.Namespace) -> float:
     print(f"  ratio:           {ratio:12.3f}   (goal >= 0.8)")
     mean_cpu = {k: sum(v) / len(v) for k, v in cpu.items()}
     print(f"  server CPU seconds per wall second: alone {mean_cpu['alone']:.2f}, loaded {mean_cpu['loaded']:.2f}")
+    learner = {k: sum(v) / len(v) for k, v in learner_cpu.items()}
+    if learner["alone"] > 0 and learner["loaded"] > 0:
+        per_cpu = (with_clients / learner["loaded"]) / (without / learner["alone"])
+        print(
+            f"  learner threads' CPU seconds per wall second: alone {learner['alone']:.2f}, loaded "
+            f"{learner['loaded']:.2f}; steps per learner CPU second, loaded / alone: {per_cpu:.3f}"
+        )
     if rates:
         print(
             f"  messages per client per second: min {min(rates):.1f}, mean {sum(rates) / len(rates):.1f}, "
