@@ -103,7 +103,7 @@ def test_server_killed_at_random_moments(tmp_path: Path) -> None:
 
             # Learn a while, note how far the run got and how fast, then kill at a random moment.
             first = client.get(f"/api/runs/{run_id}").json()["step"], time.monotonic()
-            time.sleep(rng.uniform(0.2, 2.5))
+            time.sleep(rng.uniform(0.2, 1.5))
             second = client.get(f"/api/runs/{run_id}").json()["step"], time.monotonic()
             last_seen = second[0], max(1.0, (second[0] - first[0]) / (second[1] - first[1]))
             process.send_signal(signal.SIGKILL)
