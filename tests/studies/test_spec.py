@@ -133,3 +133,10 @@ def test_a_study_names_a_scenario_or_gives_a_base_not_both() -> None:
         StudySpec.model_validate({"axes": [{"path": "seed", "values": [1]}]})
     with pytest.raises(ValueError, match="different path"):
         study([{"path": "seed", "values": [1]}, {"path": "seed", "values": [2]}])
+
+
+def test_measuring_an_unknown_demon_is_refused_before_any_task(classroom: RunSpec) -> None:
+    with pytest.raises(SpecError) as exc:
+        expand(study([{"path": "seed", "values": [1]}], measure={"demons": ["goal_random", "nobody"]}), classroom)
+    ((loc, msg),) = problems(exc)
+    assert loc == ("measure", "demons", 1) and "nobody" in msg and "goal_random" in msg

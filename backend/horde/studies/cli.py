@@ -76,6 +76,12 @@ def cmd_study(args: argparse.Namespace) -> int:
     try:
         status = run_study(store, study_id, executor, progress)
         summaries = summarize_study(store, study_id)
+    except Exception as exc:  # a task that failed: the study keeps its finished tasks and can be resumed
+        print(f"\nerror: study {study_id} failed: {type(exc).__name__}: {exc}", file=sys.stderr)
+        print(
+            f"its finished tasks are kept; after a fix, resume with: horde study --resume {study_id}", file=sys.stderr
+        )
+        return 1
     finally:
         store.close()
     if status != "finished":

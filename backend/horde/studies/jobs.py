@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from horde.errors import BusyError, ConflictError, NotFoundError
 from horde.spec import RunSpec
 from horde.store import Store, StudyRecord
-from horde.studies.runner import Executor, RayExecutor, create_study, run_study, summarize_study
+from horde.studies.runner import Executor, RayExecutor, SummaryCache, create_study, run_study, summarize_study
 from horde.studies.spec import StudySpec
 from horde.studies.stats import ConfigSummary
 
@@ -58,6 +58,7 @@ class StudyJobs:
         self._lock = threading.Lock()
         self._threads: list[threading.Thread] = []
         self._summaries: dict[str, tuple[int, list[ConfigSummary]]] = {}  # id -> (tasks done, summaries)
+        self._per_config: dict[str, SummaryCache] = {}  # id -> each configuration's summary
 
     def start(self, study: StudySpec, base: RunSpec) -> StudyRecord:
         """Validate, record and start a study (SpecError before anything is stored; BusyError while one runs)."""
@@ -126,10 +127,13 @@ class StudyJobs:
         """The study's results so far (recomputed only when a task has finished since the last call)."""
         self.get(study_id)
         done = self._store.count_study_tasks(study_id)
-        cached = self._summaries.get(study_id)
+        with self._lock:
+            cached = self._summaries.get(study_id)
         if cached is None or cached[0] != done:
-            cached = (done, summarize_study(self._store, study_id))
-            self._summaries[study_id] = cached
+            per_config = self._per_config.setdefault(study_id, {})
+            cached = (done, summarize_study(self._store, study_id, per_config))
+            with self._lock:
+                self._summaries[study_id] = cached
         return cached[1]
 
     def progress(self, study_id: str) -> Progress | None:
@@ -144,6 +148,7 @@ class StudyJobs:
             return record
         self._store.delete_study(study_id)
         self._summaries.pop(study_id, None)
+        self._per_config.pop(study_id, None)
         return record
 
     def stop(self) -> None:

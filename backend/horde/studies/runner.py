@@ -215,14 +215,29 @@ def run_study(
     return "finished"
 
 
-def summarize_study(store: Store, study_id: str) -> list[ConfigSummary]:
-    """Every configuration with at least one finished run, averaged over its runs; the best one marked."""
+SummaryCache = dict[int, tuple[int, ConfigSummary]]  # configuration -> (its finished runs, its summary)
+
+
+def summarize_study(store: Store, study_id: str, cache: SummaryCache | None = None) -> list[ConfigSummary]:
+    """Every configuration with at least one finished run, averaged over its runs; the best one marked.
+
+    With a `cache`, only configurations whose number of finished runs changed are summarized again (a
+    running study polled by the dashboard re-averages one configuration per finished task, not all).
+    """
     _, _, configurations = load_study(store, study_id)
     by_config: dict[int, list[TaskData]] = {}
     for task in store.study_tasks(study_id):
         by_config.setdefault(task.config, []).append(json.loads(task.data))
-    summaries = [
-        summarize_configuration(c.index, c.axes, by_config[c.index]) for c in configurations if c.index in by_config
-    ]
+    cache = {} if cache is None else cache
+    summaries = []
+    for c in configurations:
+        tasks = by_config.get(c.index)
+        if not tasks:
+            continue
+        cached = cache.get(c.index)
+        if cached is None or cached[0] != len(tasks):
+            cached = (len(tasks), summarize_configuration(c.index, c.axes, tasks))
+            cache[c.index] = cached
+        summaries.append(cached[1])
     mark_best(summaries)
     return summaries

@@ -213,7 +213,8 @@ def expand(study: StudySpec, base: RunSpec) -> list[Configuration]:
         base: its base run spec (the named scenario, or `study.base`).
 
     Raises:
-        SpecError: located at the axis (`axes.<i>.path`, `axes.<i>.values.<j>`), `sample.size` or `runs`.
+        SpecError: located at the axis (`axes.<i>.path`, `axes.<i>.values.<j>`), `sample.size`, `runs` or
+            `measure.demons.<j>`.
     """
     if study.measure.episodes is not None:
         base = base.model_copy(
@@ -221,6 +222,11 @@ def expand(study: StudySpec, base: RunSpec) -> list[Configuration]:
         )
     data = _dump(base)
     problems: list[FieldProblem] = []
+    names = {d.name for d in base.demons}
+    for j, name in enumerate(study.measure.demons or []):
+        if name not in names:
+            known = ", ".join(sorted(names)) or "none"
+            problems.append(FieldProblem(("measure", "demons", j), f"no demon {name!r} to measure (known: {known})"))
     for i, axis in enumerate(study.axes):
         try:
             _known_paths(data, axis.path)

@@ -44,9 +44,21 @@ def bootstrap_mean(
     with warnings.catch_warnings():  # an all-nan column (a diverged demon in every run) stays nan
         warnings.simplefilter("ignore", RuntimeWarning)
         mean = np.nanmean(samples, axis=0)  # [...]
-        means = np.nanmean(samples[draws], axis=1)  # [B, ...]
+        flat_samples = samples.reshape(runs, -1)  # [R, K]
+        gaps = np.isnan(flat_samples).any(axis=0)  # [K]: nanmean only where needed (it copies)
+        flat_means = np.empty((resamples, flat_samples.shape[1]))  # [B, K]
+        flat_means[:, ~gaps] = flat_samples[:, ~gaps][draws].mean(axis=1)
+        if gaps.any():
+            flat_means[:, gaps] = np.nanmean(flat_samples[:, gaps][draws], axis=1)
+        means = flat_means.reshape(resamples, *samples.shape[1:])  # [B, ...]
         tail = (1.0 - level) / 2.0
-        low, high = np.nanquantile(means, [tail, 1.0 - tail], axis=0)
+        flat = means.reshape(resamples, -1)  # [B, K]
+        bounds = np.empty((2, flat.shape[1]))  # [2, K]
+        holes = np.isnan(flat).any(axis=0)  # [K]: nanquantile only where needed (it is slow)
+        bounds[:, ~holes] = np.quantile(flat[:, ~holes], [tail, 1.0 - tail], axis=0)
+        if holes.any():
+            bounds[:, holes] = np.nanquantile(flat[:, holes], [tail, 1.0 - tail], axis=0)
+        low, high = (b.reshape(means.shape[1:]) for b in bounds)
     return mean, low, high
 
 
@@ -93,24 +105,53 @@ class ConfigSummary:
     extra: dict[str, object] = field(default_factory=dict)
 
 
+class _Columns:
+    """Samples of one configuration gathered as columns of one [R, K] matrix, so that a single bootstrap
+    (the same resampled runs for every column, as separate calls with the same seed would draw) gives
+    every band at once."""
+
+    def __init__(self, runs: int) -> None:
+        self.runs = runs
+        self.parts: list[np.ndarray] = []
+        self.width = 0
+        self.result: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+
+    def add(self, samples: np.ndarray) -> slice:
+        """Add [R] or [R, C] samples; returns where their columns are."""
+        part = np.asarray(samples, dtype=float).reshape(self.runs, -1)  # [R, C]
+        self.parts.append(part)
+        self.width += part.shape[1]
+        return slice(self.width - part.shape[1], self.width)
+
+    def band(self, where: slice) -> Band:
+        if self.result is None:
+            self.result = bootstrap_mean(np.concatenate(self.parts, axis=1))
+        mean, low, high = self.result
+        return Band(mean[where].tolist(), low[where].tolist(), high[where].tolist())
+
+
 def summarize_configuration(index: int, axes: dict[str, AxisValue], tasks: list[TaskData]) -> ConfigSummary:
     """Average a configuration's finished runs (at least one) into bands."""
     episodes = tasks[0]["episodes"]
     names = list(tasks[0]["demons"])
-    demons = {}
+    columns = _Columns(len(tasks))
+    where: dict[str, tuple[slice, slice, slice, slice]] = {}
     relative = []
     for name in names:
         error = np.array([t["demons"][name]["error"] for t in tasks])  # [R, C]
         scale = np.array([t["demons"][name]["scale"] for t in tasks])  # [R, C]
         rupee = np.array([t["demons"][name]["rupee"] for t in tasks])  # [R, C]
-        demons[name] = DemonSummary(Band.of(error), Band.of(error[:, -1]), Band.of(_area(error)), Band.of(rupee))
+        where[name] = (columns.add(error), columns.add(error[:, -1]), columns.add(_area(error)), columns.add(rupee))
         relative.append(error / np.where(scale > 0, scale, 1.0))
     rel = np.mean(relative, axis=0)  # [R, C]
     returns = np.array([t["returns"] for t in tasks])  # [R, C]
-    extra: dict[str, object] = {}
+    overall = (columns.add(rel), columns.add(rel[:, -1]), columns.add(_area(rel)), columns.add(returns))
+    positive = None
     if all("counts" in t for t in tasks):  # the share of test runs ending in a positive terminal
         shares = np.array([t["counts"]["positive"] / max(1, sum(t["counts"].values())) for t in tasks])  # [R]
-        extra["positive"] = Band.of(shares)
+        positive = columns.add(shares)
+    demons = {name: DemonSummary(*(columns.band(w) for w in where[name])) for name in names}
+    curve, final, auc, returns_band = (columns.band(w) for w in overall)
     return ConfigSummary(
         index=index,
         axes=axes,
@@ -118,12 +159,12 @@ def summarize_configuration(index: int, axes: dict[str, AxisValue], tasks: list[
         episodes=episodes,
         truth=tasks[0]["truth"],
         demons=demons,
-        curve=Band.of(rel),
-        final=Band.of(rel[:, -1]),
-        auc=Band.of(_area(rel)),
-        returns=Band.of(returns),
+        curve=curve,
+        final=final,
+        auc=auc,
+        returns=returns_band,
         seconds=float(sum(t["seconds"] for t in tasks)),
-        extra=extra,
+        extra={"positive": columns.band(positive)} if positive is not None else {},
     )
 
 

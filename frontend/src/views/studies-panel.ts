@@ -8,137 +8,21 @@
  */
 import "./studies.css";
 import type { AppStore } from "../app/state";
-import { ApiError, api, errorMessage, unwrap } from "../api/client";
-import { formatNumber } from "../lib/format";
-import {
-  type AxisValue,
-  type SortKey,
-  type Study,
-  type StudyConfig,
-  type StudyDetail,
-  type StudyIn,
-  bestConfigs,
-  configLabel,
-  defaultAxes,
-  isNumericAxis,
-  parseValues,
-  sensitivityCurves,
-  shortPath,
-  sortConfigs,
-  studyProgress,
-  varyingAxes,
-} from "../lib/study";
-import { h, options, replaceChildren, setText } from "../ui/dom";
-import { FormErrors, field, numberInput, textInput } from "../ui/form";
+import { api, errorMessage, unwrap } from "../api/client";
+import { type Study, type StudyDetail, studyProgress } from "../lib/study";
+import { h, replaceChildren, setText } from "../ui/dom";
+import { field } from "../ui/form";
 import { comparePanel } from "./compare-panel";
-import { bandChart } from "./study-chart";
+import { studyForm } from "./study-form";
+import { studyResults } from "./study-results";
 
-const DEFAULT_SCENARIO = "classroom-offpolicy";
-const SUGGESTED_PATHS = [
-  "learning.alpha",
-  "learning.alpha_w",
-  "learning.lambda",
-  "demons.*.learner",
-  "demons.*.alpha",
-  "demons.*.lambda",
-  "features.tiles",
-  "world.slip",
-  "seed",
-];
-const CURVES_SHOWN = 6;
 const POLL_MS = 1000;
-const ERROR_HELP =
-  "Error: root-mean-square error of each demon's prediction over every state against the exact answer " +
-  "(Monte-Carlo truth at the start where no exact answer exists), divided by the size of that answer, " +
-  "averaged over the demons. Bands and intervals: 95 % bootstrap over the runs. AUC: the mean error over " +
-  "the learning curve (after episode 0), small when learning is fast.";
-
-interface AxisRow {
-  path: HTMLInputElement;
-  values: HTMLInputElement;
-  row: HTMLElement;
-}
 
 export function studiesPanel(store: AppStore): HTMLElement {
-  const errors = new FormErrors();
-  const scenario = h("select", { name: "scenario" });
-  const runs = numberInput(3, { name: "runs", min: 1 });
-  const episodes = numberInput(300, { name: "episodes", min: 1 });
-  const checkpoints = numberInput(10, { name: "checkpoints", min: 1 });
-  const submit = h("button", { type: "submit", class: "primary" }, "Launch");
-  const datalist = h(
-    "datalist",
-    { id: "study-paths" },
-    SUGGESTED_PATHS.map((p) => h("option", { value: p })),
-  );
-  const axesBox = h("div", { class: "study-axes" });
-  const axisRows: AxisRow[] = [];
-
-  const addAxis = (path = "", values = "") => {
-    const i = axisRows.length;
-    const pathInput = textInput(path, { name: `axis-path-${i}`, list: "study-paths", placeholder: "learning.alpha" });
-    const valuesInput = textInput(values, { name: `axis-values-${i}`, placeholder: "0.01, 0.03, 0.1" });
-    const remove = h("button", { type: "button", class: "ghost", "aria-label": `Remove axis ${i + 1}` }, "Remove");
-    const row = h(
-      "div",
-      { class: "row study-axis" },
-      field(`Axis ${i + 1}: field path`, pathInput, { path: `axes.${i}.path`, errors, class: "wide" }),
-      field("Values (comma-separated)", valuesInput, { path: `axes.${i}.values`, errors, class: "wide" }),
-      remove,
-    );
-    const entry = { path: pathInput, values: valuesInput, row };
-    remove.addEventListener("click", () => {
-      axisRows.splice(axisRows.indexOf(entry), 1);
-      row.remove();
-    });
-    axisRows.push(entry);
-    axesBox.append(row);
-  };
-  addAxis("learning.alpha", "0.03, 0.1, 0.3");
-  addAxis("demons.*.learner", "td, gq");
-  const addButton = h("button", { type: "button", onclick: () => addAxis() }, "Add an axis");
-
-  const renderChoices = () => {
-    const names = store.state.scenarios.filter((x) => !x.error).map((x) => x.name);
-    const chosen = scenario.dataset.chosen ? scenario.value : DEFAULT_SCENARIO;
-    replaceChildren(scenario, options(names, chosen));
-  };
-  scenario.addEventListener("change", () => (scenario.dataset.chosen = "yes"));
-
-  // ---------------------------------------------------------------- studies and the selected one
-
   let studies: Study[] = [];
   let selectedId: string | null = null;
   let detail: StudyDetail | null = null;
-  let sortKey: SortKey = "error";
-  let ascending = true;
-  let shown = new Set<number>(); // configuration indices on the learning-curve chart
-  let userChose = false; // until the user ticks or unticks one, the chart shows the best configurations
-  let shownFor: string | null = null;
-
-  const onSubmit = async (event: Event) => {
-    event.preventDefault();
-    errors.clear();
-    // fields left out take the server's defaults (the generated type lists defaults as required)
-    const body = {
-      scenario: scenario.value,
-      runs: Number(runs.value),
-      measure: { episodes: Number(episodes.value), checkpoints: Number(checkpoints.value) },
-      axes: axisRows.map((a) => ({ path: a.path.value.trim(), values: parseValues(a.values.value) })),
-    } as StudyIn;
-    submit.disabled = true;
-    try {
-      const started = await unwrap(api.POST("/api/studies", { body }));
-      selectedId = started.id;
-      detail = null;
-      await refresh();
-    } catch (error) {
-      if (error instanceof ApiError && error.problems.length > 0) errors.showProblems(error.problems);
-      else errors.showGeneral(errorMessage(error));
-    } finally {
-      submit.disabled = false;
-    }
-  };
+  const results = studyResults();
 
   const list = h("select", { name: "study", "aria-label": "Study" });
   list.addEventListener("change", () => {
@@ -157,26 +41,6 @@ export function studiesPanel(store: AppStore): HTMLElement {
   const resume = h("button", { type: "button" }, "Resume");
   const exportCsv = h("a", { class: "button", download: "" }, "Export CSV");
   const exportJson = h("a", { class: "button", download: "" }, "Export JSON");
-  const curves = h("div", { class: "study-curves" });
-  const sensitivity = h("div", { class: "study-sensitivity" });
-  const xAxis = h("select", { name: "sensitivity-x", "aria-label": "Sensitivity: along" });
-  const groupAxis = h("select", { name: "sensitivity-group", "aria-label": "Sensitivity: one curve per" });
-  const metric = h(
-    "select",
-    { name: "sensitivity-metric", "aria-label": "Sensitivity: measure" },
-    options([
-      ["final", "final error"],
-      ["auc", "mean error over training (AUC)"],
-    ] as const),
-  );
-  let axesChosen = false;
-  for (const select of [xAxis, groupAxis, metric])
-    select.addEventListener("change", () => {
-      axesChosen = true;
-      drawSensitivity();
-    });
-  const table = h("div", { class: "study-table" });
-
   cancel.addEventListener("click", () => {
     if (!selectedId) return;
     cancel.disabled = true;
@@ -212,19 +76,7 @@ export function studiesPanel(store: AppStore): HTMLElement {
     progress,
     h("p", { class: "progress-text" }, counted, left),
     message,
-    h("h4", {}, "Learning curves"),
-    h(
-      "p",
-      { class: "hint" },
-      "Mean over runs with its 95 % bootstrap band; tick configurations in the table to draw them.",
-    ),
-    curves,
-    h("h4", {}, "Sensitivity"),
-    h("div", { class: "row" }, field("Along", xAxis), field("One curve per", groupAxis), field("Measure", metric)),
-    sensitivity,
-    h("h4", {}, "Configurations"),
-    h("p", { class: "hint" }, ERROR_HELP),
-    table,
+    results.element,
   );
 
   const refresh = async () => {
@@ -287,171 +139,7 @@ export function studiesPanel(store: AppStore): HTMLElement {
     resume.hidden = running || detail.status === "finished";
     exportCsv.href = `/api/studies/${detail.id}/export?format=csv`;
     exportJson.href = `/api/studies/${detail.id}/export?format=json`;
-    const results = detail.results;
-    if (shownFor !== detail.id) {
-      shownFor = detail.id;
-      userChose = false;
-      axesChosen = false;
-    }
-    if (!axesChosen) {
-      // until the user picks, the defaults follow the results as they come in
-      const { x, group } = defaultAxes(results);
-      fillAxisChoices(results, x, group);
-    }
-    if (!userChose) shown = new Set(bestConfigs(results, CURVES_SHOWN).map((c) => c.index));
-    drawCurves();
-    drawSensitivity();
-    drawTable();
-  };
-
-  const fillAxisChoices = (results: StudyConfig[], x: string | null, group: string | null) => {
-    const paths = results.length > 0 ? Object.keys((results[0] as StudyConfig).axes) : [];
-    replaceChildren(xAxis, options(paths, x ?? undefined));
-    replaceChildren(groupAxis, options([["", "(none)"], ...paths.map((p) => [p, p] as const)], group ?? ""));
-  };
-
-  const drawCurves = () => {
-    if (!detail) return;
-    const chosen = detail.results.filter((c) => shown.has(c.index));
-    if (chosen.length === 0) {
-      replaceChildren(curves, h("p", { class: "hint" }, "No finished run yet."));
-      return;
-    }
-    replaceChildren(
-      curves,
-      bandChart(
-        chosen.map((c) => ({
-          label: `${configLabel(c.axes)} (${c.runs} runs)`,
-          x: c.episodes,
-          ...c.curve,
-          best: c.best,
-        })),
-        {
-          title: "Relative error while learning",
-          xLabel: "training episodes",
-          yLabel: "relative error",
-          logY: true,
-          style: "band",
-        },
-      ),
-    );
-  };
-
-  const drawSensitivity = () => {
-    if (!detail) return;
-    const results = detail.results;
-    const x = xAxis.value;
-    if (!x || varyingAxes(results).length === 0) {
-      replaceChildren(
-        sensitivity,
-        h("p", { class: "hint" }, "Sensitivity curves need an axis with two values or more."),
-      );
-      return;
-    }
-    const group = groupAxis.value || null;
-    const which = metric.value === "auc" ? "auc" : "final";
-    const numeric = isNumericAxis(results, x);
-    const categories = numeric ? undefined : [...new Set(results.map((c) => String(c.axes[x])))].sort();
-    const position = (v: AxisValue) => (numeric ? (v as number) : (categories as string[]).indexOf(String(v)));
-    const lines = sensitivityCurves(results, x, group, which);
-    const values = results.map((c) => c.axes[x]).filter((v): v is number => typeof v === "number");
-    const logX = numeric && values.every((v) => v > 0) && Math.max(...values) / Math.min(...values) >= 10;
-    const others = Object.keys(results[0]?.axes ?? {}).filter((p) => p !== x && p !== group);
-    replaceChildren(
-      sensitivity,
-      bandChart(
-        lines.map((line) => ({
-          label: group ? `${shortPath(group)}=${String(line.group)}` : "all",
-          x: line.points.map((p) => position(p.x)),
-          mean: line.points.map((p) => p.mean),
-          low: line.points.map((p) => p.low),
-          high: line.points.map((p) => p.high),
-        })),
-        {
-          title:
-            `${which === "final" ? "Final error" : "Mean error over training"} against ${x}` +
-            (others.length ? ` (best over ${others.join(", ")})` : ""),
-          xLabel: x,
-          yLabel: which === "final" ? "final relative error" : "AUC",
-          logX,
-          logY: true,
-          style: "bars",
-          categories,
-        },
-      ),
-    );
-  };
-
-  const drawTable = () => {
-    if (!detail) return;
-    const results = detail.results;
-    const paths = results.length > 0 ? Object.keys((results[0] as StudyConfig).axes) : [];
-    const header = (label: string, key: SortKey) =>
-      h(
-        "th",
-        { scope: "col", "aria-sort": sortKey === key ? (ascending ? "ascending" : "descending") : "none" },
-        h(
-          "button",
-          {
-            type: "button",
-            class: "sort",
-            onclick: () => {
-              ascending = sortKey === key ? !ascending : true;
-              sortKey = key;
-              drawTable();
-            },
-          },
-          label,
-          sortKey === key ? (ascending ? " ▲" : " ▼") : "",
-        ),
-      );
-    const rows = sortConfigs(results, sortKey, ascending).map((c) => {
-      const tick = h("input", {
-        type: "checkbox",
-        checked: shown.has(c.index),
-        "aria-label": `Draw ${configLabel(c.axes)}`,
-      });
-      tick.addEventListener("change", () => {
-        userChose = true;
-        if (tick.checked) shown.add(c.index);
-        else shown.delete(c.index);
-        drawCurves();
-      });
-      return h(
-        "tr",
-        { class: c.best ? "best" : "", dataset: { config: String(c.index) } },
-        h("td", {}, tick),
-        h("td", {}, c.best ? h("strong", { title: "the lowest final error" }, "★ best") : ""),
-        paths.map((p) => h("td", { class: "num" }, String(c.axes[p]))),
-        h("td", { class: "num" }, String(c.runs)),
-        h("td", { class: "num" }, formatNumber(c.error, 4)),
-        h("td", { class: "num" }, `${formatNumber(c.ci_low, 4)} – ${formatNumber(c.ci_high, 4)}`),
-        h("td", { class: "num" }, formatNumber(c.auc, 4)),
-      );
-    });
-    replaceChildren(
-      table,
-      h(
-        "table",
-        { class: "data-table study-configs" },
-        h(
-          "thead",
-          {},
-          h(
-            "tr",
-            {},
-            h("th", { scope: "col" }, "draw"),
-            h("th", { scope: "col" }, ""),
-            paths.map((p) => header(p, `axis:${p}`)),
-            h("th", { scope: "col" }, "runs"),
-            header("error", "error"),
-            h("th", { scope: "col" }, "95 % CI"),
-            header("AUC", "auc"),
-          ),
-        ),
-        h("tbody", {}, rows),
-      ),
-    );
+    results.show(detail);
   };
 
   // Poll while the tab is shown (studies started elsewhere, the CLI included, appear too).
@@ -467,8 +155,6 @@ export function studiesPanel(store: AppStore): HTMLElement {
     }
   };
   store.subscribe(watch, ["tab"]);
-  store.subscribe(renderChoices, ["scenarios"]);
-  renderChoices();
   watch();
 
   return h(
@@ -484,22 +170,11 @@ export function studiesPanel(store: AppStore): HTMLElement {
       h("code", {}, "horde study"),
       " does.",
     ),
-    h(
-      "form",
-      { class: "study-form", novalidate: true, onsubmit: onSubmit, "aria-labelledby": "studies-title" },
-      h(
-        "div",
-        { class: "row" },
-        field("Scenario", scenario, { path: "scenario", errors, class: "wide" }),
-        field("Runs per configuration", runs, { path: "runs", errors }),
-        field("Episodes per run", episodes, { path: "measure.episodes", errors }),
-        field("Checkpoints", checkpoints, { path: "measure.checkpoints", errors }),
-      ),
-      datalist,
-      axesBox,
-      h("div", { class: "row" }, addButton, h("div", { class: "submit-cell" }, submit)),
-      errors.general,
-    ),
+    studyForm(store, async (id) => {
+      selectedId = id;
+      detail = null;
+      await refresh();
+    }),
     h("div", { class: "row" }, field("Study", list)),
     job,
     comparePanel(store),
