@@ -54,9 +54,10 @@ describe("counts, estimates, errors and speeds", () => {
     expect(formatHz(20)).toBe("20 steps/s");
     expect(formatHz(2.5)).toBe("2.5 steps/s");
   });
-  it("labels runs by name and short id", () => {
+  it("labels runs by name and short id, an unnamed one by its demons", () => {
+    expect(runLabel({ id: "abcdef123", demons: ["base", "steps", "bump", "wall"] })).toBe("abcdef · base, steps +2");
     expect(runLabel({ id: "abcdef123456", name: "experiment1" })).toBe("experiment1 · abcdef");
-    expect(runLabel({ id: "abcdef123456", name: null })).toBe("abcdef");
+    expect(runLabel({ id: "abcdef123456", name: null })).toBe("abcdef · no demons");
   });
 });
 

@@ -52,10 +52,17 @@ export function formatStatus(status: RunStatus): string {
   return STATUS_LABELS[status] ?? status;
 }
 
-/** A short label for a run: its name and the first characters of its id. */
-export function runLabel(run: { id: string; name?: string | null }): string {
+/**
+ * A short label for a run: its name and the first characters of its id; a run without a name (made over
+ * REST without one) is told apart by its demons.
+ */
+export function runLabel(run: { id: string; name?: string | null; demons?: readonly string[] }): string {
   const short = run.id.slice(0, 6);
-  return run.name ? `${run.name} · ${short}` : short;
+  if (run.name) return `${run.name} · ${short}`;
+  const demons = run.demons ?? [];
+  if (demons.length === 0) return `${short} · no demons`;
+  const first = demons.slice(0, 2).join(", ");
+  return `${short} · ${first}${demons.length > 2 ? ` +${demons.length - 2}` : ""}`;
 }
 
 /** An evaluation's truth as shown: the exact answer where there is one ("16.021 exact"), else mean ± se. */
