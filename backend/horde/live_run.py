@@ -313,7 +313,9 @@ class LiveRun:
         # Said while running; a step command's caller waits for its answer anyway.
         preparing = not _kernels_ready.is_set() and self._status == "running"
         if preparing:
-            told, self._message = self._message, PREPARING
+            # What the run said before (say, where it came back from after a restart) stays readable.
+            told = self._message
+            self._message = PREPARING if told in ("", "running") else f"{PREPARING}; {told}"
             self._publish()
         try:
             while True:
@@ -324,7 +326,7 @@ class LiveRun:
                 if preparing:
                     _kernels_ready.set()
                     preparing = False
-                    if self._message == PREPARING:
+                    if self._message.startswith(PREPARING):
                         self._message = told
                 taken = sim.total_steps - before
                 self._adapt_batch(taken, time.perf_counter() - began)

@@ -62,6 +62,7 @@ def test_without_the_token_the_panel_changes_nothing(server: RunningServer) -> N
         try:
             page = browser.new_page(viewport={"width": 1280, "height": 800})
             page.goto(url)
+            page.get_by_role("button", name="Expand panel").click(timeout=30_000)  # it starts minimized
             tilt = page.get_by_role("button", name="Tilt to 3-D")
             expect(tilt).to_be_visible(timeout=30_000)
             for name in ("Play", "Pause", "Step", "Reset"):  # the commands are absent
@@ -92,6 +93,7 @@ def test_without_the_token_the_panel_changes_nothing(server: RunningServer) -> N
             # A second browser, without the token, still sees no commands.
             other = browser.new_page(viewport={"width": 1280, "height": 800})
             other.goto(url)
+            other.get_by_role("button", name="Expand panel").click(timeout=30_000)
             expect(other.get_by_role("button", name="Tilt to 3-D")).to_be_visible(timeout=30_000)
             expect(other.get_by_role("button", name="Pause", exact=True)).to_have_count(0)
         finally:
