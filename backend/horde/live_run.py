@@ -605,14 +605,14 @@ class LiveRun:
     def _maybe_snapshot(self) -> None:
         """A periodic snapshot of a running run, handed to the writer thread.
 
-        Every `limits.snapshot_every` seconds, or ten times the last write's time when that is longer
-        (a large Horde's write then takes at most a tenth of the writer's time); never while the
+        Every `limits.snapshot_every` seconds, or three times the last write's time when that is longer
+        (a large Horde's writes then keep the writer busy a third of the time at most); never while the
         previous one is still being written.
         """
         if self._status != "running" or (self._pending_save is not None and not self._pending_save.done()):
             return
         cost = self.snapshot_cost
-        interval = max(self.limits.snapshot_every, 10 * (cost.encode_seconds + cost.write_seconds))
+        interval = max(self.limits.snapshot_every, 3 * (cost.encode_seconds + cost.write_seconds))
         if time.monotonic() - self._last_snapshot >= interval:
             self._persist(snapshot=True, wait=False)
 

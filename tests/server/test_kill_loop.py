@@ -20,6 +20,7 @@ import sqlite3
 import subprocess
 import sys
 import textwrap
+import threading
 import time
 from pathlib import Path
 from typing import Any
@@ -54,13 +55,15 @@ def test_server_killed_at_random_moments(tmp_path: Path) -> None:
     finished_jobs: dict[str, dict[str, Any]] = {}
     running_job: str | None = None
     run_id: str | None = None
-    last_seen: tuple[int, float] | None = None  # (step, steps per second) just before the kill
+    seen: list[tuple[float, int]] = []  # (time, step) of the running run, sampled during the round
+    previous_start = killed_at = 0.0
     lost: list[float] = []
     startups: list[float] = []
     for round_ in range(KILLS):
         started = time.monotonic()
         with server(data, log, SNAPSHOT_EVERY) as (process, client):
             startups.append(time.monotonic() - started)
+            healthy_at = time.monotonic()
             # Everything finished before is still there, unchanged.
             assert {w["name"] for w in client.get("/api/worlds").json()} >= worlds
             for rid, body in finished_runs.items():
@@ -81,10 +84,14 @@ def test_server_killed_at_random_moments(tmp_path: Path) -> None:
             else:
                 body = client.get(f"/api/runs/{run_id}").json()
                 assert body["status"] == "running", body
-                assert last_seen is not None
-                step, rate = last_seen
-                lost.append(max(0.0, (step - restored_step(body["message"])) / rate))
-                assert lost[-1] <= MAX_LOST_SECONDS, (round_, lost)
+                # Learning lost: from the last moment of the previous round at which the run stood at its
+                # restored step (or the previous round's start, if it was there all along) to the kill.
+                restored = restored_step(body["message"])
+                before = [t for t, step in seen if step <= restored]
+                lost.append(killed_at - (max(before) if before else previous_start))
+                assert lost[-1] <= MAX_LOST_SECONDS, (round_, restored, seen[-3:], lost)
+
+            sampler = Sampler(str(client.base_url), run_id)
 
             # Work of this round: a world, a short finished run, and every other round a long protocol.
             name = f"w{round_}"
@@ -101,16 +108,36 @@ def test_server_killed_at_random_moments(tmp_path: Path) -> None:
                 body = {"scenario": "experiment1", "seed": round_, "protocol": {"episodes": 1_000_000}}
                 running_job = client.post("/api/protocols", json=body).json()["id"]
 
-            # Learn a while, note how far the run got and how fast, then kill at a random moment.
-            first = client.get(f"/api/runs/{run_id}").json()["step"], time.monotonic()
+            # Learn a while more, then kill at a random moment; meanwhile note how far the run got when.
             time.sleep(rng.uniform(0.2, 1.5))
-            second = client.get(f"/api/runs/{run_id}").json()["step"], time.monotonic()
-            last_seen = second[0], max(1.0, (second[0] - first[0]) / (second[1] - first[1]))
+            seen, previous_start = sampler.stop(), healthy_at
+            killed_at = time.monotonic()
             process.send_signal(signal.SIGKILL)
             process.wait(timeout=30)
         assert integrity(data) == "ok"
     print(f"learning lost per kill (s): max {max(lost):.2f}, mean {sum(lost) / len(lost):.2f} over {len(lost)}")
     print(f"restart to healthy (s): max {max(startups):.2f}, mean {sum(startups) / len(startups):.2f}")
+
+
+class Sampler:
+    """Notes (time, step) of a run every 50 ms in a thread, until stopped."""
+
+    def __init__(self, base_url: str, run_id: str) -> None:
+        self.samples: list[tuple[float, int]] = []
+        self._done = threading.Event()
+        self._thread = threading.Thread(target=self._loop, args=(base_url, run_id), daemon=True)
+        self._thread.start()
+
+    def _loop(self, base_url: str, run_id: str) -> None:
+        with httpx.Client(base_url=base_url, timeout=10.0) as client:
+            while not self._done.is_set():
+                self.samples.append((time.monotonic(), client.get(f"/api/runs/{run_id}").json()["step"]))
+                time.sleep(0.05)
+
+    def stop(self) -> list[tuple[float, int]]:
+        self._done.set()
+        self._thread.join(timeout=10)
+        return self.samples
 
 
 def wait_finished(client: httpx.Client, run_id: str, timeout: float = 60.0) -> dict[str, Any]:
