@@ -118,7 +118,7 @@ async def poll(http: httpx.AsyncClient, poller: Poller, hz: float, stop: asyncio
 def cpu_seconds(pid: int, learners_only: bool = False) -> float:
     """User + system CPU time so far of a process, or of its learner threads (Linux /proc, else 0).
 
-    Learner threads are the niced ones (`horde.live_run.LEARNER_NICENESS`): Python does not name OS threads.
+    Learner threads are the niced ones (`horde.runs.live_run.LEARNER_NICENESS`): Python does not name OS threads.
     """
 
     def read(path: str) -> tuple[float, int]:

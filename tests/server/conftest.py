@@ -13,7 +13,7 @@ with warnings.catch_warnings():  # starlette asks for httpx2; httpx works and is
     warnings.filterwarnings("ignore", message=".*install `httpx2`")
     from fastapi.testclient import TestClient
 
-from horde.run_setup import new_simulation
+from horde.runs.run_setup import new_simulation
 from horde.server import Settings, create_app
 from horde.spec import RunSpec
 

@@ -8,8 +8,8 @@ from collections.abc import Callable
 import pytest
 from fastapi.testclient import TestClient
 
-from horde.divergence import MAX_MAGNITUDE, beyond_magnitude, meaningful
-from horde.run_setup import new_simulation
+from horde.runs.divergence import MAX_MAGNITUDE, beyond_magnitude, meaningful
+from horde.runs.run_setup import new_simulation
 from horde.spec import RunSpec
 
 from .helpers import make_spec

@@ -11,13 +11,13 @@ from typing import Any
 
 from fastapi.testclient import TestClient
 
-from horde.live_run import LiveRun
-from horde.run_setup import Limits, new_simulation
-from horde.saver import Saver
+from horde.runs.live_run import LiveRun
+from horde.runs.run_setup import Limits, new_simulation
+from horde.runs.saver import Saver
+from horde.runs.snapshot import from_bytes
+from horde.runs.store import Store
 from horde.server import Settings, create_app
-from horde.snapshot import from_bytes
 from horde.spec import RunSpec
-from horde.store import Store
 
 from .helpers import make_spec
 
@@ -94,7 +94,7 @@ def test_a_slow_view_never_stretches_the_publish_interval_beyond_its_cap(monkeyp
     """Issue 10, reproducer 6: one view that took long to make (the learner waited for the GIL) froze the
     published state for 80 s, as the interval was 20 times the wall time a view took. It is 20 times the
     learner thread's own CPU time now, and never more than MAX_PUBLISH_INTERVAL."""
-    from horde import live_run
+    from horde.runs import live_run
 
     spec = RunSpec.model_validate(make_spec())
     run = LiveRun("r1", new_simulation(spec), Limits())

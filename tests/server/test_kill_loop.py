@@ -161,7 +161,7 @@ WRITER = textwrap.dedent(
     """
     import sys, time
     from pathlib import Path
-    from horde.store import RunRecord, Store
+    from horde.runs.store import RunRecord, Store
 
     store = Store(Path(sys.argv[1]))
     data = Path(sys.argv[2]).read_bytes()
@@ -178,10 +178,10 @@ WRITER = textwrap.dedent(
 @pytest.mark.slow
 def test_store_killed_during_snapshot_writes(tmp_path: Path) -> None:
     """The writer does nothing but write a 100-demon snapshot, so a kill lands mid-write."""
-    from horde.run_setup import new_simulation
-    from horde.snapshot import capture, from_bytes, restore, to_bytes
+    from horde.runs.run_setup import new_simulation
+    from horde.runs.snapshot import capture, from_bytes, restore, to_bytes
+    from horde.runs.store import Store
     from horde.spec import RunSpec
-    from horde.store import Store
 
     demons = [{"name": f"d{i}", "cumulant": 1, "learner": "gtd"} for i in range(100)]
     spec = RunSpec.model_validate(

@@ -11,7 +11,7 @@ import pytest
 from fastapi.testclient import TestClient
 from starlette.websockets import WebSocketDisconnect, WebSocketState
 
-from horde.runs import RunManager
+from horde.runs.manager import RunManager
 from horde.server.stream import CLOSE_RUN_DELETED, CLOSE_TOO_SLOW, CLOSE_UNKNOWN_RUN, StreamHub
 from horde.spec import RunSpec
 

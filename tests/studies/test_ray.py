@@ -23,7 +23,7 @@ from typing import Any
 
 import pytest
 
-from horde.store import Store
+from horde.runs.store import Store
 from horde.studies.files import parse_study
 from horde.studies.runner import InProcess, create_study, run_study
 

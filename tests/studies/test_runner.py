@@ -12,8 +12,8 @@ from pathlib import Path
 
 import pytest
 
+from horde.runs.store import Store
 from horde.scenarios import find_scenario
-from horde.store import Store
 from horde.studies.runner import InProcess, create_study, run_study, summarize_study
 from horde.studies.spec import StudySpec
 

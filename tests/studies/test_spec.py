@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from horde.errors import SpecError
+from horde.runs.errors import SpecError
 from horde.scenarios import find_scenario
 from horde.spec import RunSpec
 from horde.studies.spec import MAX_CONFIGURATIONS, MAX_TASKS, StudySpec, expand

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from horde.run_setup import Limits
-from horde.runs import RunManager
+from horde.runs.manager import RunManager
+from horde.runs.run_setup import Limits
 from horde.scenarios import load_scenario, scenario_dir
 from horde.view.manager_source import ManagerSource
 from horde.view.source import ViewSource

@@ -19,8 +19,9 @@ from contextlib import asynccontextmanager
 
 from fastapi import FastAPI
 
-from horde.protocols import ProtocolJobs
-from horde.runs import RunManager
+from horde.runs.manager import RunManager
+from horde.runs.protocols import ProtocolJobs
+from horde.runs.store import Store
 from horde.server.api_docs import add_api_docs
 from horde.server.catalog import ScenarioCatalog
 from horde.server.frontend import DIST_DIR, mount_frontend
@@ -30,7 +31,6 @@ from horde.server.responses import add_error_handlers
 from horde.server.routes import ROUTERS
 from horde.server.settings import Settings
 from horde.server.stream import StreamHub
-from horde.store import Store
 from horde.studies.jobs import StudyJobs
 from horde.view.live import LiveView
 from horde.view.manager_source import ManagerSource

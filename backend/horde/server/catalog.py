@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from horde.errors import ConflictError, NotFoundError
+from horde.runs.errors import ConflictError, NotFoundError
 from horde.scenarios import ScenarioError, find_scenario, load_scenario, scenario_dir
 from horde.spec import RunSpec
 

@@ -7,11 +7,11 @@ from datetime import UTC, datetime
 
 import numpy as np
 
-from horde.divergence import MAX_MAGNITUDE, meaningful
-from horde.events import Event
-from horde.history import Series
-from horde.readout import Evaluation, ValueMap
-from horde.run_view import RunView, Summary
+from horde.runs.divergence import MAX_MAGNITUDE, meaningful
+from horde.runs.events import Event
+from horde.runs.history import Series
+from horde.runs.readout import Evaluation, ValueMap
+from horde.runs.run_view import RunView, Summary
 from horde.server.schemas import (
     AgentOut,
     DemonMetricsOut,

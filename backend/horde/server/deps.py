@@ -8,11 +8,11 @@ from typing import Annotated
 from fastapi import Depends, HTTPException, Path, Request, Security, status
 from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
 
-from horde.live_run import LiveRun
-from horde.runs import RunManager
+from horde.runs.live_run import LiveRun
+from horde.runs.manager import RunManager
+from horde.runs.store import Store
 from horde.server.catalog import ScenarioCatalog
 from horde.server.settings import Settings
-from horde.store import Store
 
 _bearer = HTTPBearer(auto_error=False, description="The server's HORDE_TOKEN, required on mutating requests when set")
 

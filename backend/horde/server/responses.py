@@ -8,7 +8,7 @@ from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse, Response
 
-from horde.errors import BusyError, ConflictError, NotFoundError, RunError, SpecError
+from horde.runs.errors import BusyError, ConflictError, NotFoundError, RunError, SpecError
 from horde.server.guard import validation_body, validation_error
 from horde.server.schemas import ErrorOut
 

@@ -1,7 +1,7 @@
 """The wire format of the REST API: input models (…In) and output models (…Out).
 
 Specs (RunSpec, WorldSpec, DemonSpec, BehaviourSpec) are the core's own pydantic models and are
-used as they are; the snapshot format lives with its code in `horde.snapshot`. Numbers that can be
+used as they are; the snapshot format lives with its code in `horde.runs.snapshot`. Numbers that can be
 non-finite (a diverged demon's prediction) travel as null.
 """
 
@@ -12,9 +12,9 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag
 
-from horde.events import EventKind
-from horde.run_setup import Hz
-from horde.run_view import RunStatus
+from horde.runs.events import EventKind
+from horde.runs.run_setup import Hz
+from horde.runs.run_view import RunStatus
 from horde.spec import BehaviourSpec, DemonSpec, Name, RunSpec, WorldSpec
 
 MAX_RESOLUTION = 256

@@ -10,7 +10,7 @@ from typing import Literal
 from pydantic import Field, SecretStr, field_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
-from horde.run_setup import Limits
+from horde.runs.run_setup import Limits
 from horde.studies.runner import Executor, InProcess, RayExecutor
 
 

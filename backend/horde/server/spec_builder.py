@@ -6,11 +6,11 @@ from typing import Any
 
 from pydantic import ValidationError
 
-from horde.errors import NotFoundError, SpecError
+from horde.runs.errors import NotFoundError, SpecError
+from horde.runs.store import Store
 from horde.server.catalog import ScenarioCatalog
 from horde.server.schemas import RunTemplateIn
 from horde.spec import RunSpec, WorldSpec
-from horde.store import Store
 
 
 def merge(base: Any, override: Any) -> Any:

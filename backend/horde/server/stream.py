@@ -16,9 +16,9 @@ from dataclasses import dataclass, field
 from fastapi import WebSocket
 from starlette.websockets import WebSocketState
 
-from horde.errors import NotFoundError
-from horde.live_run import LiveRun
-from horde.runs import RunManager
+from horde.runs.errors import NotFoundError
+from horde.runs.live_run import LiveRun
+from horde.runs.manager import RunManager
 from horde.server.convert import state_out
 
 CLOSE_UNKNOWN_RUN = 4404

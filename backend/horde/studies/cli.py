@@ -9,9 +9,9 @@ import os
 import sys
 from pathlib import Path
 
-from horde.errors import NotFoundError
+from horde.runs.errors import NotFoundError
+from horde.runs.store import Store
 from horde.scenarios import ScenarioError
-from horde.store import Store
 from horde.studies.export import results_json
 from horde.studies.files import load_study_file
 from horde.studies.runner import Executor, InProcess, RayExecutor, create_study, run_study, summarize_study

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from pydantic import ValidationError
 
-from horde.errors import SpecError
+from horde.runs.errors import SpecError
 from horde.scenarios import ScenarioError, find_scenario, line_of
 from horde.spec import RunSpec
 from horde.studies.spec import Configuration, StudySpec, expand

@@ -14,9 +14,9 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from horde.errors import BusyError, ConflictError, NotFoundError
+from horde.runs.errors import BusyError, ConflictError, NotFoundError
+from horde.runs.store import Store, StudyRecord
 from horde.spec import RunSpec
-from horde.store import Store, StudyRecord
 from horde.studies.runner import Executor, RayExecutor, SummaryCache, create_study, run_study, summarize_study
 from horde.studies.spec import StudySpec
 from horde.studies.stats import ConfigSummary

@@ -18,9 +18,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol
 
-from horde.errors import NotFoundError
+from horde.runs.errors import NotFoundError
+from horde.runs.store import Store, StudyRecord
 from horde.spec import RunSpec
-from horde.store import Store, StudyRecord
 from horde.studies.spec import Configuration, MeasureSpec, StudySpec, expand
 from horde.studies.stats import ConfigSummary, mark_best, summarize_configuration
 from horde.studies.task import TaskData, run_task

@@ -23,7 +23,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field, ValidationError, model_validator
 
-from horde.errors import FieldProblem, SpecError
+from horde.runs.errors import FieldProblem, SpecError
 from horde.spec import Model, Name, RunSpec
 
 MAX_AXES = 6

@@ -15,10 +15,10 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from horde.errors import NotFoundError, RunError
-from horde.readout import value_map
-from horde.run_view import RunView
-from horde.runs import RunManager
+from horde.runs.errors import NotFoundError, RunError
+from horde.runs.manager import RunManager
+from horde.runs.readout import value_map
+from horde.runs.run_view import RunView
 from horde.view.source import History, ViewSnapshot
 
 TRAIL_POINTS = 500  # most positions kept of one episode's trail

@@ -6,9 +6,9 @@ from typing import Annotated
 
 from fastapi import APIRouter, Query, status
 
-from horde.errors import NotFoundError
-from horde.readout import value_map
-from horde.run_view import RunView
+from horde.runs.errors import NotFoundError
+from horde.runs.readout import value_map
+from horde.runs.run_view import RunView
 from horde.server.convert import demons_out, evaluation_out, history_out, values_out
 from horde.server.deps import DemonName, ManagerDep, RunDep, WriteAccess
 from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND, UNAUTHORIZED

@@ -12,9 +12,9 @@ from typing import Annotated, Any
 from fastapi import APIRouter, Path, Query, Request
 from fastapi.responses import PlainTextResponse, Response
 
-from horde.errors import ConflictError
-from horde.exports import HISTORY_FIELDS, PROTOCOL_FIELDS, history_records, protocol_records, spec_toml, to_csv
-from horde.protocols import ProtocolJobs
+from horde.runs.errors import ConflictError
+from horde.runs.exports import HISTORY_FIELDS, PROTOCOL_FIELDS, history_records, protocol_records, spec_toml, to_csv
+from horde.runs.protocols import ProtocolJobs
 from horde.server.deps import RunDep
 from horde.server.responses import CONFLICT, NOT_FOUND
 

@@ -11,8 +11,8 @@ from typing import Annotated
 
 from fastapi import APIRouter, Body, Path, Request, status
 
-from horde.divergence import meaningful
-from horde.protocols import ProtocolJob, ProtocolJobs
+from horde.runs.divergence import meaningful
+from horde.runs.protocols import ProtocolJob, ProtocolJobs
 from horde.server.convert import timestamp
 from horde.server.deps import CatalogDep, StoreDep, WriteAccess
 from horde.server.responses import BAD_BODY, BUSY, NOT_FOUND, UNAUTHORIZED

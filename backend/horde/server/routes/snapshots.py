@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from fastapi import APIRouter, status
 
+from horde.runs.snapshot import Snapshot
 from horde.server.convert import run_out
 from horde.server.deps import ManagerDep, RunDep, WriteAccess
 from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND, UNAUTHORIZED
 from horde.server.schemas import RunOut
-from horde.snapshot import Snapshot
 
 router = APIRouter(prefix="/runs", tags=["snapshots"])
 

@@ -13,13 +13,13 @@ from typing import Annotated
 from fastapi import APIRouter, Body, Path, Query, Request, WebSocket, WebSocketDisconnect, status
 from fastapi.responses import PlainTextResponse, Response
 
-from horde.errors import NotFoundError, SpecError
+from horde.runs.errors import NotFoundError, SpecError
+from horde.runs.store import StudyRecord
 from horde.server.convert import timestamp
 from horde.server.deps import CatalogDep, WriteAccess
 from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND, UNAUTHORIZED
 from horde.server.routes.exports import FILE_RESPONSES
 from horde.server.study_schemas import StudyConfigOut, StudyOut, StudyResultsOut
-from horde.store import StudyRecord
 from horde.studies.export import results_csv, results_json
 from horde.studies.jobs import StudyJobs
 from horde.studies.spec import StudySpec

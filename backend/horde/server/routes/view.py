@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from fastapi import APIRouter, Request
 
-from horde.errors import ConflictError, NotFoundError
+from horde.runs.errors import ConflictError, NotFoundError
 from horde.server.deps import WriteAccess
 from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND, UNAUTHORIZED
 from horde.server.schemas import ViewIn, ViewOut

@@ -10,13 +10,13 @@ from typing import Annotated
 
 from fastapi import APIRouter, Path, Response, status
 
-from horde.errors import ConflictError, NotFoundError, SpecError
+from horde.runs.errors import ConflictError, NotFoundError, SpecError
+from horde.runs.store import WorldRecord
 from horde.server.convert import timestamp
 from horde.server.deps import SettingsDep, StoreDep, WriteAccess
 from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND, UNAUTHORIZED
 from horde.server.schemas import WorldCreate, WorldOut
 from horde.spec import WorldSpec
-from horde.store import WorldRecord
 
 router = APIRouter(prefix="/worlds", tags=["worlds"])
 

@@ -18,9 +18,9 @@ from dataclasses import dataclass, field
 from typing import Any, Literal
 
 from horde.core.experiment import DemonResult, ProtocolResult, run_protocol
-from horde.errors import BusyError, NotFoundError
+from horde.runs.errors import BusyError, NotFoundError
+from horde.runs.store import JobRecord, Store
 from horde.spec import Counts, RunSpec
-from horde.store import JobRecord, Store
 
 log = logging.getLogger(__name__)
 

@@ -16,7 +16,7 @@ from typing import Any, Literal
 import tomli_w
 
 from horde.core.experiment import ProtocolResult
-from horde.history import QUANTITIES, History
+from horde.runs.history import QUANTITIES, History
 from horde.spec import RunSpec
 
 Format = Literal["csv", "json"]

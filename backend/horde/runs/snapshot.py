@@ -23,9 +23,9 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from horde.core.simulation import Simulation
 from horde.core.world import WorldState
-from horde.errors import SpecError
-from horde.run_setup import Hz, new_simulation
-from horde.run_view import RunStatus
+from horde.runs.errors import SpecError
+from horde.runs.run_setup import Hz, new_simulation
+from horde.runs.run_view import RunStatus
 from horde.spec import RunSpec
 
 FORMAT: Literal["horde-snapshot/1"] = "horde-snapshot/1"

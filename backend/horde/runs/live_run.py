@@ -34,16 +34,16 @@ from pydantic import ValidationError
 from horde.core.experiment import start_point
 from horde.core.simulation import Simulation
 from horde.core.world import WorldState
-from horde.divergence import MAX_MAGNITUDE, beyond_magnitude
-from horde.errors import BusyError, ConflictError, NotFoundError, SpecError
-from horde.events import EventLog
-from horde.history import History
-from horde.run_setup import MAX_HZ, MIN_HZ, Limits, check_limits, new_simulation
-from horde.run_view import RunStatus, RunView, Summary
-from horde.saver import Saver
-from horde.snapshot import Snapshot, capture, encode_frozen, freeze, to_bytes
+from horde.runs.divergence import MAX_MAGNITUDE, beyond_magnitude
+from horde.runs.errors import BusyError, ConflictError, NotFoundError, SpecError
+from horde.runs.events import EventLog
+from horde.runs.history import History
+from horde.runs.run_setup import MAX_HZ, MIN_HZ, Limits, check_limits, new_simulation
+from horde.runs.run_view import RunStatus, RunView, Summary
+from horde.runs.saver import Saver
+from horde.runs.snapshot import Snapshot, capture, encode_frozen, freeze, to_bytes
+from horde.runs.store import RunRecord, Store
 from horde.spec import BehaviourSpec, DemonSpec, RunSpec, demon_dependencies
-from horde.store import RunRecord, Store
 
 log = logging.getLogger(__name__)
 

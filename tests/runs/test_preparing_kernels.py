@@ -8,11 +8,10 @@ from typing import Any
 
 import pytest
 
-from horde import live_run
-from horde.runs import RunManager
+from horde.runs import live_run
+from horde.runs.manager import RunManager
 from horde.spec import RunSpec
-
-from .helpers import make_spec
+from server.helpers import make_spec  # tests/server/helpers.py: the specs the server tests use
 
 
 def wait_for(predicate: Any, what: str, timeout: float = 30.0) -> None:

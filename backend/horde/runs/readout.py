@@ -9,8 +9,8 @@ import numpy as np
 
 from horde.core.evaluate import Truth, exact, monte_carlo
 from horde.core.world import World
-from horde.errors import NotFoundError, SpecError
-from horde.run_view import RunView
+from horde.runs.errors import NotFoundError, SpecError
+from horde.runs.run_view import RunView
 
 # Positions x demons x actions evaluated in one batch of a value map (bounds its memory).
 MAX_BATCH_NUMBERS = 2_000_000

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from horde.store import RunRecord, Store
+from horde.runs.store import RunRecord, Store
 
 
 def record(run_id: str = "r1", status: str = "paused", steps: int = 10) -> RunRecord:

@@ -7,13 +7,12 @@ import time
 import numpy as np
 import pytest
 
-from horde.errors import NotFoundError
-from horde.history import History
-from horde.run_setup import new_simulation
-from horde.runs import RunManager
+from horde.runs.errors import NotFoundError
+from horde.runs.history import History
+from horde.runs.manager import RunManager
+from horde.runs.run_setup import new_simulation
 from horde.spec import DemonSpec, RunSpec
-
-from .helpers import make_spec
+from server.helpers import make_spec  # tests/server/helpers.py: the specs the server tests use
 
 
 def wait(predicate: object, timeout: float = 30.0) -> None:

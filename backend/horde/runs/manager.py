@@ -14,15 +14,15 @@ import secrets
 import threading
 from collections.abc import Callable
 
-from horde.errors import BusyError, ConflictError, NotFoundError
-from horde.live_run import LiveRun
-from horde.readout import Evaluation, evaluate
-from horde.run_setup import Limits, check_limits, new_simulation
-from horde.run_view import STATUSES, RunStatus, RunView, Summary
-from horde.saver import Saver
-from horde.snapshot import Snapshot, from_bytes, restore
+from horde.runs.errors import BusyError, ConflictError, NotFoundError
+from horde.runs.live_run import LiveRun
+from horde.runs.readout import Evaluation, evaluate
+from horde.runs.run_setup import Limits, check_limits, new_simulation
+from horde.runs.run_view import STATUSES, RunStatus, RunView, Summary
+from horde.runs.saver import Saver
+from horde.runs.snapshot import Snapshot, from_bytes, restore
+from horde.runs.store import RunRecord, Store
 from horde.spec import RunSpec
-from horde.store import RunRecord, Store
 
 log = logging.getLogger(__name__)
 

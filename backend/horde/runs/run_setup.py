@@ -9,7 +9,7 @@ import numpy as np
 from pydantic import Field
 
 from horde.core.simulation import Simulation
-from horde.errors import SpecError
+from horde.runs.errors import SpecError
 from horde.spec import RunSpec
 
 MIN_HZ = 0.01  # paced runs: one step every 100 s at the slowest
