@@ -77,3 +77,12 @@ def test_syntax_errors_name_the_line() -> None:
 def test_unknown_keys_are_rejected() -> None:
     with pytest.raises(ScenarioError, match=r"demons\.0\.cumulent"):
         parse_scenario('[[demons]]\nname = "a"\ncumulent = 1\n', "typo.toml")
+
+
+def test_an_impossible_start_names_the_file_line_and_field() -> None:
+    text = (
+        'name = "walled"\n\n[world]\nstart = [100, 200, 200, 300]\n\n'
+        '[[world.regions]]\nname = "wall"\nkind = "obstacle"\nrect = [100, 200, 200, 300]\n'
+    )
+    with pytest.raises(ScenarioError, match=r"walled.toml:4: world.start: the start rectangle has no cell"):
+        parse_scenario(text, "walled.toml")

@@ -8,6 +8,7 @@ import pytest
 from pydantic import ValidationError
 
 from horde.spec import (
+    IMPOSSIBLE_START,
     DemonSpec,
     IfExpr,
     PolicySpec,
@@ -246,3 +247,28 @@ def test_only_of_policies_name_a_demon() -> None:
     with pytest.raises(ValidationError, match="only 'of' policies name a demon"):
         PolicySpec.model_validate({"demon": "A"})
     assert PolicySpec.model_validate({"of": "A"}).demon == "A"
+
+
+# A start rectangle [100, 200, 300, 300] covered by a wall on its left half and a goal on its right half.
+COVERED = {
+    "start": [100, 200, 300, 300],
+    "regions": [
+        {"name": "wall", "kind": "obstacle", "rect": [0, 150, 200, 300]},
+        {"name": "goal", "kind": "terminal", "rect": [200, 200, 400, 350], "reward": 1},
+    ],
+}
+
+
+def test_a_start_rectangle_without_a_free_cell_is_rejected_at_world_start():
+    errors = errors_of(RunSpec.model_validate, {"world": COVERED, "demons": [{"name": "a"}]})
+    assert [e["loc"] for e in errors] == [("world", "start")]
+    assert errors[0]["msg"] == IMPOSSIBLE_START
+
+
+def test_a_start_rectangle_with_one_free_sliver_is_accepted():
+    # Shrink the goal by 1 at the top-left corner's column: the strip x in [200, 201) stays free.
+    sliver = {**COVERED, "regions": [COVERED["regions"][0], {**COVERED["regions"][1], "rect": [201, 200, 400, 350]}]}
+    WorldSpec.model_validate(sliver)
+    # A zone (not an obstacle nor a terminal) over the whole rectangle leaves it free.
+    zone = {"start": [100, 200, 300, 300], "regions": [{"name": "z", "kind": "zone", "rect": [0, 0, 500, 500]}]}
+    WorldSpec.model_validate(zone)
