@@ -321,7 +321,8 @@ class WorldSpec(Model):
             "y": (0.0, self.height),
             "bump": (0.0, 1.0),
             "steps": (0.0, float(self.max_steps)),
-            "reward": (self.transient_reward + min(rewards), self.transient_reward + max(rewards)),
+            # An episode's first state reads reward 0 (no transition yet), whatever the transient reward.
+            "reward": (min(0.0, self.transient_reward + min(rewards)), max(0.0, self.transient_reward + max(rewards))),
             "terminal": (0.0, 1.0),
         }
         for region in self.regions:
