@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 from fastapi.testclient import TestClient
 
 from horde.server import Settings, create_app
 from horde.spec import IMPOSSIBLE_START
 
-WALLED = {
+WALLED: dict[str, Any] = {
     "start": [100, 200, 200, 300],
     "regions": [{"name": "wall", "kind": "obstacle", "rect": [100, 200, 200, 300]}],
 }
@@ -18,7 +19,7 @@ WALLED = {
 def test_an_impossible_start_is_a_422_naming_world_start(tmp_path: Path) -> None:
     settings = Settings(data=tmp_path / "data", token=None, snapshot_every=3600.0, history=2000, max_runs=2)
     with TestClient(create_app(settings)) as client:
-        body = {"name": "walled", "world": WALLED, "demons": [{"name": "a"}]}
+        body: dict[str, Any] = {"name": "walled", "world": WALLED, "demons": [{"name": "a"}]}
         response = client.post("/api/runs", json=body)
         assert response.status_code == 422, response.text
         errors = response.json()["detail"]

@@ -261,7 +261,7 @@ def test_only_of_policies_name_a_demon() -> None:
 
 
 # A start rectangle [100, 200, 300, 300] covered by a wall on its left half and a goal on its right half.
-COVERED = {
+COVERED: dict[str, Any] = {
     "start": [100, 200, 300, 300],
     "regions": [
         {"name": "wall", "kind": "obstacle", "rect": [0, 150, 200, 300]},
