@@ -3,13 +3,16 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
 
+from horde.core.check import WorldCheckError, check_world
 from horde.core.simulation import Simulation
 from horde.core.world import World
 from horde.scenarios import ScenarioError, list_scenarios, load_scenario, parse_scenario, scenario_dir
+from horde.spec import RunSpec
 
 SCENARIOS = sorted(scenario_dir().glob("*.toml"))
 
@@ -23,28 +26,77 @@ def test_the_thesis_scenarios_are_all_there() -> None:
 
 
 @pytest.mark.parametrize("path", SCENARIOS, ids=[p.stem for p in SCENARIOS])
-def test_world_contract(path: Path) -> None:
+def test_every_scenario_keeps_the_world_contract_on_both_engines(path: Path) -> None:
     spec = load_scenario(path)
     assert spec.description, "every scenario explains itself in one line"
-    world = World(spec.world)
-    rng = np.random.default_rng(0)
-    state = world.reset(rng, batch=8)
-    assert state.x.shape == state.y.shape == state.steps.shape == (8,)
-    assert (state.steps == 0).all()
-    ended = np.zeros(8, dtype=bool)
-    for _ in range(spec.world.max_steps):
-        actions = rng.integers(0, 4, size=8)
-        state, transition = world.step(state, actions, rng)
-        sensors = world.sensors(state, transition)
-        assert sensors.shape == (8, len(spec.world.sensor_names()))
-        assert np.isfinite(sensors).all()
-        assert not (transition.terminated & transition.truncated).any(), "terminated and truncated are apart"
-        assert ((state.x >= 0) & (state.x < spec.world.width) & (state.y >= 0) & (state.y < spec.world.height)).all()
-        assert not (world.inside(state.x, state.y) & world.is_obstacle).any(), "never inside an obstacle"
-        ended |= transition.terminated | transition.truncated
-        if ended.all():
-            break
-    assert ended.all(), "every episode ends by termination or by truncation at max_steps"
+    check_world(spec)
+
+
+# The world kinds the scenarios do not all cover: a start rectangle beside walls and terminals, colour-
+# dependent terminal rewards, slip and noise together.
+KINDS: dict[str, dict[str, Any]] = {
+    "rect-start-walls-lamp": {
+        "width": 400,
+        "height": 300,
+        "step": 50,
+        "slip": 0.2,
+        "noise": 7,
+        "start": [0, 0, 250, 300],
+        "max_steps": 60,
+        "regions": [
+            {"name": "wall", "kind": "obstacle", "rect": [100, 0, 150, 200]},
+            {"name": "pit", "kind": "terminal", "rect": [0, 250, 100, 300], "reward": -1},
+            {
+                "name": "door",
+                "kind": "terminal",
+                "rect": [300, 100, 400, 200],
+                "reward": {"indicator": "lamp", "values": {"on": 2, "off": -2}},
+            },
+            {
+                "name": "lamp",
+                "kind": "indicator",
+                "rect": [200, 0, 300, 100],
+                "colors": [
+                    {"name": "on", "value": 1, "probability": 0.3},
+                    {"name": "off", "value": -1, "probability": 0.7},
+                ],
+            },
+        ],
+    },
+    "open-field-no-terminal": {"width": 300, "height": 300, "step": 100, "start": [150, 150], "max_steps": 25},
+}
+
+
+@pytest.mark.parametrize("world", KINDS.values(), ids=KINDS.keys())
+def test_every_world_kind_keeps_the_world_contract_on_both_engines(world: dict[str, Any]) -> None:
+    spec = RunSpec.model_validate({"world": world, "demons": [{"name": "bumps", "cumulant": {"sensor": "bump"}}]})
+    check_world(spec)
+
+
+@pytest.mark.parametrize(
+    ("breakage", "message"),
+    [
+        ("unseeded reset", "same seed, other run"),
+        ("sensor out of range", "sensor 'x' read"),
+        ("engines apart", "the engines disagree"),
+    ],
+)
+def test_the_world_checker_catches_a_broken_world(breakage: str, message: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each rule of check_world can fail: break world.py one way and the checker must say so."""
+    spec = load_scenario(scenario_dir() / "experiment1.toml")
+    if breakage == "unseeded reset":
+        reset = World.reset
+        monkeypatch.setattr(World, "reset", lambda self, rng, batch=1: reset(self, np.random.default_rng(), batch))
+        spec = spec.model_copy(update={"world": spec.world.model_copy(update={"start": [0.0, 0.0, 500.0, 100.0]})})
+    elif breakage == "sensor out of range":
+        sensors = World.sensors
+        monkeypatch.setattr(World, "sensors", lambda self, state, tr: sensors(self, state, tr) + (np.arange(
+            len(self.sensor_names)) == 0) * spec.world.width)  # fmt: skip
+    else:
+        move = World.move
+        monkeypatch.setattr(World, "move", lambda self, x, y, a, o=None: move(self, x, y, (a + 1) % 4, o))
+    with pytest.raises(WorldCheckError, match=message):
+        check_world(spec)
 
 
 @pytest.mark.parametrize("path", SCENARIOS, ids=[p.stem for p in SCENARIOS])
@@ -77,3 +129,12 @@ def test_syntax_errors_name_the_line() -> None:
 def test_unknown_keys_are_rejected() -> None:
     with pytest.raises(ScenarioError, match=r"demons\.0\.cumulent"):
         parse_scenario('[[demons]]\nname = "a"\ncumulent = 1\n', "typo.toml")
+
+
+def test_an_impossible_start_names_the_file_line_and_field() -> None:
+    text = (
+        'name = "walled"\n\n[world]\nstart = [100, 200, 200, 300]\n\n'
+        '[[world.regions]]\nname = "wall"\nkind = "obstacle"\nrect = [100, 200, 200, 300]\n'
+    )
+    with pytest.raises(ScenarioError, match=r"walled.toml:4: world.start: the start rectangle has no cell"):
+        parse_scenario(text, "walled.toml")

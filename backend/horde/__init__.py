@@ -1,1 +1,64 @@
-"""Horde Lab: many predictions learned at once with the Horde architecture."""
+"""Horde Lab: many predictions learned at once with the Horde architecture.
+
+The public API, for running a Horde from Python without the server (examples/05_horde_in_python.py):
+
+    spec = RunSpec.model_validate({...}) or load_scenario("scenarios/experiment1.toml")
+    check_world(spec)                      # the world keeps the environment contract on both engines
+    sim = Simulation(spec); sim.run(5000)  # one agent, its world, its demons; sim.predictions()
+    exact(sim.horde, sim.horde_state, "steps_to_end")   # the true answers on a lattice world
+    result = run_protocol(spec)            # the thesis' trials -> ProtocolResult
+
+Everything else (the server, the run store, the compiled kernels) is internal and may change.
+"""
+
+from horde.core.check import WorldCheckError, check_world
+from horde.core.evaluate import Lattice, Truth, exact, monte_carlo
+from horde.core.experiment import DemonResult, ProtocolResult, TrialResult, run_protocol
+from horde.core.learners import LearnerParams, LearnerState, update
+from horde.core.learners import zeros as learner_zeros
+from horde.core.simulation import Simulation, StepResult
+from horde.core.world import ImpossibleStartError
+from horde.scenarios import ScenarioError, load_scenario, parse_scenario
+from horde.spec import (
+    BehaviourSpec,
+    DemonFamily,
+    DemonSpec,
+    FeatureSpec,
+    PolicySpec,
+    ProtocolSpec,
+    Region,
+    RunSpec,
+    WorldSpec,
+)
+
+__all__ = [
+    "BehaviourSpec",
+    "DemonFamily",
+    "DemonResult",
+    "DemonSpec",
+    "FeatureSpec",
+    "ImpossibleStartError",
+    "Lattice",
+    "LearnerParams",
+    "LearnerState",
+    "PolicySpec",
+    "ProtocolResult",
+    "ProtocolSpec",
+    "Region",
+    "RunSpec",
+    "ScenarioError",
+    "Simulation",
+    "StepResult",
+    "TrialResult",
+    "Truth",
+    "WorldCheckError",
+    "WorldSpec",
+    "check_world",
+    "exact",
+    "learner_zeros",
+    "load_scenario",
+    "monte_carlo",
+    "parse_scenario",
+    "run_protocol",
+    "update",
+]

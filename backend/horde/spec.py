@@ -24,10 +24,14 @@ from pydantic import (
     field_validator,
     model_validator,
 )
+from pydantic_core import InitErrorDetails, PydanticCustomError
 
 ACTIONS: tuple[str, ...] = ("up", "down", "left", "right")
 
 MAX_WORLD_SIZE = 1e6
+# What a start rectangle whose every point lies in an obstacle or a terminal is told, by the spec (a 422 at
+# `world.start`) and by both engines (horde.core.world.ImpossibleStartError) if an unvalidated spec reaches them.
+IMPOSSIBLE_START = "the start rectangle has no cell outside obstacles and terminals"
 MAX_REGIONS = 64
 MAX_COLORS = 16
 MAX_DEMONS = 10_000
@@ -279,7 +283,30 @@ class WorldSpec(Model):
                 x0, y0, x1, y1 = region.rect
                 if region.kind in ("obstacle", "terminal") and x0 <= x < x1 and y0 <= y < y1:
                     raise ValueError(f"start lies inside {region.kind} {region.name!r}")
+        elif not self.start_rect_has_free_cell():
+            # Raised as a ValidationError so that the error names `start` (a model validator's would name the world).
+            detail = InitErrorDetails(
+                type=PydanticCustomError("impossible_start", IMPOSSIBLE_START), loc=("start",), input=self.start
+            )
+            raise ValidationError.from_exception_data(type(self).__name__, [detail])
         return self
+
+    def start_rect_has_free_cell(self) -> bool:
+        """Whether some part of the start rectangle lies outside every obstacle and terminal.
+
+        The region edges cut the rectangle into cells that each lie wholly inside or wholly outside every
+        region; the rectangle has room iff the centre of one cell is in none of the obstacles and terminals.
+        """
+        x0, y0, x1, y1 = self.start
+        walls = [r.rect for r in self.regions if r.kind in ("obstacle", "terminal")]
+        walls = [r for r in walls if r[0] < x1 and x0 < r[2] and r[1] < y1 and y0 < r[3]]  # those that meet it
+        xs = sorted({x0, x1, *(e for r in walls for e in (r[0], r[2]) if x0 < e < x1)})
+        ys = sorted({y0, y1, *(e for r in walls for e in (r[1], r[3]) if y0 < e < y1)})
+        for cx in (a + (b - a) / 2 for a, b in itertools.pairwise(xs)):
+            for cy in (a + (b - a) / 2 for a, b in itertools.pairwise(ys)):
+                if not any(r[0] <= cx < r[2] and r[1] <= cy < r[3] for r in walls):
+                    return True
+        return False
 
     def sensor_bounds(self) -> dict[str, tuple[float, float]]:
         """The range of every sensor (for checking that continuations stay within [0, 1])."""
@@ -294,7 +321,8 @@ class WorldSpec(Model):
             "y": (0.0, self.height),
             "bump": (0.0, 1.0),
             "steps": (0.0, float(self.max_steps)),
-            "reward": (self.transient_reward + min(rewards), self.transient_reward + max(rewards)),
+            # An episode's first state reads reward 0 (no transition yet), whatever the transient reward.
+            "reward": (min(0.0, self.transient_reward + min(rewards)), max(0.0, self.transient_reward + max(rewards))),
             "terminal": (0.0, 1.0),
         }
         for region in self.regions:

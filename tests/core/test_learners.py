@@ -193,9 +193,12 @@ def test_shapes_are_checked_where_arrays_enter():
     state = learners.zeros(2, 10)
     x_t = (np.array([1, 4]), np.ones(2))
     x_bar = (np.array([0]), np.ones((2, 1)))
-    with pytest.raises(ValueError, match="rho_t"):
-        learners.update(state, p, x_t, x_bar, np.ones(2), np.zeros(2), np.ones(2), np.ones(2), np.ones(3))
-    with pytest.raises(ValueError, match="gamma_t"):
-        learners.update(state, p, x_t, x_bar, np.ones(2), np.zeros(2), np.ones(1), np.ones(2), np.ones(2))
+    # Each per-demon argument in turn gets a wrong shape; the error names that argument and no other
+    # (anchored: "gamma_t" must not pass for "gamma_tp1").
+    names = ("r_tp1", "z_tp1", "gamma_t", "gamma_tp1", "rho_t")
+    for wrong, name in enumerate(names):
+        args = [np.ones(1) if i == wrong else np.ones(2) for i in range(len(names))]
+        with pytest.raises(ValueError, match=rf"^{name} has shape \(1,\), expected \(2,\)$"):
+            learners.update(state, p, x_t, x_bar, *args)
     with pytest.raises(ValueError, match="x_t values"):
         learners.update(state, p, (np.array([1, 4]), np.ones(3)), x_bar, *[np.ones(2)] * 5)

@@ -5,9 +5,11 @@ from __future__ import annotations
 from typing import Any
 
 import pytest
-from pydantic import ValidationError
+from pydantic import BaseModel, ValidationError
 
+import horde.spec as spec_module
 from horde.spec import (
+    IMPOSSIBLE_START,
     DemonSpec,
     IfExpr,
     PolicySpec,
@@ -235,10 +237,20 @@ def test_policy_shorthands():
     assert PolicySpec.model_validate({"of": "base"}) == PolicySpec(kind="of", demon="base")
 
 
-def test_models_are_frozen():
-    demon = DemonSpec(name="a")
-    with pytest.raises(ValidationError):
-        demon.name = "b"  # type: ignore[misc]
+def test_every_spec_model_is_frozen_and_forbids_unknown_keys():
+    """The project's rule (spec.py's docstring): a spec never changes once validated, and a typo is a 422.
+
+    Checked on every model the module defines, so a new model written on BaseModel (not `Model`) or with its own
+    config fails here."""
+    models = [
+        value
+        for value in vars(spec_module).values()
+        if isinstance(value, type) and issubclass(value, BaseModel) and value.__module__ == spec_module.__name__
+    ]
+    assert len(models) > 20
+    loose = [m.__name__ for m in models if m.model_config.get("frozen") is not True]
+    lax = [m.__name__ for m in models if m.model_config.get("extra") != "forbid"]
+    assert loose == [] and lax == [], (loose, lax)
 
 
 def test_only_of_policies_name_a_demon() -> None:
@@ -246,3 +258,28 @@ def test_only_of_policies_name_a_demon() -> None:
     with pytest.raises(ValidationError, match="only 'of' policies name a demon"):
         PolicySpec.model_validate({"demon": "A"})
     assert PolicySpec.model_validate({"of": "A"}).demon == "A"
+
+
+# A start rectangle [100, 200, 300, 300] covered by a wall on its left half and a goal on its right half.
+COVERED: dict[str, Any] = {
+    "start": [100, 200, 300, 300],
+    "regions": [
+        {"name": "wall", "kind": "obstacle", "rect": [0, 150, 200, 300]},
+        {"name": "goal", "kind": "terminal", "rect": [200, 200, 400, 350], "reward": 1},
+    ],
+}
+
+
+def test_a_start_rectangle_without_a_free_cell_is_rejected_at_world_start():
+    errors = errors_of(RunSpec.model_validate, {"world": COVERED, "demons": [{"name": "a"}]})
+    assert [e["loc"] for e in errors] == [("world", "start")]
+    assert errors[0]["msg"] == IMPOSSIBLE_START
+
+
+def test_a_start_rectangle_with_one_free_sliver_is_accepted():
+    # Shrink the goal by 1 at the top-left corner's column: the strip x in [200, 201) stays free.
+    sliver = {**COVERED, "regions": [COVERED["regions"][0], {**COVERED["regions"][1], "rect": [201, 200, 400, 350]}]}
+    WorldSpec.model_validate(sliver)
+    # A zone (not an obstacle nor a terminal) over the whole rectangle leaves it free.
+    zone = {"start": [100, 200, 300, 300], "regions": [{"name": "z", "kind": "zone", "rect": [0, 0, 500, 500]}]}
+    WorldSpec.model_validate(zone)

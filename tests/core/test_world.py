@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from horde.core.world import DOWN, LEFT, RIGHT, UP, World
-from horde.spec import WorldSpec
+from horde.core.simulation import Simulation
+from horde.core.world import DOWN, LEFT, RIGHT, UP, ImpossibleStartError, World
+from horde.spec import IMPOSSIBLE_START, RunSpec, WorldSpec
 
 REGIONS = [
     {"name": "wall", "kind": "obstacle", "rect": [100, 200, 200, 300]},
@@ -299,3 +300,14 @@ def test_start_rectangle_is_drawn_uniformly_outside_obstacles_and_terminals():
     assert allowed.sum() == 22
     assert np.allclose(counts[allowed] / 20_000, 1 / 22, atol=0.006)
     assert len(np.unique(state.x)) > 19_000  # continuous, not on a lattice
+
+
+def test_both_engines_refuse_an_impossible_start_the_same_way() -> None:
+    """A spec that skipped validation (model_copy does not validate) must not start an agent inside a wall."""
+    spec = RunSpec.model_validate({"world": {"start": [0, 0, 100, 100], "regions": REGIONS}, "demons": [{"name": "a"}]})
+    covered = spec.world.model_copy(update={"start": [100.0, 200.0, 200.0, 300.0]})  # the wall exactly
+    with pytest.raises(ImpossibleStartError) as numpy_error:
+        World(covered).reset(np.random.default_rng(0), batch=3)
+    with pytest.raises(ImpossibleStartError) as compiled_error:
+        Simulation(spec.model_copy(update={"world": covered}), np.random.default_rng(0))
+    assert str(numpy_error.value) == str(compiled_error.value) == IMPOSSIBLE_START

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -143,8 +146,21 @@ def test_named_colours() -> None:
     assert colors.named("yellow") == (255, 255, 0)
     assert colors.named("purple") == (128, 0, 128)
     unknown = colors.named("no-such-colour")
-    assert unknown == colors.named("no-such-colour")  # stable
     assert all(0 <= c <= 255 for c in unknown)
+    assert unknown != colors.named("no-such-color"), "each unknown name gets a colour of its own"
+    # Stable: the same in another process with another string-hash seed (the colour of a region must not change
+    # from one server start to the next, as it would if derived from Python's salted hash()).
+    code = "from horde.view import colors; print(*colors.named('no-such-colour'))"
+    for seed in ("1", "2"):
+        out = subprocess.run(
+            [sys.executable, "-c", code],
+            env={**os.environ, "PYTHONHASHSEED": seed},
+            capture_output=True,
+            text=True,
+            timeout=60,
+            check=True,
+        ).stdout
+        assert tuple(int(c) for c in out.split()) == unknown
 
 
 def test_zones_are_translucent_orange(experiment1: RunSpec) -> None:

@@ -49,8 +49,16 @@ from horde.core.scale_fast import (
     _step,
     _value_policy,
 )
-from horde.core.world import DIRECTIONS, NUM_ACTIONS, PERPENDICULAR, World, WorldState
-from horde.spec import BehaviourSpec
+from horde.core.world import (
+    DIRECTIONS,
+    NUM_ACTIONS,
+    PERPENDICULAR,
+    START_DRAWS,
+    ImpossibleStartError,
+    World,
+    WorldState,
+)
+from horde.spec import IMPOSSIBLE_START, BehaviourSpec
 
 A = NUM_ACTIONS
 FEATURE_KINDS = {"stripes": 0, "tiles": 1, "grid": 2, "constant": 3, "sensors": 4}
@@ -205,7 +213,9 @@ def _is_start_bad(wp, rects, is_obstacle, is_terminal, x, y):
 @njit(cache=True)
 def _world_reset(rng, wp, rects, is_obstacle, is_terminal, color_cdf, color_count, pos, wsteps, colors):
     if wp[W_START_RECT] > 0.0:
-        for _ in range(1000):
+        for draw in range(START_DRAWS + 1):
+            if draw == START_DRAWS:
+                raise ImpossibleStartError(IMPOSSIBLE_START)
             pos[0] = wp[W_SX0] + (wp[W_SX1] - wp[W_SX0]) * rng.random()
             pos[1] = wp[W_SY0] + (wp[W_SY1] - wp[W_SY0]) * rng.random()
             if not _is_start_bad(wp, rects, is_obstacle, is_terminal, pos[0], pos[1]):

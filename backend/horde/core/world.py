@@ -12,7 +12,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from horde.spec import IndicatorReward, WorldSpec
+from horde.spec import IMPOSSIBLE_START, IndicatorReward, WorldSpec
 
 UP, DOWN, LEFT, RIGHT = 0, 1, 2, 3
 NUM_ACTIONS = 4
@@ -20,6 +20,13 @@ NUM_ACTIONS = 4
 DIRECTIONS = np.array([[0.0, 1.0], [0.0, -1.0], [-1.0, 0.0], [1.0, 0.0]])
 # The two perpendicular actions of each action (where a slip goes).
 PERPENDICULAR = np.array([[LEFT, RIGHT], [LEFT, RIGHT], [UP, DOWN], [UP, DOWN]])
+
+
+START_DRAWS = 1000  # draws of a start point before an engine gives up (both engines)
+
+
+class ImpossibleStartError(ValueError):
+    """No start point could be drawn outside obstacles and terminals (the spec rejects such a world)."""
 
 
 class WorldState(NamedTuple):
@@ -134,14 +141,14 @@ class World:
         x0, y0, x1, y1 = self.start_rect
         x, y = np.empty(batch), np.empty(batch)
         todo = np.arange(batch)
-        for _ in range(1000):
+        for _ in range(START_DRAWS):
             x[todo] = rng.uniform(x0, x1, size=len(todo))
             y[todo] = rng.uniform(y0, y1, size=len(todo))
             bad = self.blocked(x[todo], y[todo]) | (self.inside(x[todo], y[todo]) & self.is_terminal).any(axis=1)
             todo = todo[bad]
             if len(todo) == 0:
                 return x, y
-        raise ValueError("the start rectangle is (almost) entirely blocked or terminal")
+        raise ImpossibleStartError(IMPOSSIBLE_START)
 
     def step(self, state: WorldState, actions: np.ndarray, rng: np.random.Generator) -> tuple[WorldState, Transition]:
         """One transition for every agent: slip, noise, blocking, rewards, termination, truncation."""
