@@ -9,13 +9,18 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import httpx
+import pytest
 import uvicorn
 
 from horde.server import Settings, create_app
 from horde.spec import WorldSpec
 from horde.view.scene import agent_point, to_scene
+
+if TYPE_CHECKING:
+    from playwright.sync_api import Browser
 
 CHROMIUM = Path("/usr/bin/chromium")
 # Playwright cannot download browsers here; these flags run Debian's chromium headless, with no network
@@ -80,3 +85,14 @@ def serve_in_thread(settings: Settings) -> Iterator[RunningServer]:
     finally:
         server.should_exit = True
         thread.join(timeout=20)
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[Browser]:
+    """One headless chromium per test module (Debian's, with CHROMIUM_ARGS)."""
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
+        yield browser
+        browser.close()

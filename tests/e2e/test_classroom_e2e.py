@@ -18,7 +18,7 @@ from playwright.sync_api import Error as PlaywrightError
 
 from horde.server import Settings
 
-from .conftest import CHROMIUM, CHROMIUM_ARGS, ROOT, SHOTS, RunningServer, free_port, serve_in_thread
+from .conftest import CHROMIUM, ROOT, SHOTS, RunningServer, free_port, serve_in_thread
 
 if TYPE_CHECKING:
     from playwright.sync_api import Browser, Page
@@ -45,16 +45,6 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[RunningServer]:
     )
     with serve_in_thread(settings) as running:
         yield running
-
-
-@pytest.fixture(scope="module")
-def browser() -> Iterator[Browser]:
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
-        yield browser
-        browser.close()
 
 
 def new_page(browser: Browser, width: int, height: int, *scripts: str) -> tuple[Page, list[str]]:

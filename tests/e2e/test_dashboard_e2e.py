@@ -20,7 +20,7 @@ import pytest
 
 from horde.server import Settings
 
-from .conftest import CHROMIUM, CHROMIUM_ARGS, ROOT, SHOTS, free_port, serve_in_thread
+from .conftest import CHROMIUM, ROOT, SHOTS, free_port, serve_in_thread
 
 DIST = ROOT / "frontend" / "dist"
 VIEWPORT = {"width": 1280, "height": 800}
@@ -65,16 +65,6 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
     settings = Settings(data=tmp_path_factory.mktemp("horde-data"), token=None, snapshot_every=3600.0, history=2000)
     with serve(settings) as running:
         yield running
-
-
-@pytest.fixture(scope="module")
-def browser() -> Iterator[Browser]:
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
-        yield browser
-        browser.close()
 
 
 @dataclass

@@ -17,7 +17,7 @@ import pytest
 
 from horde.server import Settings
 
-from .conftest import CHROMIUM, CHROMIUM_ARGS, ROOT, RunningServer, serve_in_thread
+from .conftest import CHROMIUM, ROOT, RunningServer, serve_in_thread
 
 if TYPE_CHECKING:
     from playwright.sync_api import Browser, Page
@@ -39,16 +39,6 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[RunningServer]:
     )
     with serve_in_thread(settings) as running:
         yield running
-
-
-@pytest.fixture(scope="module")
-def browser() -> Iterator[Browser]:
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
-        yield browser
-        browser.close()
 
 
 @pytest.fixture
