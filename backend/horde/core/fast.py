@@ -10,9 +10,9 @@ arrays (`Net`, constant) and buffers (`Buffers`, changed in place) and exports /
 Slots number the demons block by block (`Horde.slot_demon`); everything per demon inside the loop is
 per slot, and prediction nodes of the question programs read slots.
 
-Divergence: a demon whose TD error, prediction or action values go non-finite is marked diverged and
-frozen (its step sizes become 0) and its weights are set to 0 (whatever finite weights it had left
-sum to infinities elsewhere), so that demons reading its prediction go on.
+Divergence: a demon whose TD error, prediction or action values go non-finite or beyond MAX_MAGNITUDE
+(`horde.py`) is marked diverged and frozen (its step sizes become 0) and its weights are set to 0
+(whatever weights it had left would sum to nonsense elsewhere), so that demons reading its prediction go on.
 
 RUPEE's average of delta e decays by one number per group (`mscale`), so that its decay does not touch
 every row at every step; `horde_state()` hands out the product.
@@ -28,7 +28,7 @@ from numba import njit
 
 from horde.core import metrics
 from horde.core.features import hashed_tiles
-from horde.core.horde import Horde, HordeState
+from horde.core.horde import MAX_MAGNITUDE, Horde, HordeState
 from horde.core.metrics import RUPEE_ALPHA_H, RUPEE_BETA, UDE_BETA
 from horde.core.policies import FIXED, KIND_CODES, OF, UNIFORM
 from horde.core.scale import LEARNER_CODES, POLICY_CODES
@@ -439,23 +439,29 @@ def _observe(net, buf):
 
 
 @njit(cache=True)
+def _slot_diverged(s, gq, delta, pred, q):
+    """Whether slot s's TD error, prediction or (GQ) action values are non-finite or beyond MAX_MAGNITUDE."""
+    bad = not (abs(delta[s]) <= MAX_MAGNITUDE and abs(pred[s]) <= MAX_MAGNITUDE)  # NaN compares False
+    if gq:
+        for a in range(A):
+            bad = bad or not abs(q[s, a]) <= MAX_MAGNITUDE
+    return bad
+
+
+@njit(cache=True)
 def _any_diverged(gi, bi, g, delta, pred, q, diverged):
-    """Whether a demon of group g not yet marked has a non-finite TD error, prediction or action value."""
+    """Whether a demon of group g not yet marked has diverged (`_slot_diverged`)."""
     for b in range(gi[g, G_BLO], gi[g, G_BHI]):
         gq = bi[b, B_LEARNER] == GQ
         for s in range(bi[b, B_LO], bi[b, B_HI]):
-            bad = not (math.isfinite(delta[s]) and math.isfinite(pred[s]))
-            if gq:
-                for a in range(A):
-                    bad = bad or not math.isfinite(q[s, a])
-            if bad and not diverged[s]:
+            if not diverged[s] and _slot_diverged(s, gq, delta, pred, q):
                 return True
     return False
 
 
 @njit(cache=True)
 def _freeze_diverged(net, buf, g):
-    """Mark demons of group g whose numbers went non-finite; freeze them and set their weights to 0."""
+    """Mark demons of group g that have diverged (`_slot_diverged`); freeze them and set their weights to 0."""
     bi = net.bi
     blo, bhi = net.gi[g, G_BLO], net.gi[g, G_BHI]
     k = net.gi[g, G_K]
@@ -465,11 +471,7 @@ def _freeze_diverged(net, buf, g):
         found = False
         for i in range(db):
             s = lo + i
-            bad = not (math.isfinite(buf.delta[s]) and math.isfinite(buf.pred[s]))
-            if bi[b, B_LEARNER] == GQ:
-                for a in range(A):
-                    bad = bad or not math.isfinite(buf.q[s, a])
-            if not bad or buf.diverged[s]:
+            if buf.diverged[s] or not _slot_diverged(s, bi[b, B_LEARNER] == GQ, buf.delta, buf.pred, buf.q):
                 continue
             found = True
             buf.diverged[s] = True

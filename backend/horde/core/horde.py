@@ -36,6 +36,10 @@ from horde.core.world import NUM_ACTIONS, World, WorldState
 from horde.spec import BehaviourSpec, DemonSpec, FeatureSpec, RunSpec, check_demon_graph, demon_dependencies
 
 A = NUM_ACTIONS
+# Beyond this, in absolute value, a demon's TD error, prediction or action values mean nothing any more (a
+# diverging GQ demon reached 1.6e307 before its numbers overflowed): the engine marks it diverged and
+# freezes it there, and the run layer reports any number beyond it as null.
+MAX_MAGNITUDE = 1e12
 
 
 @dataclass(frozen=True)

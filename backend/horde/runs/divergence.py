@@ -1,9 +1,9 @@
 """When a demon has diverged, and how its values are reported then.
 
-The engine marks a demon diverged when its weights turn non-finite, and freezes it. By then its numbers
-have long stopped meaning anything (a GQ demon reached 1.6e307 first), so the run layer also marks a
-demon diverged once a weight or its prediction exceeds MAX_MAGNITUDE in absolute value. Every route
-reports the values of a diverged demon, and any number beyond MAX_MAGNITUDE, as null.
+The engine marks a demon diverged, and freezes it, when its TD error, prediction or action values go
+non-finite or beyond MAX_MAGNITUDE (`core.horde`); the run layer also marks one whose weights do, even
+where its predictions still read small. Every route reports the values of a diverged demon, and any
+number beyond MAX_MAGNITUDE, as null.
 """
 
 from __future__ import annotations
@@ -12,9 +12,9 @@ import math
 
 import numpy as np
 
-from horde.core.horde import Horde, HordeState
+from horde.core.horde import MAX_MAGNITUDE, Horde, HordeState
 
-MAX_MAGNITUDE = 1e12  # weights, predictions: beyond this a demon counts as diverged
+__all__ = ["MAX_MAGNITUDE", "beyond_magnitude", "meaningful"]
 
 
 def meaningful(value: float) -> float | None:
