@@ -24,7 +24,8 @@ HISTORY_FIELDS = ("step", "demon", *QUANTITIES)
 PROTOCOL_FIELDS = ("demon", "prediction", "truth", "truth_stderr", "error", "thesis", "positive", "negative", "none")
 
 
-def _clean(value: Any) -> Any:
+def finite_or_none(value: Any) -> Any:
+    """The value, or None where it is a non-finite float (null in JSON, an empty cell in CSV)."""
     return None if isinstance(value, float) and not math.isfinite(value) else value
 
 
@@ -35,7 +36,7 @@ def history_records(history: History) -> list[dict[str, Any]]:
         series = history.series(name)
         for i, step in enumerate(series.steps.tolist()):
             row: dict[str, Any] = {"step": step, "demon": name}
-            row.update({q: _clean(float(series.values[q][i])) for q in QUANTITIES})
+            row.update({q: finite_or_none(float(series.values[q][i])) for q in QUANTITIES})
             rows.append(row)
     order = {name: i for i, name in enumerate(history.names)}
     rows.sort(key=lambda r: (r["step"], order[r["demon"]]))
@@ -50,11 +51,11 @@ def protocol_records(result: ProtocolResult) -> list[dict[str, Any]]:
         out.append(
             {
                 "demon": d.name,
-                "prediction": _clean(d.prediction),
-                "truth": _clean(d.truth),
-                "truth_stderr": _clean(d.truth_stderr),
-                "error": _clean(d.error),
-                "thesis": _clean(d.thesis),
+                "prediction": finite_or_none(d.prediction),
+                "truth": finite_or_none(d.truth),
+                "truth_stderr": finite_or_none(d.truth_stderr),
+                "error": finite_or_none(d.error),
+                "thesis": finite_or_none(d.thesis),
                 **counts,
             }
         )
@@ -62,6 +63,7 @@ def protocol_records(result: ProtocolResult) -> list[dict[str, Any]]:
 
 
 def to_csv(records: Iterable[dict[str, Any]], fields: Sequence[str]) -> str:
+    """One header row of `fields`, then a row per record: None an empty cell, floats written in full (repr)."""
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(fields)
