@@ -14,6 +14,7 @@ import secrets
 import threading
 from collections.abc import Callable
 
+from horde.runs.collector import keep_out_of_collector
 from horde.runs.errors import BusyError, ConflictError, NotFoundError
 from horde.runs.live_run import LiveRun
 from horde.runs.readout import Evaluation, evaluate
@@ -184,6 +185,7 @@ class RunManager:
                 self._making -= 1
                 if run is not None:
                     self._runs[run.id] = run
+        keep_out_of_collector()
         run.save()
         run.start_thread()
         return run

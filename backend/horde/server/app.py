@@ -68,11 +68,6 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
             app.state.switch_interval = sys.getswitchinterval()
             sys.setswitchinterval(settings.switch_interval)
             manager.start()
-            # The objects of the imports and of start-up live as long as the server: moved out of the
-            # collector's reach, a full collection (which holds the GIL, so stalls the event loop) scans
-            # only what requests made since, instead of 170,000 objects in 130 ms.
-            gc.collect()
-            gc.freeze()
             if settings.viser_port is not None:
                 token = settings.token.get_secret_value() if settings.token is not None else None
                 app.state.live_view = LiveView(
@@ -87,6 +82,11 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
                 app.state.live_view.start()
                 if announce is not None:
                     announce(app.state.live_view.url)
+            # The objects of the imports and of start-up (the live view's included) live as long as the
+            # server: moved out of the collector's reach, a full collection (which holds the GIL, so stalls
+            # the event loop) walks only what requests made since, instead of 170,000 objects in 130 ms.
+            gc.collect()
+            gc.freeze()
         try:
             yield
         finally:
