@@ -24,7 +24,7 @@ import viser
 import viser.uplot
 
 from horde.view.palette import demon_colour
-from horde.view.source import ViewSnapshot, ViewSource
+from horde.view.source import CommandRefusedError, ViewSnapshot, ViewSource
 
 MAX_DEMON_CHECKBOXES = 12  # demons that can be ticked for labels and charts (the first ones)
 MAX_SHOWN = 12  # demons labelled and charted at once (the dashboard may choose them among thousands)
@@ -37,6 +37,13 @@ def _series(names: Sequence[str], order: Sequence[str]) -> tuple[viser.uplot.Ser
     for name in names:
         series.append({"label": name, "stroke": demon_colour(order.index(name)), "width": 2})
     return tuple(series)
+
+
+def _tell(event: Any, title: str, body: str) -> None:
+    """A red notification to the one client behind a GUI event (none for an event without a client)."""
+    client = getattr(event, "client", None)
+    if client is not None:
+        client.add_notification(title, body, color="red")
 
 
 def _set(handle: Any, value: object) -> None:
@@ -131,11 +138,7 @@ class ControlPanel:
             return False
         if self.token is None or client_id in self.unlocked:
             return True
-        client = getattr(event, "client", None)
-        if client is not None:
-            client.add_notification(
-                "Read-only", "This server needs its token to change anything: enter it under Token.", color="red"
-            )
+        _tell(event, "Read-only", "This server needs its token to change anything: enter it under Token.")
         return False
 
     def _offer_token(self, client: viser.ClientHandle) -> None:
@@ -164,9 +167,17 @@ class ControlPanel:
         self._speed_inputs.pop(client_id, None)
 
     def _command(self, event: Any, command: Callable[[str], None]) -> None:
-        if self.run_id is not None and self._may_change(event):
+        """Forward a command; a refusal (or a run gone meanwhile) is told to the client who clicked, as a
+        notification (viser's way of answering one browser), the others seeing nothing."""
+        if self.run_id is None or not self._may_change(event):
+            return
+        try:
             command(self.run_id)
-            self.changed.set()
+        except CommandRefusedError as exc:
+            _tell(event, "Not done", str(exc))
+        except KeyError:
+            _tell(event, "Run gone", "This run no longer exists; choose another under Run.")
+        self.changed.set()
 
     def _set_hz(self, event: Any, hz: Any, full_speed: Any) -> None:
         if self._syncing:

@@ -8,7 +8,6 @@ takes (about 30 a second), which is every step when watching and a sample at ful
 
 from __future__ import annotations
 
-import contextlib
 import threading
 from collections import deque
 from collections.abc import Sequence
@@ -19,7 +18,7 @@ from horde.runs.errors import NotFoundError, RunError
 from horde.runs.manager import RunManager
 from horde.runs.readout import value_map
 from horde.runs.run_view import RunView
-from horde.view.source import History, ViewSnapshot
+from horde.view.source import CommandRefusedError, History, ViewSnapshot
 
 TRAIL_POINTS = 500  # most positions kept of one episode's trail
 HISTORY_ROWS = 400  # most rows of a demon's history sent to the charts
@@ -118,14 +117,18 @@ class ManagerSource:
         ]  # [N*N, A]
         return np.argmax(q, axis=1).reshape(resolution, resolution)
 
-    def _command(self, run_id: str, name: str, *args: object) -> None:
+    def _command(self, run_id: str, name: str, *args: object, **kwargs: object) -> None:
+        """Call the run's command; what it refuses (say, play when finished) or cannot save is told back."""
         try:
             run = self.manager.get(run_id)
         except NotFoundError:
             raise KeyError(run_id) from None
-        # A command the run's state refuses (say, play when finished) is ignored, as the GUI's buttons are.
-        with contextlib.suppress(RunError):
-            getattr(run, name)(*args)
+        try:
+            getattr(run, name)(*args, **kwargs)
+        except NotFoundError:
+            raise KeyError(run_id) from None  # deleted meanwhile
+        except RunError as exc:
+            raise CommandRefusedError(str(exc)) from None
 
     def play(self, run_id: str) -> None:
         self._command(run_id, "start")
@@ -140,9 +143,4 @@ class ManagerSource:
         self._command(run_id, "reset")
 
     def set_hz(self, run_id: str, hz: float | None) -> None:
-        try:
-            self.manager.get(run_id).patch(set_hz=True, hz=hz)
-        except NotFoundError:
-            raise KeyError(run_id) from None
-        except RunError:
-            pass
+        self._command(run_id, "patch", set_hz=True, hz=hz)

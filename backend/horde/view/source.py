@@ -21,6 +21,11 @@ import numpy as np
 from horde.spec import RunSpec
 
 
+class CommandRefusedError(Exception):
+    """A command the run refuses (say, play on a finished run) or could not carry out (its save failed);
+    the message is meant for the person who clicked."""
+
+
 @dataclass(frozen=True)
 class History:
     """A short window of recent steps of some demons (the GUI's charts).
@@ -79,7 +84,9 @@ class ViewSource(Protocol):
     """Runs as the live view sees them. Every method is called from the view's own thread.
 
     Implementations must return quickly (copy under a lock, compute outside it) so that the view
-    never slows a learner, and raise KeyError for an unknown run or demon.
+    never slows a learner, and raise KeyError for an unknown run or demon. The commands (play, pause,
+    step, reset, set_hz) raise `CommandRefusedError` when the run does not do what was asked; the GUI tells
+    the client who clicked.
     """
 
     def list_runs(self) -> list[tuple[str, str]]:
