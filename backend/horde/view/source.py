@@ -2,8 +2,8 @@
 
 The view knows nothing of threads, stores or the server: it asks a source for the runs it may show,
 samples frozen snapshots of one run (about 30 a second at most), asks for value maps (a few a second)
-and forwards the GUI's commands. The run manager implements this protocol for the server; the
-in-process `SimulationSource` (sim_source.py) implements it for tests and the standalone demo.
+and forwards the GUI's commands. The run manager implements this protocol (`ManagerSource`), for the
+server, the standalone demo and the tests: the view has one stepping loop behind it, the runs' own.
 
 Grid convention of `value_map` and `greedy_actions` (shared by the scene builder): the world is cut
 into `resolution x resolution` cells, and entry `[j, i]` is the value at the centre of cell (i, j),
