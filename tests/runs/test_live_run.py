@@ -149,7 +149,7 @@ def test_close_says_when_the_learner_thread_does_not_stop() -> None:
     busy = threading.Thread(target=lambda: run.call(lambda: (entered.set(), release.wait(30))))
     busy.start()
     assert entered.wait(10), "the learner thread never ran the command"
-    with pytest.raises(BusyError, match="did not stop within 0.2 s"):
+    with pytest.raises(BusyError, match=r"did not stop within 0\.2 s"):
         run.close(timeout=0.2)  # the learner thread is inside a command for up to 30 s
     run.close = functools.partial(LiveRun.close, run, 0.2)  # type: ignore[method-assign]
     with pytest.raises(BusyError):
