@@ -274,7 +274,7 @@ class WorldSpec(Model):
                         f"{sorted(colors)} of {indicator.name!r}"
                     )
         x, y = self.start[0], self.start[1]
-        if not (0 <= x < self.width and 0 <= y < self.height):
+        if not self.contains(x, y):
             raise ValueError("start must lie inside the world")
         if len(self.start) == 4 and not (self.start[2] <= self.width and self.start[3] <= self.height):
             raise ValueError("the start rectangle must lie inside the world")
@@ -290,6 +290,10 @@ class WorldSpec(Model):
             )
             raise ValidationError.from_exception_data(type(self).__name__, [detail])
         return self
+
+    def contains(self, x: float, y: float) -> bool:
+        """Whether (x, y) lies inside the world, [0, width) x [0, height) (the engines test arrays the same way)."""
+        return 0 <= x < self.width and 0 <= y < self.height
 
     def start_rect_has_free_cell(self) -> bool:
         """Whether some part of the start rectangle lies outside every obstacle and terminal.

@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from horde.core.experiment import run_trial
 from horde.runs.errors import BusyError, NotFoundError, SaveError
 from horde.runs.history import History
 from horde.runs.live_run import LiveRun
@@ -162,3 +163,20 @@ def test_close_says_when_the_learner_thread_does_not_stop() -> None:
     with pytest.raises(NotFoundError):
         manager.get(run.id)
     manager.stop()
+
+
+def test_a_live_run_stops_by_the_rule_where_its_protocol_trial_stops() -> None:
+    protocol = {"episodes": 200, "evaluation": {"rollouts": 0}, "stop": {"window": 3, "tolerance": 50.0}}
+    spec = RunSpec.model_validate(make_spec(protocol=protocol))
+    trial = run_trial(spec, 0)
+    assert trial.episodes == 3, "every weight moves by less than 50 in three episodes: the rule fires at once"
+    manager = RunManager()
+    try:
+        run = manager.get(manager.create(spec, start=True).id)
+        view = wait_until(lambda: run.view if run.view.status == "finished" else None, "the run to finish", 60.0)
+        assert view.summary is not None and view.summary.stopped_early
+        assert (view.summary.episodes, view.summary.steps) == (trial.episodes, trial.steps)
+        assert view.summary.predictions == pytest.approx(trial.predictions, abs=1e-12)
+        assert view.message.endswith("the stopping rule fired")
+    finally:
+        manager.stop()

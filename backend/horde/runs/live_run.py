@@ -31,7 +31,8 @@ from typing import Any, TypeVar
 import numpy as np
 from pydantic import ValidationError
 
-from horde.core.experiment import start_point
+from horde.core.experiment import start_point, stopping_rule
+from horde.core.fast import FOREVER
 from horde.core.simulation import Simulation
 from horde.core.world import WorldState
 from horde.runs.divergence import MAX_MAGNITUDE, beyond_magnitude
@@ -157,7 +158,7 @@ class LiveRun:
         self._thread = threading.Thread(target=self._loop, name=f"horde-run-{run_id}", daemon=True)
         self._seq = 0
         self._batch = 1
-        self._last_row = -(2**62)
+        self._last_row = -FOREVER  # no row yet
         self._next_row = 0.0
         self._next_publish = 0.0
         self._next_weight_scan = 0.0
@@ -401,17 +402,10 @@ class LiveRun:
         if protocol.episodes == 0:
             return
         done = sim.episode
-        stop = protocol.stop
-        if stop is not None and done % stop.window == 0:
-            thetas = self._thetas()
-            change = max(
-                (float(np.abs(new - old).max()) for new, old in zip(thetas, self._stop_reference, strict=True)),
-                default=0.0,
-            )
-            if change < stop.tolerance:
-                self._finish(stopped_early=True)
-                return
-            self._stop_reference = thetas
+        stopped, self._stop_reference = stopping_rule(protocol.stop, done, self._thetas, self._stop_reference)
+        if stopped:
+            self._finish(stopped_early=True)
+            return
         if done >= protocol.episodes:
             self._finish(stopped_early=False)
 
@@ -475,7 +469,7 @@ class LiveRun:
 
     def _do_reset(self) -> RunView:
         self._sim = new_simulation(self._spec)
-        self._last_row = -(2**62)
+        self._last_row = -FOREVER  # no row yet
         self._summary = None
         self._stop_reference = self._thetas()
         self.history = History(self._sim.horde.names, self.limits.history, self.limits.history_every)

@@ -16,7 +16,7 @@ import numpy as np
 
 from horde.runs.errors import NotFoundError, RunError
 from horde.runs.manager import RunManager
-from horde.runs.readout import value_map
+from horde.runs.readout import cell_centres, value_map
 from horde.runs.run_view import RunView
 from horde.view.source import CommandRefusedError, History, ViewSnapshot
 
@@ -109,9 +109,7 @@ class ManagerSource:
         if not view.horde.is_control(demon):
             return None
         world = view.spec.world
-        xs = (np.arange(resolution) + 0.5) * world.width / resolution
-        ys = (np.arange(resolution) + 0.5) * world.height / resolution
-        gx, gy = np.meshgrid(xs, ys)  # [N, N] each, rows along y
+        gx, gy = np.meshgrid(*cell_centres(world.width, world.height, resolution))  # [N, N] each, rows along y
         q = view.horde.forward(view.horde_state, gx.ravel(), gy.ravel(), demons=[demon]).q[
             :, view.horde.index[demon]
         ]  # [N*N, A]

@@ -7,7 +7,7 @@ server, the standalone demo and the tests: the view has one stepping loop behind
 
 Grid convention of `value_map` and `greedy_actions` (shared by the scene builder): the world is cut
 into `resolution x resolution` cells, and entry `[j, i]` is the value at the centre of cell (i, j),
-`x = (i + 0.5) * width / resolution`, `y = (j + 0.5) * height / resolution` (row j grows with y).
+`horde.runs.readout.cell_centres` (row j grows with y).
 """
 
 from __future__ import annotations

@@ -6,6 +6,7 @@ from typing import Annotated
 
 from fastapi import APIRouter, Body, Query, Response, status
 
+from horde.runs.events import RECENT_EVENTS
 from horde.server.convert import run_brief, run_out, state_out
 from horde.server.deps import CatalogDep, ManagerDep, RunDep, RunId, StoreDep, WriteAccess
 from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND, NOT_SAVED, UNAUTHORIZED
@@ -22,8 +23,6 @@ from horde.server.schemas import (
 from horde.server.spec_builder import build_spec
 
 router = APIRouter(prefix="/runs", tags=["runs"])
-
-RECENT_EVENTS = 20
 
 
 @router.get("", summary="List the runs")
