@@ -12,6 +12,12 @@ A live run is the first trial of its protocol: it is seeded as `run_trial(spec, 
 episode loop, and it finishes when the protocol's episodes are done (or its stopping rule fires);
 with `protocol.episodes = 0` it runs until paused. The learner thread never dies of bad input or a
 numerical accident: an exception while learning marks the run `failed` with the exception's message.
+
+Why one module of about 700 lines: the generic part, the command queue, lives in `commands.py` and the
+protocol's stopping rule in `core.experiment`; what stays here (pacing, the status rules, dependency
+checks, saving and publishing) all reads and writes the learner thread's own state between two chunks
+of steps. Splitting it into a run session and a recorder (REVIEW item 6) is left until a second kind of
+run shows what the two would share.
 """
 
 from __future__ import annotations
@@ -20,7 +26,6 @@ import contextlib
 import logging
 import math
 import os
-import queue
 import threading
 import time
 from collections.abc import Callable
@@ -35,6 +40,7 @@ from horde.core.experiment import start_point, stopping_rule
 from horde.core.fast import FOREVER
 from horde.core.simulation import Simulation
 from horde.core.world import WorldState
+from horde.runs.commands import CommandQueue, ShutdownError
 from horde.runs.divergence import MAX_MAGNITUDE, beyond_magnitude
 from horde.runs.errors import BusyError, ConflictError, NotFoundError, SaveError, SpecError
 from horde.runs.events import EventLog
@@ -78,20 +84,6 @@ class SnapshotCost:
     encode_seconds: float = 0.0
     write_seconds: float = 0.0
     bytes: int = 0
-
-
-@dataclass
-class _Command:
-    action: Callable[[], Any]
-    future: Future[Any]
-
-
-class _ShutdownError(Exception):
-    """Raised in the learner thread by the shutdown command to leave the loop; carries a failed last save."""
-
-    def __init__(self, failure: SaveError | None = None) -> None:
-        super().__init__()
-        self.failure = failure
 
 
 LEARNER_NICENESS = 10
@@ -152,9 +144,7 @@ class LiveRun:
         self._stop_reference = stop_reference if stop_reference is not None else self._thetas()
         self.history = History(sim.horde.names, limits.history, limits.history_every)
         self.events = EventLog(limits.events)
-        self._commands: queue.SimpleQueue[_Command] = queue.SimpleQueue()
-        self._gate = threading.Lock()  # guards `_closed` against commands queued after shutdown
-        self._closed = False
+        self._commands = CommandQueue(f"run {run_id!r}")
         self._thread = threading.Thread(target=self._loop, name=f"horde-run-{run_id}", daemon=True)
         self._seq = 0
         self._batch = 1
@@ -216,16 +206,7 @@ class LiveRun:
             NotFoundError: the run has been closed (deleted).
             BusyError: the learner thread did not get to the command within `timeout`.
         """
-        future: Future[Any] = Future()
-        with self._gate:
-            if self._closed:
-                raise NotFoundError(f"run {self.id!r} has been deleted")
-            self._commands.put(_Command(action, future))
-        try:
-            result: T = future.result(timeout)
-            return result
-        except TimeoutError:
-            raise BusyError(f"run {self.id!r} did not answer within {timeout} s") from None
+        return self._commands.call(action, timeout)
 
     # ------------------------------------------------------------------------------------------
     # Commands (each runs in the learner thread through `call`)
@@ -265,43 +246,21 @@ class LiveRun:
         while True:
             try:
                 if self._status != "running":
-                    self._execute(self._commands.get())
+                    command = self._commands.next()
+                    if command is not None:
+                        self._commands.run(command)
                 elif self._hz is None:
                     self._run_chunk()
                 else:
                     self._run_paced()
-            except _ShutdownError:
+            except ShutdownError:
                 return
             except Exception as exc:  # the learner thread never dies
                 self._fail(exc)
 
-    def _execute(self, command: _Command) -> None:
-        if not command.future.set_running_or_notify_cancel():
-            return
-        try:
-            result = command.action()
-        except _ShutdownError as exc:
-            if exc.failure is not None:
-                command.future.set_exception(exc.failure)
-            else:
-                command.future.set_result(None)
-            raise
-        except BaseException as exc:
-            command.future.set_exception(exc)
-        else:
-            command.future.set_result(result)
-
-    def _drain(self) -> None:
-        while True:
-            try:
-                command = self._commands.get_nowait()
-            except queue.Empty:
-                return
-            self._execute(command)
-
     def _run_chunk(self) -> None:
         """Full speed: commands first, then about CHUNK_SECONDS of learning."""
-        self._drain()
+        self._commands.drain()
         if self._status != "running" or self._hz is not None:
             return
         self._learn(None, time.monotonic() + CHUNK_SECONDS)
@@ -312,15 +271,13 @@ class LiveRun:
         """hz pacing: wait for the next step's time (answering commands meanwhile), then step."""
         wait = self._next_step_at - time.monotonic()
         if wait > 0:
-            try:
-                command = self._commands.get(timeout=min(wait, MAX_WAIT))
-            except queue.Empty:
-                if wait > MAX_WAIT:
-                    return  # not due yet: look at the queue again
-            else:
-                self._execute(command)
+            command = self._commands.next(min(wait, MAX_WAIT))
+            if command is not None:
+                self._commands.run(command)
                 return
-        self._drain()
+            if wait > MAX_WAIT:
+                return  # not due yet: look at the queue again
+        self._commands.drain()
         if self._status != "running" or self._hz is None:
             return
         hz = self._hz
@@ -558,16 +515,8 @@ class LiveRun:
         except SaveError as exc:
             failure = exc
         self._publish()
-        with self._gate:
-            self._closed = True
-        while True:
-            try:
-                command = self._commands.get_nowait()
-            except queue.Empty:
-                break
-            if command.future.set_running_or_notify_cancel():
-                command.future.set_exception(NotFoundError(f"run {self.id!r} has been deleted"))
-        raise _ShutdownError(failure)
+        self._commands.close()
+        raise ShutdownError(failure)
 
     # ------------------------------------------------------------------------------------------
     # Publication and persistence
@@ -660,6 +609,22 @@ class LiveRun:
             view = self._publish()
         return view
 
+    def _store_row(self) -> RunRecord:
+        """The run's row in the store, as it stands now."""
+        sim = self._sim
+        return RunRecord(
+            id=self.id,
+            name=self._spec.name,
+            status=self._status,
+            message=self._message,
+            hz=self._hz,
+            spec=self._spec.model_dump_json(by_alias=True),
+            episode=sim.episode,
+            steps=sim.total_steps,
+            created_at=self._created_at,
+            updated_at=time.time(),
+        )
+
     def _persist(self, snapshot: bool, wait: bool = True) -> None:
         """Save the run's record (and a snapshot) in one transaction.
 
@@ -681,18 +646,7 @@ class LiveRun:
             self._message = self._message.split(NOT_SAVED)[0]
         try:
             began = time.perf_counter()
-            record = RunRecord(
-                id=self.id,
-                name=self._spec.name,
-                status=self._status,
-                message=self._message,
-                hz=self._hz,
-                spec=self._spec.model_dump_json(by_alias=True),
-                episode=sim.episode,
-                steps=sim.total_steps,
-                created_at=self._created_at,
-                updated_at=time.time(),
-            )
+            record = self._store_row()
             frozen = freeze(sim, self._spec, self._status, self._hz, self._stop_reference) if snapshot else None
             summary = self._summary.to_json() if self._summary is not None else None
             freeze_seconds = time.perf_counter() - began

@@ -16,7 +16,7 @@ from __future__ import annotations
 import gc
 import sys
 from collections.abc import AsyncIterator, Callable
-from contextlib import asynccontextmanager
+from contextlib import AbstractAsyncContextManager, asynccontextmanager
 
 from fastapi import FastAPI
 
@@ -45,15 +45,23 @@ spec (naming the field). When HORDE_TOKEN is set, every POST, PUT, PATCH and DEL
 """
 
 
-def create_app(settings: Settings | None = None, announce: Callable[[str], None] | None = None) -> FastAPI:
-    """The Horde Lab server.
+def _live_view(settings: Settings, manager: RunManager, port: int) -> LiveView:
+    """The viser live view of the manager's runs on `port` (or the next free one), guarded by the server's
+    token and origins."""
+    token = settings.token.get_secret_value() if settings.token is not None else None
+    return LiveView(
+        ManagerSource(manager),
+        host=settings.host,
+        port=port,
+        token=token,
+        allow_origin=lambda origin, host: origin_allowed(origin, host, settings.is_loopback(), settings.origins),
+    )
 
-    Args:
-        settings: defaults to `Settings()`, read from HORDE_* environment variables.
-        announce: called with the live view's address once it listens (viser may move to the next
-            free port, so the address is known only then); `horde serve` prints it.
-    """
-    settings = settings or Settings()
+
+def _lifespan(
+    settings: Settings, announce: Callable[[str], None] | None
+) -> Callable[[FastAPI], AbstractAsyncContextManager[None]]:
+    """The app's lifespan: what it opens at start-up (into `app.state`, read by `deps`) and closes at the end."""
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
@@ -73,16 +81,7 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
         gc.collect()
         gc.freeze()
         if settings.viser_port is not None:
-            token = settings.token.get_secret_value() if settings.token is not None else None
-            app.state.live_view = LiveView(
-                ManagerSource(manager),
-                host=settings.host,
-                port=settings.viser_port,
-                token=token,
-                allow_origin=lambda origin, host: origin_allowed(
-                    origin, host, settings.is_loopback(), settings.origins
-                ),
-            )
+            app.state.live_view = _live_view(settings, manager, settings.viser_port)
             app.state.live_view.start()
             if announce is not None:
                 announce(app.state.live_view.url)
@@ -99,8 +98,25 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
             store.close()
             sys.setswitchinterval(switch_interval)
 
+    return lifespan
+
+
+def create_app(settings: Settings | None = None, announce: Callable[[str], None] | None = None) -> FastAPI:
+    """The Horde Lab server.
+
+    Args:
+        settings: defaults to `Settings()`, read from HORDE_* environment variables.
+        announce: called with the live view's address once it listens (viser may move to the next
+            free port, so the address is known only then); `horde serve` prints it.
+    """
+    settings = settings or Settings()
     app = FastAPI(
-        title="Horde Lab", description=DESCRIPTION, version="0.1.0", lifespan=lifespan, docs_url=None, redoc_url=None
+        title="Horde Lab",
+        description=DESCRIPTION,
+        version="0.1.0",
+        lifespan=_lifespan(settings, announce),
+        docs_url=None,
+        redoc_url=None,
     )
     add_api_docs(app)
     app.state.settings = settings
