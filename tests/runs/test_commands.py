@@ -9,6 +9,7 @@ import pytest
 
 from horde.runs.commands import CommandQueue, ShutdownError
 from horde.runs.errors import BusyError, NotFoundError
+from polling import wait_until
 
 
 def test_a_call_is_answered_by_the_owner_with_its_result_or_its_exception() -> None:
@@ -29,8 +30,7 @@ def test_close_refuses_what_is_queued_and_what_comes_after() -> None:
     commands = CommandQueue("run 'r'")
     with ThreadPoolExecutor(1) as callers:
         queued = callers.submit(commands.call, lambda: "never", 10.0)
-        while commands._queue.empty():
-            threading.Event().wait(0.01)
+        wait_until(lambda: not commands._queue.empty(), "the call to be queued", 10.0)
         commands.close()
         with pytest.raises(NotFoundError, match="run 'r' has been deleted"):
             queued.result(10)
