@@ -3,6 +3,11 @@
 Every model is frozen and forbids unknown keys, so a typo in a scenario file or an API request is a
 422 naming the field instead of a silently ignored setting. Every size is bounded (DESIGN section 8,
 security). The same models validate TOML scenario files and REST bodies.
+
+Why one module of about 850 lines: it is the whole data model, read top-down as a schema (world,
+features, expressions, demons, protocol, run), and its cross-field checks (a demon's expression naming
+a sensor the world defines, a family expanding into demons that name each other) need the classes
+together; its functions are short. Moving whole classes out would be re-exported from here anyway.
 """
 
 from __future__ import annotations
@@ -274,7 +279,7 @@ class WorldSpec(Model):
                         f"{sorted(colors)} of {indicator.name!r}"
                     )
         x, y = self.start[0], self.start[1]
-        if not (0 <= x < self.width and 0 <= y < self.height):
+        if not self.contains(x, y):
             raise ValueError("start must lie inside the world")
         if len(self.start) == 4 and not (self.start[2] <= self.width and self.start[3] <= self.height):
             raise ValueError("the start rectangle must lie inside the world")
@@ -290,6 +295,10 @@ class WorldSpec(Model):
             )
             raise ValidationError.from_exception_data(type(self).__name__, [detail])
         return self
+
+    def contains(self, x: float, y: float) -> bool:
+        """Whether (x, y) lies inside the world, [0, width) x [0, height) (the engines test arrays the same way)."""
+        return 0 <= x < self.width and 0 <= y < self.height
 
     def start_rect_has_free_cell(self) -> bool:
         """Whether some part of the start rectangle lies outside every obstacle and terminal.

@@ -12,8 +12,9 @@ from collections.abc import Iterator
 
 import pytest
 
+from horde.runs.manager import RunManager
 from horde.scenarios import load_scenario
-from horde.view import LiveView, SimulationSource
+from horde.view import LiveView, ManagerSource
 from horde.view.scene import agent_radius
 
 from .conftest import AGENT_AT, CHROMIUM, CHROMIUM_ARGS, ROOT, SHOTS, drawn_at, free_port
@@ -30,16 +31,19 @@ pytestmark = [
 
 
 @pytest.fixture
-def live() -> Iterator[tuple[LiveView, SimulationSource]]:
-    source = SimulationSource([load_scenario(ROOT / "scenarios" / "experiment1.toml")], hz=10.0)
+def live() -> Iterator[tuple[LiveView, ManagerSource]]:
+    """The live view over the server's run manager (no store), holding one created run of experiment1."""
+    manager = RunManager()
+    manager.create(load_scenario(ROOT / "scenarios" / "experiment1.toml"), hz=10.0)
+    source = ManagerSource(manager)
     view = LiveView(source, host="127.0.0.1", port=free_port())
     view.start()
     yield view, source
     view.stop()
-    source.close()
+    manager.stop()
 
 
-def test_the_agent_moves_in_the_browser_when_the_run_steps(live: tuple[LiveView, SimulationSource]) -> None:
+def test_the_agent_moves_in_the_browser_when_the_run_steps(live: tuple[LiveView, ManagerSource]) -> None:
     from playwright.sync_api import sync_playwright
 
     view, source = live

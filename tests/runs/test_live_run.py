@@ -1,25 +1,27 @@
-"""The run layer without the web: failures, closing, rebuilding for new demons, history remapping."""
+"""The run layer without the web: failures, closing, failed saves, rebuilding for new demons, history remapping."""
 
 from __future__ import annotations
 
-import time
+import functools
+import sqlite3
+import threading
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
 
-from horde.runs.errors import NotFoundError
+from horde.core.experiment import run_trial
+from horde.runs.errors import BusyError, NotFoundError, SaveError
 from horde.runs.history import History
+from horde.runs.live_run import LiveRun
 from horde.runs.manager import RunManager
 from horde.runs.run_setup import new_simulation
+from horde.runs.store import Store
 from horde.spec import DemonSpec, RunSpec
+from polling import wait_until
 from server.helpers import make_spec  # tests/server/helpers.py: the specs the server tests use
-
-
-def wait(predicate: object, timeout: float = 30.0) -> None:
-    deadline = time.monotonic() + timeout
-    while not predicate():  # type: ignore[operator]
-        assert time.monotonic() < deadline
-        time.sleep(0.01)
 
 
 def test_an_exception_while_learning_marks_the_run_failed_and_the_thread_lives_on() -> None:
@@ -32,7 +34,7 @@ def test_an_exception_while_learning_marks_the_run_failed_and_the_thread_lives_o
 
         run._sim.run = explode  # type: ignore[method-assign]
         run.start()
-        wait(lambda: run.view.status == "failed")
+        wait_until(lambda: run.view.status == "failed", "the run to fail")
         assert "FloatingPointError: boom" in run.view.message
         assert run.is_alive()
         assert any(e.kind == "error" for e in run.events.recent())
@@ -79,3 +81,102 @@ def test_history_keeps_the_rows_of_remaining_demons() -> None:
     assert np.isnan(moved.series("c").values["prediction"]).all()
     with pytest.raises(KeyError):
         moved.series("a")
+
+
+class FlakyStore(Store):
+    """A store whose writes fail while `broken` is set, as a full or read-only disk's would."""
+
+    broken = False
+
+    def save_run(self, *args: Any, **kwargs: Any) -> None:
+        if self.broken:
+            raise sqlite3.OperationalError("disk I/O error")
+        super().save_run(*args, **kwargs)
+
+
+@pytest.fixture
+def flaky(tmp_path: Path) -> Iterator[tuple[RunManager, FlakyStore]]:
+    store = FlakyStore(tmp_path / "data")
+    manager = RunManager(store)
+    yield manager, store
+    store.broken = False
+    manager.stop()
+    store.close()
+
+
+def test_a_command_whose_save_fails_says_so_and_the_change_holds(flaky: tuple[RunManager, FlakyStore]) -> None:
+    manager, store = flaky
+    run = manager.get(manager.create(RunSpec.model_validate(make_spec()), hz=50.0).id)
+    run.start()
+    store.broken = True
+    with pytest.raises(SaveError, match=r"paused at step \d+, but it could not be saved: disk I/O error"):
+        run.pause()
+    assert run.view.status == "paused"  # the pause happened; only the save did not
+    paused = run.view.message.removesuffix("; not saved: disk I/O error")
+    assert paused != run.view.message and paused.startswith("paused at step ")
+    assert run.events.recent(1)[0].message == "could not save the run: disk I/O error"
+    (stored,) = store.list_runs()
+    assert stored.status == "running", "the store still has the state before the failed save"
+    store.broken = False
+    assert run.step(1).message == paused, "a save that succeeds clears what the message said of the failed one"
+    (stored,) = store.list_runs()
+    assert (stored.status, stored.message) == ("paused", paused)
+
+
+def test_a_run_that_finishes_while_its_store_fails_does_not_report_a_clean_finish(
+    flaky: tuple[RunManager, FlakyStore],
+) -> None:
+    manager, store = flaky
+    run = manager.get(manager.create(RunSpec.model_validate(make_spec(episodes=2))).id)
+    store.broken = True
+    with pytest.raises(SaveError, match="running, but it could not be saved"):
+        run.start()
+    view = wait_until(lambda: run.view if run.view.status == "finished" else None, "the run to finish", 60.0)
+    assert view.message.startswith("finished after 2 episodes: its episodes are done; not saved: disk I/O error")
+
+
+def test_a_run_whose_first_save_fails_is_not_created(flaky: tuple[RunManager, FlakyStore]) -> None:
+    manager, store = flaky
+    store.broken = True
+    with pytest.raises(SaveError, match="disk I/O error"):
+        manager.create(RunSpec.model_validate(make_spec()))
+    assert manager.list() == []
+
+
+def test_close_says_when_the_learner_thread_does_not_stop() -> None:
+    manager = RunManager()
+    run = manager.get(manager.create(RunSpec.model_validate(make_spec())).id)
+    entered, release = threading.Event(), threading.Event()
+    busy = threading.Thread(target=lambda: run.call(lambda: (entered.set(), release.wait(30))))
+    busy.start()
+    assert entered.wait(10), "the learner thread never ran the command"
+    with pytest.raises(BusyError, match=r"did not stop within 0\.2 s"):
+        run.close(timeout=0.2)  # the learner thread is inside a command for up to 30 s
+    run.close = functools.partial(LiveRun.close, run, 0.2)  # type: ignore[method-assign]
+    with pytest.raises(BusyError):
+        manager.delete(run.id)
+    assert manager.get(run.id) is run, "a run that did not stop stays listed"
+    release.set()
+    busy.join(10)
+    wait_until(lambda: not run.is_alive(), "the queued shutdown to end the thread", 10.0)
+    manager.delete(run.id)  # it stopped meanwhile: deleting again succeeds
+    with pytest.raises(NotFoundError):
+        manager.get(run.id)
+    manager.stop()
+
+
+def test_a_live_run_stops_by_the_rule_where_its_protocol_trial_stops() -> None:
+    protocol = {"episodes": 200, "evaluation": {"rollouts": 0}, "stop": {"window": 3, "tolerance": 50.0}}
+    spec = RunSpec.model_validate(make_spec(protocol=protocol))
+    trial = run_trial(spec, 0)
+    assert trial.episodes == 3, "every weight moves by less than 50 in three episodes: the rule fires at once"
+    manager = RunManager()
+    try:
+        run = manager.get(manager.create(spec, start=True).id)
+        view = wait_until(lambda: run.view if run.view.status == "finished" else None, "the run to finish", 60.0)
+        assert view.summary is not None and view.summary.stopped_early
+        assert (view.summary.episodes, view.summary.steps) == (trial.episodes, trial.steps)
+        assert view.summary.predictions == pytest.approx(trial.predictions, abs=1e-12)
+        assert view.message.endswith("the stopping rule fired")
+    finally:
+        manager.stop()

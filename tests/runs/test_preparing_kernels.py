@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import threading
-import time
 from typing import Any
 
 import pytest
@@ -11,14 +10,8 @@ import pytest
 from horde.runs import live_run
 from horde.runs.manager import RunManager
 from horde.spec import RunSpec
+from polling import wait_until
 from server.helpers import make_spec  # tests/server/helpers.py: the specs the server tests use
-
-
-def wait_for(predicate: Any, what: str, timeout: float = 30.0) -> None:
-    deadline = time.monotonic() + timeout
-    while not predicate():
-        assert time.monotonic() < deadline, f"timed out waiting for {what}"
-        time.sleep(0.01)
 
 
 def test_the_first_batch_in_a_process_is_announced_as_preparing_the_kernels(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -35,11 +28,11 @@ def test_the_first_batch_in_a_process_is_announced_as_preparing_the_kernels(monk
 
         run._sim.run = compiling  # type: ignore[method-assign]
         run.start()
-        wait_for(lambda: run.view.message == live_run.PREPARING, "the preparing message")
+        wait_until(lambda: run.view.message == live_run.PREPARING, "the preparing message")
         assert run.view.status == "running" and run.view.total_steps == 0
         release.set()
-        wait_for(lambda: run.view.total_steps > 0, "the first steps")
-        wait_for(lambda: run.view.message == "running", "the message to say running again")
+        wait_until(lambda: run.view.total_steps > 0, "the first steps")
+        wait_until(lambda: run.view.message == "running", "the message to say running again")
         # Later runs in the same process start without the message.
         second = manager.get(manager.create(RunSpec.model_validate(make_spec())).id)
         assert second.step(5).message != live_run.PREPARING

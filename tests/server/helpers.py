@@ -1,12 +1,13 @@
-"""Small specs and polling helpers shared by the server tests."""
+"""Small specs and the waits of the server tests (runs, protocol jobs, studies), on `polling.wait_until`.
+
+The waits take any client with `get` (FastAPI's TestClient in process, httpx against a real server).
+"""
 
 from __future__ import annotations
 
-import time
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-if TYPE_CHECKING:
-    from fastapi.testclient import TestClient
+from polling import wait_until
 
 # A small thesis-like world: softmax control demon `base` and a prediction demon `steps` following it.
 WORLD: dict[str, Any] = {
@@ -48,16 +49,34 @@ def make_spec(episodes: int = 0, **changes: Any) -> dict[str, Any]:
     return spec
 
 
-def wait_for(client: TestClient, run_id: str, status: str, timeout: float = 30.0) -> dict[str, Any]:
+def _until_status(client: Any, path: str, status: str, what: str, timeout: float) -> dict[str, Any]:
+    def reached() -> dict[str, Any]:
+        body: dict[str, Any] = client.get(path).json()
+        assert body["status"] == status, f"{body['status']}: {body.get('message') or body.get('error')}"
+        return body
+
+    return wait_until(reached, f"{what} to be {status}", timeout)
+
+
+def wait_for(client: Any, run_id: str, status: str, timeout: float = 30.0) -> dict[str, Any]:
     """Poll GET /api/runs/{id} until the run has `status`; return its body."""
-    deadline = time.monotonic() + timeout
-    while True:
-        body: dict[str, Any] = client.get(f"/api/runs/{run_id}").json()
-        if body["status"] == status:
-            return body
-        if time.monotonic() > deadline:
-            raise AssertionError(f"run {run_id} is {body['status']}, not {status}: {body['message']}")
-        time.sleep(0.02)
+    return _until_status(client, f"/api/runs/{run_id}", status, f"run {run_id}", timeout)
+
+
+def wait_protocol(client: Any, job_id: str, timeout: float = 60.0) -> dict[str, Any]:
+    """Poll GET /api/protocols/{id} until the job no longer runs; return its body (finished or not)."""
+
+    def stopped() -> dict[str, Any]:
+        job: dict[str, Any] = client.get(f"/api/protocols/{job_id}").json()
+        assert job["status"] != "running", f"running, {job['episodes_done']} of {job['episodes_total']} episodes"
+        return job
+
+    return wait_until(stopped, f"protocol job {job_id} to stop", timeout)
+
+
+def wait_study(client: Any, study_id: str, status: str, timeout: float = 60.0) -> dict[str, Any]:
+    """Poll GET /api/studies/{id} until the study has `status`; return its body."""
+    return _until_status(client, f"/api/studies/{study_id}", status, f"study {study_id}", timeout)
 
 
 def locs(response: Any) -> list[list[Any]]:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
 
 import pytest
@@ -12,7 +11,7 @@ from horde.runs.divergence import MAX_MAGNITUDE, beyond_magnitude, meaningful
 from horde.runs.run_setup import new_simulation
 from horde.spec import RunSpec
 
-from .helpers import make_spec
+from .helpers import make_spec, wait_protocol
 
 pytestmark = pytest.mark.filterwarnings("ignore::RuntimeWarning")  # the wild demons' error measures overflow
 
@@ -64,10 +63,6 @@ def test_a_diverged_gq_demon_is_reported_like_a_diverged_td_demon(
 
 def test_a_protocol_reports_diverged_predictions_as_null(client: TestClient) -> None:
     spec = make_spec(episodes=20, demons=make_spec()["demons"] + WILD)
-    job = client.post("/api/protocols", json=spec).json()
-    deadline = time.monotonic() + 60
-    while (job := client.get(f"/api/protocols/{job['id']}").json())["status"] == "running":
-        assert time.monotonic() < deadline, "the protocol did not finish"
-        time.sleep(0.05)
+    job = wait_protocol(client, client.post("/api/protocols", json=spec).json()["id"])
     results = {r["name"]: r["prediction"] for r in job["results"]}
     assert results["gq_wild"] is None and results["td_wild"] is None and results["steps"] is not None, results

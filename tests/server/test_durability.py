@@ -18,15 +18,14 @@ from horde.runs.snapshot import from_bytes
 from horde.runs.store import Store
 from horde.server import Settings, create_app
 from horde.spec import RunSpec
+from polling import wait_until
 
-from .helpers import make_spec
+from .helpers import make_spec, wait_protocol
 
 
-def wait_job(client: TestClient, job_id: str, status: str, timeout: float = 60.0) -> dict[str, Any]:
-    deadline = time.monotonic() + timeout
-    while (job := client.get(f"/api/protocols/{job_id}").json())["status"] != status:
-        assert time.monotonic() < deadline, f"protocol {job_id} is {job['status']}, not {status}"
-        time.sleep(0.05)
+def finished_job(client: TestClient, body: dict[str, Any]) -> dict[str, Any]:
+    job = wait_protocol(client, client.post("/api/protocols", json=body).json()["id"])
+    assert job["status"] == "finished", job
     return job
 
 
@@ -34,15 +33,15 @@ def test_protocol_jobs_outlive_the_server(tmp_path: Path) -> None:
     settings = Settings(data=tmp_path / "data", token=None, snapshot_every=3600.0)
     with TestClient(create_app(settings)) as client:
         short = {"scenario": "experiment1", "protocol": {"trials": 1, "episodes": 50}}
-        done = wait_job(client, client.post("/api/protocols", json=short).json()["id"], "finished")
-        forgotten = wait_job(client, client.post("/api/protocols", json=short).json()["id"], "finished")
+        done = finished_job(client, short)
+        forgotten = finished_job(client, short)
         assert client.delete(f"/api/protocols/{forgotten['id']}").status_code == 200
         long = {"scenario": "experiment1", "protocol": {"episodes": 1_000_000}}
         running = client.post("/api/protocols", json=long).json()
-        deadline = time.monotonic() + 30
-        while client.get(f"/api/protocols/{running['id']}").json()["episodes_done"] == 0:
-            assert time.monotonic() < deadline, "the long protocol made no progress"
-            time.sleep(0.05)
+        wait_until(
+            lambda: client.get(f"/api/protocols/{running['id']}").json()["episodes_done"] > 0,
+            "the long protocol to make progress",
+        )
 
     with TestClient(create_app(settings)) as client:
         jobs = {j["id"]: j for j in client.get("/api/protocols").json()}
@@ -75,10 +74,10 @@ def test_periodic_snapshots_are_written_by_the_saver_thread(tmp_path: Path) -> N
         run.save()
         run.start_thread()
         run.start()
-        deadline = time.monotonic() + 30
-        while run.snapshot_cost.bytes == 0 or writers.count("horde-saver") < 3:
-            assert time.monotonic() < deadline, f"no periodic snapshots: {writers}"
-            time.sleep(0.02)
+        wait_until(
+            lambda: writers if run.snapshot_cost.bytes > 0 and writers.count("horde-saver") >= 3 else None,
+            f"three periodic snapshots written by the saver (writers so far: {writers})",
+        )
         data = store.load_snapshot("r1")
         assert data is not None and from_bytes(data).status == "running"
         cost = run.snapshot_cost

@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import csv
 import io
-import time
 from collections.abc import Callable
-from typing import Any
 
 from fastapi.testclient import TestClient
 
 from horde.scenarios import parse_scenario
 from horde.spec import RunSpec
+
+from .helpers import wait_protocol
 
 
 def test_a_runs_history_exports_as_csv_and_json_with_the_same_rows(
@@ -49,13 +49,7 @@ def test_a_runs_spec_exports_as_toml_that_reads_back_as_the_same_spec(
 def test_a_protocols_results_export_as_csv_and_json(client: TestClient) -> None:
     body = {"scenario": "experiment1", "protocol": {"trials": 1, "episodes": 50, "evaluation": {"rollouts": 50}}}
     job_id = client.post("/api/protocols", json=body).json()["id"]
-    deadline = time.monotonic() + 60
-    job: dict[str, Any] = {}
-    while time.monotonic() < deadline:
-        job = client.get(f"/api/protocols/{job_id}").json()
-        if job["status"] != "running":
-            break
-        time.sleep(0.05)
+    job = wait_protocol(client, job_id)
     assert job["status"] == "finished", job
     rows = list(csv.DictReader(io.StringIO(client.get(f"/api/protocols/{job_id}/export").text)))
     as_json = client.get(f"/api/protocols/{job_id}/export", params={"format": "json"}).json()

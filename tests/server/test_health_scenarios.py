@@ -6,7 +6,9 @@ from pathlib import Path
 
 from fastapi.testclient import TestClient
 
+from horde.scenarios import load_scenario, scenario_dir
 from horde.server import Settings, create_app
+from horde.spec import RunSpec
 
 
 def test_health(client: TestClient) -> None:
@@ -27,10 +29,13 @@ def test_unknown_scenario_is_404(client: TestClient) -> None:
     assert "no-such-scenario" in response.json()["detail"]
 
 
-def test_scenarios_are_read_only(client: TestClient) -> None:
-    assert client.post("/api/scenarios", json={}).status_code == 405
-    assert client.put("/api/scenarios/experiment1", json={}).status_code == 405
-    assert client.delete("/api/scenarios/experiment1").status_code == 405
+def test_every_scenario_served_is_the_file_that_horde_run_reads(client: TestClient) -> None:
+    served = {s["name"] for s in client.get("/api/scenarios").json()}
+    files = {path.stem for path in scenario_dir().glob("*.toml")}
+    assert served == files
+    for name in sorted(files):
+        body = client.get(f"/api/scenarios/{name}").json()
+        assert RunSpec.model_validate(body) == load_scenario(scenario_dir() / f"{name}.toml"), name
 
 
 def test_broken_scenario_file_is_listed_with_its_error_and_409(tmp_path: Path) -> None:

@@ -28,7 +28,7 @@ from typing import Any
 import httpx
 import pytest
 
-from .helpers import WORLD, make_spec
+from .helpers import WORLD, make_spec, wait_for, wait_protocol
 from .test_restart import server
 
 KILLS = 20
@@ -99,11 +99,12 @@ def test_server_killed_at_random_moments(tmp_path: Path) -> None:
             worlds.add(name)
             if round_ % 5 == 0:
                 short = client.post("/api/runs", json=make_spec(episodes=2), params={"start": "true"}).json()
-                finished_runs[short["id"]] = wait_finished(client, short["id"])
+                finished_runs[short["id"]] = wait_for(client, short["id"], "finished", timeout=60.0)
             if round_ % 2 == 0:
                 body = {"scenario": "experiment1", "seed": round_, "protocol": {"trials": 1, "episodes": 200}}
                 job = client.post("/api/protocols", json=body).json()
-                finished_jobs[job["id"]] = wait_job(client, job["id"])
+                finished_jobs[job["id"]] = wait_protocol(client, job["id"], timeout=120.0)
+                assert finished_jobs[job["id"]]["status"] == "finished", finished_jobs[job["id"]]
             else:
                 body = {"scenario": "experiment1", "seed": round_, "protocol": {"episodes": 1_000_000}}
                 running_job = client.post("/api/protocols", json=body).json()["id"]
@@ -138,23 +139,6 @@ class Sampler:
         self._done.set()
         self._thread.join(timeout=10)
         return self.samples
-
-
-def wait_finished(client: httpx.Client, run_id: str, timeout: float = 60.0) -> dict[str, Any]:
-    deadline = time.monotonic() + timeout
-    while (body := client.get(f"/api/runs/{run_id}").json())["status"] != "finished":
-        assert time.monotonic() < deadline, f"run {run_id} did not finish: {body}"
-        time.sleep(0.05)
-    return body
-
-
-def wait_job(client: httpx.Client, job_id: str, timeout: float = 120.0) -> dict[str, Any]:
-    deadline = time.monotonic() + timeout
-    while (job := client.get(f"/api/protocols/{job_id}").json())["status"] == "running":
-        assert time.monotonic() < deadline, f"protocol {job_id} did not finish: {job}"
-        time.sleep(0.05)
-    assert job["status"] == "finished", job
-    return job
 
 
 WRITER = textwrap.dedent(

@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import time
 import warnings
-from typing import Any
 
 with warnings.catch_warnings():
     warnings.filterwarnings("ignore", message=".*install `httpx2`")
@@ -13,15 +11,7 @@ with warnings.catch_warnings():
 from horde.core.experiment import run_protocol
 from horde.scenarios import find_scenario
 
-
-def wait(client: TestClient, job_id: str, timeout: float = 60.0) -> dict[str, Any]:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        job = client.get(f"/api/protocols/{job_id}").json()
-        if job["status"] != "running":
-            return dict(job)
-        time.sleep(0.05)
-    raise AssertionError(f"protocol {job_id} still running after {timeout} s")
+from .helpers import wait_protocol
 
 
 def test_a_control_protocol_reports_counts_beside_the_thesis(client: TestClient) -> None:
@@ -30,7 +20,7 @@ def test_a_control_protocol_reports_counts_beside_the_thesis(client: TestClient)
     assert response.status_code == 202, response.text
     started = response.json()
     assert started["status"] == "running" and started["episodes_total"] == 600
-    job = wait(client, started["id"])
+    job = wait_protocol(client, started["id"])
     assert job["status"] == "finished", job["error"]
     assert job["episodes_done"] == 600
     assert job["thesis_counts"] == {"positive": 100, "negative": 0, "none": 0}
@@ -43,7 +33,7 @@ def test_a_control_protocol_reports_counts_beside_the_thesis(client: TestClient)
 
 def test_results_equal_horde_run(client: TestClient) -> None:
     overrides = {"trials": 1, "episodes": 200, "evaluation": {"rollouts": 200, "cap": 10_000}}
-    job = wait(
+    job = wait_protocol(
         client, client.post("/api/protocols", json={"scenario": "experiment1", "protocol": overrides}).json()["id"]
     )
     spec = find_scenario("experiment1")
@@ -63,7 +53,7 @@ def test_one_at_a_time_and_cancel(client: TestClient) -> None:
     assert busy.status_code == 429
     assert "one at a time" in busy.json()["detail"]
     assert client.delete(f"/api/protocols/{long['id']}").status_code == 200
-    assert wait(client, long["id"])["status"] == "cancelled"
+    assert wait_protocol(client, long["id"])["status"] == "cancelled"
     assert client.delete(f"/api/protocols/{long['id']}").status_code == 200  # a finished job is forgotten
     assert client.get(f"/api/protocols/{long['id']}").status_code == 404
 

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import httpx
 
-from .helpers import WORLD, make_spec
+from .helpers import WORLD, make_spec, wait_for
 
 STARTUP_TIMEOUT = 120.0  # the first start may compile the learning kernels
 
@@ -68,21 +68,13 @@ def server(
         process.wait(timeout=30)
 
 
-def wait_status(client: httpx.Client, run_id: str, status: str, timeout: float = 60.0) -> dict:
-    deadline = time.monotonic() + timeout
-    while (body := client.get(f"/api/runs/{run_id}").json())["status"] != status:
-        assert time.monotonic() < deadline, body
-        time.sleep(0.05)
-    return body
-
-
 def test_sigkill_mid_run_loses_nothing(tmp_path: Path) -> None:
     data, log = tmp_path / "data", tmp_path / "server.log"
     with server(data, log) as (process, client):
         for name in ("room", "hall"):
             assert client.post("/api/worlds", json={**WORLD, "name": name}).status_code == 201
         finished = client.post("/api/runs", json=make_spec(episodes=3), params={"start": "true"}).json()["id"]
-        finished_body = wait_status(client, finished, "finished")
+        finished_body = wait_for(client, finished, "finished", timeout=60.0)
 
         paused = client.post("/api/runs", json=make_spec(), params={"start": "true"}).json()["id"]
         time.sleep(0.3)

@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+import sqlite3
 import time
 from collections.abc import Callable
 
+import pytest
 from fastapi.testclient import TestClient
+
+from horde.runs.store import Store
 
 from .helpers import locs, make_spec, wait_for
 
@@ -91,3 +95,20 @@ def test_unknown_run_is_404_everywhere(client: TestClient) -> None:
     for path in ("start", "pause", "reset", "step"):
         assert client.post(f"/api/runs/nope/{path}").status_code == 404
     assert client.get("/api/runs/nope/state").status_code == 404
+
+
+def test_a_pause_that_cannot_be_saved_is_503_and_says_so(
+    client: TestClient, create_run: Callable[..., str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    run_id = create_run()
+    client.post(f"/api/runs/{run_id}/start")
+
+    def disk_full(*args: object, **kwargs: object) -> None:
+        raise sqlite3.OperationalError("database or disk is full")
+
+    monkeypatch.setattr(Store, "save_run", disk_full)
+    response = client.post(f"/api/runs/{run_id}/pause")
+    assert response.status_code == 503, response.text
+    assert "but it could not be saved: database or disk is full" in response.json()["detail"]
+    run = client.get(f"/api/runs/{run_id}").json()
+    assert run["status"] == "paused" and run["message"].endswith("; not saved: database or disk is full")

@@ -21,10 +21,10 @@ from typing import Any
 
 import pytest
 import schemathesis
-from fastapi.testclient import TestClient
 from hypothesis import HealthCheck, settings
 from schemathesis.checks import not_a_server_error
 from schemathesis.config import SchemathesisConfig
+from schemathesis.python import asgi
 from schemathesis.specs.openapi.checks import (
     content_type_conformance,
     response_headers_conformance,
@@ -66,7 +66,7 @@ CHECKS = [
 LIVE: dict[str, str] = {"run_id": "", "name": "steps_to_end"}
 
 
-def _live_run(client: TestClient) -> None:
+def _live_run(client: asgi.ASGIClient) -> None:
     """Make sure the live run, its demon and the world exist (generated DELETEs remove them)."""
     if not LIVE["run_id"] or client.get(f"/api/runs/{LIVE['run_id']}").status_code == 404:
         created = client.post("/api/runs", json={"scenario": "experiment1", "protocol": {"episodes": 0}})
@@ -130,11 +130,13 @@ def map_body(context: schemathesis.HookContext, body: Any) -> Any:
 
 
 @pytest.fixture(scope="module")
-def client() -> Iterator[TestClient]:
-    """The app's lifespan (store, run manager) around the generated calls."""
-    with TestClient(APP) as client:
+def client() -> Iterator[asgi.ASGIClient]:
+    """The app's one lifespan (store, run manager) around the generated calls: schemathesis's own client,
+    which every case is sent through, so that the app never runs two lifespans at once."""
+    with asgi.get_client(APP) as client:
         _live_run(client)
         yield client
+    asgi.shutdown_lifespans()
     shutil.rmtree(DATA, ignore_errors=True)
 
 
@@ -144,6 +146,6 @@ def client() -> Iterator[TestClient]:
     deadline=None,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much, HealthCheck.data_too_large],
 )
-def test_api(case: schemathesis.Case, client: TestClient) -> None:
+def test_api(case: schemathesis.Case, client: asgi.ASGIClient) -> None:
     _live_run(client)
-    case.call_and_validate(checks=CHECKS)
+    case.call_and_validate(session=client, checks=CHECKS)

@@ -8,6 +8,7 @@ from collections.abc import Callable
 from fastapi.testclient import TestClient
 
 from horde.server import Settings, create_app
+from polling import wait_until
 
 from .helpers import BASE_DEMON, locs, make_spec
 
@@ -44,8 +45,11 @@ def test_import_after_a_demon_joined_resumes_exactly(client: TestClient, create_
 
 def test_a_finished_run_imports_as_finished(client: TestClient, create_run: Callable[..., str]) -> None:
     run_a = create_run(make_spec(episodes=1))
-    while client.get(f"/api/runs/{run_a}").json()["status"] != "finished":
-        client.post(f"/api/runs/{run_a}/step", json={"steps": 50})
+    # Each step request returns once its steps are taken; an episode is 100 steps at most (max_steps).
+    wait_until(
+        lambda: client.post(f"/api/runs/{run_a}/step", json={"steps": 50}).json()["status"] == "finished",
+        "the one-episode run to finish as it is stepped",
+    )
     snapshot = client.get(f"/api/runs/{run_a}/snapshot").json()
     imported = client.post("/api/runs/import", json=snapshot).json()
     assert imported["status"] == "finished"

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import csv
 import io
-import time
 from pathlib import Path
 from typing import Any
 
@@ -13,6 +12,9 @@ import pytest
 from fastapi.testclient import TestClient
 
 from horde.server import Settings
+from polling import wait_until
+
+from .helpers import wait_study
 
 STUDY: dict[str, Any] = {
     "scenario": "classroom-offpolicy",
@@ -25,17 +27,6 @@ STUDY: dict[str, Any] = {
 @pytest.fixture
 def settings(tmp_path: Path) -> Settings:
     return Settings(data=tmp_path / "data", token=None, snapshot_every=3600.0, study_executor="local")
-
-
-def wait_study(client: TestClient, study_id: str, status: str, timeout: float = 60.0) -> dict[str, Any]:
-    deadline = time.monotonic() + timeout
-    while True:
-        body: dict[str, Any] = client.get(f"/api/studies/{study_id}").json()
-        if body["status"] == status:
-            return body
-        if time.monotonic() > deadline:
-            raise AssertionError(f"study {study_id} is {body['status']}, not {status}: {body['message']}")
-        time.sleep(0.05)
 
 
 def test_a_study_runs_in_the_background_and_reports_bands(client: TestClient) -> None:
@@ -96,10 +87,7 @@ def test_the_stream_reports_progress_until_the_study_stops(client: TestClient) -
 def test_cancel_keeps_finished_tasks_and_resume_runs_the_rest(client: TestClient) -> None:
     study = {**STUDY, "measure": {"episodes": 600, "checkpoints": 1}}
     study_id = client.post("/api/studies", json=study).json()["id"]
-    deadline = time.monotonic() + 60
-    while client.get(f"/api/studies/{study_id}").json()["tasks_done"] < 1:
-        assert time.monotonic() < deadline, "no task finished within 60 s"
-        time.sleep(0.02)
+    wait_until(lambda: client.get(f"/api/studies/{study_id}").json()["tasks_done"] >= 1, "a task to finish", 60.0)
     assert client.delete(f"/api/studies/{study_id}").status_code == 200
     cancelled = wait_study(client, study_id, "cancelled")
     kept = cancelled["tasks_done"]

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import socket
-import time
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
@@ -16,6 +15,7 @@ with warnings.catch_warnings():
     from fastapi.testclient import TestClient
 
 from horde.server import Settings, create_app
+from polling import wait_until
 
 from .helpers import make_spec
 
@@ -57,10 +57,7 @@ def test_the_view_listens_where_it_says_and_shows_the_chosen_run(viewing: tuple[
     response = client.post("/api/view", json={"run": second})
     assert response.status_code == 200
     assert response.json()["run"] == second
-    deadline = time.monotonic() + 5
-    while client.get("/api/view").json()["run"] != second and time.monotonic() < deadline:
-        time.sleep(0.05)
-    assert client.get("/api/view").json()["run"] == second
+    wait_until(lambda: client.get("/api/view").json()["run"] == second, "GET /api/view to name the run shown", 5.0)
     assert client.post("/api/view", json={"run": first}).json()["run"] == first
 
 

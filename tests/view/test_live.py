@@ -1,4 +1,7 @@
-"""LiveView without a browser: its port, one refresh of its scene and panel, the camera, the applier."""
+"""LiveView without a browser: its port, one refresh of its scene and panel, the camera, the applier.
+
+The view runs on the production path: the server's RunManager behind ManagerSource.
+"""
 
 from __future__ import annotations
 
@@ -12,9 +15,10 @@ from typing import Any
 import numpy as np
 import pytest
 
+from horde.runs.manager import RunManager
 from horde.scenarios import load_scenario
 from horde.spec import RunSpec
-from horde.view import LiveView, SimulationSource, camera
+from horde.view import LiveView, ManagerSource, camera
 from horde.view.apply import SceneApplier
 from horde.view.nodes import Node
 from horde.view.source import ViewSnapshot
@@ -28,7 +32,7 @@ def free_port() -> int:
         return int(s.getsockname()[1])
 
 
-def started_by_hand(source: SimulationSource) -> LiveView:
+def started_by_hand(source: ManagerSource) -> LiveView:
     """A started view whose frames the test draws itself (`refresh`), its thread stopped."""
     view = LiveView(source, port=free_port())
     view.start()
@@ -39,14 +43,22 @@ def started_by_hand(source: SimulationSource) -> LiveView:
     return view
 
 
+def runs_of(*specs: RunSpec, source: type[ManagerSource] = ManagerSource) -> ManagerSource:
+    """A source over a fresh run manager (no store) holding one created run of each spec, in order."""
+    manager = RunManager()
+    for spec in specs:
+        manager.create(spec, hz=50.0)
+    return source(manager)
+
+
 @pytest.fixture
-def source() -> Iterator[SimulationSource]:
-    source = SimulationSource([load_scenario(SCENARIOS / "experiment1.toml")], hz=50.0)
+def source() -> Iterator[ManagerSource]:
+    source = runs_of(load_scenario(SCENARIOS / "experiment1.toml"))
     yield source
-    source.close()
+    source.manager.stop()
 
 
-def test_the_view_reports_the_port_it_really_got(source: SimulationSource) -> None:
+def test_the_view_reports_the_port_it_really_got(source: ManagerSource) -> None:
     with socket.socket() as taken:
         taken.bind(("127.0.0.1", 0))
         taken.listen()
@@ -64,17 +76,19 @@ def test_the_view_reports_the_port_it_really_got(source: SimulationSource) -> No
         _ = view.port
 
 
-def test_one_refresh_draws_the_chosen_run(source: SimulationSource) -> None:
+def test_one_refresh_draws_the_chosen_run(source: ManagerSource) -> None:
     view = started_by_hand(source)
+    ((run, label),) = source.list_runs()
+    assert label == "experiment1"
     try:
-        source.step("experiment1-1", 5)
+        source.step(run, 5)
         view.refresh()
-        snap = source.snapshot("experiment1-1")
+        snap = source.snapshot(run)
         drawn = view.applier.drawn
         assert {"/world/floor", "/regions/goal", "/agent", "/predictions", "/value_map/texture"} <= set(drawn)
         assert "/value_map/arrows" in drawn  # the first demon, base, is a control demon
         assert drawn["/agent"][0].position[:2] == pytest.approx(((snap.x + 50) / 50, (snap.y + 50) / 50))
-        assert view.panel.run_id == "experiment1-1"
+        assert view.panel.run_id == run
         assert view.panel.value_demon == "base"
         assert view.panel.shown == ("base", "steps_to_end")
         assert view.panel.total.value == 5
@@ -138,8 +152,8 @@ def test_the_applier_sends_only_what_changed() -> None:
     assert np.allclose(applier.drawn["/b"][0].position, (1.0, 0.0, 0.0))
 
 
-class JoiningSource(SimulationSource):
-    """A SimulationSource whose run can be made to report another spec (demons joining a live run)."""
+class JoiningSource(ManagerSource):
+    """A ManagerSource whose run can be made to report another spec (demons joining a live run)."""
 
     spec_override: RunSpec | None = None
 
@@ -150,7 +164,8 @@ class JoiningSource(SimulationSource):
 
 def test_demons_joining_the_run_shown_keep_the_choices_still_possible() -> None:
     spec = load_scenario(SCENARIOS / "experiment1.toml")
-    source = JoiningSource([spec])
+    source = runs_of(spec, source=JoiningSource)
+    assert isinstance(source, JoiningSource)
     view = started_by_hand(source)
     try:
         view.refresh()
@@ -164,13 +179,13 @@ def test_demons_joining_the_run_shown_keep_the_choices_still_possible() -> None:
         assert "/value_map/arrows" not in view.applier.drawn  # steps_to_end is no control demon
     finally:
         view.stop()
-        source.close()
+        source.manager.stop()
 
 
 def test_the_dashboard_chooses_the_demons_labelled_beyond_the_checkboxes() -> None:
     spec = load_scenario(SCENARIOS / "experiment1.toml")
     many = [spec.demons[1].model_copy(update={"name": f"d{i}"}) for i in range(20)]
-    source = JoiningSource([spec.model_copy(update={"demons": [*spec.demons, *many]})])
+    source = runs_of(spec.model_copy(update={"demons": [*spec.demons, *many]}), source=JoiningSource)
     view = started_by_hand(source)
     try:
         run = source.list_runs()[0][0]
@@ -186,4 +201,4 @@ def test_the_dashboard_chooses_the_demons_labelled_beyond_the_checkboxes() -> No
         assert view.panel.shown == ("base", "steps_to_end", "d17")
     finally:
         view.stop()
-        source.close()
+        source.manager.stop()

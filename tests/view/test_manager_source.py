@@ -1,6 +1,10 @@
-"""The server's runs behind the live view's ViewSource protocol (ManagerSource)."""
+"""The server's runs behind the live view's ViewSource protocol (ManagerSource), and the GUI's commands."""
 
 from __future__ import annotations
+
+import socket
+from collections.abc import Iterator
+from dataclasses import dataclass, field
 
 import numpy as np
 import pytest
@@ -8,12 +12,13 @@ import pytest
 from horde.runs.manager import RunManager
 from horde.runs.run_setup import Limits
 from horde.scenarios import load_scenario, scenario_dir
+from horde.view.live import LiveView
 from horde.view.manager_source import ManagerSource
-from horde.view.source import ViewSource
+from horde.view.source import CommandRefusedError, ViewSource
 
 
 @pytest.fixture
-def source() -> ManagerSource:
+def source() -> Iterator[ManagerSource]:
     manager = RunManager(None, Limits())
     yield ManagerSource(manager)
     manager.stop()
@@ -67,4 +72,58 @@ def test_commands_reach_the_run(source: ManagerSource) -> None:
     assert source.snapshot(run_id).hz == 200.0
     source.reset(run_id)
     assert source.snapshot(run_id).total_steps == 0
-    source.pause(run_id)  # refused by the run's state (not running): ignored, like the GUI's buttons
+    with pytest.raises(CommandRefusedError, match="cannot pause a created run"):
+        source.pause(run_id)
+    with pytest.raises(CommandRefusedError, match=r"hz must lie in \[") as refused:
+        source.set_hz(run_id, -1.0)
+    assert "hz" in str(refused.value)
+    source.manager.delete(run_id)
+    with pytest.raises(KeyError):
+        source.play(run_id)
+
+
+@dataclass
+class Client:
+    """A viser client as a GUI event carries it: the notifications it was sent."""
+
+    client_id: int = 7
+    notes: list[tuple[str, str, str]] = field(default_factory=list)
+
+    def add_notification(self, title: str, body: str, color: str = "") -> None:
+        self.notes.append((title, body, color))
+
+
+@dataclass
+class Click:
+    client: Client
+    client_id: int = 7
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+def test_a_refused_gui_command_is_told_to_the_client_who_clicked(source: ManagerSource) -> None:
+    spec = load_scenario(scenario_dir() / "experiment1.toml")
+    run_id = source.manager.create(
+        spec.model_copy(update={"protocol": spec.protocol.model_copy(update={"episodes": 1})})
+    ).id
+    source.step(run_id, 5000)
+    assert source.snapshot(run_id).status == "finished"
+    view = LiveView(source, port=free_port())
+    view.start()
+    try:
+        view.panel.select_run(run_id)
+        clicker, other = Click(Client(7)), Client(8)
+        view.panel._command(clicker, source.play)
+        assert clicker.client.notes == [("Not done", "cannot start a finished run: reset it to run again", "red")]
+        assert other.notes == [], "the others are not told"
+        view.panel._command(clicker, source.reset)  # accepted: nothing to tell
+        assert len(clicker.client.notes) == 1 and source.snapshot(run_id).status == "created"
+        source.manager.delete(run_id)
+        view.panel._command(clicker, source.play)
+        assert clicker.client.notes[-1][0] == "Run gone"
+    finally:
+        view.stop()

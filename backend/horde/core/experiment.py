@@ -16,7 +16,7 @@ import numpy as np
 
 from horde.core.evaluate import Truth, monte_carlo
 from horde.core.simulation import Simulation
-from horde.spec import Counts, RunSpec
+from horde.spec import Counts, RunSpec, StopRule
 
 Progress = Callable[[int, int], None]  # (episodes done, episodes in all)
 
@@ -75,6 +75,24 @@ def start_point(spec: RunSpec) -> tuple[float, float]:
     return (s[0], s[1]) if len(s) == 2 else ((s[0] + s[2]) / 2, (s[1] + s[3]) / 2)
 
 
+def stopping_rule(
+    stop: StopRule | None, episodes: int, thetas: Callable[[], list[np.ndarray]], reference: list[np.ndarray]
+) -> tuple[bool, list[np.ndarray]]:
+    """The protocol's stopping rule after `episodes` episodes: (stop now?, the reference weights to keep).
+
+    Every `stop.window` episodes the largest change of any weight since `reference` is compared with
+    `stop.tolerance`: below it the trial stops; otherwise the current weights become the reference.
+    `thetas` is called only then (copying every weight of a large Horde is not free).
+    """
+    if stop is None or episodes % stop.window != 0:
+        return False, reference
+    current = thetas()
+    change = max((float(np.abs(new - old).max()) for new, old in zip(current, reference, strict=True)), default=0.0)
+    if change < stop.tolerance:
+        return True, reference
+    return False, current
+
+
 def run_trial(spec: RunSpec, trial: int, progress: Callable[[int], None] | None = None) -> TrialResult:
     """Learn from scratch, then evaluate at the start point and run the test runs."""
     protocol = spec.protocol
@@ -90,14 +108,9 @@ def run_trial(spec: RunSpec, trial: int, progress: Callable[[int], None] | None 
         episodes = episode + 1
         if progress:
             progress(episodes)
-        if stop and episodes % stop.window == 0:
-            change = max(
-                (float(np.abs(new - old).max()) for new, old in zip(sim.thetas(), reference, strict=True)),
-                default=0.0,
-            )
-            if change < stop.tolerance:
-                break
-            reference = sim.thetas()
+        stopped, reference = stopping_rule(stop, episodes, sim.thetas, reference)
+        if stopped:
+            break
     start = start_point(spec)
     predictions = sim.predictions_at(*start)
     evaluation = protocol.evaluation

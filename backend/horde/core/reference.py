@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from horde.core.world import NUM_ACTIONS
 from horde.spec import (
     AddExpr,
     DemonSpec,
@@ -25,8 +26,6 @@ from horde.spec import (
     SensorExpr,
     check_demon_graph,
 )
-
-NUM_ACTIONS = 4
 
 
 def gq_step(

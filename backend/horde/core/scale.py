@@ -40,8 +40,9 @@ from typing import Literal
 import numpy as np
 
 from horde.core.policies import EPSILON_GREEDY, FIXED, GREEDY, SOFTMAX
+from horde.core.world import NUM_ACTIONS
 
-A = 4  # actions of GQ blocks
+A = NUM_ACTIONS  # actions of GQ blocks
 TRACE_CUT = 1e-8  # trace entries below this are set to zero (DESIGN section 6)
 
 Learner = Literal["td", "gtd", "gq"]

@@ -1,4 +1,4 @@
-"""Errors of the run layer; the server maps each kind to one HTTP status (404, 409, 422, 429)."""
+"""Errors of the run layer; the server maps each kind to one HTTP status (404, 409, 422, 429, 503)."""
 
 from __future__ import annotations
 
@@ -22,6 +22,14 @@ class ConflictError(RunError):
 
 class BusyError(RunError):
     """Too much work of one kind in flight; try again later (HTTP 429)."""
+
+
+class SaveError(RunError):
+    """The run's state changed but could not be written to the store (HTTP 503).
+
+    The change itself holds (a paused run stays paused); the message says what was done and why it
+    was not saved, so that a client never reads a success that a restart would undo.
+    """
 
 
 @dataclass(frozen=True)

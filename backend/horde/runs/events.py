@@ -8,6 +8,10 @@ from dataclasses import dataclass
 from typing import Literal
 
 EventKind = Literal["status", "episode", "demon", "error"]
+# The events a run's state carries at most, the latest: GET .../state, a step's answer, and each message
+# of the stream (a run at full speed ends hundreds of episodes between two messages, and their events
+# would make every message tens of kilobytes; a gap in the events' `seq` says that some were left out).
+RECENT_EVENTS = 20
 
 
 @dataclass(frozen=True)
@@ -48,6 +52,6 @@ class EventLog:
             found = [e for e in self._events if e.seq > seq]
         return found[-limit:]
 
-    def recent(self, limit: int = 20) -> list[Event]:
+    def recent(self, limit: int = RECENT_EVENTS) -> list[Event]:
         with self._lock:
             return list(self._events)[-limit:]

@@ -12,6 +12,12 @@ A live run is the first trial of its protocol: it is seeded as `run_trial(spec, 
 episode loop, and it finishes when the protocol's episodes are done (or its stopping rule fires);
 with `protocol.episodes = 0` it runs until paused. The learner thread never dies of bad input or a
 numerical accident: an exception while learning marks the run `failed` with the exception's message.
+
+Why one module of about 700 lines: the generic part, the command queue, lives in `commands.py` and the
+protocol's stopping rule in `core.experiment`; what stays here (pacing, the status rules, dependency
+checks, saving and publishing) all reads and writes the learner thread's own state between two chunks
+of steps. Splitting it into a run session and a recorder (REVIEW item 6) is left until a second kind of
+run shows what the two would share.
 """
 
 from __future__ import annotations
@@ -20,7 +26,6 @@ import contextlib
 import logging
 import math
 import os
-import queue
 import threading
 import time
 from collections.abc import Callable
@@ -31,11 +36,13 @@ from typing import Any, TypeVar
 import numpy as np
 from pydantic import ValidationError
 
-from horde.core.experiment import start_point
+from horde.core.experiment import start_point, stopping_rule
+from horde.core.fast import FOREVER
 from horde.core.simulation import Simulation
 from horde.core.world import WorldState
+from horde.runs.commands import CommandQueue, ShutdownError
 from horde.runs.divergence import MAX_MAGNITUDE, beyond_magnitude
-from horde.runs.errors import BusyError, ConflictError, NotFoundError, SpecError
+from horde.runs.errors import BusyError, ConflictError, NotFoundError, SaveError, SpecError
 from horde.runs.events import EventLog
 from horde.runs.history import History
 from horde.runs.run_setup import MAX_HZ, MIN_HZ, Limits, check_limits, new_simulation
@@ -66,6 +73,7 @@ COMMAND_TIMEOUT = 600.0  # a command waits this long for the learner thread at m
 # that call returns, a run says so instead of standing at step 0 without a word.
 PREPARING = "preparing the learning kernels (compiling them takes about a minute on a machine's first run)"
 _kernels_ready = threading.Event()
+NOT_SAVED = "; not saved: "  # what a run's message adds when its latest waited save failed
 
 
 @dataclass(frozen=True)
@@ -76,16 +84,6 @@ class SnapshotCost:
     encode_seconds: float = 0.0
     write_seconds: float = 0.0
     bytes: int = 0
-
-
-@dataclass
-class _Command:
-    action: Callable[[], Any]
-    future: Future[Any]
-
-
-class _ShutdownError(Exception):
-    """Raised in the learner thread by the shutdown command to leave the loop."""
 
 
 LEARNER_NICENESS = 10
@@ -146,13 +144,11 @@ class LiveRun:
         self._stop_reference = stop_reference if stop_reference is not None else self._thetas()
         self.history = History(sim.horde.names, limits.history, limits.history_every)
         self.events = EventLog(limits.events)
-        self._commands: queue.SimpleQueue[_Command] = queue.SimpleQueue()
-        self._gate = threading.Lock()  # guards `_closed` against commands queued after shutdown
-        self._closed = False
+        self._commands = CommandQueue(f"run {run_id!r}")
         self._thread = threading.Thread(target=self._loop, name=f"horde-run-{run_id}", daemon=True)
         self._seq = 0
         self._batch = 1
-        self._last_row = -(2**62)
+        self._last_row = -FOREVER  # no row yet
         self._next_row = 0.0
         self._next_publish = 0.0
         self._next_weight_scan = 0.0
@@ -169,16 +165,36 @@ class LiveRun:
         self._thread.start()
 
     def save(self) -> None:
-        """Write the run and a snapshot to the store; only before `start_thread`."""
+        """Write the run and a snapshot to the store; only before `start_thread`.
+
+        Raises:
+            SaveError: the store refused the write.
+        """
         self._persist(snapshot=True)
 
     def close(self, timeout: float = 60.0) -> None:
-        """Stop the learner thread; a running run is saved as paused with a fresh snapshot."""
+        """Stop the learner thread; a running run is saved as paused with a fresh snapshot.
+
+        Raises:
+            BusyError: the learner thread is still busy after `timeout` seconds (it stops once it gets
+                to the shutdown command, which stays queued; closing again later finds it stopped).
+            SaveError: the thread stopped, but its last save failed.
+        """
         if not self._thread.is_alive():
             return
-        with contextlib.suppress(NotFoundError, BusyError):
+        failure: SaveError | None = None
+        try:
             self.call(self._shutdown, timeout)
+        except SaveError as exc:
+            failure = exc
+        except (NotFoundError, BusyError):
+            pass  # closed already, or busy: the join below tells
         self._thread.join(timeout)
+        if self._thread.is_alive():
+            log.error("run %s: the learner thread did not stop within %s s", self.id, timeout)
+            raise BusyError(f"run {self.id!r} did not stop within {timeout:g} s; it stops when its current work ends")
+        if failure is not None:
+            raise failure
 
     def is_alive(self) -> bool:
         return self._thread.is_alive()
@@ -190,16 +206,7 @@ class LiveRun:
             NotFoundError: the run has been closed (deleted).
             BusyError: the learner thread did not get to the command within `timeout`.
         """
-        future: Future[Any] = Future()
-        with self._gate:
-            if self._closed:
-                raise NotFoundError(f"run {self.id!r} has been deleted")
-            self._commands.put(_Command(action, future))
-        try:
-            result: T = future.result(timeout)
-            return result
-        except TimeoutError:
-            raise BusyError(f"run {self.id!r} did not answer within {timeout} s") from None
+        return self._commands.call(action, timeout)
 
     # ------------------------------------------------------------------------------------------
     # Commands (each runs in the learner thread through `call`)
@@ -239,40 +246,21 @@ class LiveRun:
         while True:
             try:
                 if self._status != "running":
-                    self._execute(self._commands.get())
+                    command = self._commands.next()
+                    if command is not None:
+                        self._commands.run(command)
                 elif self._hz is None:
                     self._run_chunk()
                 else:
                     self._run_paced()
-            except _ShutdownError:
+            except ShutdownError:
                 return
             except Exception as exc:  # the learner thread never dies
                 self._fail(exc)
 
-    def _execute(self, command: _Command) -> None:
-        if not command.future.set_running_or_notify_cancel():
-            return
-        try:
-            result = command.action()
-        except _ShutdownError:
-            command.future.set_result(None)
-            raise
-        except BaseException as exc:
-            command.future.set_exception(exc)
-        else:
-            command.future.set_result(result)
-
-    def _drain(self) -> None:
-        while True:
-            try:
-                command = self._commands.get_nowait()
-            except queue.Empty:
-                return
-            self._execute(command)
-
     def _run_chunk(self) -> None:
         """Full speed: commands first, then about CHUNK_SECONDS of learning."""
-        self._drain()
+        self._commands.drain()
         if self._status != "running" or self._hz is not None:
             return
         self._learn(None, time.monotonic() + CHUNK_SECONDS)
@@ -283,15 +271,13 @@ class LiveRun:
         """hz pacing: wait for the next step's time (answering commands meanwhile), then step."""
         wait = self._next_step_at - time.monotonic()
         if wait > 0:
-            try:
-                command = self._commands.get(timeout=min(wait, MAX_WAIT))
-            except queue.Empty:
-                if wait > MAX_WAIT:
-                    return  # not due yet: look at the queue again
-            else:
-                self._execute(command)
+            command = self._commands.next(min(wait, MAX_WAIT))
+            if command is not None:
+                self._commands.run(command)
                 return
-        self._drain()
+            if wait > MAX_WAIT:
+                return  # not due yet: look at the queue again
+        self._commands.drain()
         if self._status != "running" or self._hz is None:
             return
         hz = self._hz
@@ -373,17 +359,10 @@ class LiveRun:
         if protocol.episodes == 0:
             return
         done = sim.episode
-        stop = protocol.stop
-        if stop is not None and done % stop.window == 0:
-            thetas = self._thetas()
-            change = max(
-                (float(np.abs(new - old).max()) for new, old in zip(thetas, self._stop_reference, strict=True)),
-                default=0.0,
-            )
-            if change < stop.tolerance:
-                self._finish(stopped_early=True)
-                return
-            self._stop_reference = thetas
+        stopped, self._stop_reference = stopping_rule(protocol.stop, done, self._thetas, self._stop_reference)
+        if stopped:
+            self._finish(stopped_early=True)
+            return
         if done >= protocol.episodes:
             self._finish(stopped_early=False)
 
@@ -409,12 +388,14 @@ class LiveRun:
         self._summary = self._summarize(stopped_early)
         reason = "the stopping rule fired" if stopped_early else "its episodes are done"
         self._set_status("finished", f"finished after {self._sim.episode} episodes: {reason}")
-        self._persist(snapshot=True)
+        with contextlib.suppress(SaveError):  # no caller to raise it to: the message and the events say it
+            self._persist(snapshot=True)
 
     def _fail(self, exc: Exception) -> None:
         log.error("run %s failed", self.id, exc_info=exc)
         self._set_status("failed", f"{type(exc).__name__}: {exc}", kind="error")
-        self._persist(snapshot=False)
+        with contextlib.suppress(SaveError):  # said in the message and the events
+            self._persist(snapshot=False)
         self._publish()
 
     def _set_status(self, status: RunStatus, message: str = "", kind: str = "status") -> None:
@@ -436,32 +417,29 @@ class LiveRun:
         self._require(("created", "paused"), "start")
         self._set_status("running", "running")
         self._next_step_at = time.monotonic()
-        self._persist(snapshot=False)
-        return self._publish()
+        return self._commit(snapshot=False)
 
     def _do_pause(self) -> RunView:
         self._require(("running",), "pause")
         self._set_status("paused", f"paused at step {self._sim.total_steps}")
-        self._persist(snapshot=True)
-        return self._publish()
+        return self._commit(snapshot=True)
 
     def _do_reset(self) -> RunView:
         self._sim = new_simulation(self._spec)
-        self._last_row = -(2**62)
+        self._last_row = -FOREVER  # no row yet
         self._summary = None
         self._stop_reference = self._thetas()
         self.history = History(self._sim.horde.names, self.limits.history, self.limits.history_every)
         self._set_status("created", "reset")
-        self._persist(snapshot=True)
-        return self._publish()
+        return self._commit(snapshot=True)
 
     def _do_step(self, steps: int) -> RunView:
         self._require(("created", "paused"), "step")
         if self._status == "created":
             self._set_status("paused", "stepped")
         self._learn(min(steps, self.limits.max_step_request), None)
-        if self._status == "paused":
-            self._persist(snapshot=True)
+        if self._status == "paused":  # a finished run saved itself in `_finish`
+            return self._commit(snapshot=True)
         return self._publish()
 
     def _do_patch(self, set_hz: bool, hz: float | None, behaviour: BehaviourSpec | None) -> RunView:
@@ -474,8 +452,7 @@ class LiveRun:
                 raise SpecError.at(("body", "hz"), f"hz must lie in [{MIN_HZ}, {MAX_HZ:g}] (or be null)")
             self._hz = hz
             self._next_step_at = time.monotonic()
-        self._persist(snapshot=True)
-        return self._publish()
+        return self._commit(snapshot=True)
 
     def _do_add_demon(self, demon: DemonSpec) -> RunView:
         self._require(("created", "running", "paused"), "add demons to")
@@ -523,8 +500,7 @@ class LiveRun:
         self.history = self.history.remap(sim.horde.names)
         self._stop_reference = self._thetas()
         self.events.add(sim.total_steps, sim.episode, "demon", message)
-        self._persist(snapshot=True)
-        return self._publish()
+        return self._commit(snapshot=True)
 
     def _capture(self) -> Snapshot:
         return capture(self._sim, self._spec, self._status, self._hz, self._stop_reference)
@@ -533,18 +509,14 @@ class LiveRun:
         """Save the run (a running one as paused), refuse further commands, and leave the loop."""
         if self._status == "running":
             self._set_status("paused", f"paused at step {self._sim.total_steps} when the server stopped")
-        self._persist(snapshot=self._status != "failed")
+        failure: SaveError | None = None
+        try:
+            self._persist(snapshot=self._status != "failed")
+        except SaveError as exc:
+            failure = exc
         self._publish()
-        with self._gate:
-            self._closed = True
-        while True:
-            try:
-                command = self._commands.get_nowait()
-            except queue.Empty:
-                break
-            if command.future.set_running_or_notify_cancel():
-                command.future.set_exception(NotFoundError(f"run {self.id!r} has been deleted"))
-        raise _ShutdownError
+        self._commands.close()
+        raise ShutdownError(failure)
 
     # ------------------------------------------------------------------------------------------
     # Publication and persistence
@@ -625,11 +597,44 @@ class LiveRun:
         if time.monotonic() - self._last_snapshot >= interval:
             self._persist(snapshot=True, wait=False)
 
+    def _commit(self, snapshot: bool) -> RunView:
+        """Save the state a command left (waiting for the write) and publish it.
+
+        Raises:
+            SaveError: the write failed; the state is published all the same, its message saying so.
+        """
+        try:
+            self._persist(snapshot)
+        finally:
+            view = self._publish()
+        return view
+
+    def _store_row(self) -> RunRecord:
+        """The run's row in the store, as it stands now."""
+        sim = self._sim
+        return RunRecord(
+            id=self.id,
+            name=self._spec.name,
+            status=self._status,
+            message=self._message,
+            hz=self._hz,
+            spec=self._spec.model_dump_json(by_alias=True),
+            episode=sim.episode,
+            steps=sim.total_steps,
+            created_at=self._created_at,
+            updated_at=time.time(),
+        )
+
     def _persist(self, snapshot: bool, wait: bool = True) -> None:
-        """Save the run's record (and a snapshot) in one transaction; a storage error is logged, not raised.
+        """Save the run's record (and a snapshot) in one transaction.
 
         The state is frozen here, in the learner thread; encoding and writing happen in the saver's
-        thread when there is one. With `wait` the call returns once the write is done (or failed).
+        thread when there is one. With `wait` the call returns once the write is done, and a failed
+        write raises; without it (the periodic snapshots) a failure is told in the run's events.
+
+        Raises:
+            SaveError: with `wait`, the write failed or did not finish within COMMAND_TIMEOUT; the run's
+                message and events say so too.
         """
         if snapshot:
             self._last_snapshot = time.monotonic()
@@ -637,50 +642,61 @@ class LiveRun:
             return
         store = self._store
         sim = self._sim
+        if wait:  # this save's outcome replaces what the message said of the last one
+            self._message = self._message.split(NOT_SAVED)[0]
         try:
             began = time.perf_counter()
-            record = RunRecord(
-                id=self.id,
-                name=self._spec.name,
-                status=self._status,
-                message=self._message,
-                hz=self._hz,
-                spec=self._spec.model_dump_json(by_alias=True),
-                episode=sim.episode,
-                steps=sim.total_steps,
-                created_at=self._created_at,
-                updated_at=time.time(),
-            )
+            record = self._store_row()
             frozen = freeze(sim, self._spec, self._status, self._hz, self._stop_reference) if snapshot else None
             summary = self._summary.to_json() if self._summary is not None else None
             freeze_seconds = time.perf_counter() - began
         except Exception as exc:
-            self._save_failed(exc)
+            self._save_failed(exc, wait)
             return
 
         def write() -> None:
-            try:
-                began = time.perf_counter()
-                data = to_bytes(encode_frozen(frozen)) if frozen is not None else None
-                encoded = time.perf_counter()
-                store.save_run(record, data, summary)
-                if data is not None:
-                    self.snapshot_cost = SnapshotCost(
-                        freeze_seconds, encoded - began, time.perf_counter() - encoded, len(data)
-                    )
-            except Exception as exc:
-                self._save_failed(exc)
+            began = time.perf_counter()
+            data = to_bytes(encode_frozen(frozen)) if frozen is not None else None
+            encoded = time.perf_counter()
+            store.save_run(record, data, summary)
+            if data is not None:
+                self.snapshot_cost = SnapshotCost(
+                    freeze_seconds, encoded - began, time.perf_counter() - encoded, len(data)
+                )
 
         if self._saver is None:
-            write()
+            try:
+                write()
+            except Exception as exc:
+                self._save_failed(exc, wait)
             return
         future = self._saver.submit(write)
-        if wait:
-            with contextlib.suppress(TimeoutError):
-                future.result(COMMAND_TIMEOUT)
-        else:
+        if not wait:
             self._pending_save = future
+            future.add_done_callback(self._background_save_done)
+            return
+        try:
+            future.result(COMMAND_TIMEOUT)
+        except TimeoutError:
+            self._save_failed(TimeoutError(f"the write did not finish within {COMMAND_TIMEOUT:g} s"), wait)
+        except Exception as exc:
+            self._save_failed(exc, wait)
 
-    def _save_failed(self, exc: Exception) -> None:
+    def _background_save_done(self, future: Future[Any]) -> None:
+        """A periodic snapshot's write ended (in the saver's thread): a failure goes to the events."""
+        exc = future.exception()
+        if isinstance(exc, Exception):
+            self._save_failed(exc, wait=False)
+
+    def _save_failed(self, exc: Exception, wait: bool) -> None:
+        """A save failed: the events say so; a waited one (in the learner thread) also the message, and raises.
+
+        Raises:
+            SaveError: when `wait`.
+        """
         log.error("could not save run %s", self.id, exc_info=exc)
         self.events.add(self._sim.total_steps, self._sim.episode, "error", f"could not save the run: {exc}")
+        if wait:
+            said = self._message or self._status
+            self._message = f"{said}{NOT_SAVED}{exc}"
+            raise SaveError(f"run {self.id!r}: {said}, but it could not be saved: {exc}") from exc

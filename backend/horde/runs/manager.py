@@ -15,7 +15,7 @@ import threading
 from collections.abc import Callable
 
 from horde.runs.collector import keep_out_of_collector
-from horde.runs.errors import BusyError, ConflictError, NotFoundError
+from horde.runs.errors import BusyError, ConflictError, NotFoundError, RunError, SaveError
 from horde.runs.live_run import LiveRun
 from horde.runs.readout import Evaluation, evaluate
 from horde.runs.run_setup import Limits, check_limits, new_simulation
@@ -61,12 +61,15 @@ class RunManager:
             run.start_thread()
 
     def stop(self) -> None:
-        """Close every run (running ones are saved as paused)."""
+        """Close every run (running ones are saved as paused); a run that cannot stop or save is logged."""
         with self._lock:
             runs = list(self._runs.values())
             self._runs.clear()
         for run in runs:
-            run.close()
+            try:
+                run.close()
+            except RunError as exc:
+                log.error("run %s: %s", run.id, exc)
         if self.saver is not None:
             self.saver.stop()
 
@@ -186,17 +189,34 @@ class RunManager:
                 if run is not None:
                     self._runs[run.id] = run
         keep_out_of_collector()
-        run.save()
+        try:
+            run.save()
+        except SaveError:
+            with self._lock:
+                self._runs.pop(run.id, None)
+            raise
         run.start_thread()
         return run
 
     def delete(self, run_id: str) -> None:
-        """Stop a run's thread and forget it, in memory and in the store."""
+        """Stop a run's thread and forget it, in memory and in the store.
+
+        Raises:
+            NotFoundError: no such run.
+            BusyError: its learner thread did not stop in time; the run stays listed.
+        """
         with self._lock:
             run = self._runs.pop(run_id, None)
         if run is None:
             raise NotFoundError(f"no run {run_id!r}")
-        run.close()
+        try:
+            run.close()
+        except SaveError:
+            pass  # its last save failed: it is being deleted anyway
+        except BusyError:  # still busy: it stays listed (and stops when its work ends); deleting again succeeds
+            with self._lock:
+                self._runs.setdefault(run_id, run)
+            raise
         if self.store is not None:
             self.store.delete_run(run_id)
 

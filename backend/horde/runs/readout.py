@@ -18,6 +18,17 @@ MAX_BATCH_NUMBERS = 2_000_000
 MAX_EXACT_POINTS = 2_500
 
 
+def cell_centres(width: float, height: float, resolution: int) -> tuple[np.ndarray, np.ndarray]:
+    """xs [N] and ys [N]: the centres of an N x N grid over [0, width) x [0, height), N = `resolution`.
+
+    The grid of every value map, greedy-action map and arrow field: cell (i, j) is centred at (xs[i], ys[j]),
+    and a map's entry [j, i] is its value there (row j grows with y).
+    """
+    xs = (np.arange(resolution) + 0.5) * width / resolution  # [N]
+    ys = (np.arange(resolution) + 0.5) * height / resolution  # [N]
+    return xs, ys
+
+
 @dataclass(frozen=True)
 class ValueMap:
     """A demon's prediction at the centres of an N x N grid over the world."""
@@ -49,8 +60,7 @@ def value_map(view: RunView, name: str, resolution: int) -> ValueMap:
     """The demon's prediction over the world on a resolution x resolution grid, with frozen weights."""
     demon = _demon_index(view, name)
     world = view.spec.world
-    xs = (np.arange(resolution) + 0.5) * world.width / resolution  # [N]
-    ys = (np.arange(resolution) + 0.5) * world.height / resolution  # [N]
+    xs, ys = cell_centres(world.width, world.height, resolution)  # [N] each
     gx, gy = np.meshgrid(xs, ys)  # [N, N] each, rows along y
     px, py = gx.ravel(), gy.ravel()  # [N * N]
     batch = max(1, MAX_BATCH_NUMBERS // (4 * max(1, view.horde.num_demons)))
@@ -78,7 +88,7 @@ def evaluate(
     demon = _demon_index(view, name)
     x, y = start
     world = World(view.spec.world)
-    if not (0.0 <= x < world.width and 0.0 <= y < world.height):
+    if not view.spec.world.contains(x, y):
         raise SpecError.at(
             ("body", "from"), f"({x}, {y}) lies outside the world [0, {world.width}) x [0, {world.height})"
         )

@@ -5,9 +5,10 @@ loads the stored runs) and sets the interpreter's GIL switch interval (HORDE_SWI
 so that the event loop gets the GIL soon while learner threads compute); on the way out it stops the
 streams and every learner thread (running runs are saved as paused) and closes the store. Tests build
 the app with their own settings (a temporary data directory) and enter the lifespan with
-`TestClient(app)` as a context manager; nested lifespans share the first one's store and manager.
-The viser live view starts only when `settings.viser_port` is set (`horde serve` sets it), so tests
-leave it out unless they ask for it. The built dashboard is served at `/`.
+`TestClient(app)` as a context manager, once at a time. Routes reach what the lifespan made through
+the dependencies of `horde.server.deps`, the only readers of `app.state`. The viser live view starts
+only when `settings.viser_port` is set (`horde serve` sets it), so tests leave it out unless they ask
+for it. The built dashboard is served at `/`.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from __future__ import annotations
 import gc
 import sys
 from collections.abc import AsyncIterator, Callable
-from contextlib import asynccontextmanager
+from contextlib import AbstractAsyncContextManager, asynccontextmanager
 
 from fastapi import FastAPI
 
@@ -44,6 +45,62 @@ spec (naming the field). When HORDE_TOKEN is set, every POST, PUT, PATCH and DEL
 """
 
 
+def _live_view(settings: Settings, manager: RunManager, port: int) -> LiveView:
+    """The viser live view of the manager's runs on `port` (or the next free one), guarded by the server's
+    token and origins."""
+    token = settings.token.get_secret_value() if settings.token is not None else None
+    return LiveView(
+        ManagerSource(manager),
+        host=settings.host,
+        port=port,
+        token=token,
+        allow_origin=lambda origin, host: origin_allowed(origin, host, settings.is_loopback(), settings.origins),
+    )
+
+
+def _lifespan(
+    settings: Settings, announce: Callable[[str], None] | None
+) -> Callable[[FastAPI], AbstractAsyncContextManager[None]]:
+    """The app's lifespan: what it opens at start-up (into `app.state`, read by `deps`) and closes at the end."""
+
+    @asynccontextmanager
+    async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        store = Store(settings.data)
+        manager = RunManager(store, settings.limits())
+        app.state.store = store
+        app.state.manager = manager
+        app.state.hub = StreamHub(manager, rate=settings.stream_rate)
+        app.state.protocols = ProtocolJobs(store)
+        app.state.studies = StudyJobs(store, settings.study_executor_factory())
+        switch_interval = sys.getswitchinterval()
+        sys.setswitchinterval(settings.switch_interval)
+        manager.start()
+        if settings.viser_port is not None:
+            app.state.live_view = _live_view(settings, manager, settings.viser_port)
+            app.state.live_view.start()
+            if announce is not None:
+                announce(app.state.live_view.url)
+        # The objects of the imports and of start-up (the live view's included) live as long as the
+        # server: moved out of the collector's reach, a full collection (which holds the GIL, so stalls
+        # the event loop) walks only what requests made since, instead of 170,000 objects in 130 ms.
+        gc.collect()
+        gc.freeze()
+        try:
+            yield
+        finally:
+            await app.state.hub.close()
+            app.state.protocols.stop()
+            app.state.studies.stop()
+            if app.state.live_view is not None:
+                app.state.live_view.stop()
+                app.state.live_view = None
+            manager.stop()
+            store.close()
+            sys.setswitchinterval(switch_interval)
+
+    return lifespan
+
+
 def create_app(settings: Settings | None = None, announce: Callable[[str], None] | None = None) -> FastAPI:
     """The Horde Lab server.
 
@@ -53,61 +110,16 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
             free port, so the address is known only then); `horde serve` prints it.
     """
     settings = settings or Settings()
-
-    @asynccontextmanager
-    async def lifespan(app: FastAPI) -> AsyncIterator[None]:
-        app.state.lifespans += 1
-        if app.state.lifespans == 1:  # nested lifespans (test clients inside test clients) share the first
-            store = Store(settings.data)
-            manager = RunManager(store, settings.limits())
-            app.state.store = store
-            app.state.manager = manager
-            app.state.hub = StreamHub(manager, rate=settings.stream_rate)
-            app.state.protocols = ProtocolJobs(store)
-            app.state.studies = StudyJobs(store, settings.study_executor_factory())
-            app.state.switch_interval = sys.getswitchinterval()
-            sys.setswitchinterval(settings.switch_interval)
-            manager.start()
-            if settings.viser_port is not None:
-                token = settings.token.get_secret_value() if settings.token is not None else None
-                app.state.live_view = LiveView(
-                    ManagerSource(manager),
-                    host=settings.host,
-                    port=settings.viser_port,
-                    token=token,
-                    allow_origin=lambda origin, host: origin_allowed(
-                        origin, host, settings.is_loopback(), settings.origins
-                    ),
-                )
-                app.state.live_view.start()
-                if announce is not None:
-                    announce(app.state.live_view.url)
-            # The objects of the imports and of start-up (the live view's included) live as long as the
-            # server: moved out of the collector's reach, a full collection (which holds the GIL, so stalls
-            # the event loop) walks only what requests made since, instead of 170,000 objects in 130 ms.
-            gc.collect()
-            gc.freeze()
-        try:
-            yield
-        finally:
-            app.state.lifespans -= 1
-            if app.state.lifespans == 0:
-                await app.state.hub.close()
-                app.state.protocols.stop()
-                app.state.studies.stop()
-                if app.state.live_view is not None:
-                    app.state.live_view.stop()
-                    app.state.live_view = None
-                app.state.manager.stop()
-                app.state.store.close()
-                sys.setswitchinterval(app.state.switch_interval)
-
     app = FastAPI(
-        title="Horde Lab", description=DESCRIPTION, version="0.1.0", lifespan=lifespan, docs_url=None, redoc_url=None
+        title="Horde Lab",
+        description=DESCRIPTION,
+        version="0.1.0",
+        lifespan=_lifespan(settings, announce),
+        docs_url=None,
+        redoc_url=None,
     )
     add_api_docs(app)
     app.state.settings = settings
-    app.state.lifespans = 0
     app.state.live_view = None
     app.state.catalog = ScenarioCatalog(settings.scenarios)
     add_error_handlers(app)

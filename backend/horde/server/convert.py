@@ -1,13 +1,19 @@
-"""Run-layer objects (views, histories, evaluations) into the API's output models."""
+"""Run-layer objects (views, histories, evaluations) into the API's output models.
+
+Objects whose attributes are the model's fields are validated as they are
+(`model_validate(obj, from_attributes=True)`); the others name the fields they fill. Either way the
+models' `MaybeFloat` fields turn NaN, infinities and diverged numbers into null, so nothing here
+filters numbers one by one.
+"""
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from datetime import UTC, datetime
 
 import numpy as np
 
-from horde.runs.divergence import MAX_MAGNITUDE, meaningful
+from horde.runs.divergence import MAX_MAGNITUDE
 from horde.runs.events import Event
 from horde.runs.history import Series
 from horde.runs.readout import Evaluation, ValueMap
@@ -28,23 +34,10 @@ from horde.server.schemas import (
 from horde.view.palette import demon_colour
 
 
-def finite(value: float) -> float | None:
-    """The number, or None where it is NaN, infinite or beyond MAX_MAGNITUDE (a diverged demon's)."""
-    return meaningful(value)
-
-
 def predictions(view: RunView) -> np.ndarray:
     """[D] each demon's prediction, NaN (null on the wire) for diverged demons."""
     hs = view.horde_state
     return np.where(hs.diverged, np.nan, hs.prediction)
-
-
-def finite_list(values: Iterable[float]) -> list[float | None]:
-    return [finite(v) for v in values]
-
-
-def finite_dict(values: dict[str, float]) -> dict[str, float | None]:
-    return {k: finite(v) for k, v in values.items()}
 
 
 def timestamp(seconds: float) -> datetime:
@@ -52,15 +45,7 @@ def timestamp(seconds: float) -> datetime:
 
 
 def summary_out(summary: Summary) -> SummaryOut:
-    return SummaryOut(
-        predictions=finite_dict(summary.predictions),
-        rupee=finite_dict(summary.rupee),
-        ude=finite_dict(summary.ude),
-        episodes=summary.episodes,
-        steps=summary.steps,
-        last_return=finite(summary.last_return),
-        stopped_early=summary.stopped_early,
-    )
+    return SummaryOut.model_validate(summary, from_attributes=True)
 
 
 def run_brief(view: RunView) -> RunBriefOut:
@@ -92,26 +77,14 @@ def demon_metrics(view: RunView, indices: Sequence[int] | None = None) -> dict[s
     hs, rupee, ude, names = view.horde_state, view.rupee, view.ude, view.horde.names
     return {
         names[i]: DemonMetricsOut(
-            rupee=finite(rupee[i]),
-            ude=finite(ude[i]),
-            delta=finite(hs.delta[i]),
-            cumulant=finite(hs.cumulant[i]),
-            diverged=bool(hs.diverged[i]),
+            rupee=rupee[i], ude=ude[i], delta=hs.delta[i], cumulant=hs.cumulant[i], diverged=bool(hs.diverged[i])
         )
         for i in (range(len(names)) if indices is None else indices)
     }
 
 
 def event_out(event: Event) -> EventOut:
-    value = finite(event.value) if event.value is not None else None
-    return EventOut(
-        seq=event.seq,
-        step=event.step,
-        episode=event.episode,
-        kind=event.kind,
-        message=event.message,
-        value=value,
-    )
+    return EventOut.model_validate(event, from_attributes=True)
 
 
 def state_out(view: RunView, events: list[Event], demons: Sequence[int] | None = None) -> StateOut:
@@ -128,9 +101,9 @@ def state_out(view: RunView, events: list[Event], demons: Sequence[int] | None =
         episode=view.episode,
         step=view.total_steps,
         episode_step=view.episode_step,
-        episode_return=finite(view.episode_return),
-        last_return=finite(view.last_return),
-        predictions={names[i]: finite(prediction[i]) for i in indices},
+        episode_return=view.episode_return,
+        last_return=view.last_return,
+        predictions={names[i]: prediction[i] for i in indices},
         metrics=demon_metrics(view, indices),
         demon_total=len(names),
         events=[event_out(e) for e in events],
@@ -145,7 +118,7 @@ def demons_out(view: RunView) -> list[DemonOut]:
             name=spec.name,
             spec=spec,
             control=view.horde.is_control(spec.name),
-            prediction=finite(prediction[view.horde.index[spec.name]]),
+            prediction=prediction[view.horde.index[spec.name]],
             metrics=metrics[spec.name],
             colour=demon_colour(i),
         )
@@ -165,7 +138,7 @@ def values_out(view: RunView, demon: str, values: ValueMap) -> ValuesOut:
         height=view.spec.world.height,
         x=values.xs.tolist(),
         y=values.ys.tolist(),
-        values=[finite_list(row) for row in grid],
+        values=grid.tolist(),
         min=float(finite_cells.min()) if finite_cells.size else None,
         max=float(finite_cells.max()) if finite_cells.size else None,
     )
@@ -178,11 +151,11 @@ def history_out(demon: str, series: Series, every: int, capacity: int) -> Histor
         every=every,
         capacity=capacity,
         step=series.steps.tolist(),
-        prediction=finite_list(v["prediction"]),
-        cumulant=finite_list(v["cumulant"]),
-        delta=finite_list(v["delta"]),
-        rupee=finite_list(v["rupee"]),
-        ude=finite_list(v["ude"]),
+        prediction=v["prediction"].tolist(),
+        cumulant=v["cumulant"].tolist(),
+        delta=v["delta"].tolist(),
+        rupee=v["rupee"].tolist(),
+        ude=v["ude"].tolist(),
     )
 
 
@@ -191,13 +164,13 @@ def evaluation_out(evaluation: Evaluation) -> EvaluationOut:
     return EvaluationOut(
         demon=evaluation.demon,
         from_=list(evaluation.start),
-        prediction=finite(evaluation.prediction),
-        truth=finite(truth.mean),
-        stderr=finite(truth.stderr),
-        error=finite(evaluation.prediction - truth.mean),
+        prediction=evaluation.prediction,
+        truth=truth.mean,
+        stderr=truth.stderr,
+        error=evaluation.prediction - truth.mean,
         episodes=truth.rollouts,
         cap=truth.cap,
         capped=truth.capped,
         seed=evaluation.seed,
-        exact=finite(evaluation.exact) if evaluation.exact is not None else None,
+        exact=evaluation.exact,
     )

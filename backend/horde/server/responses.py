@@ -8,7 +8,7 @@ from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse, Response
 
-from horde.runs.errors import BusyError, ConflictError, NotFoundError, RunError, SpecError
+from horde.runs.errors import BusyError, ConflictError, NotFoundError, RunError, SaveError, SpecError
 from horde.server.guard import validation_body, validation_error
 from horde.server.schemas import ErrorOut
 
@@ -27,7 +27,11 @@ BUSY: Responses = {
     429: {"model": ErrorOut, "description": "Too many evaluations or protocols at once, or the run is busy"}
 }
 
-STATUS: dict[type[RunError], int] = {NotFoundError: 404, ConflictError: 409, BusyError: 429}
+NOT_SAVED: Responses = {
+    503: {"model": ErrorOut, "description": "The change was made but could not be saved; the detail says why"}
+}
+
+STATUS: dict[type[RunError], int] = {NotFoundError: 404, ConflictError: 409, BusyError: 429, SaveError: 503}
 
 
 async def _run_error(request: Request, exc: Exception) -> Response:
@@ -39,6 +43,6 @@ async def _run_error(request: Request, exc: Exception) -> Response:
 
 
 def add_error_handlers(app: FastAPI) -> None:
-    """404, 409, 429 with {"detail": message}; 422 in FastAPI's {"detail": [{loc, msg, type}]} form, bounded."""
+    """404, 409, 429, 503 with {"detail": message}; 422 in FastAPI's {"detail": [{loc, msg, type}]} form, bounded."""
     app.add_exception_handler(RunError, _run_error)
     app.add_exception_handler(RequestValidationError, validation_error)

@@ -2,16 +2,21 @@
 
 Specs (RunSpec, WorldSpec, DemonSpec, BehaviourSpec) are the core's own pydantic models and are
 used as they are; the snapshot format lives with its code in `horde.runs.snapshot`. Numbers that can be
-non-finite (a diverged demon's prediction) travel as null.
+non-finite (a diverged demon's prediction) travel as null: a `MaybeFloat` field makes NaN, infinities and
+numbers beyond MAX_MAGNITUDE null as the model is built, so outputs are built by validation
+(`Model.model_validate(obj, from_attributes=True)`, or the fields given as they are) and no caller maps
+numbers one by one.
 """
 
 from __future__ import annotations
 
+import numbers
 from datetime import datetime
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Discriminator, Field, Tag
 
+from horde.runs.divergence import meaningful
 from horde.runs.events import EventKind
 from horde.runs.run_setup import Hz
 from horde.runs.run_view import RunStatus
@@ -20,7 +25,16 @@ from horde.spec import BehaviourSpec, DemonSpec, Name, RunSpec, WorldSpec
 MAX_RESOLUTION = 256
 MAX_EVAL_EPISODES = 5_000
 MAX_EVAL_CAP = 10_000
-MaybeFloat = float | None
+
+
+def _meaningful_or_none(value: object) -> object:
+    """A number made null where JSON cannot carry it or a diverged demon made it meaningless; the rest as is."""
+    if isinstance(value, numbers.Real) and not isinstance(value, bool):  # numpy's scalars too
+        return meaningful(float(value))
+    return value
+
+
+MaybeFloat = Annotated[float | None, BeforeValidator(_meaningful_or_none)]
 
 
 class In(BaseModel):
@@ -125,10 +139,10 @@ class DemonResultOut(Out):
     """One demon's line of a protocol's results (as `horde run --json` writes it)."""
 
     name: str
-    prediction: float | None = Field(description="the prediction at the start, mean over trials (null: diverged)")
-    truth: float | None = Field(description="Monte-Carlo truth at the start, mean over trials")
-    truth_stderr: float | None
-    error: float | None = Field(description="prediction - truth")
+    prediction: MaybeFloat = Field(description="the prediction at the start, mean over trials (null: diverged)")
+    truth: MaybeFloat = Field(description="Monte-Carlo truth at the start, mean over trials")
+    truth_stderr: MaybeFloat
+    error: MaybeFloat = Field(description="prediction - truth")
     thesis: float | None = Field(description="the thesis's number, where it has one")
     counts: CountsOut | None = Field(default=None, description="where the test runs ended (control protocols)")
 

@@ -17,6 +17,7 @@ from fastapi import WebSocket
 from starlette.websockets import WebSocketState
 
 from horde.runs.errors import NotFoundError
+from horde.runs.events import RECENT_EVENTS
 from horde.runs.live_run import LiveRun
 from horde.runs.manager import RunManager
 from horde.server.convert import state_out
@@ -25,11 +26,7 @@ CLOSE_UNKNOWN_RUN = 4404
 CLOSE_RUN_DELETED = 4410
 CLOSE_TOO_SLOW = 1013  # "try again later"
 CLOSE_GOING_AWAY = 1001
-INITIAL_EVENTS = 20
-# Events per message at most, the latest: a run at full speed ends hundreds of episodes between two
-# messages, and their events would make every message tens of kilobytes. A gap in the events' `seq`
-# says that some were left out.
-MAX_EVENTS_PER_MESSAGE = 20
+INITIAL_EVENTS = MAX_EVENTS_PER_MESSAGE = RECENT_EVENTS  # the first message's events, and any later one's
 # Demons per message at most: a Horde of thousands would make every message megabytes. Each message
 # carries the next ones in turn, so every demon is refreshed every `demons / MAX_STREAM_DEMONS` messages.
 MAX_STREAM_DEMONS = 200

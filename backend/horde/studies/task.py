@@ -60,6 +60,33 @@ def has_exact_answers(spec: RunSpec, demons: list[str]) -> bool:
     return True
 
 
+def _measure_error(
+    sim: Simulation,
+    name: str,
+    at_start: float,
+    exact_answers: bool,
+    start: tuple[float, float],
+    measure: MeasureSpec,
+    truth_rng: np.random.Generator,
+    row: dict[str, list[float]],
+) -> None:
+    """Append one checkpoint's error and scale of demon `name` (predicting `at_start` at the start) to its row.
+
+    The error is the RMS error over the lattice against the exact answers where the world has them,
+    else the error at the start against a Monte-Carlo truth (drawn from `truth_rng`).
+    """
+    horde, state = sim.horde, sim.horde_state
+    if exact_answers:
+        lattice = exact(horde, state, name)
+        predicted = horde.forward(state, lattice.x, lattice.y).prediction[:, horde.index[name]]  # [N]
+        row["error"].append(float(np.sqrt(np.mean((predicted - lattice.value) ** 2))))
+        row["scale"].append(float(np.sqrt(np.mean(lattice.value**2))))
+    else:
+        truth = monte_carlo(horde, state, name, start, measure.rollouts, measure.cap, truth_rng)
+        row["error"].append(abs(at_start - truth.mean))
+        row["scale"].append(abs(truth.mean))
+
+
 def run_task(spec: RunSpec, run: int, measure: MeasureSpec) -> TaskData:
     """Train the spec's Horde once from scratch and measure it at checkpoints.
 
@@ -99,23 +126,14 @@ def run_task(spec: RunSpec, run: int, measure: MeasureSpec) -> TaskData:
             returns.append(sim.last_return)
             done += 1
         out["returns"].append(float(np.mean(returns)) if returns else float("nan"))
-        state = sim.horde_state
-        rupee = horde.rupee(state)  # [D]
         at_start = sim.predictions_at(*start)
+        rupee = horde.rupee(sim.horde_state)  # [D]
         for name in names:
             row = out["demons"][name]
             row["prediction"].append(at_start[name])
             row["rupee"].append(float(rupee[horde.index[name]]))
-            if exact_answers:
-                lattice = exact(horde, state, name)
-                predicted = horde.forward(state, lattice.x, lattice.y).prediction[:, horde.index[name]]  # [N]
-                row["error"].append(float(np.sqrt(np.mean((predicted - lattice.value) ** 2))))
-                row["scale"].append(float(np.sqrt(np.mean(lattice.value**2))))
-            else:
-                truth_rng = np.random.default_rng([spec.seed, run, checkpoint, 1])
-                truth = monte_carlo(horde, state, name, start, measure.rollouts, measure.cap, truth_rng)
-                row["error"].append(abs(at_start[name] - truth.mean))
-                row["scale"].append(abs(truth.mean))
+            truth_rng = np.random.default_rng([spec.seed, run, checkpoint, 1])
+            _measure_error(sim, name, at_start[name], exact_answers, start, measure, truth_rng, row)
     out["steps"] = sim.total_steps
     test = spec.protocol.test
     if test is not None:  # a control protocol: where the test runs end after training, as horde run counts them

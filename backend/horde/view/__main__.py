@@ -1,7 +1,7 @@
 """A standalone demo of the live view: `python -m horde.view [scenario ...] [--port 8081] [--hz 10]`.
 
-Runs the scenarios in this process (paused; press Play in the GUI) and serves the view on loopback
-until Ctrl-C.
+Runs the scenarios in this process, as the server's runs (a `RunManager` with no store; created, so
+press Play in the GUI), and serves the view on loopback until Ctrl-C.
 """
 
 from __future__ import annotations
@@ -9,9 +9,10 @@ from __future__ import annotations
 import argparse
 import time
 
+from horde.runs.manager import RunManager
 from horde.scenarios import find_scenario
 from horde.view.live import LiveView
-from horde.view.sim_source import SimulationSource
+from horde.view.manager_source import ManagerSource
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -21,8 +22,10 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--port", type=int, default=8081)
     parser.add_argument("--hz", type=float, default=10.0, help="steps per second while playing")
     args = parser.parse_args(argv)
-    source = SimulationSource([find_scenario(name) for name in args.scenarios], hz=args.hz)
-    view = LiveView(source, host=args.host, port=args.port)
+    manager = RunManager()
+    for name in args.scenarios:
+        manager.create(find_scenario(name), hz=args.hz)
+    view = LiveView(ManagerSource(manager), host=args.host, port=args.port)
     view.start()
     print(f"Horde Lab live view: {view.url}  (Ctrl-C stops)")
     try:
@@ -32,7 +35,7 @@ def main(argv: list[str] | None = None) -> None:
         pass
     finally:
         view.stop()
-        source.close()
+        manager.stop()
 
 
 if __name__ == "__main__":

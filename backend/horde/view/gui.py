@@ -24,11 +24,12 @@ import viser
 import viser.uplot
 
 from horde.view.palette import demon_colour
-from horde.view.source import ViewSnapshot, ViewSource
+from horde.view.source import CommandRefusedError, ViewSnapshot, ViewSource
 
 MAX_DEMON_CHECKBOXES = 12  # demons that can be ticked for labels and charts (the first ones)
 MAX_SHOWN = 12  # demons labelled and charted at once (the dashboard may choose them among thousands)
 DEFAULT_SHOWN = 3  # demons ticked when a run is chosen
+SPEED_RANGE = (1, 200)  # steps per second the speed slider offers (a faster run is shown at its end)
 
 
 def _series(names: Sequence[str], order: Sequence[str]) -> tuple[viser.uplot.Series, ...]:
@@ -37,6 +38,13 @@ def _series(names: Sequence[str], order: Sequence[str]) -> tuple[viser.uplot.Ser
     for name in names:
         series.append({"label": name, "stroke": demon_colour(order.index(name)), "width": 2})
     return tuple(series)
+
+
+def _tell(event: Any, title: str, body: str) -> None:
+    """A red notification to the one client behind a GUI event (none for an event without a client)."""
+    client = getattr(event, "client", None)
+    if client is not None:
+        client.add_notification(title, body, color="red")
 
 
 def _set(handle: Any, value: object) -> None:
@@ -115,7 +123,7 @@ class ControlPanel:
         step.on_click(lambda event: self._command(event, lambda run: self.source.step(run, int(steps.value))))
         reset = gui.add_button("Reset", order=6)
         reset.on_click(lambda event: self._command(event, self.source.reset))
-        hz = gui.add_slider("Speed (steps/s)", 1, 200, 1, 10, order=7)
+        hz = gui.add_slider("Speed (steps/s)", *SPEED_RANGE, 1, 10, order=7)
         full_speed = gui.add_checkbox("Full speed", False, hint="as fast as possible", order=8)
         hz.on_update(lambda event: self._set_hz(event, hz, full_speed))
         full_speed.on_update(lambda event: self._set_hz(event, hz, full_speed))
@@ -131,11 +139,7 @@ class ControlPanel:
             return False
         if self.token is None or client_id in self.unlocked:
             return True
-        client = getattr(event, "client", None)
-        if client is not None:
-            client.add_notification(
-                "Read-only", "This server needs its token to change anything: enter it under Token.", color="red"
-            )
+        _tell(event, "Read-only", "This server needs its token to change anything: enter it under Token.")
         return False
 
     def _offer_token(self, client: viser.ClientHandle) -> None:
@@ -164,9 +168,17 @@ class ControlPanel:
         self._speed_inputs.pop(client_id, None)
 
     def _command(self, event: Any, command: Callable[[str], None]) -> None:
-        if self.run_id is not None and self._may_change(event):
+        """Forward a command; a refusal (or a run gone meanwhile) is told to the client who clicked, as a
+        notification (viser's way of answering one browser), the others seeing nothing."""
+        if self.run_id is None or not self._may_change(event):
+            return
+        try:
             command(self.run_id)
-            self.changed.set()
+        except CommandRefusedError as exc:
+            _tell(event, "Not done", str(exc))
+        except KeyError:
+            _tell(event, "Run gone", "This run no longer exists; choose another under Run.")
+        self.changed.set()
 
     def _set_hz(self, event: Any, hz: Any, full_speed: Any) -> None:
         if self._syncing:
@@ -289,7 +301,7 @@ class ControlPanel:
             for hz, full_speed in list(self._speed_inputs.values()):
                 _set(full_speed, snapshot.hz is None)
                 if snapshot.hz is not None:
-                    _set(hz, int(np.clip(round(snapshot.hz), 1, 200)))
+                    _set(hz, int(np.clip(round(snapshot.hz), *SPEED_RANGE)))
         finally:
             self._syncing = False
 

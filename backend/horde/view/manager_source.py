@@ -8,7 +8,6 @@ takes (about 30 a second), which is every step when watching and a sample at ful
 
 from __future__ import annotations
 
-import contextlib
 import threading
 from collections import deque
 from collections.abc import Sequence
@@ -17,9 +16,9 @@ import numpy as np
 
 from horde.runs.errors import NotFoundError, RunError
 from horde.runs.manager import RunManager
-from horde.runs.readout import value_map
+from horde.runs.readout import cell_centres, value_map
 from horde.runs.run_view import RunView
-from horde.view.source import History, ViewSnapshot
+from horde.view.source import CommandRefusedError, History, ViewSnapshot
 
 TRAIL_POINTS = 500  # most positions kept of one episode's trail
 HISTORY_ROWS = 400  # most rows of a demon's history sent to the charts
@@ -110,22 +109,24 @@ class ManagerSource:
         if not view.horde.is_control(demon):
             return None
         world = view.spec.world
-        xs = (np.arange(resolution) + 0.5) * world.width / resolution
-        ys = (np.arange(resolution) + 0.5) * world.height / resolution
-        gx, gy = np.meshgrid(xs, ys)  # [N, N] each, rows along y
+        gx, gy = np.meshgrid(*cell_centres(world.width, world.height, resolution))  # [N, N] each, rows along y
         q = view.horde.forward(view.horde_state, gx.ravel(), gy.ravel(), demons=[demon]).q[
             :, view.horde.index[demon]
         ]  # [N*N, A]
         return np.argmax(q, axis=1).reshape(resolution, resolution)
 
-    def _command(self, run_id: str, name: str, *args: object) -> None:
+    def _command(self, run_id: str, name: str, *args: object, **kwargs: object) -> None:
+        """Call the run's command; what it refuses (say, play when finished) or cannot save is told back."""
         try:
             run = self.manager.get(run_id)
         except NotFoundError:
             raise KeyError(run_id) from None
-        # A command the run's state refuses (say, play when finished) is ignored, as the GUI's buttons are.
-        with contextlib.suppress(RunError):
-            getattr(run, name)(*args)
+        try:
+            getattr(run, name)(*args, **kwargs)
+        except NotFoundError:
+            raise KeyError(run_id) from None  # deleted meanwhile
+        except RunError as exc:
+            raise CommandRefusedError(str(exc)) from None
 
     def play(self, run_id: str) -> None:
         self._command(run_id, "start")
@@ -140,9 +141,4 @@ class ManagerSource:
         self._command(run_id, "reset")
 
     def set_hz(self, run_id: str, hz: float | None) -> None:
-        try:
-            self.manager.get(run_id).patch(set_hz=True, hz=hz)
-        except NotFoundError:
-            raise KeyError(run_id) from None
-        except RunError:
-            pass
+        self._command(run_id, "patch", set_hz=True, hz=hz)

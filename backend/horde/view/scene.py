@@ -15,6 +15,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from horde.core.world import DIRECTIONS
+from horde.runs.readout import cell_centres
 from horde.spec import IndicatorReward, Region, WorldSpec
 from horde.view import colors
 from horde.view.nodes import Node
@@ -184,7 +185,7 @@ def value_texture(values: np.ndarray, low: float, high: float) -> np.ndarray:
 def _cell_centres(world: WorldSpec, resolution: int, z: float) -> np.ndarray:
     """[res * res, 3] scene positions of the cell centres, row by row from the bottom."""
     w, h, _ = to_scene(world, world.width, world.height)
-    gx, gy = np.meshgrid((np.arange(resolution) + 0.5) * w / resolution, (np.arange(resolution) + 0.5) * h / resolution)
+    gx, gy = np.meshgrid(*cell_centres(w, h, resolution))  # [res, res] each, row j holds y_j
     return np.stack([gx.ravel(), gy.ravel(), np.full(gx.size, z)], axis=-1)
 
 

@@ -2,12 +2,12 @@
 
 The view knows nothing of threads, stores or the server: it asks a source for the runs it may show,
 samples frozen snapshots of one run (about 30 a second at most), asks for value maps (a few a second)
-and forwards the GUI's commands. The run manager implements this protocol for the server; the
-in-process `SimulationSource` (sim_source.py) implements it for tests and the standalone demo.
+and forwards the GUI's commands. The run manager implements this protocol (`ManagerSource`), for the
+server, the standalone demo and the tests: the view has one stepping loop behind it, the runs' own.
 
 Grid convention of `value_map` and `greedy_actions` (shared by the scene builder): the world is cut
 into `resolution x resolution` cells, and entry `[j, i]` is the value at the centre of cell (i, j),
-`x = (i + 0.5) * width / resolution`, `y = (j + 0.5) * height / resolution` (row j grows with y).
+`horde.runs.readout.cell_centres` (row j grows with y).
 """
 
 from __future__ import annotations
@@ -19,6 +19,11 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from horde.spec import RunSpec
+
+
+class CommandRefusedError(Exception):
+    """A command the run refuses (say, play on a finished run) or could not carry out (its save failed);
+    the message is meant for the person who clicked."""
 
 
 @dataclass(frozen=True)
@@ -79,7 +84,9 @@ class ViewSource(Protocol):
     """Runs as the live view sees them. Every method is called from the view's own thread.
 
     Implementations must return quickly (copy under a lock, compute outside it) so that the view
-    never slows a learner, and raise KeyError for an unknown run or demon.
+    never slows a learner, and raise KeyError for an unknown run or demon. The commands (play, pause,
+    step, reset, set_hz) raise `CommandRefusedError` when the run does not do what was asked; the GUI tells
+    the client who clicked.
     """
 
     def list_runs(self) -> list[tuple[str, str]]:

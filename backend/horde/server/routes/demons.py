@@ -11,7 +11,7 @@ from horde.runs.readout import value_map
 from horde.runs.run_view import RunView
 from horde.server.convert import demons_out, evaluation_out, history_out, values_out
 from horde.server.deps import DemonName, ManagerDep, RunDep, WriteAccess
-from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND, UNAUTHORIZED
+from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND, NOT_SAVED, UNAUTHORIZED
 from horde.server.schemas import (
     MAX_EVAL_CAP,
     MAX_RESOLUTION,
@@ -43,7 +43,7 @@ def list_demons(run: RunDep) -> list[DemonOut]:
     summary="Add a demon to a run (live runs too)",
     status_code=status.HTTP_201_CREATED,
     dependencies=[WriteAccess],
-    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **CONFLICT},
+    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **CONFLICT, **NOT_SAVED},
     description=(
         "The other demons keep their weights; traces restart. 409 when the name is taken or the run is "
         "finished or failed; 422 when the demon does not fit the run (unknown demon or sensor, a cycle)."
@@ -63,7 +63,7 @@ def get_demon(run: RunDep, name: DemonName) -> DemonOut:
     summary="Remove a demon from a run",
     status_code=status.HTTP_204_NO_CONTENT,
     dependencies=[WriteAccess],
-    responses={**UNAUTHORIZED, **NOT_FOUND, **CONFLICT},
+    responses={**UNAUTHORIZED, **NOT_FOUND, **CONFLICT, **NOT_SAVED},
     description="409 when other demons or the behaviour depend on it, or the run is finished or failed.",
 )
 def remove_demon(run: RunDep, name: DemonName) -> None:

@@ -9,13 +9,12 @@ from __future__ import annotations
 import json
 from typing import Annotated, Any
 
-from fastapi import APIRouter, Path, Query, Request
+from fastapi import APIRouter, Path, Query
 from fastapi.responses import PlainTextResponse, Response
 
 from horde.runs.errors import ConflictError
 from horde.runs.exports import HISTORY_FIELDS, PROTOCOL_FIELDS, history_records, protocol_records, spec_toml, to_csv
-from horde.runs.protocols import ProtocolJobs
-from horde.server.deps import RunDep
+from horde.server.deps import ProtocolsDep, RunDep
 from horde.server.responses import CONFLICT, NOT_FOUND
 
 router = APIRouter(tags=["exports"])
@@ -71,9 +70,8 @@ def export_spec(run: RunDep) -> Response:
     responses={**NOT_FOUND, **CONFLICT, **FILE_RESPONSES},
 )
 def export_protocol(
-    job_id: Annotated[str, Path(min_length=1, max_length=64)], request: Request, format: FormatQuery = "csv"
+    job_id: Annotated[str, Path(min_length=1, max_length=64)], jobs: ProtocolsDep, format: FormatQuery = "csv"
 ) -> Response:
-    jobs: ProtocolJobs = request.app.state.protocols
     job = jobs.get(job_id)
     if job.result is None:
         raise ConflictError(f"protocol job {job_id!r} has no results ({job.status})")

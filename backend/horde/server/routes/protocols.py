@@ -9,12 +9,11 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from fastapi import APIRouter, Body, Path, Request, status
+from fastapi import APIRouter, Body, Path, status
 
-from horde.runs.divergence import meaningful
-from horde.runs.protocols import ProtocolJob, ProtocolJobs
+from horde.runs.protocols import ProtocolJob
 from horde.server.convert import timestamp
-from horde.server.deps import CatalogDep, StoreDep, WriteAccess
+from horde.server.deps import CatalogDep, ProtocolsDep, StoreDep, WriteAccess
 from horde.server.responses import BAD_BODY, BUSY, NOT_FOUND, UNAUTHORIZED
 from horde.server.schemas import CountsOut, DemonResultOut, ProtocolOut, RunCreate, RunTemplateIn
 from horde.server.spec_builder import build_spec
@@ -22,15 +21,6 @@ from horde.server.spec_builder import build_spec
 router = APIRouter(prefix="/protocols", tags=["protocols"])
 
 JobId = Annotated[str, Path(min_length=1, max_length=64, description="the protocol job's id")]
-
-
-def _jobs(request: Request) -> ProtocolJobs:
-    jobs: ProtocolJobs = request.app.state.protocols
-    return jobs
-
-
-def _finite(value: float | None) -> float | None:
-    return meaningful(value) if value is not None else None
 
 
 def _out(job: ProtocolJob) -> ProtocolOut:
@@ -50,21 +40,8 @@ def _out(job: ProtocolJob) -> ProtocolOut:
         rollouts=protocol.evaluation.rollouts,
         seconds=result.seconds if result else None,
         steps=result.steps if result else None,
-        results=[
-            DemonResultOut(
-                name=d.name,
-                prediction=_finite(d.prediction),
-                truth=_finite(d.truth),
-                truth_stderr=_finite(d.truth_stderr),
-                error=_finite(d.error),
-                thesis=d.thesis,
-                counts=CountsOut(**d.counts.model_dump()) if d.counts else None,
-            )
-            for d in result.demons
-        ]
-        if result
-        else None,
-        thesis_counts=CountsOut(**counts.model_dump()) if counts else None,
+        results=[DemonResultOut.model_validate(d, from_attributes=True) for d in result.demons] if result else None,
+        thesis_counts=CountsOut.model_validate(counts, from_attributes=True) if counts else None,
         error=job.error,
         created_at=timestamp(job.created_at),
         finished_at=timestamp(job.finished_at) if job.finished_at is not None else None,
@@ -72,8 +49,8 @@ def _out(job: ProtocolJob) -> ProtocolOut:
 
 
 @router.get("", summary="The protocol jobs (running and recent)")
-def list_protocols(request: Request) -> list[ProtocolOut]:
-    return [_out(job) for job in _jobs(request).list()]
+def list_protocols(jobs: ProtocolsDep) -> list[ProtocolOut]:
+    return [_out(job) for job in jobs.list()]
 
 
 @router.post(
@@ -88,15 +65,15 @@ def list_protocols(request: Request) -> list[ProtocolOut]:
     ),
 )
 def start_protocol(
-    body: Annotated[RunCreate, Body()], request: Request, catalog: CatalogDep, store: StoreDep
+    body: Annotated[RunCreate, Body()], jobs: ProtocolsDep, catalog: CatalogDep, store: StoreDep
 ) -> ProtocolOut:
     spec = build_spec(body, catalog, store) if isinstance(body, RunTemplateIn) else body
-    return _out(_jobs(request).start(spec))
+    return _out(jobs.start(spec))
 
 
 @router.get("/{job_id}", summary="A protocol job: progress, then results", responses=NOT_FOUND)
-def get_protocol(job_id: JobId, request: Request) -> ProtocolOut:
-    return _out(_jobs(request).get(job_id))
+def get_protocol(job_id: JobId, jobs: ProtocolsDep) -> ProtocolOut:
+    return _out(jobs.get(job_id))
 
 
 @router.delete(
@@ -105,5 +82,5 @@ def get_protocol(job_id: JobId, request: Request) -> ProtocolOut:
     dependencies=[WriteAccess],
     responses={**NOT_FOUND, **UNAUTHORIZED},
 )
-def cancel_protocol(job_id: JobId, request: Request) -> ProtocolOut:
-    return _out(_jobs(request).cancel(job_id))
+def cancel_protocol(job_id: JobId, jobs: ProtocolsDep) -> ProtocolOut:
+    return _out(jobs.cancel(job_id))

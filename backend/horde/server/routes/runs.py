@@ -6,9 +6,10 @@ from typing import Annotated
 
 from fastapi import APIRouter, Body, Query, Response, status
 
+from horde.runs.events import RECENT_EVENTS
 from horde.server.convert import run_brief, run_out, state_out
 from horde.server.deps import CatalogDep, ManagerDep, RunDep, RunId, StoreDep, WriteAccess
-from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND, UNAUTHORIZED
+from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND, NOT_SAVED, UNAUTHORIZED
 from horde.server.schemas import (
     Hz,
     RunBriefOut,
@@ -23,8 +24,6 @@ from horde.server.spec_builder import build_spec
 
 router = APIRouter(prefix="/runs", tags=["runs"])
 
-RECENT_EVENTS = 20
-
 
 @router.get("", summary="List the runs")
 def list_runs(manager: ManagerDep) -> list[RunBriefOut]:
@@ -36,7 +35,7 @@ def list_runs(manager: ManagerDep) -> list[RunBriefOut]:
     summary="Create a run",
     status_code=status.HTTP_201_CREATED,
     dependencies=[WriteAccess],
-    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **CONFLICT},
+    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **CONFLICT, **NOT_SAVED},
     description=(
         "The body is a RunSpec, or a template: {scenario, world, seed, ...overrides} (a body with a "
         "`scenario` key, or whose `world` is a string naming a stored world). The run is the first trial "
@@ -65,7 +64,7 @@ def get_run(run: RunDep) -> RunOut:
     summary="Delete a run",
     status_code=status.HTTP_204_NO_CONTENT,
     dependencies=[WriteAccess],
-    responses={**UNAUTHORIZED, **NOT_FOUND},
+    responses={**UNAUTHORIZED, **NOT_FOUND, **BUSY},
 )
 def delete_run(run_id: RunId, manager: ManagerDep) -> None:
     manager.delete(run_id)
@@ -75,7 +74,7 @@ def delete_run(run_id: RunId, manager: ManagerDep) -> None:
     "/{run_id}",
     summary="Change a run's speed or behaviour policy",
     dependencies=[WriteAccess],
-    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND},
+    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **NOT_SAVED},
     description="`hz: null` runs as fast as possible; a field left out is unchanged.",
 )
 def patch_run(run: RunDep, patch: RunPatchIn) -> RunOut:
@@ -86,7 +85,7 @@ def patch_run(run: RunDep, patch: RunPatchIn) -> RunOut:
     "/{run_id}/start",
     summary="Start (or resume) a run",
     dependencies=[WriteAccess],
-    responses={**UNAUTHORIZED, **NOT_FOUND, **CONFLICT},
+    responses={**UNAUTHORIZED, **NOT_FOUND, **CONFLICT, **NOT_SAVED},
     description="409 unless the run is created or paused.",
 )
 def start_run(run: RunDep) -> RunOut:
@@ -97,7 +96,7 @@ def start_run(run: RunDep) -> RunOut:
     "/{run_id}/pause",
     summary="Pause a running run",
     dependencies=[WriteAccess],
-    responses={**UNAUTHORIZED, **NOT_FOUND, **CONFLICT},
+    responses={**UNAUTHORIZED, **NOT_FOUND, **CONFLICT, **NOT_SAVED},
     description="Takes a snapshot. 409 unless the run is running.",
 )
 def pause_run(run: RunDep) -> RunOut:
@@ -108,7 +107,7 @@ def pause_run(run: RunDep) -> RunOut:
     "/{run_id}/reset",
     summary="Reset a run to its first step",
     dependencies=[WriteAccess],
-    responses={**UNAUTHORIZED, **NOT_FOUND},
+    responses={**UNAUTHORIZED, **NOT_FOUND, **NOT_SAVED},
     description="Fresh weights and generator, the current demons; the status becomes created.",
 )
 def reset_run(run: RunDep) -> RunOut:
@@ -119,7 +118,7 @@ def reset_run(run: RunDep) -> RunOut:
     "/{run_id}/step",
     summary="Take steps on a run that is not running",
     dependencies=[WriteAccess],
-    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **CONFLICT},
+    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **CONFLICT, **NOT_SAVED},
     description="Default 1 step. 409 when the run is running, finished or failed.",
 )
 def step_run(run: RunDep, step: Annotated[StepIn | None, Body()] = None) -> StateOut:

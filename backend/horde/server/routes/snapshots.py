@@ -7,7 +7,7 @@ from fastapi import APIRouter, status
 from horde.runs.snapshot import Snapshot
 from horde.server.convert import run_out
 from horde.server.deps import ManagerDep, RunDep, WriteAccess
-from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND, UNAUTHORIZED
+from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND, NOT_SAVED, UNAUTHORIZED
 from horde.server.schemas import RunOut
 
 router = APIRouter(prefix="/runs", tags=["snapshots"])
@@ -27,7 +27,7 @@ def export_snapshot(run: RunDep) -> Snapshot:
     summary="Import a snapshot as a new run",
     status_code=status.HTTP_201_CREATED,
     dependencies=[WriteAccess],
-    responses={**BAD_BODY, **UNAUTHORIZED, **CONFLICT},
+    responses={**BAD_BODY, **UNAUTHORIZED, **CONFLICT, **NOT_SAVED},
     description=(
         "The new run continues exactly where the snapshot was taken (paused, or finished). 422 when the "
         "arrays do not fit the spec; 409 when the server holds as many runs as it allows."

@@ -10,13 +10,13 @@ import asyncio
 import json
 from typing import Annotated
 
-from fastapi import APIRouter, Body, Path, Query, Request, WebSocket, WebSocketDisconnect, status
+from fastapi import APIRouter, Body, Path, Query, WebSocket, WebSocketDisconnect, status
 from fastapi.responses import PlainTextResponse, Response
 
 from horde.runs.errors import NotFoundError, SpecError
 from horde.runs.store import StudyRecord
 from horde.server.convert import timestamp
-from horde.server.deps import CatalogDep, WriteAccess
+from horde.server.deps import CatalogDep, StudiesDep, WriteAccess
 from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND, UNAUTHORIZED
 from horde.server.routes.exports import FILE_RESPONSES
 from horde.server.study_schemas import StudyConfigOut, StudyOut, StudyResultsOut
@@ -28,11 +28,6 @@ router = APIRouter(prefix="/studies", tags=["studies"])
 
 StudyId = Annotated[str, Path(min_length=1, max_length=64, description="the study's id")]
 STREAM_INTERVAL = 0.5  # seconds between progress messages
-
-
-def _jobs(request: Request) -> StudyJobs:
-    jobs: StudyJobs = request.app.state.studies
-    return jobs
 
 
 def _out(jobs: StudyJobs, record: StudyRecord) -> StudyOut:
@@ -59,8 +54,7 @@ def _out(jobs: StudyJobs, record: StudyRecord) -> StudyOut:
 
 
 @router.get("", summary="Every study (running, finished, interrupted)")
-def list_studies(request: Request) -> list[StudyOut]:
-    jobs = _jobs(request)
+def list_studies(jobs: StudiesDep) -> list[StudyOut]:
     return [_out(jobs, r) for r in jobs.records()]
 
 
@@ -77,8 +71,7 @@ def list_studies(request: Request) -> list[StudyOut]:
         "the axis. One study runs at a time (429 while one runs)."
     ),
 )
-def start_study(body: Annotated[StudySpec, Body()], request: Request, catalog: CatalogDep) -> StudyOut:
-    jobs = _jobs(request)
+def start_study(body: Annotated[StudySpec, Body()], jobs: StudiesDep, catalog: CatalogDep) -> StudyOut:
     base = body.base if body.base is not None else catalog.get(body.scenario or "")
     try:
         record = jobs.start(body, base)
@@ -88,8 +81,7 @@ def start_study(body: Annotated[StudySpec, Body()], request: Request, catalog: C
 
 
 @router.get("/{study_id}", summary="A study: progress, then results per configuration", responses=NOT_FOUND)
-def get_study(study_id: StudyId, request: Request) -> StudyResultsOut:
-    jobs = _jobs(request)
+def get_study(study_id: StudyId, jobs: StudiesDep) -> StudyResultsOut:
     record = jobs.get(study_id)
     out = _out(jobs, record)
     results = [StudyConfigOut.model_validate(r) for r in results_json(jobs.summaries(study_id))]
@@ -102,8 +94,7 @@ def get_study(study_id: StudyId, request: Request) -> StudyResultsOut:
     dependencies=[WriteAccess],
     responses={**NOT_FOUND, **UNAUTHORIZED},
 )
-def cancel_study(study_id: StudyId, request: Request) -> StudyOut:
-    jobs = _jobs(request)
+def cancel_study(study_id: StudyId, jobs: StudiesDep) -> StudyOut:
     return _out(jobs, jobs.cancel(study_id))
 
 
@@ -114,8 +105,7 @@ def cancel_study(study_id: StudyId, request: Request) -> StudyOut:
     dependencies=[WriteAccess],
     responses={**NOT_FOUND, **UNAUTHORIZED, **CONFLICT, **BUSY},
 )
-def resume_study(study_id: StudyId, request: Request) -> StudyOut:
-    jobs = _jobs(request)
+def resume_study(study_id: StudyId, jobs: StudiesDep) -> StudyOut:
     return _out(jobs, jobs.resume(study_id))
 
 
@@ -125,9 +115,8 @@ def resume_study(study_id: StudyId, request: Request) -> StudyOut:
     responses={**NOT_FOUND, **FILE_RESPONSES},
 )
 def export_study(
-    study_id: StudyId, request: Request, format: Annotated[str, Query(pattern="^(csv|json)$")] = "csv"
+    study_id: StudyId, jobs: StudiesDep, format: Annotated[str, Query(pattern="^(csv|json)$")] = "csv"
 ) -> Response:
-    jobs = _jobs(request)
     record = jobs.get(study_id)
     summaries = jobs.summaries(study_id)
     name = record.name or study_id
@@ -140,10 +129,9 @@ def export_study(
 
 
 @router.websocket("/{study_id}/stream")
-async def stream_study(websocket: WebSocket, study_id: str) -> None:
+async def stream_study(websocket: WebSocket, study_id: str, jobs: StudiesDep) -> None:
     """Messages have the shape of GET /api/studies (a StudyOut), twice a second while the study runs; the
     last one is sent when it stops. Close codes: 4404 unknown study, 1000 the study stopped."""
-    jobs: StudyJobs = websocket.app.state.studies
     await websocket.accept()
     try:
         while True:

@@ -6,25 +6,18 @@ says `enabled: false` (and the dashboard shows a note instead of the embedded vi
 
 from __future__ import annotations
 
-from fastapi import APIRouter, Request
+from fastapi import APIRouter
 
 from horde.runs.errors import ConflictError, NotFoundError
-from horde.server.deps import WriteAccess
+from horde.server.deps import LiveViewDep, WriteAccess
 from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND, UNAUTHORIZED
 from horde.server.schemas import ViewIn, ViewOut
-from horde.view.live import LiveView
 
 router = APIRouter(prefix="/view", tags=["view"])
 
 
-def _live_view(request: Request) -> LiveView | None:
-    view: LiveView | None = getattr(request.app.state, "live_view", None)
-    return view
-
-
 @router.get("", summary="Whether and where the live view listens")
-def get_view(request: Request) -> ViewOut:
-    view = _live_view(request)
+def get_view(view: LiveViewDep) -> ViewOut:
     if view is None:
         return ViewOut(enabled=False, url=None, run=None)
     return ViewOut(enabled=True, url=view.url, run=view.shown_run)
@@ -36,8 +29,7 @@ def get_view(request: Request) -> ViewOut:
     dependencies=[WriteAccess],
     responses={**NOT_FOUND, **CONFLICT, **UNAUTHORIZED, **BAD_BODY},
 )
-def show_run(request: Request, body: ViewIn) -> ViewOut:
-    view = _live_view(request)
+def show_run(view: LiveViewDep, body: ViewIn) -> ViewOut:
     if view is None:
         raise ConflictError("the live view is off: `horde serve` starts it (unless --no-view)")
     try:
