@@ -17,11 +17,11 @@ import { formatNumber, formatRelativeError, formatTruth, truthOf } from "../lib/
 import { type Term, tip } from "../lib/glossary";
 import { readNumber } from "../lib/parse";
 import { startPoint } from "../lib/world";
+import { type ConfirmButton, confirmButton } from "../ui/confirm";
 import { h, options, setText } from "../ui/dom";
 import { field, numberInput } from "../ui/form";
 
 const DEFAULT_ROLLOUTS = 100;
-const REMOVE_CONFIRM_MS = 4000;
 /** Above this many shown demons the table scrolls in its own box and keeps only the rows in sight. */
 export const VIRTUAL_FROM = 60;
 const ROW_ESTIMATE_PX = 72;
@@ -45,9 +45,7 @@ interface Row {
   diverged: HTMLElement;
   chart: HTMLInputElement;
   evaluate: HTMLButtonElement;
-  remove: HTMLButtonElement;
-  /** until when a second press of Remove removes the demon (ms since the epoch) */
-  confirmUntil: number;
+  remove: ConfirmButton;
 }
 
 export function demonTable(store: AppStore): HTMLElement {
@@ -140,12 +138,16 @@ export function demonTable(store: AppStore): HTMLElement {
       diverged: h("span", { class: "tag diverged", hidden: true, title: tip("diverged") }, "diverged"),
       chart: h("input", { type: "checkbox", "aria-label": `Chart ${demon.name}` }), // beside the name: saves a column
       evaluate: h("button", { type: "button", class: "small", "aria-label": `Evaluate ${demon.name}` }, "Evaluate"),
-      remove: h("button", { type: "button", class: "small danger" }),
-      confirmUntil: 0,
+      // Removing takes two presses, so a stray click cannot throw a demon (and its learning) away.
+      remove: confirmButton({
+        class: "small danger",
+        text: (armed) => (removing.has(demon.name) ? "Removing…" : armed ? "Really remove?" : "Remove"),
+        label: (armed) => (armed ? `Really remove ${demon.name}?` : `Remove ${demon.name}`),
+        onConfirm: () => removeNow(demon.name),
+      }),
     };
     row.chart.addEventListener("change", () => toggleCharted(store, demon.name, row.chart.checked));
     row.evaluate.addEventListener("click", () => void evaluate(demon.name));
-    row.remove.addEventListener("click", () => onRemove(demon.name, row));
     const question = `${demon.spec.policy?.kind === "of" ? `follows ${demon.spec.policy.demon}` : (demon.spec.policy?.kind ?? "uniform")} · cumulant ${exprText(demon.spec.cumulant)}`;
     row.tr.append(
       h(
@@ -165,32 +167,23 @@ export function demonTable(store: AppStore): HTMLElement {
       row.thesis,
       row.rupee,
       row.ude,
-      h("td", {}, h("div", { class: "row-actions" }, row.evaluate, row.remove)),
+      h("td", {}, h("div", { class: "row-actions" }, row.evaluate, row.remove.button)),
     );
     return row;
   };
 
-  // Removing takes two presses, so a stray click cannot throw a demon (and its learning) away.
-  const onRemove = (demon: string, row: Row) => {
+  const removeNow = (demon: string) => {
     const runId = store.state.selectedRunId;
     if (runId === null) return;
-    if (Date.now() < row.confirmUntil) {
-      row.confirmUntil = 0;
-      removing.add(demon);
-      render(store.state);
-      void attempt(store, async () => {
-        await removeDemon(store, runId, demon);
-        notify(store, `Removed demon '${demon}' from the run.`);
-      }).finally(() => {
-        removing.delete(demon);
-        render(store.state);
-      });
-      return;
-    }
-    row.confirmUntil = Date.now() + REMOVE_CONFIRM_MS;
+    removing.add(demon);
     render(store.state);
-    // A paused run sends no messages: the button turns back by itself.
-    window.setTimeout(() => render(store.state), REMOVE_CONFIRM_MS + 50);
+    void attempt(store, async () => {
+      await removeDemon(store, runId, demon);
+      notify(store, `Removed demon '${demon}' from the run.`);
+    }).finally(() => {
+      removing.delete(demon);
+      render(store.state);
+    });
   };
 
   const render = (state: Readonly<AppState>) => {
@@ -280,10 +273,8 @@ export function demonTable(store: AppStore): HTMLElement {
       const busy = pending.has(demon.name);
       row.evaluate.disabled = busy;
       setText(row.evaluate, busy ? "Evaluating…" : "Evaluate");
-      const confirming = Date.now() < row.confirmUntil;
-      row.remove.disabled = closed || removing.has(demon.name);
-      setText(row.remove, removing.has(demon.name) ? "Removing…" : confirming ? "Really remove?" : "Remove");
-      row.remove.setAttribute("aria-label", confirming ? `Really remove ${demon.name}?` : `Remove ${demon.name}`);
+      row.remove.button.disabled = closed || removing.has(demon.name);
+      row.remove.refresh();
     }
     for (const [name, row] of rows) {
       if (!seen.has(name)) {

@@ -11,7 +11,8 @@ import { ApiError, api, toApiError, unwrap } from "../api/client";
 import type { Region, WorldSpec } from "../api/types";
 import { InputError } from "../lib/input-error";
 import { formatList, readNumber, readNumberList } from "../lib/parse";
-import { h, options, replaceChildren, setText } from "../ui/dom";
+import { confirmButton } from "../ui/confirm";
+import { h, options, replaceChildren } from "../ui/dom";
 import { FormErrors, field, numberInput, textInput } from "../ui/form";
 import { type RegionFields, type RegionText, regionFields, regionText } from "./region-fields";
 import { worldDrawing } from "./world-drawing";
@@ -27,8 +28,6 @@ const NEW_WORLD: WorldSpec = {
   max_steps: 100,
   regions: [{ name: "goal", kind: "terminal", rect: [400, 400, 500, 500], reward: 1 }],
 };
-
-const DELETE_CONFIRM_MS = 4000;
 
 const NEW_REGION: RegionText = { name: "", kind: "zone", rect: "0, 0, 100, 100", reward: "", colors: "" };
 
@@ -64,9 +63,29 @@ export function worldEditor(store: AppStore): HTMLElement {
   });
 
   const source = h("select", { id: "world-source" });
+  /** The library world chosen in "Start from", if one is. */
+  const libraryChoice = (): string | null =>
+    source.value.startsWith("library:") ? source.value.slice("library:".length) : null;
+
   const load = h("button", { type: "button" }, "Load");
-  const remove = h("button", { type: "button", class: "danger" });
-  let confirmUntil = 0;
+  // Deleting takes two presses, so a stray click cannot throw a world away.
+  const remove = confirmButton({
+    text: (armed) => (armed ? "Really delete?" : "Delete"),
+    label: (armed) => {
+      const world = libraryChoice();
+      if (world === null) return "Delete a library world";
+      return armed ? `Really delete world ${world} from the library?` : `Delete world ${world} from the library`;
+    },
+    onConfirm: () => {
+      const world = libraryChoice();
+      if (world === null) return;
+      remove.button.disabled = true;
+      void attempt(store, async () => {
+        await deleteWorld(store, world);
+        notify(store, `Deleted world '${world}' from the library.`);
+      }).finally(renderRemove);
+    },
+  });
   const name = textInput("my-world", { name: "name" });
   const width = numberInput(null, { name: "width" });
   const height = numberInput(null, { name: "height" });
@@ -160,45 +179,15 @@ export function worldEditor(store: AppStore): HTMLElement {
     drawing.draw({ ...readFields(), regions: readable });
   }
 
-  /** The library world chosen in "Start from", if one is. */
-  const libraryChoice = (): string | null =>
-    source.value.startsWith("library:") ? source.value.slice("library:".length) : null;
-
   const renderRemove = () => {
     const world = libraryChoice();
-    const confirming = world !== null && Date.now() < confirmUntil;
-    remove.disabled = world === null;
-    setText(remove, confirming ? "Really delete?" : "Delete");
-    remove.title = world === null ? "Choose a library world under “Start from” first" : "";
-    remove.setAttribute(
-      "aria-label",
-      world === null
-        ? "Delete a library world"
-        : confirming
-          ? `Really delete world ${world} from the library?`
-          : `Delete world ${world} from the library`,
-    );
+    remove.button.disabled = world === null;
+    remove.button.title = world === null ? "Choose a library world under “Start from” first" : "";
+    remove.refresh();
   };
 
-  // Deleting takes two presses, so a stray click cannot throw a world away.
-  remove.addEventListener("click", () => {
-    const world = libraryChoice();
-    if (world === null) return;
-    if (Date.now() >= confirmUntil) {
-      confirmUntil = Date.now() + DELETE_CONFIRM_MS;
-      renderRemove();
-      window.setTimeout(renderRemove, DELETE_CONFIRM_MS + 50);
-      return;
-    }
-    confirmUntil = 0;
-    remove.disabled = true;
-    void attempt(store, async () => {
-      await deleteWorld(store, world);
-      notify(store, `Deleted world '${world}' from the library.`);
-    }).finally(renderRemove);
-  });
   source.addEventListener("change", () => {
-    confirmUntil = 0;
+    remove.disarm();
     renderRemove();
   });
 
@@ -286,7 +275,7 @@ export function worldEditor(store: AppStore): HTMLElement {
   const form = h(
     "form",
     { class: "world-form", novalidate: true, onsubmit: onSubmit, oninput: redraw, "aria-label": "World" },
-    h("div", { class: "row load-row" }, field("Start from", source), load, remove),
+    h("div", { class: "row load-row" }, field("Start from", source), load, remove.button),
     h(
       "fieldset",
       {},
