@@ -10,10 +10,11 @@ import type { AppStore } from "../app/state";
 import { ApiError, api, toApiError, unwrap } from "../api/client";
 import type { Region, WorldSpec } from "../api/types";
 import { InputError } from "../lib/input-error";
-import { formatList, readNumber, readNumberList } from "../lib/parse";
+import { formatList } from "../lib/parse";
 import { confirmButton } from "../ui/confirm";
 import { h, options, replaceChildren } from "../ui/dom";
-import { FormErrors, field, numberInput, textInput } from "../ui/form";
+import { type FieldSpec, fieldTable } from "../ui/fields";
+import { FormErrors, field } from "../ui/form";
 import { type RegionFields, type RegionText, regionFields, regionText } from "./region-fields";
 import { worldDrawing } from "./world-drawing";
 
@@ -32,6 +33,21 @@ const NEW_WORLD: WorldSpec = {
 const NEW_REGION: RegionText = { name: "", kind: "zone", rect: "0, 0, 100, 100", reward: "", colors: "" };
 
 const UNDO_DEPTH = 50;
+
+type WorldField = "name" | "start" | "width" | "height" | "step" | "max_steps" | "slip" | "noise" | "transient_reward";
+
+/** The world's plain fields, once: the form, the filling, the reading and Undo all come from this list. */
+const WORLD_FIELDS: readonly FieldSpec<WorldField>[] = [
+  { key: "name", label: "Name", kind: "text", row: 0 },
+  { key: "start", label: "Start", kind: "numbers", hint: "x, y or x0, y0, x1, y1", row: 0 },
+  { key: "width", label: "Width", kind: "number", row: 1 },
+  { key: "height", label: "Height", kind: "number", row: 1 },
+  { key: "step", label: "Step", kind: "number", row: 1 },
+  { key: "max_steps", label: "Max steps", kind: "number", row: 1 },
+  { key: "slip", label: "Slip", kind: "number", hint: "chance of a sideways move", row: 2 },
+  { key: "noise", label: "Noise", kind: "number", hint: "std of each move", row: 2 },
+  { key: "transient_reward", label: "Reward per step", kind: "number", row: 2 },
+];
 
 /** Everything the form holds, as typed: what Undo restores. */
 interface Snapshot {
@@ -56,7 +72,7 @@ export function worldEditor(store: AppStore): HTMLElement {
         return;
       }
       remember();
-      start.value = formatList(world.start ?? [0, 0]);
+      fields.inputs.start.value = formatList(world.start ?? [0, 0]);
       setRegions((world.regions ?? []).map(regionText));
       redraw();
     },
@@ -86,20 +102,11 @@ export function worldEditor(store: AppStore): HTMLElement {
       }).finally(renderRemove);
     },
   });
-  const name = textInput("my-world", { name: "name" });
-  const width = numberInput(null, { name: "width" });
-  const height = numberInput(null, { name: "height" });
-  const step = numberInput(null, { name: "step" });
-  const slip = numberInput(null, { name: "slip" });
-  const noise = numberInput(null, { name: "noise" });
-  const start = textInput("", { name: "start" });
-  const transient = numberInput(null, { name: "transient_reward" });
-  const maxSteps = numberInput(null, { name: "max_steps" });
+  const fields = fieldTable(WORLD_FIELDS, errors);
   const regionList = h("div", { class: "region-list" });
-  const plainFields = () => [name, width, height, step, slip, noise, start, transient, maxSteps];
 
   const snapshot = (): Snapshot => ({
-    fields: plainFields().map((f) => f.value),
+    fields: fields.texts(),
     regions: regions.map((r) => r.text()),
   });
   /** Keep the form as it is now, for Undo (before a change by drawing, adding or removing). */
@@ -112,7 +119,7 @@ export function worldEditor(store: AppStore): HTMLElement {
     const last = history.pop();
     undo.disabled = history.length === 0;
     if (!last) return;
-    plainFields().forEach((f, i) => (f.value = last.fields[i] ?? ""));
+    fields.setTexts(last.fields);
     setRegions(last.regions);
     redraw();
   };
@@ -139,30 +146,12 @@ export function worldEditor(store: AppStore): HTMLElement {
 
   const fill = (world: WorldSpec, worldName: string) => {
     errors.clear();
-    name.value = worldName;
-    width.value = String(world.width);
-    height.value = String(world.height);
-    step.value = String(world.step);
-    slip.value = String(world.slip);
-    noise.value = String(world.noise);
-    start.value = formatList(world.start ?? [0, 0]);
-    transient.value = String(world.transient_reward);
-    maxSteps.value = String(world.max_steps);
+    fields.fill({ ...world, name: worldName, start: world.start ?? [0, 0] });
     setRegions((world.regions ?? []).map(regionText));
     redraw();
   };
 
-  const readFields = (): WorldSpec => ({
-    name: name.value.trim(),
-    width: readNumber(width.value),
-    height: readNumber(height.value),
-    step: readNumber(step.value),
-    slip: readNumber(slip.value),
-    noise: readNumber(noise.value),
-    start: readNumberList(start.value),
-    transient_reward: readNumber(transient.value),
-    max_steps: readNumber(maxSteps.value),
-  });
+  const readFields = (): WorldSpec => fields.read() as WorldSpec;
   /** The world the form describes; throws InputError where a field cannot be read at all. */
   const read = (): WorldSpec => ({ ...readFields(), regions: regions.map((r) => r.read()) });
 
@@ -276,32 +265,7 @@ export function worldEditor(store: AppStore): HTMLElement {
     "form",
     { class: "world-form", novalidate: true, onsubmit: onSubmit, oninput: redraw, "aria-label": "World" },
     h("div", { class: "row load-row" }, field("Start from", source), load, remove.button),
-    h(
-      "fieldset",
-      {},
-      h("legend", {}, "World"),
-      h(
-        "div",
-        { class: "row" },
-        field("Name", name, { path: "name", errors }),
-        field("Start", start, { path: "start", errors, hint: "x, y or x0, y0, x1, y1" }),
-      ),
-      h(
-        "div",
-        { class: "row" },
-        field("Width", width, { path: "width", errors }),
-        field("Height", height, { path: "height", errors }),
-        field("Step", step, { path: "step", errors }),
-        field("Max steps", maxSteps, { path: "max_steps", errors }),
-      ),
-      h(
-        "div",
-        { class: "row" },
-        field("Slip", slip, { path: "slip", errors, hint: "chance of a sideways move" }),
-        field("Noise", noise, { path: "noise", errors, hint: "std of each move" }),
-        field("Reward per step", transient, { path: "transient_reward", errors }),
-      ),
-    ),
+    h("fieldset", {}, h("legend", {}, "World"), fields.rows()),
     h("h3", {}, "Regions"),
     errors.register("regions", null),
     regionList,
