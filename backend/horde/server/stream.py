@@ -20,11 +20,13 @@ from horde.runs.errors import NotFoundError
 from horde.runs.live_run import LiveRun
 from horde.runs.manager import RunManager
 from horde.server.convert import state_out
+from horde.server.stream_protocol import StreamClose
 
-CLOSE_UNKNOWN_RUN = 4404
-CLOSE_RUN_DELETED = 4410
-CLOSE_TOO_SLOW = 1013  # "try again later"
-CLOSE_GOING_AWAY = 1001
+# The close codes, from the one source the dashboard's are generated from (stream_protocol.py).
+CLOSE_UNKNOWN_RUN = StreamClose.NOT_FOUND
+CLOSE_RUN_DELETED = StreamClose.RUN_DELETED
+CLOSE_TOO_SLOW = StreamClose.TOO_SLOW
+CLOSE_GOING_AWAY = StreamClose.GOING_AWAY
 INITIAL_EVENTS = 20
 # Events per message at most, the latest: a run at full speed ends hundreds of episodes between two
 # messages, and their events would make every message tens of kilobytes. A gap in the events' `seq`

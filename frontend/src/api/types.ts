@@ -12,6 +12,8 @@ export type RunStatus = RunBrief["status"];
 export type RunSpec = Schemas["RunSpec-Output"];
 export type RunTemplate = Schemas["RunTemplateIn"];
 export type RunState = Schemas["StateOut"];
+/** A message of a run's WebSocket stream (a `RunState`, `type: "state"`). */
+export type RunStreamMessage = Schemas["RunStreamMessage"];
 export type DemonMetrics = Schemas["DemonMetricsOut"];
 export type Demon = Schemas["DemonOut"];
 export type DemonSpec = Schemas["DemonSpec-Input"];

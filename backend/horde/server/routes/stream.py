@@ -7,6 +7,7 @@ from fastapi import APIRouter, WebSocket
 from horde.server.origins import origin_allowed
 from horde.server.settings import Settings
 from horde.server.stream import StreamHub
+from horde.server.stream_protocol import StreamClose
 
 router = APIRouter(prefix="/runs", tags=["stream"])
 
@@ -21,7 +22,7 @@ async def stream_run(websocket: WebSocket, run_id: str) -> None:
     settings: Settings = websocket.app.state.settings
     headers = websocket.headers
     if not origin_allowed(headers.get("origin"), headers.get("host"), settings.is_loopback(), settings.origins):
-        await websocket.close(code=1008, reason="this page's origin may not open the stream")
+        await websocket.close(code=StreamClose.ORIGIN_REFUSED, reason="this page's origin may not open the stream")
         return
     hub: StreamHub = websocket.app.state.hub
     await hub.serve(websocket, run_id)
