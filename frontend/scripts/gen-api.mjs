@@ -48,7 +48,9 @@ async function streamProtocol(schema) {
   const names = close?.["x-enum-varnames"];
   const meanings = close?.["x-enum-descriptions"] ?? [];
   if (!close || !Array.isArray(names) || names.length !== close.enum.length) {
-    throw new Error("the OpenAPI schema has no StreamClose with x-enum-varnames (backend/horde/server/stream_protocol.py)");
+    throw new Error(
+      "the OpenAPI schema has no StreamClose with x-enum-varnames (backend/horde/server/stream_protocol.py)",
+    );
   }
   const members = close.enum.map((code, i) => `  /** ${meanings[i] ?? ""} */\n  ${names[i]}: ${code},`).join("\n");
   const text =

@@ -1,6 +1,7 @@
 // @vitest-environment happy-dom
 import { describe, expect, it } from "vitest";
 import type { ValidationProblem } from "../src/api/types";
+import { InputError } from "../src/lib/input-error";
 import { type FieldSpec, fieldTable } from "../src/ui/fields";
 import { FormErrors } from "../src/ui/form";
 
@@ -65,5 +66,24 @@ describe("fieldTable", () => {
     expect(table.inputs.slip.getAttribute("aria-invalid")).toBe("true");
     const widthMessage = rows[1]!.querySelectorAll(".field")[0]!.querySelector(".field-error") as HTMLElement;
     expect(widthMessage.hidden).toBe(true);
+  });
+
+  it("reads a form or shows why it cannot be read at the field, and lets other errors through", () => {
+    const errors = new FormErrors();
+    const table = fieldTable(SPECS, errors);
+    const rows = table.rows();
+    expect(errors.readOrShow(() => table.read())?.name).toBe("");
+    const bad = errors.readOrShow(() => {
+      throw new InputError("width", "Not JSON: {");
+    });
+    expect(bad).toBeNull();
+    const message = rows[1]!.querySelector(".field-error") as HTMLElement;
+    expect(message.hidden).toBe(false);
+    expect(message.textContent).toContain("Not JSON");
+    expect(() =>
+      errors.readOrShow(() => {
+        throw new TypeError("a bug");
+      }),
+    ).toThrow("a bug");
   });
 });

@@ -9,7 +9,6 @@ import { attempt, deleteWorld, notify, refreshWorlds } from "../app/actions";
 import type { AppStore } from "../app/state";
 import { ApiError, api, toApiError, unwrap } from "../api/client";
 import type { Region, WorldSpec } from "../api/types";
-import { InputError } from "../lib/input-error";
 import { formatList } from "../lib/parse";
 import { confirmButton } from "../ui/confirm";
 import { h, options, replaceChildren } from "../ui/dom";
@@ -227,13 +226,8 @@ export function worldEditor(store: AppStore): HTMLElement {
   const onSubmit = async (event: Event) => {
     event.preventDefault();
     errors.clear();
-    let world: WorldSpec;
-    try {
-      world = read();
-    } catch (error) {
-      if (error instanceof InputError) errors.showField(error.path, error.message);
-      return;
-    }
+    const world = errors.readOrShow(read);
+    if (world === null) return;
     const worldName = world.name ?? "";
     save.disabled = true;
     try {
