@@ -1,6 +1,6 @@
 // @vitest-environment happy-dom
 import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
-import { createQueryClient, invalidate, keys, watchQuery } from "../src/app/queries";
+import { createQueryClient, keys, readNow, watchQuery } from "../src/app/queries";
 
 describe("watchQuery", () => {
   beforeEach(() => {
@@ -69,7 +69,7 @@ describe("watchQuery", () => {
     watcher.stop();
   });
 
-  it("reads again at once when its key is invalidated, and shares a reading under way", async () => {
+  it("reads once without an interval, shares a reading under way, and reads anew when asked to now", async () => {
     const client = createQueryClient();
     let n = 0;
     const read = vi.fn(async () => {
@@ -87,12 +87,14 @@ describe("watchQuery", () => {
     await both;
     expect(read).toHaveBeenCalledTimes(2); // one reading for the two asks
     expect(seen).toEqual([1, 2]);
-    // An invalidation drops a reading that started before the change for a new one.
+    // Reading now (after a change) drops a reading that began before it, and hands its answer to the
+    // caller and to the watcher alike.
     const first = watcher.refetch();
     await vi.advanceTimersByTimeAsync(10);
-    const again = invalidate(keys.runs, client);
+    const again = readNow(keys.runs, read, client);
     await vi.advanceTimersByTimeAsync(100);
-    await Promise.all([first, again]);
+    await first;
+    expect(await again).toBe(4);
     expect(read).toHaveBeenCalledTimes(4);
     expect(seen.at(-1)).toBe(4);
     watcher.stop();

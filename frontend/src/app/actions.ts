@@ -5,7 +5,7 @@
 import { ApiError, api, errorMessage, unwrap } from "../api/client";
 import type { Demon, DemonSpec, Protocol, Run, RunBrief, RunTemplate } from "../api/types";
 import { startPoint } from "../lib/world";
-import { keys, queryClient } from "./queries";
+import { keys, readNow } from "./queries";
 import { type AppStore, chartedDemons } from "./state";
 
 /** The live view labels and charts at most this many demons: the first charted ones. */
@@ -51,8 +51,7 @@ export function applyRuns(store: AppStore, runs: RunBrief[]): void {
 
 /** Read the run list now, after a change: a reading under way (begun before the change) is dropped. */
 export async function refreshRuns(store: AppStore): Promise<void> {
-  await queryClient.cancelQueries({ queryKey: keys.runs });
-  applyRuns(store, await queryClient.fetchQuery({ queryKey: keys.runs, queryFn: readRuns, staleTime: 0 }));
+  applyRuns(store, await readNow(keys.runs, readRuns));
 }
 
 function clearSelection(store: AppStore): void {

@@ -2,7 +2,7 @@
  * Everything the dashboard reads from the server more than once goes through one @tanstack/query-core
  * client: a view or watcher observes a query (`watchQuery`), which refetches on its interval while it is
  * observed and enabled, pauses while the page is hidden, shares one reading under way between everyone
- * who asks, and reads again at once when an action that changed the data invalidates its key.
+ * who asks, and reads again at once when an action that changed the data asks (`readNow`).
  */
 import { QueryClient, QueryObserver, type QueryKey } from "@tanstack/query-core";
 
@@ -101,9 +101,10 @@ export function watchQuery<T>(
 }
 
 /**
- * Read the queries under `key` again now (those observed), after an action changed what they read: a
- * reading under way, which may have started before the change, is dropped for a new one.
+ * Read `key` now, after an action changed what it reads, and return the answer (its observers get it
+ * too): a reading under way, which may have begun before the change, is dropped for a new one.
  */
-export async function invalidate(key: QueryKey, client: QueryClient = queryClient): Promise<void> {
-  await client.invalidateQueries({ queryKey: key });
+export async function readNow<T>(key: QueryKey, read: () => Promise<T>, client: QueryClient = queryClient): Promise<T> {
+  await client.cancelQueries({ queryKey: key });
+  return client.fetchQuery({ queryKey: key, queryFn: read, staleTime: 0 });
 }
