@@ -87,6 +87,21 @@ def serve_in_thread(settings: Settings) -> Iterator[RunningServer]:
         thread.join(timeout=20)
 
 
+@pytest.fixture(scope="session", autouse=True)
+def docs_pictures_untouched() -> Iterator[None]:
+    """The browser tests write screenshots to SHOTS only: the tracked pictures in docs/ stay as they are
+    (`make screenshots` refreshes them on purpose, after the tests)."""
+    docs = ROOT / "docs"
+
+    def pictures() -> dict[str, tuple[int, int]]:
+        return {p.name: (p.stat().st_mtime_ns, p.stat().st_size) for p in sorted(docs.rglob("*.png"))}
+
+    before = pictures()
+    yield
+    after = pictures()
+    assert after == before, f"a browser test wrote into docs/: {sorted(set(after.items()) ^ set(before.items()))}"
+
+
 @pytest.fixture(scope="module")
 def browser() -> Iterator[Browser]:
     """One headless chromium per test module (Debian's, with CHROMIUM_ARGS)."""

@@ -15,6 +15,7 @@ from urllib.parse import urlparse
 
 import pytest
 from playwright.sync_api import Error as PlaywrightError
+from playwright.sync_api import expect
 
 from horde.server import Settings
 
@@ -318,11 +319,11 @@ def test_help_tooltips_shortcuts_and_the_tour(browser: Browser, server: RunningS
     page.keyboard.press(" ")
     page.locator(f'li.run-item[data-run="{run_id}"] .badge', has_text="paused").wait_for()
     before = server.client.get(f"/api/runs/{run_id}").json()["step"]
+    counters = page.locator(f'li.run-item[data-run="{run_id}"]').get_by_test_id("run-counters")
+    expect(counters, "the paused run's card caught up").to_contain_text(f"step {before:,} ·")
     page.keyboard.press("s")
-    deadline = time.monotonic() + 10
-    while server.client.get(f"/api/runs/{run_id}").json()["step"] == before:
-        assert time.monotonic() < deadline, "s took no step"
-        time.sleep(0.05)
+    expect(counters, "s steps the selected run").not_to_contain_text(f"step {before:,} ·", timeout=10_000)
+    assert server.client.get(f"/api/runs/{run_id}").json()["step"] > before
     page.keyboard.press(" ")
     page.locator(f'li.run-item[data-run="{run_id}"] .badge', has_text="running").wait_for()
     server.client.post(f"/api/runs/{run_id}/pause")

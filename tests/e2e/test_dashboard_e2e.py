@@ -8,7 +8,6 @@ of the main screens land in test-artifacts/screenshots (`make screenshots` refre
 from __future__ import annotations
 
 import re
-import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -17,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 import httpx
 import pytest
+from playwright.sync_api import expect
 
 from horde.server import Settings
 
@@ -34,7 +34,7 @@ pytestmark = [
 ]
 
 if TYPE_CHECKING:  # Playwright itself is imported in the browser fixture
-    from playwright.sync_api import Browser, Page
+    from playwright.sync_api import Browser, Locator, Page
 
 
 @dataclass
@@ -121,16 +121,26 @@ def select_run(page: Page, run_id: str) -> None:
     page.locator(f'li.run-item.selected[data-run="{run_id}"]').wait_for()
 
 
+def cell_at(page: Page, demon: str, column: int) -> Locator:
+    """A demon table cell; column 1 is the prediction now, 2-4 the evaluation (for `expect`, which retries)."""
+    return page.locator(f'table.demon-table tr[data-demon="{demon}"] td').nth(column - 1)
+
+
 def cell(page: Page, demon: str, column: int) -> str:
-    """The text of a demon table cell; column 1 is the prediction now, 2-4 the evaluation."""
-    return page.locator(f'table.demon-table tr[data-demon="{demon}"] td').nth(column - 1).inner_text().strip()
+    """The text of a demon table cell now."""
+    return cell_at(page, demon, column).inner_text().strip()
 
 
-def wait_until(predicate: Any, timeout: float = TIMEOUT_MS / 1000, what: str = "condition") -> None:
-    deadline = time.monotonic() + timeout
-    while not predicate():
-        assert time.monotonic() < deadline, f"timed out waiting for {what}"
-        time.sleep(0.05)
+def step_of(counters: str) -> int:
+    """The step a run's card counts ("episode 3 · step 1,234 · 20 steps/s" -> 1234)."""
+    found = re.search(r"step ([\d,]+)", counters)
+    assert found, f"no step in {counters!r}"
+    return int(found.group(1).replace(",", ""))
+
+
+def any_of(texts: set[str]) -> re.Pattern[str]:
+    """A pattern matching exactly one of `texts` (for `not_to_have_text`: wait until the text is new)."""
+    return re.compile("^(" + "|".join(re.escape(t) for t in sorted(texts)) + ")$")
 
 
 def field_error(page: Page, label: str) -> str:
@@ -149,8 +159,7 @@ def test_launch_experiment1_and_watch_it_learn(page: Page, server: Server) -> No
     # The new run is selected; its step counter in the top bar moves.
     page.locator("li.run-item.selected").wait_for()
     step = page.get_by_test_id("step")
-    first = step.inner_text()
-    wait_until(lambda: step.inner_text() != first, what="the step counter to move")
+    expect(step, "the step counter moves").not_to_have_text(step.inner_text())
     assert re.fullmatch(r"step [\d,]+", step.inner_text())
     runs = server.client.get("/api/runs").json()
     assert [(r["name"], r["status"]) for r in runs] == [("experiment1", "running")]
@@ -158,14 +167,13 @@ def test_launch_experiment1_and_watch_it_learn(page: Page, server: Server) -> No
 
     # The prediction of steps_to_end at the agent's state changes as the agent moves and learns.
     page.locator('table.demon-table tr[data-demon="steps_to_end"]').wait_for()
-    seen: set[str] = set()
-
-    def prediction_changed() -> bool:
+    now = cell_at(page, "steps_to_end", 1)
+    expect(now, "steps_to_end has a prediction").to_have_text(NUMBER)
+    seen = {cell(page, "steps_to_end", 1)}
+    for _ in range(2):
+        expect(now, f"the prediction of steps_to_end moves on from {seen}").not_to_have_text(any_of(seen | {"–"}))
         seen.add(cell(page, "steps_to_end", 1))
-        return len(seen - {"–"}) >= 3
-
-    wait_until(prediction_changed, what="the prediction of steps_to_end to change")
-    assert all(NUMBER.match(v) for v in seen - {"–"}), seen
+    assert len(seen) == 3 and all(NUMBER.match(v) for v in seen), seen
     assert cell(page, "steps_to_end", 5) == "30.700"  # the thesis's number beside ours
 
     # Charts draw once the histories arrive; the viser note stands where the server offers no view.
@@ -179,7 +187,10 @@ def test_launch_experiment1_and_watch_it_learn(page: Page, server: Server) -> No
     row.locator(".badge", has_text="paused").wait_for()
     before = server.client.get(f"/api/runs/{run_id}").json()["step"]
     row.get_by_role("button", name=re.compile("^Step run")).click()
-    wait_until(lambda: server.client.get(f"/api/runs/{run_id}").json()["step"] == before + 1, what="one step")
+    expect(row.get_by_test_id("run-counters"), "the run's card counts one step more").to_contain_text(
+        f"step {before + 1:,} ·"
+    )
+    assert server.client.get(f"/api/runs/{run_id}").json()["step"] == before + 1
 
 
 def test_add_a_demon_to_a_live_run_and_see_a_422_at_its_field(page: Page, server: Server, console: Console) -> None:
@@ -225,7 +236,7 @@ def test_add_a_demon_to_a_live_run_and_see_a_422_at_its_field(page: Page, server
     # The live run goes on with the new demon in the table.
     page.get_by_role("tab", name="Live").click()
     page.locator('table.demon-table tr[data-demon="reach_goal"]').wait_for()
-    wait_until(lambda: NUMBER.match(cell(page, "reach_goal", 1)) is not None, what="a prediction of reach_goal")
+    expect(cell_at(page, "reach_goal", 1), "the new demon reach_goal predicts").to_have_text(NUMBER)
 
 
 def test_evaluate_a_demon_and_see_truth_beside_prediction(page: Page, server: Server) -> None:
@@ -233,7 +244,7 @@ def test_evaluate_a_demon_and_see_truth_beside_prediction(page: Page, server: Se
     select_run(page, run_id)
     page.get_by_label("Rollouts per evaluation").fill("30")
     page.get_by_role("button", name="Evaluate steps_to_end").click()
-    wait_until(lambda: cell(page, "steps_to_end", 3) != "–", timeout=30, what="the Monte-Carlo truth")
+    expect(cell_at(page, "steps_to_end", 3), "the truth of steps_to_end").not_to_have_text("–", timeout=30_000)
     prediction, truth, error = (cell(page, "steps_to_end", c) for c in (2, 3, 4))
     assert NUMBER.match(prediction), prediction
     # Experiment 1's world is a lattice: the exact answer stands in for the Monte-Carlo mean.
@@ -242,7 +253,7 @@ def test_evaluate_a_demon_and_see_truth_beside_prediction(page: Page, server: Se
     assert page.get_by_role("button", name="Evaluate steps_to_end").is_enabled()
 
     page.get_by_role("button", name="Evaluate base").click()
-    wait_until(lambda: cell(page, "base", 3) != "–", timeout=30, what="the Monte-Carlo truth of base")
+    expect(cell_at(page, "base", 3), "the truth of base").not_to_have_text("–", timeout=30_000)
     page.locator("figure.chart canvas").first.wait_for()
     page.wait_for_timeout(1200)  # one more chart refresh, so that the lines show some history
     page.evaluate("window.scrollTo(0, 0)")
@@ -313,10 +324,14 @@ def test_the_viser_view_is_embedded_and_follows_the_selected_run(page: Page, ser
     assert frame.get_attribute("src") == view_url
     assert page.frame_locator("iframe.viser-frame").get_by_text("viser here").is_visible()
     run_id = server.create_run()
-    select_run(page, run_id)
     # With the demons it charts, which the view labels too (prediction demons first).
     wanted = {"run": run_id, "demons": ["steps_to_end", "base"]}
-    wait_until(lambda: wanted in shown, what="POST /api/view with the selected run and its charted demons")
+
+    def tells_the_view(request: Any) -> bool:
+        return request.method == "POST" and request.url.endswith("/api/view") and request.post_data_json == wanted
+
+    with page.expect_request(tells_the_view):  # bounded by the page's timeout
+        select_run(page, run_id)
     assert all(body["run"] == run_id for body in shown)
 
 
@@ -332,11 +347,17 @@ def test_the_live_view_of_a_real_server_follows_the_selected_run(
         page.goto(live.url)
         assert page.locator("iframe.viser-frame").get_attribute("src") == view_url
         for run_id in (first, second, first):
-            select_run(page, run_id)
-            wait_until(
-                lambda run_id=run_id: live.client.get("/api/view").json()["run"] == run_id,
-                what=f"the view to show {run_id}",
-            )
+            # The page switches the view with POST /api/view; once answered, the server shows the run.
+            with page.expect_response(
+                lambda response, run_id=run_id: (
+                    response.request.method == "POST"
+                    and response.url.endswith("/api/view")
+                    and (response.request.post_data_json or {}).get("run") == run_id
+                )
+            ) as switched:
+                select_run(page, run_id)
+            assert switched.value.ok, f"POST /api/view for {run_id}: {switched.value.status}"
+            assert live.client.get("/api/view").json()["run"] == run_id
     assert console.unexpected() == [], "errors in the browser console"
 
 
@@ -365,8 +386,12 @@ def test_remove_a_demon_from_a_live_run(page: Page, server: Server, console: Con
     page.get_by_role("status").filter(has_text="Removed demon 'steps_to_end'").wait_for()
     page.locator('table.demon-table tr[data-demon="steps_to_end"]').wait_for(state="detached")
     assert [d["name"] for d in server.client.get(f"/api/runs/{run_id}/demons").json()] == ["base"]
-    step = server.client.get(f"/api/runs/{run_id}").json()["step"]
-    wait_until(lambda: server.client.get(f"/api/runs/{run_id}").json()["step"] > step, what="the run to go on")
+    # The run's card (fed by the stream) counts on: compared with what the card itself showed, since it
+    # lags the server by a message or two.
+    counters = page.locator(f'li.run-item[data-run="{run_id}"]').get_by_test_id("run-counters")
+    shown = counters.inner_text()
+    expect(counters, "the run learns on without the demon").not_to_have_text(shown)
+    assert step_of(counters.inner_text()) > step_of(shown)
 
 
 def test_delete_a_stored_world(page: Page, server: Server) -> None:
@@ -395,8 +420,8 @@ def protocol_panel(page: Page, server: Server, scenario: str) -> Any:
     panel.get_by_label("Scenario").select_option(scenario)
     spec = server.client.get(f"/api/scenarios/{scenario}").json()
     expected = [str(spec["protocol"]["trials"]), str(spec["protocol"]["episodes"]), str(spec["seed"])]
-    fields = [panel.get_by_label(label) for label in ("Trials", "Episodes per trial", "Seed")]
-    wait_until(lambda: [f.input_value() for f in fields] == expected, what="the scenario's protocol and seed")
+    for label, value in zip(("Trials", "Episodes per trial", "Seed"), expected, strict=True):
+        expect(panel.get_by_label(label), f"{label} filled from the scenario {scenario}").to_have_value(value)
     return panel
 
 
@@ -487,9 +512,10 @@ def test_one_protocol_at_a_time_and_cancel(page: Page, server: Server, console: 
         return int(count.inner_text().split(" / ")[0].replace(",", ""))
 
     first = episodes_done()
-    wait_until(lambda: episodes_done() > first, what="the progress to move")
+    expect(count, "the progress moves").not_to_have_text(count.inner_text())
+    assert episodes_done() > first
     assert " / 100,000 episodes · " in count.inner_text()
-    wait_until(lambda: "left" in panel.get_by_test_id("protocol-timing").inner_text(), what="the time left")
+    expect(panel.get_by_test_id("protocol-timing"), "the time left is told").to_contain_text("left")
     assert "elapsed" in panel.get_by_test_id("protocol-timing").inner_text()
 
     # Cancel: the job stops at its next episode; the page can run protocols again.

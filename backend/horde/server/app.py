@@ -32,6 +32,7 @@ from horde.server.responses import add_error_handlers
 from horde.server.routes import ROUTERS
 from horde.server.settings import Settings
 from horde.server.stream import StreamHub
+from horde.server.stream_protocol import add_stream_schemas
 from horde.studies.jobs import StudyJobs
 from horde.view.live import LiveView
 from horde.view.manager_source import ManagerSource
@@ -119,6 +120,7 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
         redoc_url=None,
     )
     add_api_docs(app)
+    add_stream_schemas(app)
     app.state.settings = settings
     app.state.live_view = None
     app.state.catalog = ScenarioCatalog(settings.scenarios)

@@ -21,11 +21,13 @@ from horde.runs.events import RECENT_EVENTS
 from horde.runs.live_run import LiveRun
 from horde.runs.manager import RunManager
 from horde.server.convert import state_out
+from horde.server.stream_protocol import StreamClose
 
-CLOSE_UNKNOWN_RUN = 4404
-CLOSE_RUN_DELETED = 4410
-CLOSE_TOO_SLOW = 1013  # "try again later"
-CLOSE_GOING_AWAY = 1001
+# The close codes, from the one source the dashboard's are generated from (stream_protocol.py).
+CLOSE_UNKNOWN_RUN = StreamClose.NOT_FOUND
+CLOSE_RUN_DELETED = StreamClose.RUN_DELETED
+CLOSE_TOO_SLOW = StreamClose.TOO_SLOW
+CLOSE_GOING_AWAY = StreamClose.GOING_AWAY
 INITIAL_EVENTS = MAX_EVENTS_PER_MESSAGE = RECENT_EVENTS  # the first message's events, and any later one's
 # Demons per message at most: a Horde of thousands would make every message megabytes. Each message
 # carries the next ones in turn, so every demon is refreshed every `demons / MAX_STREAM_DEMONS` messages.

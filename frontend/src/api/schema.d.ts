@@ -1503,6 +1503,8 @@ export interface components {
             thesis?: components["schemas"]["ThesisResults"];
             world?: components["schemas"]["WorldSpec"];
         };
+        /** @description A message of WS /api/runs/{id}/stream: the run's state, with the events since the previous message (at most about 30 a second). */
+        RunStreamMessage: components["schemas"]["StateOut"];
         /**
          * RunTemplateIn
          * @description A run from a scenario and/or a stored world, with overrides merged into it.
@@ -1762,6 +1764,12 @@ export interface components {
             window: number;
         };
         /**
+         * StreamClose
+         * @description How the server closes a WebSocket stream: 1000 NORMAL: the stream is over (a study stopped); 1001 GOING_AWAY: the server is stopping; 1008 ORIGIN_REFUSED: a page of another site may not open the stream; 1013 TOO_SLOW: the client fell too far behind, or a send timed out ('try again later'); 4404 NOT_FOUND: no such run (or study); 4410 RUN_DELETED: the run was deleted while streamed
+         * @enum {integer}
+         */
+        StreamClose: 1000 | 1001 | 1008 | 1013 | 4404 | 4410;
+        /**
          * StudyConfigOut
          * @description One configuration over its finished runs.
          */
@@ -1985,6 +1993,8 @@ export interface components {
              */
             scenario?: string | null;
         };
+        /** @description A message of WS /api/studies/{id}/stream: the study, twice a second while it runs, and once when it stops. */
+        StudyStreamMessage: components["schemas"]["StudyOut"];
         /**
          * SummaryOut
          * @description How a finished run ended; predictions are read at the world's start point.

@@ -12,6 +12,8 @@ export type RunStatus = RunBrief["status"];
 export type RunSpec = Schemas["RunSpec-Output"];
 export type RunTemplate = Schemas["RunTemplateIn"];
 export type RunState = Schemas["StateOut"];
+/** A message of a run's WebSocket stream (a `RunState`, `type: "state"`). */
+export type RunStreamMessage = Schemas["RunStreamMessage"];
 export type DemonMetrics = Schemas["DemonMetricsOut"];
 export type Demon = Schemas["DemonOut"];
 export type DemonSpec = Schemas["DemonSpec-Input"];
@@ -33,3 +35,8 @@ export type ProtocolStatus = Protocol["status"];
 export type DemonResult = Schemas["DemonResultOut"];
 export type Counts = Schemas["CountsOut"];
 export type LiveViewInfo = Schemas["ViewOut"];
+export type Study = Schemas["StudyOut"];
+export type StudyDetail = Schemas["StudyResultsOut"];
+export type StudyConfig = Schemas["StudyConfigOut"];
+export type StudyIn = Schemas["StudySpec"];
+export type Band = Schemas["BandOut"];

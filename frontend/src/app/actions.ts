@@ -3,8 +3,9 @@
  * Views call these and never talk to the API themselves (except the forms, which need the 422s).
  */
 import { ApiError, api, errorMessage, unwrap } from "../api/client";
-import type { Demon, DemonSpec, Protocol, Run, RunTemplate } from "../api/types";
+import type { Demon, DemonSpec, Protocol, Run, RunBrief, RunTemplate } from "../api/types";
 import { startPoint } from "../lib/world";
+import { keys, readNow } from "./queries";
 import { type AppStore, chartedDemons } from "./state";
 
 /** The live view labels and charts at most this many demons: the first charted ones. */
@@ -36,11 +37,21 @@ export async function refreshWorlds(store: AppStore): Promise<void> {
   store.update({ worlds: await unwrap(api.GET("/api/worlds")) });
 }
 
-export async function refreshRuns(store: AppStore): Promise<void> {
-  const runs = await unwrap(api.GET("/api/runs"));
+/** GET /api/runs: the runs' briefs (the query `keys.runs` that app/watch.ts polls). */
+export function readRuns(): Promise<RunBrief[]> {
+  return unwrap(api.GET("/api/runs"));
+}
+
+/** Take a reading of the run list into the store; a selected run that is gone is deselected. */
+export function applyRuns(store: AppStore, runs: RunBrief[]): void {
   store.update({ runs });
   const selected = store.state.selectedRunId;
   if (selected !== null && !runs.some((r) => r.id === selected)) clearSelection(store);
+}
+
+/** Read the run list now, after a change: a reading under way (begun before the change) is dropped. */
+export async function refreshRuns(store: AppStore): Promise<void> {
+  applyRuns(store, await readNow(keys.runs, readRuns));
 }
 
 function clearSelection(store: AppStore): void {
@@ -228,11 +239,15 @@ export async function startProtocol(store: AppStore, template: RunTemplate): Pro
 }
 
 /** Read the shown job again (its progress, then its results). */
-export async function refreshProtocol(store: AppStore): Promise<void> {
+/** GET /api/protocols/{id}: one protocol job (the query `keys.protocol(id)` polled while it runs). */
+export function readProtocol(jobId: string): Promise<Protocol> {
+  return unwrap(api.GET("/api/protocols/{job_id}", { params: { path: { job_id: jobId } } }));
+}
+
+/** Take a reading of the shown protocol job into the store; its end is announced, its results kept. */
+export function applyProtocol(store: AppStore, job: Protocol): void {
   const shown = store.state.protocol;
-  if (shown === null) return;
-  const job = await unwrap(api.GET("/api/protocols/{job_id}", { params: { path: { job_id: shown.id } } }));
-  if (store.state.protocol?.id !== job.id) return;
+  if (shown?.id !== job.id) return;
   store.update({ protocol: job });
   if (shown.status === "running" && job.status !== "running") {
     // Its results join the table of every job.
@@ -241,6 +256,12 @@ export async function refreshProtocol(store: AppStore): Promise<void> {
     if (job.status === "failed") notify(store, `Protocol ${name} failed: ${job.error}`, "error");
     else notify(store, `Protocol ${name} ${job.status}.`);
   }
+}
+
+export async function refreshProtocol(store: AppStore): Promise<void> {
+  const shown = store.state.protocol;
+  if (shown === null) return;
+  applyProtocol(store, await readProtocol(shown.id));
 }
 
 /** Ask the shown job to stop; it stops at its next episode (the status follows in the next reading). */

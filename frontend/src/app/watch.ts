@@ -1,32 +1,33 @@
 /**
  * Keeps the store current: the run list every second, the selected run's WebSocket stream, which
  * also notices when demons join or leave (the run is read again) and when it finishes, and the
- * protocol job while it runs (four readings a second: its progress, then its results).
+ * protocol job while it runs (four readings a second: its progress, then its results). The readings
+ * are queries of app/queries.ts.
  */
 import { ApiError } from "../api/client";
 import { RunStream } from "../api/stream";
 import type { RunState } from "../api/types";
-import { attempt, notify, refreshProtocol, refreshRuns, reloadSelectedRun, showInLiveView } from "./actions";
+import {
+  applyProtocol,
+  applyRuns,
+  attempt,
+  notify,
+  readProtocol,
+  readRuns,
+  reloadSelectedRun,
+  showInLiveView,
+} from "./actions";
+import { keys, queryClient, watchQuery } from "./queries";
 import { type AppState, type AppStore, chartedDemons } from "./state";
 
 const RUNS_PERIOD_MS = 1000;
 const PROTOCOL_PERIOD_MS = 250;
 
 export function watchRuns(store: AppStore): void {
-  let busy = false;
-  const tick = async () => {
-    if (busy || document.hidden) return;
-    busy = true;
-    try {
-      await refreshRuns(store);
-    } catch {
-      // The server may be restarting; the next tick tries again.
-    } finally {
-      busy = false;
-    }
-  };
-  void tick();
-  window.setInterval(tick, RUNS_PERIOD_MS);
+  // A failed reading (the server may be restarting) is simply tried again at the next interval.
+  watchQuery(queryClient, { queryKey: keys.runs, queryFn: readRuns, every: RUNS_PERIOD_MS }, (runs) =>
+    applyRuns(store, runs),
+  );
 }
 
 export function watchSelectedRun(store: AppStore): void {
@@ -119,26 +120,27 @@ export function watchChartedForView(store: AppStore): void {
 }
 
 export function watchProtocol(store: AppStore): void {
-  let timer: number | undefined;
-  const schedule = (state: Readonly<AppState>) => {
-    if (timer === undefined && state.protocol?.status === "running")
-      timer = window.setTimeout(poll, PROTOCOL_PERIOD_MS);
+  const watchOf = (state: Readonly<AppState>) => {
+    const jobId = state.protocol?.id ?? "";
+    return {
+      queryKey: keys.protocol(jobId),
+      queryFn: () => readProtocol(jobId),
+      every: PROTOCOL_PERIOD_MS,
+      enabled: state.protocol?.status === "running",
+    };
   };
-  const poll = async () => {
-    timer = undefined;
-    try {
-      await refreshProtocol(store);
-    } catch (error) {
-      if (error instanceof ApiError && error.status === 404) {
+  const watcher = watchQuery(
+    queryClient,
+    watchOf(store.state),
+    (job) => applyProtocol(store, job),
+    (error) => {
+      if (error instanceof ApiError && error.status === 404 && store.state.protocol !== null) {
         // Forgotten by the server (another client cleared it, or the server restarted).
         notify(store, "The protocol job is gone from the server.", "error");
         store.update({ protocol: null, protocolStartedAt: null });
-        return;
       }
-      // The server may be restarting; the next reading tries again.
-    }
-    schedule(store.state);
-  };
-  store.subscribe(schedule, ["protocol"]);
-  schedule(store.state);
+      // Otherwise the server may be restarting; the next reading tries again.
+    },
+  );
+  store.subscribe((state) => watcher.update(watchOf(state)), ["protocol"]);
 }

@@ -3,14 +3,9 @@
  * sorting the table, and the points of sensitivity curves (the best configuration over the axes that are
  * neither on the x axis nor the grouping one), as `horde study --plots` draws them.
  */
-import type { components } from "../api/schema";
+import type { Band, Study, StudyConfig, StudyDetail, StudyIn } from "../api/types";
 
-type Schemas = components["schemas"];
-export type Study = Schemas["StudyOut"];
-export type StudyDetail = Schemas["StudyResultsOut"];
-export type StudyConfig = Schemas["StudyConfigOut"];
-export type StudyIn = Schemas["StudySpec"];
-export type Band = Schemas["BandOut"];
+export type { Band, Study, StudyConfig, StudyDetail, StudyIn };
 export type AxisValue = number | string | boolean;
 
 /** "0.01, 0.1, 1" -> numbers; "td, gq" -> strings; true/false -> booleans. Empty items are dropped. */

@@ -5,6 +5,7 @@
 import type { ValidationProblem } from "../api/types";
 import { type Term, tip } from "../lib/glossary";
 import { placeProblems } from "../lib/field-errors";
+import { InputError } from "../lib/input-error";
 import { h, replaceChildren, uid } from "./dom";
 
 type Control = HTMLInputElement | HTMLSelectElement | HTMLTextAreaElement;
@@ -98,6 +99,20 @@ export class FormErrors {
     }
     this.showAt(slot, [message]);
     slot.control?.focus();
+  }
+
+  /**
+   * The form's value from `read`, or null once the InputError it threw (text that cannot be read at
+   * all, e.g. JSON that does not parse) is shown at the field it names. Any other error is thrown on.
+   */
+  readOrShow<T>(read: () => T): T | null {
+    try {
+      return read();
+    } catch (error) {
+      if (!(error instanceof InputError)) throw error;
+      this.showField(error.path, error.message);
+      return null;
+    }
   }
 
   showGeneral(message: string): void {

@@ -8,6 +8,7 @@
  */
 import uPlot from "uplot";
 import "uplot/dist/uPlot.min.css";
+import { keys, queryClient, watchQuery } from "../app/queries";
 import { type AppState, type AppStore, chartedDemons } from "../app/state";
 import { api, unwrap } from "../api/client";
 import type { Evaluation, History } from "../api/types";
@@ -39,8 +40,6 @@ export function charts(store: AppStore): HTMLElement {
     grid,
   );
   const multiples = new Map<string, Multiple>();
-  let lastKey = "";
-  let busy = false;
 
   const layout = (state: Readonly<AppState>) => {
     const names = chartedDemons(state);
@@ -84,42 +83,54 @@ export function charts(store: AppStore): HTMLElement {
     }
   };
 
-  const refresh = async (force = false) => {
-    const state = store.state;
-    const { selectedRunId: runId, live, tab } = state;
-    const names = chartedDemons(state);
-    if (runId === null || names.length === 0 || tab !== "live" || document.hidden) return;
-    const key = `${runId}|${names.join(",")}|${live?.step ?? ""}`;
-    if ((!force && key === lastKey) || busy) return;
-    busy = true;
-    try {
-      const histories = await Promise.all(
-        names.map((name) =>
-          unwrap(api.GET("/api/runs/{run_id}/demons/{name}/history", { params: { path: { run_id: runId, name } } })),
-        ),
-      );
-      if (store.state.selectedRunId !== runId) return;
-      lastKey = key;
-      for (const history of histories) {
-        const multiple = multiples.get(history.demon);
-        if (multiple) draw(multiple, history, store.state);
-      }
-    } catch {
-      // A demon removed or a run deleted between two reads: the next refresh catches up.
-    } finally {
-      busy = false;
-    }
+  // The charted demons' histories: a query read every second while the run runs, at once when the
+  // choice, the run or an evaluation changes, and after a step of a paused run.
+  let readAtStep: number | null = null;
+  const readHistories = async (runId: string, names: readonly string[]): Promise<History[]> => {
+    readAtStep = store.state.live?.step ?? null;
+    return Promise.all(
+      names.map((name) =>
+        unwrap(api.GET("/api/runs/{run_id}/demons/{name}/history", { params: { path: { run_id: runId, name } } })),
+      ),
+    );
   };
+  const watchOf = (state: Readonly<AppState>) => {
+    const runId = state.selectedRunId ?? "";
+    const names = chartedDemons(state);
+    return {
+      queryKey: keys.histories(runId, names),
+      queryFn: () => readHistories(runId, names),
+      every: state.live?.status === "running" ? REFRESH_MS : (false as const),
+      enabled: runId !== "" && names.length > 0 && state.tab === "live",
+    };
+  };
+  // A demon removed or a run deleted between two reads fails a reading: the next one catches up.
+  const histories = watchQuery(queryClient, watchOf(store.state), (read) => {
+    for (const history of read) {
+      const multiple = multiples.get(history.demon);
+      if (multiple) draw(multiple, history, store.state);
+    }
+  });
 
   store.subscribe(
     (state) => {
       layout(state);
-      void refresh(true);
+      const watch = watchOf(state);
+      histories.update(watch);
+      if (watch.enabled) void histories.refetch();
     },
     ["selectedRunId", "charted", "tab", "classroom", "demons", "evaluations", "large"],
   );
+  store.subscribe(
+    (state) => {
+      const watch = watchOf(state);
+      histories.update(watch);
+      const step = state.live?.step ?? null;
+      if (watch.enabled && state.live?.status !== "running" && step !== readAtStep) void histories.refetch();
+    },
+    ["live"],
+  );
   layout(store.state);
-  window.setInterval(() => void refresh(), REFRESH_MS);
   // The grid decides each cell's width; the plots follow it (and never the other way round).
   new ResizeObserver(() => {
     for (const multiple of multiples.values()) multiple.plot?.setSize(plotSize(multiple.box));

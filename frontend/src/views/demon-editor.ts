@@ -8,7 +8,6 @@ import type { AppState, AppStore } from "../app/state";
 import { ApiError } from "../api/client";
 import type { Demon, DemonSpec } from "../api/types";
 import { runLabel } from "../lib/format";
-import { InputError } from "../lib/input-error";
 import { readNumber, readOptionalNumber } from "../lib/parse";
 import { regionNames, sensorNames } from "../lib/world";
 import { h, options, replaceChildren } from "../ui/dom";
@@ -132,13 +131,8 @@ export function demonEditor(store: AppStore): HTMLElement {
     errors.clear();
     const runId = store.state.selectedRunId;
     if (runId === null) return;
-    let spec: DemonSpec;
-    try {
-      spec = read();
-    } catch (error) {
-      if (error instanceof InputError) errors.showField(error.path, error.message);
-      return;
-    }
+    const spec = errors.readOrShow(read);
+    if (spec === null) return;
     submit.disabled = true;
     try {
       const demon = await addDemon(store, runId, spec);

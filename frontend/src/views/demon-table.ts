@@ -4,8 +4,8 @@
  * thesis's number when the scenario has one, RUPEE, UDE, and a `diverged` mark; a colour dot and a chart
  * toggle under each name, and an Evaluate and a Remove button per demon (removing takes two presses).
  * Above it a summary (how many demons learn, how many diverged, mean RUPEE) and a filter. At Horde scale
- * the table scrolls in its own box and only the rows in sight exist (@tanstack/virtual-core). Cells are
- * updated in place from the stream.
+ * the table scrolls in its own box and only the rows in sight exist (@tanstack/virtual-core). The rows
+ * are lit-html templates kept by the demon's name (`repeat`): cells are updated in place from the stream.
  */
 import { Virtualizer, elementScroll, observeElementOffset, observeElementRect } from "@tanstack/virtual-core";
 import { attempt, evaluateDemon, notify, removeDemon, toggleCharted } from "../app/actions";
@@ -17,11 +17,15 @@ import { formatNumber, formatRelativeError, formatTruth, truthOf } from "../lib/
 import { type Term, tip } from "../lib/glossary";
 import { readNumber } from "../lib/parse";
 import { startPoint } from "../lib/world";
+import { type ConfirmButton, confirmButton } from "../ui/confirm";
 import { h, options, setText } from "../ui/dom";
+import { html, nothing, render as renderTemplate } from "lit-html";
+import { live } from "lit-html/directives/live.js";
+import { repeat } from "lit-html/directives/repeat.js";
+import { styleMap } from "lit-html/directives/style-map.js";
 import { field, numberInput } from "../ui/form";
 
 const DEFAULT_ROLLOUTS = 100;
-const REMOVE_CONFIRM_MS = 4000;
 /** Above this many shown demons the table scrolls in its own box and keeps only the rows in sight. */
 export const VIRTUAL_FROM = 60;
 const ROW_ESTIMATE_PX = 72;
@@ -31,23 +35,18 @@ function explained(tag: "th", term: Term, props: Record<string, unknown>, label:
   return h(tag, { ...props, title: tip(term) }, h("span", { class: "term" }, label));
 }
 
-interface Row {
-  tr: HTMLTableRowElement;
-  dot: HTMLElement;
-  now: HTMLElement;
-  atStart: HTMLElement;
-  truth: HTMLElement;
-  error: HTMLElement;
-  relative: HTMLElement;
-  thesis: HTMLElement;
-  rupee: HTMLElement;
-  ude: HTMLElement;
-  diverged: HTMLElement;
-  chart: HTMLInputElement;
-  evaluate: HTMLButtonElement;
-  remove: HTMLButtonElement;
-  /** until when a second press of Remove removes the demon (ms since the epoch) */
-  confirmUntil: number;
+/** What every row is drawn from, besides its demon: read once per render. */
+interface RowContext {
+  state: Readonly<AppState>;
+  thesis: Record<string, number>;
+  /** the run is finished or failed: the server refuses (409) to change it */
+  closed: boolean;
+}
+
+function questionOf(demon: Demon): string {
+  const policy = demon.spec.policy;
+  const follows = policy?.kind === "of" ? `follows ${policy.demon}` : (policy?.kind ?? "uniform");
+  return `${follows} · cumulant ${exprText(demon.spec.cumulant)}`;
 }
 
 export function demonTable(store: AppStore): HTMLElement {
@@ -77,7 +76,8 @@ export function demonTable(store: AppStore): HTMLElement {
   const topSpacer = h("tr", { class: "spacer", "aria-hidden": "true" }, h("td", { colspan: COLUMNS }));
   const bottomSpacer = h("tr", { class: "spacer", "aria-hidden": "true" }, h("td", { colspan: COLUMNS }));
   const scrollBox = h("div", { class: "table-scroll" });
-  const rows = new Map<string, Row>();
+  // Each demon's Remove button keeps its own "armed" state across renders, so it is made once per demon.
+  const removeButtons = new Map<string, ConfirmButton>();
   const pending = new Set<string>();
   const removing = new Set<string>();
 
@@ -124,73 +124,90 @@ export function demonTable(store: AppStore): HTMLElement {
   let currentNames: string[] = [];
   let mounted = false;
 
-  const makeRow = (demon: Demon): Row => {
-    const cell = (cls = "num") => h("td", { class: cls });
-    const row: Row = {
-      tr: h("tr", { dataset: { demon: demon.name } }),
-      dot: h("span", { class: "swatch-dot", "aria-hidden": "true" }),
-      now: cell(),
-      atStart: cell(),
-      truth: cell(),
-      error: h("span", {}),
-      relative: h("span", { class: "relative" }),
-      thesis: cell(),
-      rupee: cell(),
-      ude: cell(),
-      diverged: h("span", { class: "tag diverged", hidden: true, title: tip("diverged") }, "diverged"),
-      chart: h("input", { type: "checkbox", "aria-label": `Chart ${demon.name}` }), // beside the name: saves a column
-      evaluate: h("button", { type: "button", class: "small", "aria-label": `Evaluate ${demon.name}` }, "Evaluate"),
-      remove: h("button", { type: "button", class: "small danger" }),
-      confirmUntil: 0,
-    };
-    row.chart.addEventListener("change", () => toggleCharted(store, demon.name, row.chart.checked));
-    row.evaluate.addEventListener("click", () => void evaluate(demon.name));
-    row.remove.addEventListener("click", () => onRemove(demon.name, row));
-    const question = `${demon.spec.policy?.kind === "of" ? `follows ${demon.spec.policy.demon}` : (demon.spec.policy?.kind ?? "uniform")} · cumulant ${exprText(demon.spec.cumulant)}`;
-    row.tr.append(
-      h(
-        "th",
-        { scope: "row" },
-        row.dot,
-        h("span", { class: "demon-name" }, demon.name),
-        demon.control ? h("span", { class: "tag", title: tip("control") }, "control") : null,
-        row.diverged,
-        h("span", { class: "question" }, question),
-        h("label", { class: "chart-toggle" }, row.chart, "chart"),
-      ),
-      row.now,
-      row.atStart,
-      row.truth,
-      h("td", { class: "num" }, row.error, row.relative),
-      row.thesis,
-      row.rupee,
-      row.ude,
-      h("td", {}, h("div", { class: "row-actions" }, row.evaluate, row.remove)),
-    );
-    return row;
+  const removeButton = (demon: string): ConfirmButton => {
+    let button = removeButtons.get(demon);
+    if (!button) {
+      // Removing takes two presses, so a stray click cannot throw a demon (and its learning) away.
+      button = confirmButton({
+        class: "small danger",
+        text: (armed) => (removing.has(demon) ? "Removing…" : armed ? "Really remove?" : "Remove"),
+        label: (armed) => (armed ? `Really remove ${demon}?` : `Remove ${demon}`),
+        onConfirm: () => removeNow(demon),
+      });
+      removeButtons.set(demon, button);
+    }
+    return button;
   };
 
-  // Removing takes two presses, so a stray click cannot throw a demon (and its learning) away.
-  const onRemove = (demon: string, row: Row) => {
+  /** One demon's row: a template that lit-html keeps (by the demon's name) and updates in place. */
+  const rowTemplate = (demon: Demon, index: number, { state, thesis, closed }: RowContext) => {
+    const { evaluations, charted } = state;
+    const metrics = state.live?.metrics[demon.name] ?? demon.metrics;
+    const prediction = state.live ? state.live.predictions[demon.name] : demon.prediction;
+    const evaluation = evaluations[demon.name];
+    // Against the exact answer where the world has one (the Monte-Carlo mean is cut at the rollouts' cap).
+    const truth = truthOf(evaluation);
+    const error = evaluation && truth !== null ? (evaluation.prediction ?? NaN) - truth : null;
+    const busy = pending.has(demon.name);
+    const remove = removeButton(demon.name);
+    remove.button.disabled = closed || removing.has(demon.name);
+    remove.refresh();
+    // A diverged demon is frozen by the server; its numbers stop, the mark says why.
+    return html`<tr data-demon=${demon.name} data-index=${index}>
+      <th scope="row">
+        <span class="swatch-dot" aria-hidden="true" style=${styleMap({ background: demon.colour })}></span>
+        <span class="demon-name">${demon.name}</span>
+        ${demon.control ? html`<span class="tag" title=${tip("control")}>control</span>` : nothing}
+        <span class="tag diverged" ?hidden=${!metrics?.diverged} title=${tip("diverged")}>diverged</span>
+        <span class="question">${questionOf(demon)}</span>
+        <label class="chart-toggle"
+          ><input
+            type="checkbox"
+            aria-label=${`Chart ${demon.name}`}
+            .checked=${live(charted.includes(demon.name))}
+            @change=${(event: Event) => toggleCharted(store, demon.name, (event.target as HTMLInputElement).checked)}
+          />chart</label
+        >
+      </th>
+      <td class="num">${formatNumber(prediction)}</td>
+      <td class="num">${formatNumber(evaluation?.prediction)}</td>
+      <td class="num">${formatTruth(evaluation)}</td>
+      <td class="num">
+        <span>${formatNumber(error)}</span
+        ><span class="relative">${evaluation ? formatRelativeError(evaluation.prediction, truth) : ""}</span>
+      </td>
+      <td class="num">${formatNumber(thesis[demon.name])}</td>
+      <td class="num">${formatNumber(metrics?.rupee)}</td>
+      <td class="num">${formatNumber(metrics?.ude)}</td>
+      <td>
+        <div class="row-actions">
+          <button
+            type="button"
+            class="small"
+            aria-label=${`Evaluate ${demon.name}`}
+            ?disabled=${busy}
+            @click=${() => void evaluate(demon.name)}
+          >
+            ${busy ? "Evaluating…" : "Evaluate"}
+          </button>
+          ${remove.button}
+        </div>
+      </td>
+    </tr>`;
+  };
+
+  const removeNow = (demon: string) => {
     const runId = store.state.selectedRunId;
     if (runId === null) return;
-    if (Date.now() < row.confirmUntil) {
-      row.confirmUntil = 0;
-      removing.add(demon);
-      render(store.state);
-      void attempt(store, async () => {
-        await removeDemon(store, runId, demon);
-        notify(store, `Removed demon '${demon}' from the run.`);
-      }).finally(() => {
-        removing.delete(demon);
-        render(store.state);
-      });
-      return;
-    }
-    row.confirmUntil = Date.now() + REMOVE_CONFIRM_MS;
+    removing.add(demon);
     render(store.state);
-    // A paused run sends no messages: the button turns back by itself.
-    window.setTimeout(() => render(store.state), REMOVE_CONFIRM_MS + 50);
+    void attempt(store, async () => {
+      await removeDemon(store, runId, demon);
+      notify(store, `Removed demon '${demon}' from the run.`);
+    }).finally(() => {
+      removing.delete(demon);
+      render(store.state);
+    });
   };
 
   const render = (state: Readonly<AppState>) => {
@@ -203,7 +220,7 @@ export function demonTable(store: AppStore): HTMLElement {
   };
 
   const renderNow = (state: Readonly<AppState>) => {
-    const { run, demons, live, evaluations, charted } = state;
+    const { run, demons, live } = state;
     empty.hidden = run !== null;
     table.hidden = run === null;
     tools.hidden = run === null;
@@ -222,6 +239,7 @@ export function demonTable(store: AppStore): HTMLElement {
     const closed = status === "finished" || status === "failed";
     const shown = shownDemons(state);
     currentNames = shown.map((d) => d.name);
+    const indexOf = new Map(currentNames.map((name, i) => [name, i]));
     const virtual = shown.length > VIRTUAL_FROM;
     scrollBox.classList.toggle("virtual", virtual);
     let visible: Demon[] = shown;
@@ -245,53 +263,22 @@ export function demonTable(store: AppStore): HTMLElement {
     (bottomSpacer.firstChild as HTMLElement).style.height = `${after}px`;
     topSpacer.hidden = before === 0;
     bottomSpacer.hidden = after === 0;
-    if (body.firstChild !== topSpacer) body.prepend(topSpacer);
-    const seen = new Set<string>();
-    for (const demon of visible) {
-      seen.add(demon.name);
-      let row = rows.get(demon.name);
-      if (!row) {
-        row = makeRow(demon);
-        rows.set(demon.name, row);
-      }
-      row.tr.dataset.index = String(currentNames.indexOf(demon.name));
-      // Moved only when out of place: a row taken out of the page, even for a moment, loses the focus
-      // and the click under way on its buttons (render runs 30 times a second).
-      const at = body.children[seen.size];
-      if (at !== row.tr) body.insertBefore(row.tr, at ?? null);
-      if (virtual) virtualizer.measureElement(row.tr);
-      row.dot.style.background = demon.colour;
-      const metrics = live?.metrics[demon.name] ?? demon.metrics;
-      const prediction = live ? live.predictions[demon.name] : demon.prediction;
-      const evaluation = evaluations[demon.name];
-      setText(row.now, formatNumber(prediction));
-      setText(row.atStart, formatNumber(evaluation?.prediction));
-      // Against the exact answer where the world has one (the Monte-Carlo mean is cut at the rollouts' cap).
-      const truth = truthOf(evaluation);
-      setText(row.truth, formatTruth(evaluation));
-      setText(row.error, formatNumber(evaluation && truth !== null ? (evaluation.prediction ?? NaN) - truth : null));
-      setText(row.relative, evaluation ? formatRelativeError(evaluation.prediction, truth) : "");
-      setText(row.thesis, formatNumber(thesis[demon.name]));
-      setText(row.rupee, formatNumber(metrics?.rupee));
-      setText(row.ude, formatNumber(metrics?.ude));
-      // A diverged demon is frozen by the server; its numbers stop, the mark says why.
-      row.diverged.hidden = !metrics?.diverged;
-      row.chart.checked = charted.includes(demon.name);
-      const busy = pending.has(demon.name);
-      row.evaluate.disabled = busy;
-      setText(row.evaluate, busy ? "Evaluating…" : "Evaluate");
-      const confirming = Date.now() < row.confirmUntil;
-      row.remove.disabled = closed || removing.has(demon.name);
-      setText(row.remove, removing.has(demon.name) ? "Removing…" : confirming ? "Really remove?" : "Remove");
-      row.remove.setAttribute("aria-label", confirming ? `Really remove ${demon.name}?` : `Remove ${demon.name}`);
+    const context: RowContext = { state, thesis, closed };
+    // Keyed by name: a row's DOM stays while its numbers change 30 times a second, and is moved only
+    // when the order changes (a row taken out of the page, even for a moment, loses the focus and the
+    // click under way on its buttons).
+    renderTemplate(
+      html`${topSpacer}${repeat(
+        visible,
+        (demon) => demon.name,
+        (demon) => rowTemplate(demon, indexOf.get(demon.name) ?? 0, context),
+      )}${bottomSpacer}`,
+      body,
+    );
+    if (virtual) {
+      for (const tr of body.querySelectorAll<HTMLTableRowElement>("tr[data-demon]")) virtualizer.measureElement(tr);
     }
-    for (const [name, row] of rows) {
-      if (!seen.has(name)) {
-        row.tr.remove();
-        rows.delete(name);
-      }
-    }
-    if (body.lastChild !== bottomSpacer) body.append(bottomSpacer);
+    for (const name of removeButtons.keys()) if (!indexOf.has(name)) removeButtons.delete(name);
   };
 
   const table = h(

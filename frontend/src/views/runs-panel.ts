@@ -8,10 +8,10 @@ import type { AppStore } from "../app/state";
 import type { RunBrief } from "../api/types";
 import { formatCount, formatHz, formatStatus, runLabel } from "../lib/format";
 import { FULL_SPEED, matchesFilter, speedChoice } from "../lib/runs";
+import { type ConfirmButton, confirmButton } from "../ui/confirm";
 import { h, options, replaceChildren, setText } from "../ui/dom";
 
 const STEP_SIZES = ["1", "10", "100", "1000"];
-const DELETE_CONFIRM_MS = 4000;
 
 interface Row {
   item: HTMLLIElement;
@@ -21,12 +21,11 @@ interface Row {
   toggle: HTMLButtonElement;
   step: HTMLButtonElement;
   reset: HTMLButtonElement;
-  remove: HTMLButtonElement;
+  remove: ConfirmButton;
   speed: HTMLSelectElement;
   fullSpeed: HTMLButtonElement;
   message: HTMLElement;
   run: RunBrief;
-  confirmUntil: number;
 }
 
 export function runsPanel(store: AppStore): HTMLElement {
@@ -40,14 +39,24 @@ export function runsPanel(store: AppStore): HTMLElement {
     autocomplete: "off",
   });
   const matching = h("p", { class: "hint", "aria-live": "polite" });
-  const deleteFinished = h("button", { type: "button", class: "danger small" }, "Delete finished");
-  let finishedConfirmUntil = 0;
+  // Deleting every finished (or failed) run takes two presses, as deleting one does.
+  const finishedRuns = () => store.state.runs.filter((r) => r.status === "finished" || r.status === "failed");
+  const deleteFinished = confirmButton({
+    class: "danger small",
+    text: (armed) => (armed ? `Really delete ${finishedRuns().length}?` : `Delete finished (${finishedRuns().length})`),
+    onConfirm: () => {
+      const done = finishedRuns();
+      void attempt(store, async () => {
+        for (const run of done) await deleteRun(store, run.id);
+        notify(store, `Deleted ${done.length} finished run${done.length === 1 ? "" : "s"}.`);
+      });
+    },
+  });
   const rows = new Map<string, Row>();
 
   const makeRow = (run: RunBrief): Row => {
     const row = {} as Row;
     row.run = run;
-    row.confirmUntil = 0;
     row.select = h("button", {
       type: "button",
       class: "run-select",
@@ -71,7 +80,16 @@ export function runsPanel(store: AppStore): HTMLElement {
       { type: "button", onclick: () => void attempt(store, () => commandRun(store, row.run.id, "reset")) },
       "Reset",
     );
-    row.remove = h("button", { type: "button", class: "danger", onclick: () => onDelete(row) });
+    // Deleting takes two presses, so a stray click or key cannot throw a run away.
+    row.remove = confirmButton({
+      text: (armed) => (armed ? "Really delete?" : "Delete"),
+      label: (armed) => (armed ? `Really delete run ${runLabel(row.run)}?` : `Delete run ${runLabel(row.run)}`),
+      onConfirm: () =>
+        void attempt(store, async () => {
+          await deleteRun(store, row.run.id);
+          notify(store, `Deleted run ${runLabel(row.run)}.`);
+        }),
+    });
     row.speed = h("select", {
       class: "speed",
       title: "Steps per second: slow enough to watch each step, or as fast as the machine can learn",
@@ -98,49 +116,18 @@ export function runsPanel(store: AppStore): HTMLElement {
       row.counters,
       row.message,
       h("div", { class: "run-speed" }, row.speed, row.fullSpeed),
-      h("div", { class: "run-actions" }, row.toggle, row.step, row.reset, row.remove),
+      h("div", { class: "run-actions" }, row.toggle, row.step, row.reset, row.remove.button),
     );
     return row;
   };
 
-  // Deleting takes two presses, so a stray click or key cannot throw a run away.
-  const onDelete = (row: Row) => {
-    if (Date.now() < row.confirmUntil) {
-      void attempt(store, async () => {
-        await deleteRun(store, row.run.id);
-        notify(store, `Deleted run ${runLabel(row.run)}.`);
-      });
-      return;
-    }
-    row.confirmUntil = Date.now() + DELETE_CONFIRM_MS;
-    updateRow(row, row.run, store.state.selectedRunId);
-    window.setTimeout(() => updateRow(row, row.run, store.state.selectedRunId), DELETE_CONFIRM_MS + 50);
-  };
-
-  // Deleting every finished (or failed) run takes two presses as well.
-  deleteFinished.addEventListener("click", () => {
-    const done = store.state.runs.filter((r) => r.status === "finished" || r.status === "failed");
-    if (Date.now() >= finishedConfirmUntil) {
-      finishedConfirmUntil = Date.now() + DELETE_CONFIRM_MS;
-      render();
-      window.setTimeout(render, DELETE_CONFIRM_MS + 50);
-      return;
-    }
-    finishedConfirmUntil = 0;
-    void attempt(store, async () => {
-      for (const run of done) await deleteRun(store, run.id);
-      notify(store, `Deleted ${done.length} finished run${done.length === 1 ? "" : "s"}.`);
-    });
-  });
   filter.addEventListener("input", () => render());
 
   const render = () => {
     const { runs, selectedRunId, live } = store.state;
     empty.hidden = runs.length > 0;
-    const finished = runs.filter((r) => r.status === "finished" || r.status === "failed").length;
-    deleteFinished.disabled = finished === 0;
-    const confirmingFinished = Date.now() < finishedConfirmUntil;
-    setText(deleteFinished, confirmingFinished ? `Really delete ${finished}?` : `Delete finished (${finished})`);
+    deleteFinished.button.disabled = finishedRuns().length === 0;
+    deleteFinished.refresh();
     const shown = runs.filter((r) => matchesFilter(r, filter.value));
     matching.hidden = filter.value.trim() === "";
     setText(matching, `${shown.length} of ${runs.length} runs match`);
@@ -190,7 +177,7 @@ export function runsPanel(store: AppStore): HTMLElement {
       h("label", { for: "step-size", class: "inline" }, "Steps per Step ", stepSize),
     ),
     h("div", { class: "run-filter" }, h("label", { for: "run-filter" }, "Filter runs"), filter, matching),
-    h("div", { class: "actions" }, deleteFinished),
+    h("div", { class: "actions" }, deleteFinished.button),
     empty,
     list,
   );
@@ -230,7 +217,5 @@ function updateRow(row: Row, run: RunBrief, selectedRunId: string | null): void 
   row.step.setAttribute("aria-label", `Step run ${label}`);
   row.step.disabled = running || done;
   row.reset.setAttribute("aria-label", `Reset run ${label}`);
-  const confirming = Date.now() < row.confirmUntil;
-  setText(row.remove, confirming ? "Really delete?" : "Delete");
-  row.remove.setAttribute("aria-label", confirming ? `Really delete run ${label}?` : `Delete run ${label}`);
+  row.remove.refresh();
 }

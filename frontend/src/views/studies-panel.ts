@@ -7,6 +7,7 @@
  * and protocol jobs side by side (`compare-panel.ts`).
  */
 import "./studies.css";
+import { keys, queryClient, watchQuery } from "../app/queries";
 import type { AppStore } from "../app/state";
 import { api, errorMessage, unwrap } from "../api/client";
 import { type Study, type StudyDetail, studyProgress } from "../lib/study";
@@ -79,12 +80,20 @@ export function studiesPanel(store: AppStore): HTMLElement {
     results.element,
   );
 
-  const refresh = async () => {
-    try {
-      studies = await unwrap(api.GET("/api/studies"));
-    } catch {
-      return; // the next poll tries again
-    }
+  // The study list is a query read every second while the tab is shown (studies started elsewhere, the
+  // CLI included, appear too); a failed reading is tried again at the next.
+  const watchOf = () => ({
+    queryKey: keys.studies,
+    queryFn: () => unwrap(api.GET("/api/studies")),
+    every: POLL_MS,
+    enabled: store.state.tab === "studies",
+  });
+  const studyList = watchQuery(queryClient, watchOf(), (read) => void show(read));
+  store.subscribe(() => studyList.update(watchOf()), ["tab"]);
+  const refresh = () => studyList.refetch();
+
+  const show = async (read: Study[]) => {
+    studies = read;
     if (selectedId === null && studies.length > 0) selectedId = (studies[studies.length - 1] as Study).id;
     replaceChildren(
       list,
@@ -141,21 +150,6 @@ export function studiesPanel(store: AppStore): HTMLElement {
     exportJson.href = `/api/studies/${detail.id}/export?format=json`;
     results.show(detail);
   };
-
-  // Poll while the tab is shown (studies started elsewhere, the CLI included, appear too).
-  let timer: number | null = null;
-  const watch = () => {
-    const visible = store.state.tab === "studies";
-    if (visible && timer === null) {
-      void refresh();
-      timer = window.setInterval(() => void refresh(), POLL_MS);
-    } else if (!visible && timer !== null) {
-      window.clearInterval(timer);
-      timer = null;
-    }
-  };
-  store.subscribe(watch, ["tab"]);
-  watch();
 
   return h(
     "section",

@@ -9,10 +9,11 @@ import { attempt, deleteWorld, notify, refreshWorlds } from "../app/actions";
 import type { AppStore } from "../app/state";
 import { ApiError, api, toApiError, unwrap } from "../api/client";
 import type { Region, WorldSpec } from "../api/types";
-import { InputError } from "../lib/input-error";
-import { formatList, readNumber, readNumberList } from "../lib/parse";
-import { h, options, replaceChildren, setText } from "../ui/dom";
-import { FormErrors, field, numberInput, textInput } from "../ui/form";
+import { formatList } from "../lib/parse";
+import { confirmButton } from "../ui/confirm";
+import { h, options, replaceChildren } from "../ui/dom";
+import { type FieldSpec, fieldTable } from "../ui/fields";
+import { FormErrors, field } from "../ui/form";
 import { type RegionFields, type RegionText, regionFields, regionText } from "./region-fields";
 import { worldDrawing } from "./world-drawing";
 
@@ -28,11 +29,24 @@ const NEW_WORLD: WorldSpec = {
   regions: [{ name: "goal", kind: "terminal", rect: [400, 400, 500, 500], reward: 1 }],
 };
 
-const DELETE_CONFIRM_MS = 4000;
-
 const NEW_REGION: RegionText = { name: "", kind: "zone", rect: "0, 0, 100, 100", reward: "", colors: "" };
 
 const UNDO_DEPTH = 50;
+
+type WorldField = "name" | "start" | "width" | "height" | "step" | "max_steps" | "slip" | "noise" | "transient_reward";
+
+/** The world's plain fields, once: the form, the filling, the reading and Undo all come from this list. */
+const WORLD_FIELDS: readonly FieldSpec<WorldField>[] = [
+  { key: "name", label: "Name", kind: "text", row: 0 },
+  { key: "start", label: "Start", kind: "numbers", hint: "x, y or x0, y0, x1, y1", row: 0 },
+  { key: "width", label: "Width", kind: "number", row: 1 },
+  { key: "height", label: "Height", kind: "number", row: 1 },
+  { key: "step", label: "Step", kind: "number", row: 1 },
+  { key: "max_steps", label: "Max steps", kind: "number", row: 1 },
+  { key: "slip", label: "Slip", kind: "number", hint: "chance of a sideways move", row: 2 },
+  { key: "noise", label: "Noise", kind: "number", hint: "std of each move", row: 2 },
+  { key: "transient_reward", label: "Reward per step", kind: "number", row: 2 },
+];
 
 /** Everything the form holds, as typed: what Undo restores. */
 interface Snapshot {
@@ -57,30 +71,41 @@ export function worldEditor(store: AppStore): HTMLElement {
         return;
       }
       remember();
-      start.value = formatList(world.start ?? [0, 0]);
+      fields.inputs.start.value = formatList(world.start ?? [0, 0]);
       setRegions((world.regions ?? []).map(regionText));
       redraw();
     },
   });
 
   const source = h("select", { id: "world-source" });
+  /** The library world chosen in "Start from", if one is. */
+  const libraryChoice = (): string | null =>
+    source.value.startsWith("library:") ? source.value.slice("library:".length) : null;
+
   const load = h("button", { type: "button" }, "Load");
-  const remove = h("button", { type: "button", class: "danger" });
-  let confirmUntil = 0;
-  const name = textInput("my-world", { name: "name" });
-  const width = numberInput(null, { name: "width" });
-  const height = numberInput(null, { name: "height" });
-  const step = numberInput(null, { name: "step" });
-  const slip = numberInput(null, { name: "slip" });
-  const noise = numberInput(null, { name: "noise" });
-  const start = textInput("", { name: "start" });
-  const transient = numberInput(null, { name: "transient_reward" });
-  const maxSteps = numberInput(null, { name: "max_steps" });
+  // Deleting takes two presses, so a stray click cannot throw a world away.
+  const remove = confirmButton({
+    text: (armed) => (armed ? "Really delete?" : "Delete"),
+    label: (armed) => {
+      const world = libraryChoice();
+      if (world === null) return "Delete a library world";
+      return armed ? `Really delete world ${world} from the library?` : `Delete world ${world} from the library`;
+    },
+    onConfirm: () => {
+      const world = libraryChoice();
+      if (world === null) return;
+      remove.button.disabled = true;
+      void attempt(store, async () => {
+        await deleteWorld(store, world);
+        notify(store, `Deleted world '${world}' from the library.`);
+      }).finally(renderRemove);
+    },
+  });
+  const fields = fieldTable(WORLD_FIELDS, errors);
   const regionList = h("div", { class: "region-list" });
-  const plainFields = () => [name, width, height, step, slip, noise, start, transient, maxSteps];
 
   const snapshot = (): Snapshot => ({
-    fields: plainFields().map((f) => f.value),
+    fields: fields.texts(),
     regions: regions.map((r) => r.text()),
   });
   /** Keep the form as it is now, for Undo (before a change by drawing, adding or removing). */
@@ -93,7 +118,7 @@ export function worldEditor(store: AppStore): HTMLElement {
     const last = history.pop();
     undo.disabled = history.length === 0;
     if (!last) return;
-    plainFields().forEach((f, i) => (f.value = last.fields[i] ?? ""));
+    fields.setTexts(last.fields);
     setRegions(last.regions);
     redraw();
   };
@@ -120,30 +145,12 @@ export function worldEditor(store: AppStore): HTMLElement {
 
   const fill = (world: WorldSpec, worldName: string) => {
     errors.clear();
-    name.value = worldName;
-    width.value = String(world.width);
-    height.value = String(world.height);
-    step.value = String(world.step);
-    slip.value = String(world.slip);
-    noise.value = String(world.noise);
-    start.value = formatList(world.start ?? [0, 0]);
-    transient.value = String(world.transient_reward);
-    maxSteps.value = String(world.max_steps);
+    fields.fill({ ...world, name: worldName, start: world.start ?? [0, 0] });
     setRegions((world.regions ?? []).map(regionText));
     redraw();
   };
 
-  const readFields = (): WorldSpec => ({
-    name: name.value.trim(),
-    width: readNumber(width.value),
-    height: readNumber(height.value),
-    step: readNumber(step.value),
-    slip: readNumber(slip.value),
-    noise: readNumber(noise.value),
-    start: readNumberList(start.value),
-    transient_reward: readNumber(transient.value),
-    max_steps: readNumber(maxSteps.value),
-  });
+  const readFields = (): WorldSpec => fields.read() as WorldSpec;
   /** The world the form describes; throws InputError where a field cannot be read at all. */
   const read = (): WorldSpec => ({ ...readFields(), regions: regions.map((r) => r.read()) });
 
@@ -160,45 +167,15 @@ export function worldEditor(store: AppStore): HTMLElement {
     drawing.draw({ ...readFields(), regions: readable });
   }
 
-  /** The library world chosen in "Start from", if one is. */
-  const libraryChoice = (): string | null =>
-    source.value.startsWith("library:") ? source.value.slice("library:".length) : null;
-
   const renderRemove = () => {
     const world = libraryChoice();
-    const confirming = world !== null && Date.now() < confirmUntil;
-    remove.disabled = world === null;
-    setText(remove, confirming ? "Really delete?" : "Delete");
-    remove.title = world === null ? "Choose a library world under “Start from” first" : "";
-    remove.setAttribute(
-      "aria-label",
-      world === null
-        ? "Delete a library world"
-        : confirming
-          ? `Really delete world ${world} from the library?`
-          : `Delete world ${world} from the library`,
-    );
+    remove.button.disabled = world === null;
+    remove.button.title = world === null ? "Choose a library world under “Start from” first" : "";
+    remove.refresh();
   };
 
-  // Deleting takes two presses, so a stray click cannot throw a world away.
-  remove.addEventListener("click", () => {
-    const world = libraryChoice();
-    if (world === null) return;
-    if (Date.now() >= confirmUntil) {
-      confirmUntil = Date.now() + DELETE_CONFIRM_MS;
-      renderRemove();
-      window.setTimeout(renderRemove, DELETE_CONFIRM_MS + 50);
-      return;
-    }
-    confirmUntil = 0;
-    remove.disabled = true;
-    void attempt(store, async () => {
-      await deleteWorld(store, world);
-      notify(store, `Deleted world '${world}' from the library.`);
-    }).finally(renderRemove);
-  });
   source.addEventListener("change", () => {
-    confirmUntil = 0;
+    remove.disarm();
     renderRemove();
   });
 
@@ -249,13 +226,8 @@ export function worldEditor(store: AppStore): HTMLElement {
   const onSubmit = async (event: Event) => {
     event.preventDefault();
     errors.clear();
-    let world: WorldSpec;
-    try {
-      world = read();
-    } catch (error) {
-      if (error instanceof InputError) errors.showField(error.path, error.message);
-      return;
-    }
+    const world = errors.readOrShow(read);
+    if (world === null) return;
     const worldName = world.name ?? "";
     save.disabled = true;
     try {
@@ -286,33 +258,8 @@ export function worldEditor(store: AppStore): HTMLElement {
   const form = h(
     "form",
     { class: "world-form", novalidate: true, onsubmit: onSubmit, oninput: redraw, "aria-label": "World" },
-    h("div", { class: "row load-row" }, field("Start from", source), load, remove),
-    h(
-      "fieldset",
-      {},
-      h("legend", {}, "World"),
-      h(
-        "div",
-        { class: "row" },
-        field("Name", name, { path: "name", errors }),
-        field("Start", start, { path: "start", errors, hint: "x, y or x0, y0, x1, y1" }),
-      ),
-      h(
-        "div",
-        { class: "row" },
-        field("Width", width, { path: "width", errors }),
-        field("Height", height, { path: "height", errors }),
-        field("Step", step, { path: "step", errors }),
-        field("Max steps", maxSteps, { path: "max_steps", errors }),
-      ),
-      h(
-        "div",
-        { class: "row" },
-        field("Slip", slip, { path: "slip", errors, hint: "chance of a sideways move" }),
-        field("Noise", noise, { path: "noise", errors, hint: "std of each move" }),
-        field("Reward per step", transient, { path: "transient_reward", errors }),
-      ),
-    ),
+    h("div", { class: "row load-row" }, field("Start from", source), load, remove.button),
+    h("fieldset", {}, h("legend", {}, "World"), fields.rows()),
     h("h3", {}, "Regions"),
     errors.register("regions", null),
     regionList,

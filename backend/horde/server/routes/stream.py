@@ -6,6 +6,7 @@ from fastapi import APIRouter, WebSocket
 
 from horde.server.deps import HubDep, SettingsDep
 from horde.server.origins import origin_allowed
+from horde.server.stream_protocol import StreamClose
 
 router = APIRouter(prefix="/runs", tags=["stream"])
 
@@ -19,6 +20,6 @@ async def stream_run(websocket: WebSocket, run_id: str, settings: SettingsDep, h
     """
     headers = websocket.headers
     if not origin_allowed(headers.get("origin"), headers.get("host"), settings.is_loopback(), settings.origins):
-        await websocket.close(code=1008, reason="this page's origin may not open the stream")
+        await websocket.close(code=StreamClose.ORIGIN_REFUSED, reason="this page's origin may not open the stream")
         return
     await hub.serve(websocket, run_id)

@@ -19,6 +19,7 @@ from horde.server.convert import timestamp
 from horde.server.deps import CatalogDep, StudiesDep, WriteAccess
 from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND, UNAUTHORIZED
 from horde.server.routes.exports import FILE_RESPONSES
+from horde.server.stream_protocol import StreamClose
 from horde.server.study_schemas import StudyConfigOut, StudyOut, StudyResultsOut
 from horde.studies.export import results_csv, results_json
 from horde.studies.jobs import StudyJobs
@@ -138,11 +139,11 @@ async def stream_study(websocket: WebSocket, study_id: str, jobs: StudiesDep) ->
             try:
                 out = _out(jobs, jobs.get(study_id))
             except NotFoundError:
-                await websocket.close(code=4404)
+                await websocket.close(code=StreamClose.NOT_FOUND)
                 return
             await websocket.send_json(out.model_dump(mode="json"))
             if out.status not in ("running", "created"):
-                await websocket.close(code=1000)
+                await websocket.close(code=StreamClose.NORMAL)
                 return
             await asyncio.sleep(STREAM_INTERVAL)
     except WebSocketDisconnect:
