@@ -83,7 +83,7 @@ def format_results(spec: RunSpec, result: ProtocolResult) -> str:
     protocol = spec.protocol
     lines.append("")
     lines.append(
-        f"{protocol.trials} trials x {protocol.episodes} episodes (max {spec.world.max_steps} steps), "
+        f"{protocol.trials} trials x {protocol.episodes} episodes (max {spec.grid.max_steps} steps), "
         f"{result.steps} steps in {result.seconds:.1f} s ({result.steps_per_second:,.0f} steps/s); "
         f"truth: {protocol.evaluation.rollouts} rollouts per trial, capped at {result.rollout_cap} steps"
     )
@@ -112,11 +112,24 @@ def cmd_run(args: argparse.Namespace) -> int:
         print(f"error: {args.scenario}: {exc}", file=sys.stderr)
         return 2
     progress = ProgressBar(spec.name or Path(args.scenario).stem) if not args.quiet else None
+    if spec.world.kind == "gymnasium":
+        return _run_gymnasium(spec, args, progress)
     if args.workers != 1:  # 0: every usable core
         result = run_protocol_batched(spec, args.workers or None, progress)
     else:
         result = run_protocol(spec, progress)
     print(format_results(spec, result))
+    if args.json:
+        Path(args.json).write_text(json.dumps([d.as_dict() for d in result.demons], indent=2) + "\n")
+    return 0
+
+
+def _run_gymnasium(spec: RunSpec, args: argparse.Namespace, progress: ProgressBar | None) -> int:
+    """`horde run` on a Gymnasium world: learn, then each prediction beside its realised return."""
+    from horde.worlds.protocol import format_gym_results, run_gym_protocol
+
+    result = run_gym_protocol(spec, progress)
+    print(format_gym_results(spec, result))
     if args.json:
         Path(args.json).write_text(json.dumps([d.as_dict() for d in result.demons], indent=2) + "\n")
     return 0

@@ -48,7 +48,7 @@ def _demon_index(view: RunView, name: str) -> int:
 def value_map(view: RunView, name: str, resolution: int) -> ValueMap:
     """The demon's prediction over the world on a resolution x resolution grid, with frozen weights."""
     demon = _demon_index(view, name)
-    world = view.spec.world
+    world = view.spec.grid
     xs = (np.arange(resolution) + 0.5) * world.width / resolution  # [N]
     ys = (np.arange(resolution) + 0.5) * world.height / resolution  # [N]
     gx, gy = np.meshgrid(xs, ys)  # [N, N] each, rows along y
@@ -77,7 +77,7 @@ def evaluate(
     """
     demon = _demon_index(view, name)
     x, y = start
-    world = World(view.spec.world)
+    world = World(view.spec.grid)
     if not (0.0 <= x < world.width and 0.0 <= y < world.height):
         raise SpecError.at(
             ("body", "from"), f"({x}, {y}) lies outside the world [0, {world.width}) x [0, {world.height})"
@@ -103,7 +103,7 @@ def exact_at(view: RunView, name: str, point: tuple[float, float]) -> float | No
     That is on a small lattice world (no noise, no indicators, at most MAX_EXACT_POINTS lattice points,
     `point` one of them) for a question that does not read the `steps` sensor (`core.evaluate.exact`).
     """
-    world = view.spec.world
+    world = view.spec.grid
     if (world.width / world.step) * (world.height / world.step) > MAX_EXACT_POINTS:
         return None
     if '"sensor":"steps"' in view.horde.demon_specs[view.horde.index[name]].model_dump_json():

@@ -185,7 +185,7 @@ class SimulationSource:
         with run.lock:
             horde, state = run.sim.horde, run.sim.horde_state
         index = horde.index[demon]
-        xs, ys = cell_centres(run.spec.world.width, run.spec.world.height, resolution)
+        xs, ys = cell_centres(run.spec.grid.width, run.spec.grid.height, resolution)
         forward = horde.forward(state, xs, ys)
         return forward.prediction, forward.q, index
 
