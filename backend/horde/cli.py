@@ -112,6 +112,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         print(f"error: {args.scenario}: {exc}", file=sys.stderr)
         return 2
     progress = ProgressBar(spec.name or Path(args.scenario).stem) if not args.quiet else None
+    if args.log:
+        return _run_log(spec, args)
     if spec.world.kind == "gymnasium":
         return _run_gymnasium(spec, args, progress)
     if args.workers != 1:  # 0: every usable core
@@ -132,6 +134,30 @@ def _run_gymnasium(spec: RunSpec, args: argparse.Namespace, progress: ProgressBa
     print(format_gym_results(spec, result))
     if args.json:
         Path(args.json).write_text(json.dumps([d.as_dict() for d in result.demons], indent=2) + "\n")
+    return 0
+
+
+def _run_log(spec: RunSpec, args: argparse.Namespace) -> int:
+    """`horde run --log FILE`: the scenario's stream world learns a recorded log at full speed."""
+    from horde.worlds.log_run import format_log_result, learn_log
+
+    path = Path(args.log)
+    if spec.world.kind != "stream":
+        print(
+            f"error: {args.scenario}: world.kind: --log needs a stream world, not {spec.world.kind!r}", file=sys.stderr
+        )
+        return 2
+    progress = ProgressBar(path.name, unit="records") if not args.quiet else None
+    try:
+        result = learn_log(spec, path, progress)
+    except (OSError, ValueError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    print(format_log_result(path, result))
+    if args.json:
+        rows = [{"name": d.name, "prediction": d.prediction, "mean_prediction": d.mean_prediction,
+                 "mean_return": d.mean_return} for d in result.demons]  # fmt: skip
+        Path(args.json).write_text(json.dumps(rows, indent=2) + "\n")
     return 0
 
 
@@ -158,6 +184,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--seed", type=int, help="override the seed")
     run.add_argument("--json", metavar="PATH", help="also write the results as JSON")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.add_argument("--log", metavar="FILE", help="a stream scenario: learn this recorded CSV log at full speed")
     run.add_argument(
         "--workers", type=int, default=1, metavar="N",
         help="run the trials in N processes at once (0: one per core); results are the same",

@@ -68,8 +68,11 @@ def _apply_rules(rules, sensors, class_fixed):
 
 
 @njit(cache=True, nogil=True)
-def _learn_rows(net, buf, rules, sensors_tp1, actions, b_probs, terminated, with_metrics):
-    """Learn from each row's transition in order (the learning half of `fast._run`, position 0, 0)."""
+def _learn_rows(net, buf, rules, sensors_tp1, actions, b_probs, terminated, with_metrics, pred_out):
+    """Learn from each row's transition in order (the learning half of `fast._run`, position 0, 0).
+
+    pred_out: [T, D] the predictions (slot order) after each row, or [0, D] to keep none.
+    """
     gi, bi, lam, dcls, cls_lo, cls_hi = net.gi, net.bi, net.lam, net.dcls, net.cls_lo, net.cls_hi
     feat, idx, node_values = buf.feat, buf.idx, buf.node_values
     class_pi, pi_given, gamma_tp1, rho = buf.class_pi, buf.pi_given, buf.gamma_tp1, buf.rho
@@ -128,6 +131,8 @@ def _learn_rows(net, buf, rules, sensors_tp1, actions, b_probs, terminated, with
                          buf.dstats, buf.trace, buf.support, buf.nnz, hx)  # fmt: skip
             for j in range(k):
                 feat[g, j] = idx[j]
+        if pred_out.shape[0] > 0:
+            pred_out[t, :] = pred
 
 
 class ExternalLoop:
@@ -197,7 +202,8 @@ class ExternalLoop:
         b_probs: ArrayLike,
         terminated: bool = False,
         truncated: bool = False,
-    ) -> None:
+        keep_predictions: bool = False,
+    ) -> np.ndarray | None:
         """Learn from T transitions in order; only the last may end the episode.
 
         Args:
@@ -206,6 +212,7 @@ class ExternalLoop:
             b_probs: [T] b(a_t | s_t), in (0, 1].
             terminated: the last transition reached a terminal state (its continuation is 0).
             truncated: the episode was cut after the last transition (it still bootstraps).
+            keep_predictions: return [T, D] every demon's prediction after each row (demon order).
         Raises:
             ExternalRecordError: naming the field of the first bad row; nothing is learned then.
         """
@@ -224,10 +231,16 @@ class ExternalLoop:
         ends = np.zeros(len(rows), dtype=np.bool_)
         if len(rows):
             ends[-1] = terminated
-        _learn_rows(self.fast.net, self.fast.buf, self._rules, rows, acts, probs, ends, self.with_metrics)
+        kept = np.zeros((len(rows) if keep_predictions else 0, self.horde.num_demons))  # [T, D] slot order
+        _learn_rows(self.fast.net, self.fast.buf, self._rules, rows, acts, probs, ends, self.with_metrics, kept)
         self.steps += len(rows)
         if terminated or truncated:
             self.episodes += 1
+        if not keep_predictions:
+            return None
+        out = np.empty_like(kept)
+        out[:, self.horde.slot_demon] = kept
+        return out
 
     # ------------------------------------------------------------------------------------------
     # Reading out

@@ -186,7 +186,12 @@ def format_gym_results(spec: RunSpec, result: GymProtocolResult) -> str:
     lines = ["  ".join(cell.rjust(w) if i else cell.ljust(w) for i, (cell, w) in enumerate(zip(r, widths, strict=True)))
              for r in [header, *rows]]  # fmt: skip
     lines.insert(1, "  ".join("-" * w for w in widths))
+    judged = [d for d in result.demons if d.error is not None and d.truth is not None]
+    relative = [d.name for d in judged if d.relative is not None and d.relative <= 0.10]
+    absolute = [d.name for d in judged if abs(d.error or 0.0) <= max(0.05, 0.05 * abs(d.truth or 0.0))]
     lines.append("")
+    lines.append(f"within 10 % (rel. error): {len(relative)} of {len(judged)} demons; "
+                 f"within 0.05 or 5 % of the realised return: {len(absolute)} of {len(judged)}")  # fmt: skip
     lines.append(
         f"{spec.protocol.episodes} episodes of {spec.world.kind} {getattr(spec.world, 'id', '')}, {result.steps} steps "
         f"in {result.seconds:.1f} s; means over {result.states} test states, {result.rollouts} rollouts of each "
