@@ -245,9 +245,18 @@ class WorldSpec(Model):
     regions: list[Region] = Field(default_factory=list, max_length=MAX_REGIONS)
     transient_reward: Finite = -0.01
     max_steps: int = Field(default=100, ge=1, le=MAX_STEPS)
-    kind: Literal["grid"] = Field(
-        default="grid", exclude=True, description="the grid world (the default kind; not written out)"
-    )
+
+    @model_validator(mode="before")
+    @classmethod
+    def _grid_kind(cls, data: Any) -> Any:
+        """`kind = "grid"` may be written; it is the default, and the grid world's spec does not keep it."""
+        if isinstance(data, dict) and data.get("kind") == "grid":
+            return {k: v for k, v in data.items() if k != "kind"}
+        return data
+
+    @property
+    def kind(self) -> Literal["grid"]:
+        return "grid"
 
     @field_validator("start")
     @classmethod
