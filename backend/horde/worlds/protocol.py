@@ -12,8 +12,8 @@ steps. The realised discounted return of a rollout is
 
 with r, z and gamma the demon's cumulant, outcome and continuation (times discount) evaluated on the
 sensors after each step, gamma = 0 where the environment terminates. A demon's row compares the mean
-prediction over the test states with the mean realised return over the same states (the standard error
-over test states beside it), and gives the root-mean-square error over the test states too.
+prediction over the test states with the mean realised return over the same states (with its Monte-Carlo
+standard error over the rollouts), and gives the root-mean-square error over the test states too.
 
 Questions whose expressions read other demons' predictions have no Monte-Carlo truth here (their rows
 say so).
@@ -41,7 +41,7 @@ class GymDemonResult:
     name: str
     prediction: float  # mean over the test states
     truth: float | None  # mean realised return over the test states
-    truth_stderr: float | None  # over the test states
+    truth_stderr: float | None  # Monte-Carlo standard error of `truth` (over the rollouts)
     error: float | None  # prediction - truth
     rmse: float | None  # over the test states
     scale: float | None  # RMS of the realised returns: the error's yardstick for questions whose mean is near 0
@@ -144,6 +144,7 @@ def run_gym_protocol(spec: RunSpec, progress: Progress | None = None) -> GymProt
             continue
         groups.setdefault(demon.policy.model_dump_json(), []).append(j)
     truths = np.full((len(states), len(index)), np.nan)  # [N, D] mean realised return at each test state
+    variances = np.zeros((len(states), len(index)))  # [N, D] the Monte-Carlo variance of each of those means
     world = GymWorld(agent.world.spec, time_limit=False)
     world.reset(seed=spec.seed)
     rng = np.random.default_rng([spec.seed, 1])
@@ -152,6 +153,8 @@ def run_gym_protocol(spec: RunSpec, progress: Progress | None = None) -> GymProt
             returns = rollout_returns(spec, world, state, sensors, [index[j] for j in members], evaluation.rollouts,
                                       evaluation.cap, rng)  # fmt: skip
             truths[s, members] = returns.mean(axis=0)
+            if len(returns) > 1:
+                variances[s, members] = returns.var(axis=0, ddof=1) / len(returns)
         if progress is not None:
             progress(protocol.episodes + s + 1, protocol.episodes + evaluation.states)
     world.close()
@@ -162,7 +165,7 @@ def run_gym_protocol(spec: RunSpec, progress: Progress | None = None) -> GymProt
             rows.append(GymDemonResult(name, prediction, None, None, None, None, None))
             continue
         truth = float(truths[:, j].mean())
-        stderr = float(truths[:, j].std(ddof=1) / math.sqrt(len(states))) if len(states) > 1 else 0.0
+        stderr = float(math.sqrt(variances[:, j].sum()) / len(states))
         rmse = float(np.sqrt(np.mean((predictions[:, j] - truths[:, j]) ** 2)))
         scale = float(np.sqrt(np.mean(truths[:, j] ** 2)))
         rows.append(GymDemonResult(name, prediction, truth, stderr, prediction - truth, rmse, scale))
