@@ -10,6 +10,7 @@ from __future__ import annotations
 import threading
 import time
 import uuid
+from collections import deque
 from dataclasses import dataclass
 from typing import Any
 
@@ -17,10 +18,12 @@ import numpy as np
 
 from horde.runs.errors import BusyError, FieldProblem, NotFoundError, SpecError
 from horde.spec import RunSpec
+from horde.worlds.phase_plane import Axis, axis_of, phase_plane
 from horde.worlds.records import RecordLearner, Records, Refusal
 
 MAX_STREAM_RUNS = 16
 MAX_RECORDS_PER_BATCH = 10_000
+TRAIL = 500  # recent observations kept for the phase plane
 
 
 @dataclass(frozen=True)
@@ -47,6 +50,7 @@ class StreamRun:
         self.names = self.learner.loop.horde.names
         self.created = time.time()
         self._lock = threading.Lock()
+        self._trail: deque[np.ndarray] = deque(maxlen=TRAIL)  # the last good observations [S]
 
     def check(self, items: list[Any]) -> tuple[Records, list[Refusal]]:
         """Check a batch without learning it (REST batches are all-or-nothing)."""
@@ -60,8 +64,32 @@ class StreamRun:
             began = time.perf_counter()
             records, refused = self.learner.check(items)
             self.learner.learn(records)
+            self._trail.extend(records.observations[-TRAIL:])
             return PushResult(self.learner.received, self.learner.learned, refused, self.learner.predictions(),
                               time.perf_counter() - began)  # fmt: skip
+
+    def phase_plane(self, demon: str, x: str, y: str, resolution: int) -> tuple[Axis, Axis, np.ndarray, np.ndarray]:
+        """(x axis, y axis, [R, R] the demon's values over the plane, [N, 2] the recent (x, y) readings).
+
+        Raises:
+            SpecError: an unknown demon or sensor (422 naming the query parameter).
+        """
+        horde = self.learner.loop.horde
+        if demon not in horde.index:
+            raise SpecError([FieldProblem(("query", "demon"), f"no demon {demon!r} in this run")])
+        axes = []
+        for field, sensor in (("x", x), ("y", y)):
+            try:
+                axes.append(axis_of(horde, sensor))
+            except ValueError as exc:
+                raise SpecError([FieldProblem(("query", field), str(exc))]) from None
+        with self._lock:
+            state = self.learner.loop.horde_state()
+            trail = np.array(self._trail).reshape(-1, len(self.learner.world.sensors))
+        held = trail[-1] if len(trail) else np.zeros(len(self.learner.world.sensors))
+        names = self.learner.world.sensor_names()
+        values = phase_plane(horde, state, demon, axes[0], axes[1], held, resolution)
+        return axes[0], axes[1], values, trail[:, [names.index(x), names.index(y)]]
 
     def status(self) -> PushResult:
         with self._lock:

@@ -20,7 +20,8 @@ import hmac
 import json
 from typing import Annotated, Any
 
-from fastapi import APIRouter, Depends, Path, Request, Response, WebSocket, WebSocketDisconnect, status
+import numpy as np
+from fastapi import APIRouter, Depends, Path, Query, Request, Response, WebSocket, WebSocketDisconnect, status
 from pydantic import Field
 
 from horde.runs.errors import FieldProblem, NotFoundError, SpecError
@@ -31,6 +32,7 @@ from horde.server.responses import BAD_BODY, BUSY, NOT_FOUND, UNAUTHORIZED
 from horde.server.schemas import In, Out
 from horde.server.settings import Settings
 from horde.spec import RunSpec
+from horde.worlds.phase_plane import MAX_PHASE_RESOLUTION
 
 router = APIRouter(prefix="/streams", tags=["streams"])
 QUEUE = 8  # WebSocket messages waiting to be learned, at most
@@ -125,6 +127,40 @@ def push_records(stream_id: StreamId, body: RecordsIn, streams: StreamsDep) -> S
         raise SpecError([FieldProblem(("body", "records", r.index, *r.field.split(".")), r.message)
                          for r in refused[:20]])  # fmt: skip
     return _out(run, run.push(items))
+
+
+class AxisOut(Out):
+    sensor: str
+    low: float
+    high: float
+
+
+class PhasePlaneOut(Out):
+    demon: str
+    x: AxisOut
+    y: AxisOut
+    values: list[list[float | None]] = Field(description="[y cell][x cell] the demon's prediction (null: diverged)")
+    trail: list[list[float]] = Field(description="the recent (x, y) readings, oldest first")
+
+
+@router.get(
+    "/{stream_id}/phase-plane",
+    summary="A demon's value map over two sensors (the others held at their last readings), with the trail",
+    responses=NOT_FOUND,
+)
+def get_phase_plane(
+    stream_id: StreamId,
+    streams: StreamsDep,
+    demon: Annotated[str, Query(min_length=1, max_length=64)],
+    x: Annotated[str, Query(min_length=1, max_length=80, description="the sensor along x")],
+    y: Annotated[str, Query(min_length=1, max_length=80, description="the sensor along y")],
+    resolution: Annotated[int, Query(ge=2, le=MAX_PHASE_RESOLUTION)] = 32,
+) -> PhasePlaneOut:
+    ax, ay, values, trail = streams.get(stream_id).phase_plane(demon, x, y, resolution)
+    cells = [[float(v) if np.isfinite(v) else None for v in row] for row in values]
+    return PhasePlaneOut(demon=demon, x=AxisOut(sensor=ax.sensor, low=ax.low, high=ax.high),
+                         y=AxisOut(sensor=ay.sensor, low=ay.low, high=ay.high), values=cells,
+                         trail=trail.tolist())  # fmt: skip
 
 
 def _token_ok(websocket: WebSocket, settings: Settings) -> bool:
