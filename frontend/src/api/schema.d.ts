@@ -462,6 +462,23 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/streams/{stream_id}/phase-plane": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** A demon's value map over two sensors (the others held at their last readings), with the trail */
+        get: operations["get_phase_plane_api_streams__stream_id__phase_plane_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/streams/{stream_id}/records": {
         parameters: {
             query?: never;
@@ -633,6 +650,15 @@ export interface components {
             x: number;
             /** Y */
             y: number;
+        };
+        /** AxisOut */
+        AxisOut: {
+            /** High */
+            high: number;
+            /** Low */
+            low: number;
+            /** Sensor */
+            sensor: string;
         };
         /**
          * AxisSpec
@@ -1303,6 +1329,23 @@ export interface components {
         "MulExpr-Output": {
             /** Mul */
             mul: (number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Output"] | components["schemas"]["MulExpr-Output"] | components["schemas"]["MinExpr-Output"] | components["schemas"]["MaxExpr-Output"] | components["schemas"]["IfExpr-Output"])[];
+        };
+        /** PhasePlaneOut */
+        PhasePlaneOut: {
+            /** Demon */
+            demon: string;
+            /**
+             * Trail
+             * @description the recent (x, y) readings, oldest first
+             */
+            trail: number[][];
+            /**
+             * Values
+             * @description [y cell][x cell] the demon's prediction (null: diverged)
+             */
+            values: (number | null)[][];
+            x: components["schemas"]["AxisOut"];
+            y: components["schemas"]["AxisOut"];
         };
         /**
          * PolicySpec
@@ -4071,6 +4114,54 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    get_phase_plane_api_streams__stream_id__phase_plane_get: {
+        parameters: {
+            query: {
+                demon: string;
+                /** @description the sensor along x */
+                x: string;
+                /** @description the sensor along y */
+                y: string;
+                resolution?: number;
+            };
+            header?: never;
+            path: {
+                /** @description the stream run's id */
+                stream_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["PhasePlaneOut"];
                 };
             };
             /** @description Unknown run, demon, world or scenario */
