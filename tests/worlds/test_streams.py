@@ -219,3 +219,10 @@ def test_the_recording_example_writes_a_log_the_stream_scenario_reads(tmp_path: 
     assert done.returncode == 0, done.stderr
     result = learn_log(load_scenario(ROOT / "scenarios" / "mountaincar-log.toml"), out)
     assert result.records == result.learned == 300 and not result.refused
+
+
+def test_live_runs_refuse_other_world_kinds_naming_where_they_run(client: TestClient) -> None:
+    response = client.post("/api/runs", json=stream_spec())
+    assert response.status_code == 422
+    [problem] = response.json()["detail"]
+    assert problem["loc"] == ["body", "world", "kind"] and "POST /api/streams" in problem["msg"]

@@ -145,3 +145,22 @@ def test_truncation_bootstraps_and_termination_does_not() -> None:
         loop.observe(agent.sensors)
         loop.learn(agent.sensors, [1], [1 / 3], terminated=terminated, truncated=truncated)
         assert loop.horde_state().gamma[loop.horde.index["next"]] == expected
+
+
+def test_a_control_demon_drives_a_gymnasium_world_over_its_three_actions() -> None:
+    spec = RunSpec.model_validate(
+        {
+            "world": {"kind": "gymnasium", "id": "MountainCar-v0"},
+            "features": GYM["MountainCar-v0"],
+            "behaviour": {"kind": "epsilon_greedy", "demon": "control", "epsilon": 0.3},
+            "demons": [{"name": "control", "learner": "gq", "policy": "greedy", "cumulant": {"sensor": "reward"}}],
+        }
+    )
+    agent = GymAgent(spec)
+    for _ in range(200):
+        probs = agent.behaviour_probs()
+        q = agent.loop.q()[agent.horde.index["control"]]  # [3]
+        greedy = q >= q.max() - 1e-12
+        np.testing.assert_allclose(probs, 0.1 + 0.7 * greedy / greedy.sum())  # epsilon / 3 + (1 - epsilon) greedy
+        agent.step()
+    assert np.ptp(agent.loop.q()[agent.horde.index["control"]]) > 0, "the control demon's action values moved"
