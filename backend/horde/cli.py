@@ -154,6 +154,17 @@ def _run_log(spec: RunSpec, args: argparse.Namespace) -> int:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     print(format_log_result(path, result))
+    if args.strip:
+        from horde.worlds.log_run import strip_chart
+
+        demons = args.strip_demons.split(",") if args.strip_demons else [d.name for d in spec.demons[:3]]
+        sensors = args.strip_sensors.split(",") if args.strip_sensors else spec.world.sensor_names()[:3]
+        try:
+            strip_chart(spec, result, Path(args.strip), sensors, demons)
+        except ValueError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 2
+        print(f"strip chart: {args.strip}")
     if args.json:
         rows = [{"name": d.name, "prediction": d.prediction, "mean_prediction": d.mean_prediction,
                  "mean_return": d.mean_return} for d in result.demons]  # fmt: skip
@@ -185,6 +196,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--json", metavar="PATH", help="also write the results as JSON")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     run.add_argument("--log", metavar="FILE", help="a stream scenario: learn this recorded CSV log at full speed")
+    run.add_argument("--strip", metavar="PNG", help="with --log: draw sensors, predictions and realised returns")
+    run.add_argument("--strip-sensors", metavar="A,B", help="the sensors to draw (default: the first three)")
+    run.add_argument("--strip-demons", metavar="A,B", help="the demons to draw (default: the first three)")
     run.add_argument(
         "--workers", type=int, default=1, metavar="N",
         help="run the trials in N processes at once (0: one per core); results are the same",

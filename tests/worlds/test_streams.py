@@ -226,3 +226,13 @@ def test_live_runs_refuse_other_world_kinds_naming_where_they_run(client: TestCl
     assert response.status_code == 422
     [problem] = response.json()["detail"]
     assert problem["loc"] == ["body", "world", "kind"] and "POST /api/streams" in problem["msg"]
+
+
+def test_the_strip_chart_of_a_log(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    figure = tmp_path / "strip.png"
+    args = ["run", str(ROOT / "scenarios" / "mountaincar-log.toml"), "--log",
+            str(ROOT / "examples" / "data" / "mountaincar-pump.csv"), "--quiet", "--strip", str(figure)]  # fmt: skip
+    assert horde_main([*args, "--strip-demons", "position_g0.9,velocity_g0.5"]) == 0
+    assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert horde_main([*args, "--strip-demons", "nobody"]) == 2
+    assert "--strip-demons: unknown demon 'nobody'" in capsys.readouterr().err

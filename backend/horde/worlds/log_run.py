@@ -34,6 +34,19 @@ class LogDemon:
 
 
 @dataclass
+class StripWindow:
+    """The log's last records: sensors, every demon's prediction and realised return (nan where incomplete)."""
+
+    first: int  # the record number of the window's first row
+    sensors: np.ndarray  # [W, S]
+    predictions: np.ndarray  # [W, D]
+    returns: np.ndarray  # [W, D]
+
+
+STRIP = 1000  # records in the strip chart's window
+
+
+@dataclass
 class LogResult:
     records: int
     learned: int
@@ -41,6 +54,7 @@ class LogResult:
     seconds: float
     demons: list[LogDemon] = field(default_factory=list)
     compared: int = 0  # records in the comparison
+    window: StripWindow | None = None  # the last records, for the strip chart (None: no comparison)
 
     @property
     def records_per_second(self) -> float:
@@ -106,6 +120,10 @@ def learn_log(spec: RunSpec, path: Path, progress: Callable[[int, int], None] | 
             mean_prediction = np.where(counts > 0, (predictions * complete).sum(axis=0) / counts, np.nan)
             mean_return = np.where(counts > 0, (returns * complete).sum(axis=0) / counts, np.nan)
         result.compared = int(counts.max()) if len(counts) else 0
+        all_sensors = np.concatenate(sensors)
+        lo = max(0, len(predictions) - STRIP)
+        result.window = StripWindow(lo, all_sensors[lo:], predictions[lo:],
+                                    np.where(complete[lo:], returns[lo:], np.nan))  # fmt: skip
     for i, demon in enumerate(spec.demons):
         mine: tuple[float | None, float | None] = (None, None)
         if mean_prediction is not None and mean_return is not None and i in readable:
@@ -139,3 +157,52 @@ def format_log_result(path: Path, result: LogResult) -> str:
         "records whose realised return the log holds (the behaviour's return: the answer for on-policy demons)"
     )
     return "\n".join(lines)
+
+
+def strip_chart(spec: RunSpec, result: LogResult, path: Path, sensors: list[str], demons: list[str]) -> None:
+    """The nexting figure: the chosen sensors over the log's last records, and each chosen demon's prediction
+    beside the realised discounted return computed afterwards from the log (PNG or SVG by the suffix).
+
+    Raises:
+        ValueError: no comparison was kept (a refused record, or a log too large), or an unknown name.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    window = result.window
+    if window is None:
+        raise ValueError("no strip chart: the comparison needs a log without refused records")
+    names = spec.world.sensor_names()
+    index = {d.name: i for i, d in enumerate(spec.demons)}
+    for name in sensors:
+        if name not in names:
+            raise ValueError(f"--strip-sensors: unknown sensor {name!r} (known: {', '.join(names)})")
+    for name in demons:
+        if name not in index:
+            raise ValueError(f"--strip-demons: unknown demon {name!r}")
+    steps = window.first + np.arange(len(window.sensors))
+    fig, axes = plt.subplots(1 + len(demons), 1, figsize=(10, 2.2 * (1 + len(demons))), sharex=True)
+    axes = np.atleast_1d(axes)
+    bounds = spec.world.sensor_bounds()
+    for name in sensors:
+        values = window.sensors[:, names.index(name)]
+        low, high = bounds[name]
+        if np.isfinite(low) and np.isfinite(high):  # each on its own range, so that all of them show
+            values = (values - low) / (high - low)
+        axes[0].plot(steps, values, label=f"{name} [{low:g}, {high:g}]", linewidth=1)
+    axes[0].set_ylabel("sensors\n(0-1 of range)", fontsize=8)
+    axes[0].legend(loc="upper right", fontsize=8)
+    for ax, name in zip(axes[1:], demons, strict=True):
+        i = index[name]
+        ax.plot(steps, window.predictions[:, i], label="prediction (made at the time)", linewidth=1)
+        ax.plot(steps, window.returns[:, i], label="realised return (computed afterwards)", linewidth=1,
+                linestyle="--")  # fmt: skip
+        ax.set_ylabel(name, fontsize=8)
+        ax.legend(loc="upper right", fontsize=8)
+    axes[-1].set_xlabel("record")
+    fig.suptitle("Each prediction beside the discounted return that followed (the nexting figure)")
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
