@@ -432,7 +432,12 @@ class GymnasiumWorldSpec(Model):
 
     kind: Literal["gymnasium"]
     name: Name | None = None
-    id: str = Field(min_length=1, max_length=120, pattern=r"^[A-Za-z0-9_./:-]+$", description="e.g. MountainCar-v0")
+    id: str = Field(
+        min_length=1,
+        max_length=120,
+        pattern=r"^[A-Za-z0-9_./-]+$",  # no "module:Env" form: an id never makes the server import a module
+        description="a registered environment id, e.g. MountainCar-v0",
+    )
     max_steps: int | None = Field(
         default=None, ge=1, le=MAX_STEPS, description="truncate episodes here (default: the environment's own limit)"
     )

@@ -96,6 +96,8 @@ def test_an_id_not_installed_or_an_unsupported_space_is_an_error_at_world_id() -
     assert loc == ("world", "id") and "no installed Gymnasium environment 'NoSuchCar-v9'" in msg
     [(loc, msg)] = errors_of({"world": {"kind": "gymnasium", "id": "Pendulum-v1"}})
     assert loc == ("world", "id") and "needs a Discrete one" in msg
+    [(loc, _)] = errors_of({"world": {"kind": "gymnasium", "id": "os:system"}})  # never imports a module
+    assert loc == ("world", "id")
 
 
 def test_policies_and_features_must_fit_the_world() -> None:

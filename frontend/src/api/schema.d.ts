@@ -1143,7 +1143,7 @@ export interface components {
         GymnasiumWorldSpec: {
             /**
              * Id
-             * @description e.g. MountainCar-v0
+             * @description a registered environment id, e.g. MountainCar-v0
              */
             id: string;
             /**
