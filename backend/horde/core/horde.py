@@ -32,7 +32,7 @@ from horde.core import metrics, scale
 from horde.core.features import StateCoder
 from horde.core.policies import FIXED, KIND_CODES, OF, OWN_VALUE, UNIFORM, value_policy
 from horde.core.questions import Program
-from horde.core.world import NUM_ACTIONS, World, WorldState
+from horde.core.world import World, WorldState
 from horde.spec import (
     BehaviourSpec,
     DemonSpec,
@@ -43,7 +43,6 @@ from horde.spec import (
     demon_dependencies,
 )
 
-A = NUM_ACTIONS
 # Beyond this, in absolute value, a demon's TD error, prediction or action values mean nothing any more (a
 # diverging GQ demon reached 1.6e307 before its numbers overflowed): the engine marks it diverged and
 # freezes it there, and the run layer reports any number beyond it as null.
