@@ -117,6 +117,8 @@ def test_the_websocket_reports_bad_records_and_goes_on(client: TestClient) -> No
         assert learned["type"] == "learned" and learned["received"] == 3 and learned["learned"] == 2
         socket.send_text("not json")
         assert socket.receive_json()["field"] == "message"
+        socket.send_text(json.dumps({"records": [good] * 10_001}))
+        assert "at most 10000 records a message" in socket.receive_json()["message"]
         socket.send_text(json.dumps(good))
         assert socket.receive_json()["learned"] == 3
     with pytest.raises(Exception), client.websocket_connect("/api/streams/nope/records") as socket:  # noqa: B017

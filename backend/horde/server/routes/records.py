@@ -4,7 +4,8 @@ WS /api/streams/{id}/records, where a client (a robot, a replayed log) pushes re
 A record is {observation: [S readings], action, behaviour_probabilities?: [A]} (horde.worlds.records). The
 REST route takes a batch whole or not at all: any refused record is a 422 naming it
 (`body.records.<i>.<field>`), and nothing of that batch is learned; the run goes on with later batches.
-The WebSocket takes messages `{"records": [...]}` (or one record), learns them in order, and answers each
+The WebSocket takes messages `{"records": [...]}` (at most 10,000 records; a larger message, or one that is
+not JSON, is refused whole with an error naming `message`) or one record, learns them in order, and answers each
 learned message (several queued messages are learned together) with
 `{"type": "learned", "received", "learned", "predictions": [D]}`; a refused record gets
 `{"type": "error", "index", "field", "message"}` and the stream goes on with the next good one. Back-pressure:
@@ -174,9 +175,12 @@ def _token_ok(websocket: WebSocket, settings: Settings) -> bool:
 
 
 def _items(text: str) -> list[Any]:
+    """A message's records. Raises ValueError for text that is not JSON or a batch that is too large."""
     data = json.loads(text)
     if isinstance(data, dict) and set(data) == {"records"} and isinstance(data["records"], list):
-        return list(data["records"])[:MAX_RECORDS_PER_BATCH]
+        if len(data["records"]) > MAX_RECORDS_PER_BATCH:
+            raise ValueError(f"at most {MAX_RECORDS_PER_BATCH} records a message (this one has {len(data['records'])})")
+        return list(data["records"])
     return [data]
 
 
@@ -227,9 +231,9 @@ async def stream_records(websocket: WebSocket, stream_id: str) -> None:
             text = await websocket.receive_text()
             try:
                 items = _items(text)
-            except json.JSONDecodeError as exc:
-                await websocket.send_json({"type": "error", "index": None, "field": "message",
-                                           "message": f"not JSON: {exc}"})  # fmt: skip
+            except ValueError as exc:  # json.JSONDecodeError is one; the message is refused whole, none learned
+                problem = f"not JSON: {exc}" if isinstance(exc, json.JSONDecodeError) else str(exc)
+                await websocket.send_json({"type": "error", "index": None, "field": "message", "message": problem})
                 continue
             await queue.put(items)  # waits while QUEUE messages are unlearned: back-pressure
     except WebSocketDisconnect:
