@@ -102,6 +102,8 @@ def test_the_world_checker_catches_a_broken_world(breakage: str, message: str, m
 @pytest.mark.parametrize("path", SCENARIOS, ids=[p.stem for p in SCENARIOS])
 def test_same_seed_same_run(path: Path) -> None:
     spec = load_scenario(path)
+    if spec.world.kind != "grid":  # check_world runs a Gymnasium world twice on one seed; a stream draws nothing
+        pytest.skip(f"a {spec.world.kind} world: its same-seed check is check_world's")
     runs = []
     for _ in range(2):
         sim = Simulation(spec, np.random.default_rng(42))

@@ -83,7 +83,7 @@ def format_results(spec: RunSpec, result: ProtocolResult) -> str:
     protocol = spec.protocol
     lines.append("")
     lines.append(
-        f"{protocol.trials} trials x {protocol.episodes} episodes (max {spec.world.max_steps} steps), "
+        f"{protocol.trials} trials x {protocol.episodes} episodes (max {spec.grid.max_steps} steps), "
         f"{result.steps} steps in {result.seconds:.1f} s ({result.steps_per_second:,.0f} steps/s); "
         f"truth: {protocol.evaluation.rollouts} rollouts per trial, capped at {result.rollout_cap} steps"
     )
@@ -112,6 +112,10 @@ def cmd_run(args: argparse.Namespace) -> int:
         print(f"error: {args.scenario}: {exc}", file=sys.stderr)
         return 2
     progress = ProgressBar(spec.name or Path(args.scenario).stem) if not args.quiet else None
+    if args.log:
+        return _run_log(spec, args)
+    if spec.world.kind == "gymnasium":
+        return _run_gymnasium(spec, args, progress)
     if args.workers != 1:  # 0: every usable core
         result = run_protocol_batched(spec, args.workers or None, progress)
     else:
@@ -119,6 +123,52 @@ def cmd_run(args: argparse.Namespace) -> int:
     print(format_results(spec, result))
     if args.json:
         Path(args.json).write_text(json.dumps([d.as_dict() for d in result.demons], indent=2) + "\n")
+    return 0
+
+
+def _run_gymnasium(spec: RunSpec, args: argparse.Namespace, progress: ProgressBar | None) -> int:
+    """`horde run` on a Gymnasium world: learn, then each prediction beside its realised return."""
+    from horde.worlds.protocol import format_gym_results, run_gym_protocol
+
+    result = run_gym_protocol(spec, progress)
+    print(format_gym_results(spec, result))
+    if args.json:
+        Path(args.json).write_text(json.dumps([d.as_dict() for d in result.demons], indent=2) + "\n")
+    return 0
+
+
+def _run_log(spec: RunSpec, args: argparse.Namespace) -> int:
+    """`horde run --log FILE`: the scenario's stream world learns a recorded log at full speed."""
+    from horde.worlds.log_run import format_log_result, learn_log
+
+    path = Path(args.log)
+    if spec.world.kind != "stream":
+        print(
+            f"error: {args.scenario}: world.kind: --log needs a stream world, not {spec.world.kind!r}", file=sys.stderr
+        )
+        return 2
+    progress = ProgressBar(path.name, unit="records") if not args.quiet else None
+    try:
+        result = learn_log(spec, path, progress)
+    except (OSError, ValueError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    print(format_log_result(path, result))
+    if args.strip:
+        from horde.worlds.log_run import strip_chart
+
+        demons = args.strip_demons.split(",") if args.strip_demons else [d.name for d in spec.demons[:3]]
+        sensors = args.strip_sensors.split(",") if args.strip_sensors else spec.world.sensor_names()[:3]
+        try:
+            strip_chart(spec, result, Path(args.strip), sensors, demons)
+        except ValueError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 2
+        print(f"strip chart: {args.strip}")
+    if args.json:
+        rows = [{"name": d.name, "prediction": d.prediction, "mean_prediction": d.mean_prediction,
+                 "mean_return": d.mean_return} for d in result.demons]  # fmt: skip
+        Path(args.json).write_text(json.dumps(rows, indent=2) + "\n")
     return 0
 
 
@@ -145,6 +195,10 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--seed", type=int, help="override the seed")
     run.add_argument("--json", metavar="PATH", help="also write the results as JSON")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.add_argument("--log", metavar="FILE", help="a stream scenario: learn this recorded CSV log at full speed")
+    run.add_argument("--strip", metavar="PNG", help="with --log: draw sensors, predictions and realised returns")
+    run.add_argument("--strip-sensors", metavar="A,B", help="the sensors to draw (default: the first three)")
+    run.add_argument("--strip-demons", metavar="A,B", help="the demons to draw (default: the first three)")
     run.add_argument(
         "--workers", type=int, default=1, metavar="N",
         help="run the trials in N processes at once (0: one per core); results are the same",

@@ -22,8 +22,10 @@ from typing import Annotated, Any, Literal
 from pydantic import (
     BaseModel,
     ConfigDict,
+    Discriminator,
     Field,
     PrivateAttr,
+    Tag,
     ValidationError,
     ValidationInfo,
     field_validator,
@@ -249,6 +251,18 @@ class WorldSpec(Model):
     transient_reward: Finite = -0.01
     max_steps: int = Field(default=100, ge=1, le=MAX_STEPS)
 
+    @model_validator(mode="before")
+    @classmethod
+    def _grid_kind(cls, data: Any) -> Any:
+        """`kind = "grid"` may be written; it is the default, and the grid world's spec does not keep it."""
+        if isinstance(data, dict) and data.get("kind") == "grid":
+            return {k: v for k, v in data.items() if k != "kind"}
+        return data
+
+    @property
+    def kind(self) -> Literal["grid"]:
+        return "grid"
+
     @field_validator("start")
     @classmethod
     def _start_shape(cls, start: list[float]) -> list[float]:
@@ -348,6 +362,152 @@ class WorldSpec(Model):
         names += [f"color:{r.name}" for r in self.regions if r.kind == "indicator"]
         names.append("terminal")
         return names
+
+    def num_actions(self) -> int:
+        """Up, down, left, right."""
+        return len(ACTIONS)
+
+
+# ----------------------------------------------------------------------------------------------
+# Other world kinds (DESIGN section 2, last item): a Gymnasium environment, a live stream of observations.
+# Each keeps the grid world's contract: named sensors with ranges, a number of actions, terminated apart
+# from truncated. `world.kind` tells them apart; a world without `kind` is the grid world.
+
+MAX_ACTIONS = 64
+MAX_SENSORS = 1024
+SensorName = Annotated[str, Field(min_length=1, max_length=80, pattern=r"^[A-Za-z_][A-Za-z0-9_.:-]*$")]
+
+
+class SensorRange(Model):
+    """One sensor of a non-grid world: its name and, where known, the range its readings stay in."""
+
+    name: SensorName
+    low: Finite | None = Field(default=None, description="the lowest reading (a bound or a documented range)")
+    high: Finite | None = Field(default=None, description="the highest reading")
+
+    @model_validator(mode="after")
+    def _ordered(self) -> SensorRange:
+        if self.low is not None and self.high is not None and not self.low < self.high:
+            raise ValueError(f"sensor {self.name!r}: low must be below high")
+        return self
+
+
+def _sensor_bounds(sensors: list[SensorRange]) -> dict[str, tuple[float, float]]:
+    return {s.name: (-math.inf if s.low is None else s.low, math.inf if s.high is None else s.high) for s in sensors}
+
+
+def _unique_sensors(sensors: list[SensorRange]) -> list[SensorRange]:
+    names = [s.name for s in sensors]
+    dupes = sorted({n for n in names if names.count(n) > 1})
+    if dupes:
+        raise ValueError(f"sensor names must be unique: {', '.join(dupes)}")
+    return sensors
+
+
+class StreamWorldSpec(Model):
+    """Observations a client pushes (a robot, a recorded log): the sensors it sends and its number of actions.
+
+    A record is (observation: one reading per sensor, in this order; the action taken; optionally the
+    behaviour's probabilities of every action, uniform when left out). The stream is one continuing
+    episode: nothing terminates it.
+    """
+
+    kind: Literal["stream"]
+    name: Name | None = None
+    sensors: list[SensorRange] = Field(min_length=1, max_length=MAX_SENSORS)
+    actions: int = Field(ge=1, le=MAX_ACTIONS, description="the number of actions a record's action is one of")
+
+    @field_validator("sensors")
+    @classmethod
+    def _unique(cls, sensors: list[SensorRange]) -> list[SensorRange]:
+        return _unique_sensors(sensors)
+
+    def sensor_names(self) -> list[str]:
+        return [s.name for s in self.sensors]
+
+    def sensor_bounds(self) -> dict[str, tuple[float, float]]:
+        return _sensor_bounds(self.sensors)
+
+    def num_actions(self) -> int:
+        return self.actions
+
+
+class GymnasiumWorldSpec(Model):
+    """An installed Gymnasium environment with a `Box` observation and a `Discrete` action space.
+
+    Its sensors are the observation's components (named and ranged by `horde.worlds.gym_spaces`), then
+    `reward`, `terminated` and `truncated`, read after every step (0 at an episode's first state).
+    """
+
+    kind: Literal["gymnasium"]
+    name: Name | None = None
+    id: str = Field(
+        min_length=1,
+        max_length=120,
+        pattern=r"^[A-Za-z0-9_./-]+$",  # no "module:Env" form: an id never makes the server import a module
+        description="a registered environment id, e.g. MountainCar-v0",
+    )
+    max_steps: int | None = Field(
+        default=None, ge=1, le=MAX_STEPS, description="truncate episodes here (default: the environment's own limit)"
+    )
+    _sensors: list[SensorRange] = PrivateAttr(default_factory=list)
+    _actions: int = PrivateAttr(default=0)
+
+    @model_validator(mode="after")
+    def _installed(self) -> GymnasiumWorldSpec:
+        from horde.worlds.gym_spaces import GymSpaceError, describe  # gymnasium is imported only for this kind
+
+        try:
+            sensors, actions = describe(self.id)
+        except GymSpaceError as exc:  # a ValidationError at `id`, so that the 422 names the field
+            detail = InitErrorDetails(type=PydanticCustomError("gymnasium_id", str(exc)), loc=("id",), input=self.id)
+            raise ValidationError.from_exception_data(type(self).__name__, [detail]) from None
+        self._sensors = sensors
+        self._actions = actions
+        return self
+
+    def sensor_ranges(self) -> list[SensorRange]:
+        """The observation's components with their ranges, then reward, terminated and truncated."""
+        return list(self._sensors)
+
+    def sensor_names(self) -> list[str]:
+        return [s.name for s in self._sensors]
+
+    def sensor_bounds(self) -> dict[str, tuple[float, float]]:
+        return _sensor_bounds(self._sensors)
+
+    def num_actions(self) -> int:
+        return self._actions
+
+
+WORLD_KINDS = ("grid", "gymnasium", "stream")
+
+
+def _error_detail(error: Any, loc: tuple[Any, ...]) -> InitErrorDetails:
+    """A pydantic error again, at another loc (custom error types are rebuilt from their message)."""
+    ctx = error.get("ctx")
+    try:
+        detail = InitErrorDetails(type=error["type"], loc=loc, input=error["input"])
+        if ctx:
+            detail["ctx"] = ctx
+        ValidationError.from_exception_data("check", [detail])
+    except (KeyError, TypeError):
+        detail = InitErrorDetails(type=PydanticCustomError(error["type"], error["msg"]), loc=loc, input=error["input"])
+    return detail
+
+
+def _world_kind(value: Any) -> str:
+    if isinstance(value, dict):
+        return str(value.get("kind", "grid"))
+    return str(getattr(value, "kind", "grid"))
+
+
+AnyWorldSpec = Annotated[
+    Annotated[WorldSpec, Tag("grid")]
+    | Annotated[GymnasiumWorldSpec, Tag("gymnasium")]
+    | Annotated[StreamWorldSpec, Tag("stream")],
+    Discriminator(_world_kind),
+]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -449,7 +609,7 @@ class FeatureSpec(Model):
 # ----------------------------------------------------------------------------------------------
 # Policies (DESIGN section 4)
 
-PolicyKind = Literal["uniform", "fixed", "greedy", "softmax", "epsilon_greedy", "of"]
+PolicyKind = Literal["uniform", "fixed", "greedy", "softmax", "epsilon_greedy", "of", "sign"]
 OWN_VALUE_POLICIES = ("greedy", "softmax", "epsilon_greedy")
 
 
@@ -462,21 +622,37 @@ def _policy_shorthand(value: Any) -> Any:
     return value
 
 
+def _sign_fields(policy: PolicySpec | BehaviourSpec) -> None:
+    """A "sign" policy names its sensor and its two actions; no other kind does."""
+    if policy.kind == "sign" and (policy.sensor is None or policy.actions is None):
+        raise ValueError("a sign policy names a sensor and actions = [action where negative, action where >= 0]")
+    if policy.kind != "sign" and (policy.sensor is not None or policy.actions is not None):
+        raise ValueError(f"sensor and actions belong to sign policies (this one is {policy.kind!r})")
+
+
 class PolicySpec(Model):
     """A target policy. Shorthands: "uniform", "greedy", "softmax", {of = "demon"}."""
 
     kind: PolicyKind = "uniform"
     probabilities: list[Probability] | None = Field(
-        default=None, min_length=4, max_length=4, description="fixed: [up, down, left, right]"
+        default=None,
+        min_length=1,
+        max_length=MAX_ACTIONS,
+        description="fixed: one per action of the world ([up, down, left, right] in the grid world)",
     )
     temperature: Annotated[float, Field(gt=0.0, le=1e6, allow_inf_nan=False)] = 1.0
     epsilon: Probability = 0.1
     demon: Name | None = Field(default=None, description="of: the demon whose policy this follows")
+    sensor: SensorName | None = Field(default=None, description="sign: the sensor whose sign chooses the action")
+    actions: list[Annotated[int, Field(ge=0, lt=MAX_ACTIONS)]] | None = Field(
+        default=None, min_length=2, max_length=2, description="sign: [action where negative, action where >= 0]"
+    )
 
     _shorthand = model_validator(mode="before")(_policy_shorthand)
 
     @model_validator(mode="after")
     def _fields(self) -> PolicySpec:
+        _sign_fields(self)
         if self.kind == "fixed":
             if self.probabilities is None:
                 raise ValueError("a fixed policy needs probabilities [up, down, left, right]")
@@ -494,16 +670,23 @@ class PolicySpec(Model):
 class BehaviourSpec(Model):
     """The behaviour policy of a run: uniform, fixed, or greedy/softmax/epsilon_greedy over a control demon."""
 
-    kind: Literal["uniform", "fixed", "greedy", "softmax", "epsilon_greedy"] = "uniform"
+    kind: Literal["uniform", "fixed", "greedy", "softmax", "epsilon_greedy", "sign"] = "uniform"
     demon: Name | None = None
-    probabilities: list[Probability] | None = Field(default=None, min_length=4, max_length=4)
+    probabilities: list[Probability] | None = Field(default=None, min_length=1, max_length=MAX_ACTIONS)
     temperature: Annotated[float, Field(gt=0.0, le=1e6, allow_inf_nan=False)] = 1.0
     epsilon: Probability = 0.1
+    sensor: SensorName | None = Field(default=None, description="sign: the sensor whose sign chooses the action")
+    actions: list[Annotated[int, Field(ge=0, lt=MAX_ACTIONS)]] | None = Field(
+        default=None, min_length=2, max_length=2, description="sign: [action where negative, action where >= 0]"
+    )
 
     _shorthand = model_validator(mode="before")(_policy_shorthand)
 
     @model_validator(mode="after")
     def _fields(self) -> BehaviourSpec:
+        _sign_fields(self)
+        if self.kind == "sign" and self.epsilon <= 0.0:
+            raise ValueError("a sign behaviour needs epsilon > 0, so that every action has a positive probability")
         if self.kind in OWN_VALUE_POLICIES and self.demon is None:
             raise ValueError(f"a {self.kind} behaviour names the control demon it acts on")
         if self.kind in ("uniform", "fixed") and self.demon is not None:
@@ -589,6 +772,12 @@ class EvaluationSpec(Model):
     rollouts: int = Field(default=1000, ge=0, le=100_000)
     cap: int = Field(default=10_000, ge=1, le=MAX_STEPS, description="rollout length limit")
     demons: list[Name] | None = Field(default=None, description="which demons; default all prediction demons")
+    states: int = Field(
+        default=20,
+        ge=1,
+        le=1000,
+        description="Gymnasium worlds: test states, from a run of the behaviour after learning",
+    )
 
 
 class TestSpec(Model):
@@ -712,7 +901,7 @@ class DemonFamily(Model):
 class RunSpec(Model):
     name: Name | None = None
     description: str = Field(default="", max_length=2000)
-    world: WorldSpec = Field(default_factory=WorldSpec)
+    world: AnyWorldSpec = Field(default_factory=WorldSpec)
     features: FeatureSpec = Field(default_factory=FeatureSpec)
     behaviour: BehaviourSpec = Field(default_factory=BehaviourSpec)
     learning: LearningSpec = Field(default_factory=LearningSpec)
@@ -735,6 +924,35 @@ class RunSpec(Model):
             raise ValueError(f"the families expand into {total - demons} demons; with {demons} others that is "
                              f"{total}, more than {MAX_DEMONS}")  # fmt: skip
         return families
+
+    @model_validator(mode="wrap")
+    @classmethod
+    def _world_locs(cls, data: Any, handler: Any) -> Any:
+        """Errors inside the world name its field as `world.<field>`, without the union's tag (grid, ...)."""
+        try:
+            return handler(data)
+        except ValidationError as exc:
+            errors = exc.errors()
+            if not any(len(e["loc"]) > 1 and e["loc"][0] == "world" and e["loc"][1] in WORLD_KINDS for e in errors):
+                raise
+            details = []
+            for e in errors:
+                loc = e["loc"]
+                if len(loc) > 1 and loc[0] == "world" and loc[1] in WORLD_KINDS:
+                    loc = (loc[0], *loc[2:])
+                details.append(_error_detail(e, loc))
+            raise ValidationError.from_exception_data(cls.__name__, details) from None
+
+    @property
+    def grid(self) -> WorldSpec:
+        """The world, for what only the grid world has (positions, regions, a lattice, a start).
+
+        Raises:
+            ValueError: the world is another kind (a Gymnasium environment or a stream).
+        """
+        if not isinstance(self.world, WorldSpec):
+            raise ValueError(f"this needs the grid world; the run's world is of kind {self.world.kind!r}")
+        return self.world
 
     @model_validator(mode="after")
     def _references(self) -> RunSpec:
@@ -808,10 +1026,41 @@ def check_demon_graph(spec: RunSpec) -> list[str]:
     test = spec.protocol.test
     if test and test.behaviour.demon is not None and test.behaviour.demon not in by_name:
         raise ValueError(f"the test behaviour refers to unknown demon {test.behaviour.demon!r}")
-    total = sum((d.features or spec.features).state_size() * (4 if d.learner == "gq" else 1) for d in spec.demons)
+    _check_world_fit(spec, by_name)
+    actions = spec.world.num_actions()
+    total = sum((d.features or spec.features).state_size() * (actions if d.learner == "gq" else 1) for d in spec.demons)
     if total > 50 * MAX_FEATURES:
         raise ValueError(f"the demons' weights would hold {total} numbers, more than {50 * MAX_FEATURES}")
     return topological_order(deps)
+
+
+def _check_world_fit(spec: RunSpec, by_name: dict[str, DemonSpec]) -> None:
+    """Policies over the world's own actions; features other worlds can code (sensors or constant).
+
+    Raises:
+        ValueError: naming the demon (or behaviour) whose probabilities or features do not fit the world.
+    """
+    actions = spec.world.num_actions()
+    behaviours = [("the behaviour", spec.behaviour)]
+    if spec.protocol.test is not None:
+        behaviours.append(("the test behaviour", spec.protocol.test.behaviour))
+    for where, policy in [(f"demon {d.name!r}: policy", d.policy) for d in by_name.values()] + behaviours:
+        if policy.probabilities is not None and len(policy.probabilities) != actions:
+            raise ValueError(f"{where}: probabilities has {len(policy.probabilities)} entries; the world has "
+                             f"{actions} actions")  # fmt: skip
+        if policy.kind == "sign":
+            if isinstance(spec.world, WorldSpec):
+                raise ValueError(f"{where}: a sign policy needs a world fed from outside (gymnasium or stream)")
+            if policy.sensor not in spec.world.sensor_names():
+                raise ValueError(f"{where}: sign reads unknown sensor {policy.sensor!r}")
+            if max(policy.actions or [0]) >= actions:
+                raise ValueError(f"{where}: actions {policy.actions} are not among the world's {actions} actions")
+    if isinstance(spec.world, WorldSpec):
+        return
+    for where, features in [("features", spec.features)] + [(d.name, d.features) for d in spec.demons]:
+        if features is not None and features.kind not in ("sensors", "constant"):
+            raise ValueError(f"{where}: kind {features.kind!r} codes grid positions; a {spec.world.kind} world "
+                             "needs kind = 'sensors' (or 'constant')")  # fmt: skip
 
 
 def topological_order(deps: dict[str, set[str]]) -> list[str]:

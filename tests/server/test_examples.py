@@ -27,8 +27,10 @@ def load(path: Path) -> ModuleType:
 
 
 def test_every_example_is_covered() -> None:
-    # 05 runs a Horde without the server: tests/test_public_api.py runs it.
-    assert sorted(p.name for p in EXAMPLES.glob("[0-9]*.py")) == sorted([*SMALL, "05_horde_in_python.py"])
+    # 05 runs a Horde without the server: tests/test_public_api.py runs it. 06 records a log and 07 replays one
+    # over a real socket: tests/worlds/test_streams.py runs them.
+    others = ["05_horde_in_python.py", "06_record_a_log.py", "07_stream_replay.py"]
+    assert sorted(p.name for p in EXAMPLES.glob("[0-9]*.py")) == sorted([*SMALL, *others])
 
 
 @pytest.mark.parametrize("name", sorted(SMALL))

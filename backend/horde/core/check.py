@@ -1,4 +1,4 @@
-"""`check_world`: the environment contract that every world keeps, on both engines.
+"""`check_world`: the environment contract that every world keeps, on both engines (and every kind).
 
 Modelled on Gymnasium's `check_env`, which runs over every registered environment: this runs over every
 scenario (tests/test_scenarios.py) and over any spec a user writes. It checks, with a seeded generator:
@@ -61,21 +61,21 @@ def _check_starts(world: World, state: WorldState, where: str) -> None:
 
 def _numpy_episodes(spec: RunSpec, seed: int, batch: int) -> list[tuple[np.ndarray, ...]]:
     """Run `batch` episodes of random actions to their end with world.py, checking every step."""
-    world = World(spec.world)
-    _require(world.sensor_names == spec.world.sensor_names(), "world.py names its sensors unlike the spec")
+    world = World(spec.grid)
+    _require(world.sensor_names == spec.grid.sensor_names(), "world.py names its sensors unlike the spec")
     rng = np.random.default_rng(seed)
     state = world.reset(rng, batch)
     _check_starts(world, state, "world.py reset")
     _check_sensors(spec, world.start_sensors(state), "world.py start sensors")
     trace: list[tuple[np.ndarray, ...]] = [(state.x, state.y, state.colors)]
     ended = np.zeros(batch, dtype=bool)
-    for t in range(1, spec.world.max_steps + 1):
+    for t in range(1, spec.grid.max_steps + 1):
         actions = rng.integers(0, NUM_ACTIONS, size=batch)
         state, transition = world.step(state, actions, rng)
         where = f"world.py step {t}"
         _check_sensors(spec, world.sensors(state, transition), where)
         _require(not bool((transition.terminated & transition.truncated).any()), f"{where}: terminated and truncated")
-        _require(bool((transition.truncated == (state.steps == spec.world.max_steps) & ~transition.terminated).all()),
+        _require(bool((transition.truncated == (state.steps == spec.grid.max_steps) & ~transition.terminated).all()),
                  f"{where}: truncated other than at max_steps")  # fmt: skip
         _require(
             not bool(world.blocked(state.x, state.y).any()), f"{where}: moved into an obstacle or out of the world"
@@ -84,12 +84,12 @@ def _numpy_episodes(spec: RunSpec, seed: int, batch: int) -> list[tuple[np.ndarr
         ended |= transition.terminated | transition.truncated
         if ended.all():
             return trace
-    raise WorldCheckError(f"world.py: an episode did not end within max_steps = {spec.world.max_steps}")
+    raise WorldCheckError(f"world.py: an episode did not end within max_steps = {spec.grid.max_steps}")
 
 
 def _check_engines_agree(spec: RunSpec, seed: int, steps: int) -> None:
     """Replay each step of the compiled loop on world.py (moves without slip and noise, see the module)."""
-    exact_world = spec.world.model_copy(update={"slip": 0.0, "noise": 0.0})
+    exact_world = spec.grid.model_copy(update={"slip": 0.0, "noise": 0.0})
     exact = spec.model_copy(update={"world": exact_world})
     sim = Simulation(exact, np.random.default_rng(seed))
     world = World(exact_world)
@@ -123,7 +123,15 @@ def check_world(spec: RunSpec, seed: int = 0, batch: int = 16, steps: int = 300)
         seed: the generator's seed; the check is itself deterministic.
         batch: episodes run side by side on world.py, each to its end.
         steps: steps of the compiled loop replayed on world.py.
+
+    Other world kinds (a Gymnasium environment, a stream) keep the same contract, checked by
+    `horde.worlds.check.check_external_world` (imported here only for them).
     """
+    if spec.world.kind != "grid":
+        from horde.worlds.check import check_external_world
+
+        check_external_world(spec, seed, steps)
+        return
     first = _numpy_episodes(spec, seed, batch)
     second = _numpy_episodes(spec, seed, batch)
     for t, (a, b) in enumerate(zip(first, second, strict=True)):

@@ -52,7 +52,7 @@ def monte_carlo(
     continuation: G = sum_t (prod_{j<=t} gamma_j) (r_{t+1} + (1 - gamma_{t+1}) z_{t+1}), which equals the
     return of a random stopping time with P(continue) = gamma and has lower variance.
     """
-    world = World(horde.spec.world)
+    world = World(horde.spec.grid)
     demon = horde.index[name]
     discount = horde.demon_specs[demon].discount
     program = _question_program(horde, name)
@@ -113,7 +113,7 @@ def exact(horde: Horde, state: HordeState, name: str) -> Lattice:
     Requires a lattice world (no noise, step divides the world) without indicators, and a question
     that does not read the `steps` sensor.
     """
-    world = World(horde.spec.world)
+    world = World(horde.spec.grid)
     if world.num_indicators:
         raise ValueError("exact answers do not cover indicators (their colour is hidden state)")
     demon = horde.index[name]

@@ -71,7 +71,7 @@ class ProtocolResult:
 
 def start_point(spec: RunSpec) -> tuple[float, float]:
     """Where predictions are read and rollouts start: the start point, or the start rectangle's centre."""
-    s = spec.world.start
+    s = spec.grid.start
     return (s[0], s[1]) if len(s) == 2 else ((s[0] + s[2]) / 2, (s[1] + s[3]) / 2)
 
 

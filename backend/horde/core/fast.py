@@ -303,6 +303,7 @@ def _features(gi, thresholds, tiled_col, tiled_low, tiled_high, tiled_values, g,
 
 @njit(cache=True)
 def _behaviour(beh_i, beh_f, beh_probs, q, out):
+    A = out.shape[0]  # the world's number of actions
     kind = beh_i[0]
     if kind == UNIFORM:
         for a in range(A):
@@ -369,6 +370,7 @@ def _sort(a, k):
 @njit(cache=True)
 def _given_policies(gi, class_kind, class_of, class_fixed, pi, pi_given, g):
     """pi_given of group g's classes at the state just observed: fixed, uniform, or the followed slot's."""
+    A = pi_given.shape[1]
     for c in range(gi[g, G_CLO], gi[g, G_CHI]):
         for a in range(A):
             pi_given[c, a] = pi[class_of[c], a] if class_kind[c] == OF else class_fixed[c, a]
@@ -377,6 +379,7 @@ def _given_policies(gi, class_kind, class_of, class_fixed, pi, pi_given, g):
 @njit(cache=True)
 def _given_to_slots(gi, bi, dcls, pi, pi_given, g):
     """Slots of given-policy blocks take their class's policy (the block kernel sets GQ ones itself)."""
+    A = pi.shape[1]
     for b in range(gi[g, G_BLO], gi[g, G_BHI]):
         if bi[b, B_POLICY] != FIXED:
             continue
@@ -441,6 +444,7 @@ def _observe(net, buf):
 @njit(cache=True)
 def _slot_diverged(s, gq, delta, pred, q):
     """Whether slot s's TD error, prediction or (GQ) action values are non-finite or beyond MAX_MAGNITUDE."""
+    A = q.shape[1]
     bad = not (abs(delta[s]) <= MAX_MAGNITUDE and abs(pred[s]) <= MAX_MAGNITUDE)  # NaN compares False
     if gq:
         for a in range(A):
@@ -870,6 +874,7 @@ class FastLoop:
             **_pack_programs(horde),
         )
         d, c, ng = horde.num_demons, horde.num_classes, len(groups)
+        na = horde.num_actions
         kmax = max((g.coder.k for g in groups), default=1)
         dmax = max([1, *sizes.tolist(), *ncls.tolist()])
         most = int(max([1, *rows.tolist()])) + kmax
@@ -895,16 +900,16 @@ class FastLoop:
             idx=np.zeros(kmax, dtype=np.int64),
             tiled_values=np.zeros(max([1, *(len(g.coder.tiled_columns) for g in groups)])),
             class_gamma=np.zeros(c),
-            class_pi=np.full((c, A), 1.0 / A),
-            pi_given=np.full((c, A), 1.0 / A),
+            class_pi=np.full((c, na), 1.0 / na),
+            pi_given=np.full((c, na), 1.0 / na),
             gamma_tp1=np.zeros(c),
             rho=np.ones(c),
             alpha_now=self.net.alpha.copy(),
             alpha_w_now=self.net.alpha_w.copy(),
             r=np.zeros(d),
             z=np.zeros(d),
-            pi=np.full((d, A), 1.0 / A),
-            q=np.zeros((d, A)),
+            pi=np.full((d, na), 1.0 / na),
+            q=np.zeros((d, na)),
             pred=np.zeros(d),
             gamma=np.zeros(d),
             delta=np.zeros(d),
@@ -914,11 +919,11 @@ class FastLoop:
             rows=np.zeros(most, np.int64),
             rows_e=np.zeros(most),
             rows_f=np.zeros(most),
-            values=np.zeros((A, dmax)),
-            pi_next=np.zeros((A, dmax)),
+            values=np.zeros((na, dmax)),
+            pi_next=np.zeros((na, dmax)),
             work=np.zeros((6, dmax)),
             ev=np.zeros((2, dmax)),
-            scratch=np.zeros((2, A)),
+            scratch=np.zeros((2, na)),
             returns=np.zeros(2),
             result=np.zeros(8),
         )
@@ -955,7 +960,8 @@ class FastLoop:
 
     def _behaviour(self, behaviour: BehaviourSpec) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         demon = int(self.horde.demon_slot[self.horde.index[behaviour.demon]]) if behaviour.demon else -1
-        probs = np.asarray(behaviour.probabilities if behaviour.probabilities else [1.0 / A] * A, dtype=float)
+        na = self.horde.num_actions
+        probs = np.asarray(behaviour.probabilities if behaviour.probabilities else [1.0 / na] * na, dtype=float)
         return (
             np.array([KIND_CODES[behaviour.kind], demon], dtype=np.int64),
             np.array([behaviour.temperature, behaviour.epsilon]),
@@ -1098,6 +1104,6 @@ class FastLoop:
                 block = self.horde.blocks[b]
                 kinds = 1 if block.learner == "td" else 2
                 support = int(self.buf.touched[b]) * 8 * (kinds * block.size + block.num_classes)
-                gathers = (A if block.learner == "gq" else 1) * k * 8 * block.size * kinds
+                gathers = (self.horde.num_actions if block.learner == "gq" else 1) * k * 8 * block.size * kinds
                 total += support + gathers
         return total

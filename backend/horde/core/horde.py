@@ -32,10 +32,17 @@ from horde.core import metrics, scale
 from horde.core.features import StateCoder
 from horde.core.policies import FIXED, KIND_CODES, OF, OWN_VALUE, UNIFORM, value_policy
 from horde.core.questions import Program
-from horde.core.world import NUM_ACTIONS, World, WorldState
-from horde.spec import BehaviourSpec, DemonSpec, FeatureSpec, RunSpec, check_demon_graph, demon_dependencies
+from horde.core.world import World, WorldState
+from horde.spec import (
+    BehaviourSpec,
+    DemonSpec,
+    FeatureSpec,
+    RunSpec,
+    WorldSpec,
+    check_demon_graph,
+    demon_dependencies,
+)
 
-A = NUM_ACTIONS
 # Beyond this, in absolute value, a demon's TD error, prediction or action values mean nothing any more (a
 # diverging GQ demon reached 1.6e307 before its numbers overflowed): the engine marks it diverged and
 # freezes it there, and the run layer reports any number beyond it as null.
@@ -103,6 +110,8 @@ def _policy_key(demon: DemonSpec) -> tuple[object, ...]:
         return ("fixed", tuple(float(p) for p in policy.probabilities))
     if policy.kind == "of":
         return ("of", policy.demon)
+    if policy.kind == "sign":
+        return ("sign", policy.sensor, tuple(policy.actions or ()), float(policy.epsilon))
     return ("uniform",)
 
 
@@ -128,6 +137,7 @@ class Horde:
             stage_of[name] = 1 + max((stage_of[d] for d in deps), default=-1)
         self.stage_of = np.array([stage_of[n] for n in self.names], dtype=np.int64)
         self.is_action_value = np.array([d.learner == "gq" for d in self.demon_specs], dtype=bool)
+        self.num_actions = spec.world.num_actions()  # A: four in the grid world, the space's size elsewhere
         # Filled by _compile: per trace class, what its given target policy is.
         self._class_kind: list[int] = []
         self._class_fixed: list[np.ndarray] = []
@@ -138,7 +148,7 @@ class Horde:
         self.groups: tuple[Group, ...] = tuple(g for stage in self.stages for g in stage.groups)
         self.blocks: tuple[scale.Block, ...] = tuple(self._blocks)
         self.class_kind = np.array(self._class_kind, dtype=np.int64)  # [C] UNIFORM / FIXED / OF, or own kind
-        self.class_fixed = np.array(self._class_fixed, dtype=float).reshape(-1, A)  # [C, A]
+        self.class_fixed = np.array(self._class_fixed, dtype=float).reshape(-1, self.num_actions)  # [C, A]
         self.class_of = np.array(self._class_of, dtype=np.int64)  # [C] demon followed, or -1
         self.class_demon = np.array(self._class_demon, dtype=np.int64)  # [C] one demon of the class
         self.num_classes = len(self.class_kind)
@@ -191,8 +201,11 @@ class Horde:
     def _compile_group(
         self, spec: RunSpec, stage: int, features: FeatureSpec, action_values: bool, members: list[int]
     ) -> Group:
-        coder = StateCoder(features, spec.world.width, spec.world.height, spec.world.sensor_names())
+        world = spec.world
+        width, height = (world.width, world.height) if isinstance(world, WorldSpec) else (1.0, 1.0)  # no plane
+        coder = StateCoder(features, width, height, world.sensor_names())
         defaults = spec.learning
+        A = self.num_actions
         by_block: dict[tuple[scale.Learner, float, scale.BlockPolicy], list[int]] = {}
         for i in members:
             d = self.demon_specs[i]
@@ -240,7 +253,7 @@ class Horde:
             blocks.append(block)
             slots.extend(block_members)
         self._blocks.extend(blocks)
-        layout = scale.Layout(tuple(blocks), coder.n, coder.k, cut=self.cut)
+        layout = scale.Layout(tuple(blocks), coder.n, coder.k, cut=self.cut, num_actions=A)
         condition = features.condition
         return Group(
             stage=stage,
@@ -258,7 +271,7 @@ class Horde:
 
     def init_state(self) -> HordeState:
         """All weights and traces zero, nothing observed yet."""
-        d, c = self.num_demons, self.num_classes
+        d, c, A = self.num_demons, self.num_classes, self.num_actions
         weights = tuple(np.zeros((int(r), b.size)) for r, b in zip(self.block_rows, self.blocks, strict=True))
         return HordeState(
             theta=weights,
@@ -324,7 +337,7 @@ class Horde:
         """Action values [B, Db, A] (GQ) or state values [B, Db] of block b at active features idx [B, k]."""
         if group.action_values:
             n_s = group.coder.n
-            return np.stack([theta[idx + a * n_s].sum(axis=1) for a in range(A)], axis=-1)
+            return np.stack([theta[idx + a * n_s].sum(axis=1) for a in range(self.num_actions)], axis=-1)
         return theta[idx].sum(axis=1)
 
     def needs(self, names: list[str]) -> np.ndarray:
@@ -356,10 +369,10 @@ class Horde:
             demons: compute only these demons and those they read (default all); the other columns of
                 the result stay 0 (prediction), uniform (pi) and nan (q).
         """
-        batch = len(x)
+        batch, A = len(x), self.num_actions
         wanted = self.needs(demons) if demons is not None else np.ones(self.num_demons, dtype=bool)
         if sensors is None and any(g.coder.spec.kind == "sensors" for g in self.groups):
-            world = World(self.spec.world)
+            world = World(self.spec.grid)
             colors = np.zeros((batch, world.num_indicators), dtype=np.int64)
             sensors = world.start_sensors(WorldState(np.asarray(x, float), np.asarray(y, float),
                                                      np.zeros(batch, np.int64), colors))  # fmt: skip
@@ -409,7 +422,7 @@ class Horde:
     def behaviour_probs(self, q: np.ndarray, behaviour: BehaviourSpec | None = None) -> np.ndarray:
         """b(. | s) for a batch: q is [B, D, A] action values of all demons; returns [B, A]."""
         behaviour = behaviour or self.behaviour
-        batch = q.shape[0]
+        batch, A = q.shape[0], self.num_actions
         if behaviour.kind == "uniform":
             return np.full((batch, A), 1.0 / A)
         if behaviour.kind == "fixed":

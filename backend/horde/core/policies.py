@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 # Kind codes of the compiled policies (order matters nowhere but here).
-UNIFORM, FIXED, GREEDY, SOFTMAX, EPSILON_GREEDY, OF = range(6)
+UNIFORM, FIXED, GREEDY, SOFTMAX, EPSILON_GREEDY, OF, SIGN = range(7)
 KIND_CODES = {
     "uniform": UNIFORM,
     "fixed": FIXED,
@@ -18,6 +18,7 @@ KIND_CODES = {
     "softmax": SOFTMAX,
     "epsilon_greedy": EPSILON_GREEDY,
     "of": OF,
+    "sign": SIGN,  # a rule on a sensor's sign (worlds fed from outside: horde.core.external)
 }
 OWN_VALUE = np.array([GREEDY, SOFTMAX, EPSILON_GREEDY])
 # Two action values closer than this count as tied for greedy choices.
@@ -73,3 +74,14 @@ def sample(probs: np.ndarray, rng: np.random.Generator) -> np.ndarray:
     cdf = np.cumsum(probs, axis=-1)
     u = np.asarray(rng.random(probs.shape[0]))[:, None] * cdf[:, -1:]
     return np.minimum((u >= cdf).sum(axis=-1), probs.shape[-1] - 1).astype(np.int64)
+
+
+def sign_policy(reading: float, actions: tuple[int, int], epsilon: float, num_actions: int) -> np.ndarray:
+    """The "sign" rule: actions[1] where the sensor reads >= 0, else actions[0]; epsilon spread uniformly.
+
+    Returns:
+        [A] probabilities (1 - epsilon) on the chosen action plus epsilon / A on every action.
+    """
+    probs = np.full(num_actions, epsilon / num_actions)
+    probs[actions[1] if reading >= 0.0 else actions[0]] += 1.0 - epsilon
+    return probs

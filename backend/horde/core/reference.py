@@ -232,7 +232,7 @@ class ReferenceHorde:
 
     def __init__(self, spec: RunSpec) -> None:
         self.spec = spec
-        self.width, self.height = spec.world.width, spec.world.height
+        self.width, self.height = spec.grid.width, spec.grid.height
         self.order = check_demon_graph(spec)
         self._sensors: dict[str, float] | None = None
         self.demons: dict[str, ReferenceDemon] = {}

@@ -131,6 +131,7 @@ class Layout:
     num_features: int
     active: int
     cut: float = TRACE_CUT
+    num_actions: int = A  # GQ blocks' action blocks (the world's number of actions)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "blocks", tuple(self.blocks))
@@ -158,7 +159,7 @@ class Layout:
 
     def rows(self, block: Block) -> int:
         """Rows of a block's weights: A * n_s for GQ, n_s otherwise."""
-        return self.num_features * (A if block.learner == "gq" else 1)
+        return self.num_features * (self.num_actions if block.learner == "gq" else 1)
 
 
 def trace_classes(keys: Sequence[Hashable]) -> tuple[np.ndarray, np.ndarray]:

@@ -23,7 +23,7 @@ import numpy as np
 from numba import njit
 
 from horde.core.policies import EPSILON_GREEDY, FIXED, SOFTMAX, TIE_TOLERANCE
-from horde.core.scale import LEARNER_CODES, A
+from horde.core.scale import LEARNER_CODES
 
 TD, GTD, GQ = LEARNER_CODES["td"], LEARNER_CODES["gtd"], LEARNER_CODES["gq"]
 # Columns of the block table.
@@ -33,6 +33,7 @@ B_LEARNER, B_POLICY, B_LO, B_HI, B_ROWS, B_WOFF, B_TOFF, B_VOFF, B_NCLS, B_COFF 
 @njit(cache=True)
 def _value_policy(kind, q, temperature, epsilon, out):
     """out[:A] = greedy / softmax / epsilon-greedy probabilities over action values q[:A] (policies.py)."""
+    A = out.shape[0]  # the world's number of actions, from the arrays (four in the grid world)
     best = q[0]
     for a in range(1, A):
         best = max(best, q[a])
@@ -79,6 +80,7 @@ def _sum_rows(flat, start, x, db, acc):
 @njit(cache=True)
 def _read_values(bi, b, n_s, theta, x, out):
     """Values at active state features x under the current weights: out[a, :Db] for a < A (GQ) or a = 0."""
+    A = out.shape[0]
     lo, hi, woff = bi[b, B_LO], bi[b, B_HI], bi[b, B_WOFF]
     db = hi - lo
     actions = A if bi[b, B_LEARNER] == GQ else 1
@@ -91,6 +93,7 @@ def _read_values(bi, b, n_s, theta, x, out):
 @njit(cache=True)
 def _target(bi, b, i, dcls, temperature, epsilon, pi_given, values, scratch_q, out):
     """out[:A] = the target policy of demon lo + i at the state whose values are values[:, i]."""
+    A = out.shape[0]
     d = bi[b, B_LO] + i
     kind = bi[b, B_POLICY]
     if kind == FIXED:
@@ -105,6 +108,7 @@ def _target(bi, b, i, dcls, temperature, epsilon, pi_given, values, scratch_q, o
 @njit(cache=True)
 def _observe_block(bi, b, dcls, temperature, epsilon, pi_given, values, q, pi, pred, scratch_q, scratch_pi):
     """Store values, policies and predictions of block b read at a state (`values` from _read_values)."""
+    A = q.shape[1]
     lo, hi = bi[b, B_LO], bi[b, B_HI]
     gq = bi[b, B_LEARNER] == GQ
     for i in range(hi - lo):
@@ -302,6 +306,7 @@ def _step(
     scratch_pi,
 ):
     """One transition for every block (the equations of scale.step), in place. x_t and x_tp1 are sorted."""
+    A = q.shape[1]
     k = x_t.shape[0]
     for b in range(bi.shape[0]):
         learner, kind = bi[b, B_LEARNER], bi[b, B_POLICY]

@@ -68,7 +68,7 @@ class Simulation:
     def __init__(self, spec: RunSpec, rng: np.random.Generator | None = None, cut: float = TRACE_CUT) -> None:
         self.spec = spec
         self.cut = cut
-        self.world = World(spec.world)
+        self.world = World(spec.grid)
         self.horde = Horde(spec, cut)
         self.rng = rng if rng is not None else np.random.default_rng(spec.seed)
         self.episode = 0

@@ -59,7 +59,7 @@ def _demon_index(view: RunView, name: str) -> int:
 def value_map(view: RunView, name: str, resolution: int) -> ValueMap:
     """The demon's prediction over the world on a resolution x resolution grid, with frozen weights."""
     demon = _demon_index(view, name)
-    world = view.spec.world
+    world = view.spec.grid
     xs, ys = cell_centres(world.width, world.height, resolution)  # [N] each
     gx, gy = np.meshgrid(xs, ys)  # [N, N] each, rows along y
     px, py = gx.ravel(), gy.ravel()  # [N * N]
@@ -87,8 +87,8 @@ def evaluate(
     """
     demon = _demon_index(view, name)
     x, y = start
-    world = World(view.spec.world)
-    if not view.spec.world.contains(x, y):
+    world = World(view.spec.grid)
+    if not view.spec.grid.contains(x, y):
         raise SpecError.at(
             ("body", "from"), f"({x}, {y}) lies outside the world [0, {world.width}) x [0, {world.height})"
         )
@@ -113,7 +113,7 @@ def exact_at(view: RunView, name: str, point: tuple[float, float]) -> float | No
     That is on a small lattice world (no noise, no indicators, at most MAX_EXACT_POINTS lattice points,
     `point` one of them) for a question that does not read the `steps` sensor (`core.evaluate.exact`).
     """
-    world = view.spec.world
+    world = view.spec.grid
     if (world.width / world.step) * (world.height / world.step) > MAX_EXACT_POINTS:
         return None
     if '"sensor":"steps"' in view.horde.demon_specs[view.horde.index[name]].model_dump_json():

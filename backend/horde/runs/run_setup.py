@@ -68,6 +68,10 @@ def new_simulation(spec: RunSpec) -> Simulation:
     Raises:
         SpecError: the spec validates but cannot run (for example a start area that is all obstacle).
     """
+    if spec.world.kind != "grid":
+        where = "POST /api/streams" if spec.world.kind == "stream" else "`horde run` (the command line)"
+        raise SpecError.at(("body", "world", "kind"), f"live runs take the grid world; a {spec.world.kind} world "
+                                                      f"runs with {where}")  # fmt: skip
     try:
         return Simulation(spec, trial_rng(spec))
     except ValueError as exc:

@@ -275,7 +275,7 @@ def restore(snapshot: Snapshot) -> Restored:
     sim = new_simulation(spec)
     world_state: WorldState = _decode_tree(sim.world_state, snapshot.world, "world")
     x, y = float(world_state.x[0]), float(world_state.y[0])
-    if not spec.world.contains(x, y):
+    if not spec.grid.contains(x, y):
         raise SpecError.at(("body", "world", "x"), f"the agent at ({x}, {y}) stands outside the world")
     sim.world_state = world_state
     sim.horde_state = _decode_tree(sim.horde_state, snapshot.horde, "horde")

@@ -23,6 +23,7 @@ from fastapi import FastAPI
 from horde.runs.manager import RunManager
 from horde.runs.protocols import ProtocolJobs
 from horde.runs.store import Store
+from horde.runs.stream_run import StreamRuns
 from horde.server.api_docs import add_api_docs
 from horde.server.catalog import ScenarioCatalog
 from horde.server.frontend import DIST_DIR, mount_frontend
@@ -124,6 +125,7 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
     app.state.settings = settings
     app.state.live_view = None
     app.state.catalog = ScenarioCatalog(settings.scenarios)
+    app.state.streams = StreamRuns()  # stream runs (routes/records.py), in memory
     add_error_handlers(app)
     app.add_middleware(
         BodyGuard,

@@ -134,8 +134,8 @@ def values_out(view: RunView, demon: str, values: ValueMap) -> ValuesOut:
     return ValuesOut(
         demon=demon,
         resolution=len(values.xs),
-        width=view.spec.world.width,
-        height=view.spec.world.height,
+        width=view.spec.grid.width,
+        height=view.spec.grid.height,
         x=values.xs.tolist(),
         y=values.ys.tolist(),
         values=grid.tolist(),

@@ -45,7 +45,7 @@ def checkpoint_episodes(episodes: int, checkpoints: int) -> list[int]:
 
 def has_exact_answers(spec: RunSpec, demons: list[str]) -> bool:
     """Whether `core.evaluate.exact` covers these demons' questions in this world."""
-    world = spec.world
+    world = spec.grid
     if world.noise > 0 or len(world.start) != 2 or any(r.kind == "indicator" for r in world.regions):
         return False
     try:

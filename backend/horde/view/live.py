@@ -209,7 +209,7 @@ class LiveView:
             self._switch_run(snapshot, names)
             snapshot = self.source.snapshot(run_id, panel.shown)
         with self.server.atomic():
-            self.applier.apply(scene.world_nodes(snapshot.spec.world, snapshot.indicator_colors), "world")
+            self.applier.apply(scene.world_nodes(snapshot.spec.grid, snapshot.indicator_colors), "world")
             self.applier.apply(scene.agent_nodes(snapshot, panel.shown), "agent")
             self._refresh_map(snapshot, now)
         panel.show_state(snapshot)
@@ -244,7 +244,7 @@ class LiveView:
         selection_changed = self._map_key is None or key[:3] != self._map_key[:3]
         if not selection_changed and now - self._map_time < 1.0 / self.map_hz:
             return
-        world = snapshot.spec.world
+        world = snapshot.spec.grid
         values = self.source.value_map(snapshot.run_id, demon, self.resolution)
         greedy = self.source.greedy_actions(snapshot.run_id, demon, scene.arrow_resolution(world))
         self.applier.apply(
@@ -259,7 +259,7 @@ class LiveView:
         """Point the initial camera and every connected client's camera at the world."""
         if self._spec is None:
             return
-        world = self._spec.world
+        world = self._spec.grid
         pose = camera.tilted(world) if three_d else camera.top_down(world)
         initial = self.server.initial_camera
         initial.fov = pose.fov

@@ -60,7 +60,7 @@ class ManagerSource:
         view = self._view(run_id)
         names = [n for n in (demons if demons is not None else view.horde.names) if n in view.horde.index]
         index = [view.horde.index[n] for n in names]
-        world = view.horde.spec.world
+        world = view.horde.spec.grid
         colors = {}
         for slot, region in enumerate(r for r in world.regions if r.kind == "indicator"):
             colors[region.name] = (region.colors or [])[int(view.world_state.colors[0, slot])].name
@@ -108,7 +108,7 @@ class ManagerSource:
             raise KeyError(demon)
         if not view.horde.is_control(demon):
             return None
-        world = view.spec.world
+        world = view.spec.grid
         gx, gy = np.meshgrid(*cell_centres(world.width, world.height, resolution))  # [N, N] each, rows along y
         q = view.horde.forward(view.horde_state, gx.ravel(), gy.ravel(), demons=[demon]).q[
             :, view.horde.index[demon]

@@ -143,7 +143,7 @@ def agent_radius(world: WorldSpec) -> float:
 
 def agent_nodes(snapshot: ViewSnapshot, demons: Sequence[str]) -> list[Node]:
     """The agent, its trail this episode, and a label with the predictions of `demons` beside it."""
-    world = snapshot.spec.world
+    world = snapshot.spec.grid
     r = agent_radius(world)
     x, y, _ = to_scene(world, *agent_point(world, snapshot.x, snapshot.y))
     nodes = [Node("/agent", "sphere", (x, y, r), (r, 0.0, 0.0), colors.AGENT)]
@@ -274,7 +274,7 @@ def build_scene(
     three_d: bool = False,
 ) -> list[Node]:
     """Every node of the scene of one run (LiveView refreshes the three parts at different rates)."""
-    nodes = world_nodes(snapshot.spec.world, snapshot.indicator_colors) + agent_nodes(snapshot, demons)
+    nodes = world_nodes(snapshot.spec.grid, snapshot.indicator_colors) + agent_nodes(snapshot, demons)
     if value_demon is not None and values is not None:
-        nodes += value_map_nodes(snapshot.spec.world, value_demon, values, greedy, three_d)
+        nodes += value_map_nodes(snapshot.spec.grid, value_demon, values, greedy, three_d)
     return nodes

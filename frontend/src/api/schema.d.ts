@@ -427,6 +427,75 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/streams": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Start a stream run (a run spec whose world is of kind 'stream') */
+        post: operations["create_stream_api_streams_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/streams/{stream_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** A stream run's counters and predictions */
+        get: operations["get_stream_api_streams__stream_id__get"];
+        put?: never;
+        post?: never;
+        /** Stop and forget a stream run */
+        delete: operations["delete_stream_api_streams__stream_id__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/streams/{stream_id}/phase-plane": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** A demon's value map over two sensors (the others held at their last readings), with the trail */
+        get: operations["get_phase_plane_api_streams__stream_id__phase_plane_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/streams/{stream_id}/records": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Learn a batch of records, in order (all or nothing) */
+        post: operations["push_records_api_streams__stream_id__records_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/studies": {
         parameters: {
             query?: never;
@@ -582,6 +651,15 @@ export interface components {
             /** Y */
             y: number;
         };
+        /** AxisOut */
+        AxisOut: {
+            /** High */
+            high: number;
+            /** Low */
+            low: number;
+            /** Sensor */
+            sensor: string;
+        };
         /**
          * AxisSpec
          * @description One field to vary and the values it takes.
@@ -612,6 +690,11 @@ export interface components {
          * @description The behaviour policy of a run: uniform, fixed, or greedy/softmax/epsilon_greedy over a control demon.
          */
         BehaviourSpec: {
+            /**
+             * Actions
+             * @description sign: [action where negative, action where >= 0]
+             */
+            actions?: number[] | null;
             /** Demon */
             demon?: string | null;
             /**
@@ -624,9 +707,14 @@ export interface components {
              * @default uniform
              * @enum {string}
              */
-            kind: "uniform" | "fixed" | "greedy" | "softmax" | "epsilon_greedy";
+            kind: "uniform" | "fixed" | "greedy" | "softmax" | "epsilon_greedy" | "sign";
             /** Probabilities */
             probabilities?: number[] | null;
+            /**
+             * Sensor
+             * @description sign: the sensor whose sign chooses the action
+             */
+            sensor?: string | null;
             /**
              * Temperature
              * @default 1
@@ -982,6 +1070,12 @@ export interface components {
              * @default 1000
              */
             rollouts: number;
+            /**
+             * States
+             * @description Gymnasium worlds: test states, from a run of the behaviour after learning
+             * @default 20
+             */
+            states: number;
         };
         /** EventOut */
         EventOut: {
@@ -1038,6 +1132,32 @@ export interface components {
              * @default 8
              */
             tilings: number;
+        };
+        /**
+         * GymnasiumWorldSpec
+         * @description An installed Gymnasium environment with a `Box` observation and a `Discrete` action space.
+         *
+         *     Its sensors are the observation's components (named and ranged by `horde.worlds.gym_spaces`), then
+         *     `reward`, `terminated` and `truncated`, read after every step (0 at an episode's first state).
+         */
+        GymnasiumWorldSpec: {
+            /**
+             * Id
+             * @description a registered environment id, e.g. MountainCar-v0
+             */
+            id: string;
+            /**
+             * Kind
+             * @constant
+             */
+            kind: "gymnasium";
+            /**
+             * Max Steps
+             * @description truncate episodes here (default: the environment's own limit)
+             */
+            max_steps?: number | null;
+            /** Name */
+            name?: string | null;
         };
         /** HTTPValidationError */
         HTTPValidationError: {
@@ -1210,11 +1330,33 @@ export interface components {
             /** Mul */
             mul: (number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Output"] | components["schemas"]["MulExpr-Output"] | components["schemas"]["MinExpr-Output"] | components["schemas"]["MaxExpr-Output"] | components["schemas"]["IfExpr-Output"])[];
         };
+        /** PhasePlaneOut */
+        PhasePlaneOut: {
+            /** Demon */
+            demon: string;
+            /**
+             * Trail
+             * @description the recent (x, y) readings, oldest first
+             */
+            trail: number[][];
+            /**
+             * Values
+             * @description [y cell][x cell] the demon's prediction (null: diverged)
+             */
+            values: (number | null)[][];
+            x: components["schemas"]["AxisOut"];
+            y: components["schemas"]["AxisOut"];
+        };
         /**
          * PolicySpec
          * @description A target policy. Shorthands: "uniform", "greedy", "softmax", {of = "demon"}.
          */
         PolicySpec: {
+            /**
+             * Actions
+             * @description sign: [action where negative, action where >= 0]
+             */
+            actions?: number[] | null;
             /**
              * Demon
              * @description of: the demon whose policy this follows
@@ -1230,12 +1372,17 @@ export interface components {
              * @default uniform
              * @enum {string}
              */
-            kind: "uniform" | "fixed" | "greedy" | "softmax" | "epsilon_greedy" | "of";
+            kind: "uniform" | "fixed" | "greedy" | "softmax" | "epsilon_greedy" | "of" | "sign";
             /**
              * Probabilities
-             * @description fixed: [up, down, left, right]
+             * @description fixed: one per action of the world ([up, down, left, right] in the grid world)
              */
             probabilities?: number[] | null;
+            /**
+             * Sensor
+             * @description sign: the sensor whose sign chooses the action
+             */
+            sensor?: string | null;
             /**
              * Temperature
              * @default 1
@@ -1314,6 +1461,32 @@ export interface components {
              * @default 1
              */
             trials: number;
+        };
+        /**
+         * RecordIn
+         * @description One time step: what the sensors read, the action then taken, and (optionally) b(. | s).
+         */
+        RecordIn: {
+            /**
+             * Action
+             * @description the action taken after this observation, in [0, actions)
+             */
+            action: number;
+            /**
+             * Behaviour Probabilities
+             * @description b(a | s) of every action (uniform when left out)
+             */
+            behaviour_probabilities?: number[] | null;
+            /**
+             * Observation
+             * @description one reading per sensor, in the world's order
+             */
+            observation: number[];
+        };
+        /** RecordsIn */
+        RecordsIn: {
+            /** Records */
+            records: components["schemas"]["RecordIn"][];
         };
         /** Region */
         Region: {
@@ -1473,7 +1646,8 @@ export interface components {
              */
             seed: number;
             thesis?: components["schemas"]["ThesisResults"];
-            world?: components["schemas"]["WorldSpec"];
+            /** World */
+            world?: components["schemas"]["WorldSpec"] | components["schemas"]["GymnasiumWorldSpec"] | components["schemas"]["StreamWorldSpec"];
         };
         /** RunSpec */
         "RunSpec-Output": {
@@ -1501,7 +1675,8 @@ export interface components {
              */
             seed: number;
             thesis?: components["schemas"]["ThesisResults"];
-            world?: components["schemas"]["WorldSpec"];
+            /** World */
+            world?: components["schemas"]["WorldSpec"] | components["schemas"]["GymnasiumWorldSpec"] | components["schemas"]["StreamWorldSpec"];
         };
         /** @description A message of WS /api/runs/{id}/stream: the run's state, with the events since the previous message (at most about 30 a second). */
         RunStreamMessage: components["schemas"]["StateOut"];
@@ -1598,6 +1773,24 @@ export interface components {
              * @description a sensor name, e.g. in:goal
              */
             sensor: string;
+        };
+        /**
+         * SensorRange
+         * @description One sensor of a non-grid world: its name and, where known, the range its readings stay in.
+         */
+        SensorRange: {
+            /**
+             * High
+             * @description the highest reading
+             */
+            high?: number | null;
+            /**
+             * Low
+             * @description the lowest reading (a bound or a documented range)
+             */
+            low?: number | null;
+            /** Name */
+            name: string;
         };
         /**
          * Snapshot
@@ -1769,6 +1962,58 @@ export interface components {
          * @enum {integer}
          */
         StreamClose: 1000 | 1001 | 1008 | 1013 | 4404 | 4410;
+        /** StreamOut */
+        StreamOut: {
+            /** Actions */
+            actions: number;
+            /** Demons */
+            demons: string[];
+            /** Id */
+            id: string;
+            /**
+             * Learned
+             * @description good records taken in (the first observed, every later one learned)
+             */
+            learned: number;
+            /**
+             * Predictions
+             * @description each demon's prediction at the last observation
+             */
+            predictions: {
+                [key: string]: number;
+            };
+            /**
+             * Received
+             * @description records received, good or refused
+             */
+            received: number;
+            /** Sensors */
+            sensors: string[];
+        };
+        /**
+         * StreamWorldSpec
+         * @description Observations a client pushes (a robot, a recorded log): the sensors it sends and its number of actions.
+         *
+         *     A record is (observation: one reading per sensor, in this order; the action taken; optionally the
+         *     behaviour's probabilities of every action, uniform when left out). The stream is one continuing
+         *     episode: nothing terminates it.
+         */
+        StreamWorldSpec: {
+            /**
+             * Actions
+             * @description the number of actions a record's action is one of
+             */
+            actions: number;
+            /**
+             * Kind
+             * @constant
+             */
+            kind: "stream";
+            /** Name */
+            name?: string | null;
+            /** Sensors */
+            sensors: components["schemas"]["SensorRange"][];
+        };
         /**
          * StudyConfigOut
          * @description One configuration over its finished runs.
@@ -3815,6 +4060,284 @@ export interface operations {
             };
             /** @description The resource's state forbids this request */
             409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    create_stream_api_streams_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["RunSpec-Input"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["StreamOut"];
+                };
+            };
+            /** @description The body cannot be parsed (not JSON, not UTF-8) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+            /** @description Too many evaluations or protocols at once, or the run is busy */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+        };
+    };
+    get_stream_api_streams__stream_id__get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the stream run's id */
+                stream_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["StreamOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    delete_stream_api_streams__stream_id__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the stream run's id */
+                stream_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    get_phase_plane_api_streams__stream_id__phase_plane_get: {
+        parameters: {
+            query: {
+                demon: string;
+                /** @description the sensor along x */
+                x: string;
+                /** @description the sensor along y */
+                y: string;
+                resolution?: number;
+            };
+            header?: never;
+            path: {
+                /** @description the stream run's id */
+                stream_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["PhasePlaneOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    push_records_api_streams__stream_id__records_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the stream run's id */
+                stream_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["RecordsIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["StreamOut"];
+                };
+            };
+            /** @description The body cannot be parsed (not JSON, not UTF-8) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
+            413: {
                 headers: {
                     [name: string]: unknown;
                 };

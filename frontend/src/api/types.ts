@@ -21,6 +21,13 @@ export type PolicySpec = Schemas["PolicySpec"];
 export type FeatureSpec = Schemas["FeatureSpec"];
 export type Expr = DemonSpec["cumulant"];
 export type WorldSpec = Schemas["WorldSpec"];
+/** Any kind of world a run spec holds: the grid world (which has no `kind`), a Gymnasium environment, a stream. */
+export type AnyWorldSpec = NonNullable<Schemas["RunSpec-Input"]["world"]> | NonNullable<RunSpec["world"]>;
+
+/** The grid world of a run spec, or undefined for the other kinds (they have no plane, start or regions). */
+export function gridWorld(world: AnyWorldSpec | null | undefined): WorldSpec | undefined {
+  return world && !("kind" in world) ? world : undefined;
+}
 export type WorldRecord = Schemas["WorldOut"];
 export type Region = Schemas["Region"];
 export type RegionKind = Region["kind"];

@@ -4,6 +4,7 @@
  */
 import { ApiError, api, errorMessage, unwrap } from "../api/client";
 import type { Demon, DemonSpec, Protocol, Run, RunBrief, RunTemplate } from "../api/types";
+import { gridWorld } from "../api/types";
 import { startPoint } from "../lib/world";
 import { keys, readNow } from "./queries";
 import { type AppStore, chartedDemons } from "./state";
@@ -171,7 +172,7 @@ export async function deleteWorld(store: AppStore, name: string): Promise<void> 
 export async function evaluateDemon(store: AppStore, demon: string, episodes: number): Promise<void> {
   const { selectedRunId: runId, run } = store.state;
   if (runId === null || run === null) return;
-  const from = startPoint(run.spec.world ?? {});
+  const from = startPoint(gridWorld(run.spec.world) ?? {});
   const evaluation = await unwrap(
     api.POST("/api/runs/{run_id}/evaluate", { params: { path: { run_id: runId } }, body: { demon, from, episodes } }),
   );

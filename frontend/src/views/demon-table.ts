@@ -11,6 +11,7 @@ import { Virtualizer, elementScroll, observeElementOffset, observeElementRect } 
 import { attempt, evaluateDemon, notify, removeDemon, toggleCharted } from "../app/actions";
 import type { AppState, AppStore } from "../app/state";
 import type { Demon } from "../api/types";
+import { gridWorld } from "../api/types";
 import { type DemonFilter, demonSummary, filterDemons } from "../lib/demons";
 import { exprText } from "../lib/expr";
 import { formatNumber, formatRelativeError, formatTruth, truthOf } from "../lib/format";
@@ -225,7 +226,7 @@ export function demonTable(store: AppStore): HTMLElement {
     table.hidden = run === null;
     tools.hidden = run === null;
     if (run === null) return;
-    const [x, y] = startPoint(run.spec.world ?? {});
+    const [x, y] = startPoint(gridWorld(run.spec.world) ?? {});
     setText(caption, `Demons of ${run.name ?? run.id.slice(0, 6)}: evaluated from the start (${x}, ${y})`);
     const totals = demonSummary(demons, live?.metrics ?? {});
     setText(

@@ -7,6 +7,7 @@ import { attempt, launchRun, notify } from "../app/actions";
 import type { AppStore } from "../app/state";
 import { ApiError, api, unwrap } from "../api/client";
 import type { RunTemplate } from "../api/types";
+import { gridWorld } from "../api/types";
 import { runLabel } from "../lib/format";
 import { readNumber, readOptionalNumber } from "../lib/parse";
 import { formatDuration } from "../lib/protocol";
@@ -95,7 +96,7 @@ export function launcher(store: AppStore): HTMLElement {
       if (scenario.value !== name) return;
       seed.value = String(spec.seed);
       episodes.value = String(spec.protocol?.episodes ?? "");
-      maxSteps = spec.world?.max_steps ?? 100;
+      maxSteps = gridWorld(spec.world)?.max_steps ?? 100;
       // A protocol too long to watch starts at full speed (the run card's speed control slows it down).
       if (!hzTouched) {
         const long = runDuration(spec.protocol?.episodes ?? 0, maxSteps, WATCH_HZ, FULL_SPEED_HZ) > WATCHABLE_SECONDS;

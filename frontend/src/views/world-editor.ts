@@ -9,6 +9,7 @@ import { attempt, deleteWorld, notify, refreshWorlds } from "../app/actions";
 import type { AppStore } from "../app/state";
 import { ApiError, api, toApiError, unwrap } from "../api/client";
 import type { Region, WorldSpec } from "../api/types";
+import { gridWorld } from "../api/types";
 import { formatList } from "../lib/parse";
 import { confirmButton } from "../ui/confirm";
 import { h, options, replaceChildren } from "../ui/dom";
@@ -205,10 +206,10 @@ export function worldEditor(store: AppStore): HTMLElement {
         fill(record.world, record.name);
       } else if (kind === "scenario") {
         const spec = await unwrap(api.GET("/api/scenarios/{name}", { params: { path: { name: key } } }));
-        fill(spec.world ?? NEW_WORLD, spec.world?.name ?? `${key}-world`);
+        fill(gridWorld(spec.world) ?? NEW_WORLD, spec.world?.name ?? `${key}-world`);
       } else if (kind === "run" && store.state.run) {
         const run = store.state.run;
-        fill(run.spec.world ?? NEW_WORLD, run.spec.world?.name ?? `${run.spec.name ?? "run"}-world`);
+        fill(gridWorld(run.spec.world) ?? NEW_WORLD, run.spec.world?.name ?? `${run.spec.name ?? "run"}-world`);
       } else {
         fill(NEW_WORLD, "my-world");
       }

@@ -7,6 +7,7 @@ from horde.server.routes import (
     exports,
     health,
     protocols,
+    records,
     runs,
     scenarios,
     snapshots,
@@ -28,6 +29,7 @@ ROUTERS: tuple[APIRouter, ...] = (
     protocols.router,
     studies.router,
     exports.router,
+    records.router,
 )
 
 __all__ = ["ROUTERS"]

@@ -36,7 +36,7 @@ def _out(job: ProtocolJob) -> ProtocolOut:
         episodes_total=job.episodes_total,
         trials=protocol.trials,
         episodes=protocol.episodes,
-        max_steps=job.spec.world.max_steps,
+        max_steps=job.spec.grid.max_steps,
         rollouts=protocol.evaluation.rollouts,
         seconds=result.seconds if result else None,
         steps=result.steps if result else None,

@@ -1,0 +1,245 @@
+"""Stream runs: POST /api/streams, GET|DELETE /api/streams/{id}, POST /api/streams/{id}/records and
+WS /api/streams/{id}/records, where a client (a robot, a replayed log) pushes records and reads predictions.
+
+A record is {observation: [S readings], action, behaviour_probabilities?: [A]} (horde.worlds.records). The
+REST route takes a batch whole or not at all: any refused record is a 422 naming it
+(`body.records.<i>.<field>`), and nothing of that batch is learned; the run goes on with later batches.
+The WebSocket takes messages `{"records": [...]}` (at most 10,000 records; a larger message, or one that is
+not JSON, is refused whole with an error naming `message`) or one record, learns them in order, and answers each
+learned message (several queued messages are learned together) with
+`{"type": "learned", "received", "learned", "predictions": [D]}`; a refused record gets
+`{"type": "error", "index", "field", "message"}` and the stream goes on with the next good one. Back-pressure:
+at most QUEUE messages wait to be learned; beyond that the server stops reading the socket, so a fast
+sender waits (TCP flow control) instead of growing the server's memory.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import hmac
+import json
+from typing import Annotated, Any
+
+import numpy as np
+from fastapi import APIRouter, Depends, Path, Query, Request, Response, WebSocket, WebSocketDisconnect, status
+from pydantic import Field
+
+from horde.runs.errors import FieldProblem, NotFoundError, SpecError
+from horde.runs.stream_run import MAX_RECORDS_PER_BATCH, PushResult, StreamRun, StreamRuns
+from horde.server.deps import WriteAccess
+from horde.server.origins import origin_allowed
+from horde.server.responses import BAD_BODY, BUSY, NOT_FOUND, UNAUTHORIZED
+from horde.server.schemas import In, Out
+from horde.server.settings import Settings
+from horde.spec import RunSpec
+from horde.worlds.phase_plane import MAX_PHASE_RESOLUTION
+
+router = APIRouter(prefix="/streams", tags=["streams"])
+QUEUE = 8  # WebSocket messages waiting to be learned, at most
+
+
+def get_streams(request: Request) -> StreamRuns:
+    streams: StreamRuns = request.app.state.streams
+    return streams
+
+
+StreamsDep = Annotated[StreamRuns, Depends(get_streams)]
+StreamId = Annotated[str, Path(min_length=1, max_length=64, description="the stream run's id")]
+
+
+class RecordIn(In):
+    """One time step: what the sensors read, the action then taken, and (optionally) b(. | s)."""
+
+    observation: list[float] = Field(max_length=1024, description="one reading per sensor, in the world's order")
+    action: int = Field(description="the action taken after this observation, in [0, actions)")
+    behaviour_probabilities: list[float] | None = Field(
+        default=None, max_length=64, description="b(a | s) of every action (uniform when left out)"
+    )
+
+
+class RecordsIn(In):
+    records: list[RecordIn] = Field(min_length=1, max_length=MAX_RECORDS_PER_BATCH)
+
+
+class StreamOut(Out):
+    id: str
+    sensors: list[str]
+    actions: int
+    demons: list[str]
+    received: int = Field(description="records received, good or refused")
+    learned: int = Field(description="good records taken in (the first observed, every later one learned)")
+    predictions: dict[str, float] = Field(description="each demon's prediction at the last observation")
+
+
+def _out(run: StreamRun, result: PushResult) -> StreamOut:
+    return StreamOut(
+        id=run.id,
+        sensors=run.spec.world.sensor_names(),
+        actions=run.spec.world.num_actions(),
+        demons=run.names,
+        received=result.received,
+        learned=result.learned,
+        predictions=dict(zip(run.names, result.predictions.tolist(), strict=True)),
+    )
+
+
+@router.post(
+    "",
+    summary="Start a stream run (a run spec whose world is of kind 'stream')",
+    status_code=status.HTTP_201_CREATED,
+    dependencies=[WriteAccess],
+    responses={**BAD_BODY, **UNAUTHORIZED, **BUSY},
+)
+def create_stream(spec: RunSpec, streams: StreamsDep) -> StreamOut:
+    run = streams.create(spec)
+    return _out(run, run.status())
+
+
+@router.get("/{stream_id}", summary="A stream run's counters and predictions", responses=NOT_FOUND)
+def get_stream(stream_id: StreamId, streams: StreamsDep) -> StreamOut:
+    run = streams.get(stream_id)
+    return _out(run, run.status())
+
+
+@router.delete(
+    "/{stream_id}",
+    summary="Stop and forget a stream run",
+    status_code=status.HTTP_204_NO_CONTENT,
+    dependencies=[WriteAccess],
+    responses={**NOT_FOUND, **UNAUTHORIZED},
+)
+def delete_stream(stream_id: StreamId, streams: StreamsDep) -> Response:
+    streams.delete(stream_id)
+    return Response(status_code=status.HTTP_204_NO_CONTENT)
+
+
+@router.post(
+    "/{stream_id}/records",
+    summary="Learn a batch of records, in order (all or nothing)",
+    dependencies=[WriteAccess],
+    responses={**NOT_FOUND, **BAD_BODY, **UNAUTHORIZED},
+)
+def push_records(stream_id: StreamId, body: RecordsIn, streams: StreamsDep) -> StreamOut:
+    run = streams.get(stream_id)
+    items = [r.model_dump() for r in body.records]
+    _, refused = run.check(items)
+    if refused:
+        raise SpecError([FieldProblem(("body", "records", r.index, *r.field.split(".")), r.message)
+                         for r in refused[:20]])  # fmt: skip
+    return _out(run, run.push(items))
+
+
+class AxisOut(Out):
+    sensor: str
+    low: float
+    high: float
+
+
+class PhasePlaneOut(Out):
+    demon: str
+    x: AxisOut
+    y: AxisOut
+    values: list[list[float | None]] = Field(description="[y cell][x cell] the demon's prediction (null: diverged)")
+    trail: list[list[float]] = Field(description="the recent (x, y) readings, oldest first")
+
+
+@router.get(
+    "/{stream_id}/phase-plane",
+    summary="A demon's value map over two sensors (the others held at their last readings), with the trail",
+    responses=NOT_FOUND,
+)
+def get_phase_plane(
+    stream_id: StreamId,
+    streams: StreamsDep,
+    demon: Annotated[str, Query(min_length=1, max_length=64)],
+    x: Annotated[str, Query(min_length=1, max_length=80, description="the sensor along x")],
+    y: Annotated[str, Query(min_length=1, max_length=80, description="the sensor along y")],
+    resolution: Annotated[int, Query(ge=2, le=MAX_PHASE_RESOLUTION)] = 32,
+) -> PhasePlaneOut:
+    ax, ay, values, trail = streams.get(stream_id).phase_plane(demon, x, y, resolution)
+    cells = [[float(v) if np.isfinite(v) else None for v in row] for row in values]
+    return PhasePlaneOut(demon=demon, x=AxisOut(sensor=ax.sensor, low=ax.low, high=ax.high),
+                         y=AxisOut(sensor=ay.sensor, low=ay.low, high=ay.high), values=cells,
+                         trail=trail.tolist())  # fmt: skip
+
+
+def _token_ok(websocket: WebSocket, settings: Settings) -> bool:
+    if settings.token is None:
+        return True
+    expected = settings.token.get_secret_value().encode()
+    header = websocket.headers.get("authorization", "")
+    given = header.removeprefix("Bearer ").encode() if header.startswith("Bearer ") else b""
+    given = given or websocket.query_params.get("token", "").encode()
+    return hmac.compare_digest(given, expected)
+
+
+def _items(text: str) -> list[Any]:
+    """A message's records. Raises ValueError for text that is not JSON or a batch that is too large."""
+    data = json.loads(text)
+    if isinstance(data, dict) and set(data) == {"records"} and isinstance(data["records"], list):
+        if len(data["records"]) > MAX_RECORDS_PER_BATCH:
+            raise ValueError(f"at most {MAX_RECORDS_PER_BATCH} records a message (this one has {len(data['records'])})")
+        return list(data["records"])
+    return [data]
+
+
+@router.websocket("/{stream_id}/records")
+async def stream_records(websocket: WebSocket, stream_id: str) -> None:
+    """Push records, read predictions (see the module). Close codes: 4404 unknown stream run, 4401 no token
+    (when HORDE_TOKEN is set: `Authorization: Bearer` or `?token=`), 1008 a page of another site."""
+    settings: Settings = websocket.app.state.settings
+    headers = websocket.headers
+    if not origin_allowed(headers.get("origin"), headers.get("host"), settings.is_loopback(), settings.origins):
+        await websocket.close(code=1008, reason="this page's origin may not push records")
+        return
+    if not _token_ok(websocket, settings):
+        await websocket.close(code=4401, reason="this server requires its HORDE_TOKEN")
+        return
+    streams: StreamRuns = websocket.app.state.streams
+    try:
+        run = streams.get(stream_id)
+    except NotFoundError:
+        await websocket.close(code=4404, reason=f"no stream run {stream_id!r}")
+        return
+    await websocket.accept()
+    await websocket.send_json({"type": "hello", "sensors": run.spec.world.sensor_names(),
+                               "actions": run.spec.world.num_actions(), "demons": run.names})  # fmt: skip
+    queue: asyncio.Queue[list[Any] | None] = asyncio.Queue(maxsize=QUEUE)
+
+    async def learn() -> None:
+        while True:
+            items = await queue.get()
+            if items is None:
+                return
+            while not queue.empty() and len(items) < MAX_RECORDS_PER_BATCH:  # learn what waits in one go
+                more = queue.get_nowait()
+                if more is None:
+                    await queue.put(None)
+                    break
+                items = items + more
+            result = await asyncio.to_thread(run.push, items)
+            for refusal in result.refused:
+                await websocket.send_json({"type": "error", "index": refusal.index, "field": refusal.field,
+                                           "message": refusal.message})  # fmt: skip
+            await websocket.send_json({"type": "learned", "received": result.received, "learned": result.learned,
+                                       "predictions": result.predictions.tolist()})  # fmt: skip
+
+    learner = asyncio.create_task(learn())
+    try:
+        while not learner.done():
+            text = await websocket.receive_text()
+            try:
+                items = _items(text)
+            except ValueError as exc:  # json.JSONDecodeError is one; the message is refused whole, none learned
+                problem = f"not JSON: {exc}" if isinstance(exc, json.JSONDecodeError) else str(exc)
+                await websocket.send_json({"type": "error", "index": None, "field": "message", "message": problem})
+                continue
+            await queue.put(items)  # waits while QUEUE messages are unlearned: back-pressure
+    except WebSocketDisconnect:
+        pass
+    finally:
+        if not learner.done():
+            await queue.put(None)
+            with contextlib.suppress(Exception):
+                await learner

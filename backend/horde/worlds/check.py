@@ -1,0 +1,94 @@
+"""The environment contract for the world kinds fed from outside (`core/check.py` checks the grid world).
+
+A Gymnasium world, with a seeded generator and a uniform behaviour:
+
+1. determinism: the same seed gives the same sensors, actions and predictions step by step;
+2. sensors: one column per name of `spec.world.sensor_names()`, finite, inside `sensor_bounds()`;
+3. endings: `terminated` and `truncated` never both true, truncation only at the time limit, every
+   episode ends within it, and the `terminated` / `truncated` sensors read what the environment said;
+4. the input path refuses what no world produces: a wrong number of sensors, a NaN, an action out of range.
+
+A stream world: records drawn inside the sensors' ranges are all learned; the same bad records are refused.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from horde.core.check import WorldCheckError, _check_sensors, _require
+from horde.core.external import ExternalLoop, ExternalRecordError
+from horde.core.horde import Horde
+from horde.spec import BehaviourSpec, GymnasiumWorldSpec, RunSpec, StreamWorldSpec
+
+
+def _refuses_bad_records(loop: ExternalLoop, good: np.ndarray, where: str) -> None:
+    bad = [
+        (np.append(good, 0.0), [0], [1.0], "sensors"),
+        (np.where(np.arange(len(good)) == 0, np.nan, good), [0], [1.0], "sensors."),
+        (good, [loop.num_actions], [1.0], "action"),
+    ]
+    for sensors, action, prob, field in bad:
+        try:
+            loop.learn(sensors, action, prob)
+        except ExternalRecordError as exc:
+            _require(str(exc).startswith(field), f"{where}: a bad record was refused without naming {field!r}: {exc}")
+        else:
+            raise WorldCheckError(f"{where}: a bad record ({field}) was learned")
+
+
+def _gym_trajectory(spec: RunSpec, seed: int, steps: int) -> list[tuple[np.ndarray, ...]]:
+    from horde.worlds.gymnasium import GymAgent
+
+    assert isinstance(spec.world, GymnasiumWorldSpec)
+    agent = GymAgent(spec, np.random.default_rng(seed))
+    uniform = BehaviourSpec()
+    limit = agent.world.env.spec.max_episode_steps if agent.world.env.spec else None
+    _check_sensors(spec, agent.sensors[None], "gymnasium reset")
+    trace: list[tuple[np.ndarray, ...]] = []
+    length = 0
+    for t in range(1, steps + 1):
+        step = agent.step(uniform)
+        where = f"gymnasium step {t}"
+        sensors = step.sensors  # what the Horde learned from: the sensors after the action
+        _check_sensors(spec, sensors[None], where)
+        _require(not (step.terminated and step.truncated), f"{where}: terminated and truncated")
+        _require(sensors[-2] == float(step.terminated) and sensors[-1] == float(step.truncated),
+                 f"{where}: the terminated / truncated sensors disagree with the environment")  # fmt: skip
+        length += 1
+        if limit is not None:
+            _require(not step.truncated or length == limit, f"{where}: truncated after {length} steps, not {limit}")
+            _require(length <= limit, f"{where}: an episode ran past its time limit {limit}")
+        if step.done:
+            length = 0
+            _check_sensors(spec, agent.sensors[None], f"{where}: the next episode's first state")
+        trace.append((sensors, np.array([step.action]), agent.loop.prediction()))
+    _refuses_bad_records(agent.loop, agent.sensors, "gymnasium")
+    agent.world.close()
+    return trace
+
+
+def _check_stream(spec: RunSpec, seed: int, steps: int) -> None:
+    assert isinstance(spec.world, StreamWorldSpec)
+    rng = np.random.default_rng(seed)
+    bounds = spec.world.sensor_bounds()
+    low = np.array([max(bounds[n][0], -1e3) for n in spec.world.sensor_names()])
+    high = np.array([min(bounds[n][1], 1e3) for n in spec.world.sensor_names()])
+    sensors = rng.uniform(low, high, size=(steps + 1, len(low)))  # [T + 1, S]
+    _check_sensors(spec, sensors, "stream records")
+    loop = ExternalLoop(Horde(spec))
+    loop.observe(sensors[0])
+    loop.learn(sensors[1:], rng.integers(0, loop.num_actions, steps), np.full(steps, 1.0 / loop.num_actions))
+    _require(loop.steps == steps, f"stream: {loop.steps} of {steps} records learned")
+    _refuses_bad_records(loop, sensors[-1], "stream")
+
+
+def check_external_world(spec: RunSpec, seed: int = 0, steps: int = 300) -> None:
+    """Check the contract of a Gymnasium or stream world (see the module); raise `WorldCheckError` if broken."""
+    if isinstance(spec.world, StreamWorldSpec):
+        _check_stream(spec, seed, steps)
+        return
+    first = _gym_trajectory(spec, seed, steps)
+    second = _gym_trajectory(spec, seed, steps)
+    for t, (a, b) in enumerate(zip(first, second, strict=True)):
+        _require(all(np.array_equal(x, y) for x, y in zip(a, b, strict=True)),
+                 f"gymnasium step {t + 1}: same seed, other run")  # fmt: skip

@@ -1,0 +1,106 @@
+"""What a Gymnasium environment's spaces mean as Horde sensors and actions.
+
+`describe(id)` makes the environment once (cached), checks that its observation space is a flat `Box`
+and its action space a `Discrete` starting at 0, and names the observation's components. The
+classic-control environments (which ship with `gymnasium`) get the names and ranges of their
+documentation; where a bound is infinite the range given is the documented typical range (the tile
+coder clips beyond it). Any other environment's components are `obs0`, `obs1`, ... with the space's
+bounds where finite.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+
+from horde.spec import SensorRange
+
+# Documented names and ranges of the classic-control observations, and each environment's reward range
+# (an episode's first state reads reward 0).
+_DOCUMENTED: dict[str, tuple[list[tuple[str, float, float]], tuple[float, float]]] = {
+    "MountainCar": ([("position", -1.2, 0.6), ("velocity", -0.07, 0.07)], (-1.0, 0.0)),
+    "Acrobot": (
+        [
+            ("cos1", -1.0, 1.0),
+            ("sin1", -1.0, 1.0),
+            ("cos2", -1.0, 1.0),
+            ("sin2", -1.0, 1.0),
+            ("omega1", -4 * math.pi, 4 * math.pi),
+            ("omega2", -9 * math.pi, 9 * math.pi),
+        ],
+        (-1.0, 0.0),
+    ),
+    "CartPole": (
+        [
+            ("cart_position", -4.8, 4.8),
+            ("cart_velocity", -3.0, 3.0),
+            ("pole_angle", -0.418, 0.418),
+            ("pole_angular_velocity", -3.5, 3.5),
+        ],
+        (0.0, 1.0),
+    ),
+}
+
+
+class GymSpaceError(ValueError):
+    """The environment is not installed, or its spaces are not a flat Box and a Discrete."""
+
+
+def _family(env_id: str) -> str:
+    return env_id.split("/")[-1].split("-v")[0]
+
+
+@lru_cache(maxsize=64)
+def _describe(env_id: str) -> tuple[tuple[SensorRange, ...], int]:
+    import gymnasium as gym
+    from gymnasium import spaces
+
+    try:
+        env = gym.make(env_id)
+    except Exception as exc:  # gymnasium raises several kinds: unknown name, version, missing dependency
+        raise GymSpaceError(f"no installed Gymnasium environment {env_id!r}: {exc}") from None
+    try:
+        obs, act = env.observation_space, env.action_space
+    finally:
+        env.close()
+    if not isinstance(act, spaces.Discrete):
+        raise GymSpaceError(f"{env_id!r} has action space {act}; Horde Lab needs a Discrete one")
+    if int(act.start) != 0:
+        raise GymSpaceError(f"{env_id!r} numbers its actions from {int(act.start)}; Horde Lab needs 0")
+    if int(act.n) > 64:
+        raise GymSpaceError(f"{env_id!r} has {int(act.n)} actions, more than 64")
+    if not isinstance(obs, spaces.Box) or len(obs.shape) != 1:
+        raise GymSpaceError(f"{env_id!r} has observation space {obs}; Horde Lab needs a flat Box")
+    if obs.shape[0] > 1000:
+        raise GymSpaceError(f"{env_id!r} observes {obs.shape[0]} components, more than 1000")
+    documented, rewards = _DOCUMENTED.get(_family(env_id), ([], (-math.inf, math.inf)))
+    if len(documented) != obs.shape[0]:
+        documented = []
+    sensors = []
+    for i in range(obs.shape[0]):
+        low, high = float(np.asarray(obs.low)[i]), float(np.asarray(obs.high)[i])
+        name = documented[i][0] if documented else f"obs{i}"
+        if documented:
+            low = low if math.isfinite(low) else documented[i][1]
+            high = high if math.isfinite(high) else documented[i][2]
+        sensors.append(SensorRange(name=name, low=low if math.isfinite(low) else None,
+                                   high=high if math.isfinite(high) else None))  # fmt: skip
+    sensors.append(
+        SensorRange(name="reward", low=rewards[0] if math.isfinite(rewards[0]) else None,
+                    high=rewards[1] if math.isfinite(rewards[1]) else None)
+    )  # fmt: skip
+    sensors.append(SensorRange(name="terminated", low=0.0, high=1.0))
+    sensors.append(SensorRange(name="truncated", low=0.0, high=1.0))
+    return tuple(sensors), int(act.n)
+
+
+def describe(env_id: str) -> tuple[list[SensorRange], int]:
+    """The sensors (observation components, then reward, terminated, truncated) and the number of actions.
+
+    Raises:
+        GymSpaceError: the environment is not installed or its spaces are not supported (the message says which).
+    """
+    sensors, actions = _describe(env_id)
+    return list(sensors), actions
