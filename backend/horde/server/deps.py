@@ -9,7 +9,8 @@ use the same ones.
 from __future__ import annotations
 
 import hmac
-from typing import Annotated
+from collections.abc import Callable
+from typing import Annotated, Any
 
 from fastapi import Depends, HTTPException, Path, Security, status
 from fastapi.requests import HTTPConnection
@@ -28,55 +29,25 @@ from horde.view.live import LiveView
 _bearer = HTTPBearer(auto_error=False, description="The server's HORDE_TOKEN, required on mutating requests when set")
 
 
-def get_settings(connection: HTTPConnection) -> Settings:
-    settings: Settings = connection.app.state.settings
-    return settings
+def _from_state(attribute: str) -> Callable[[HTTPConnection], Any]:
+    """A dependency that reads what the app factory or its lifespan put in `app.state` under `attribute`
+    (its type is the Annotated alias's)."""
+
+    def read(connection: HTTPConnection) -> Any:
+        return getattr(connection.app.state, attribute)
+
+    read.__name__ = f"get_{attribute}"
+    return read
 
 
-def get_manager(connection: HTTPConnection) -> RunManager:
-    manager: RunManager = connection.app.state.manager
-    return manager
-
-
-def get_store(connection: HTTPConnection) -> Store:
-    store: Store = connection.app.state.store
-    return store
-
-
-def get_catalog(connection: HTTPConnection) -> ScenarioCatalog:
-    catalog: ScenarioCatalog = connection.app.state.catalog
-    return catalog
-
-
-def get_protocols(connection: HTTPConnection) -> ProtocolJobs:
-    jobs: ProtocolJobs = connection.app.state.protocols
-    return jobs
-
-
-def get_studies(connection: HTTPConnection) -> StudyJobs:
-    jobs: StudyJobs = connection.app.state.studies
-    return jobs
-
-
-def get_hub(connection: HTTPConnection) -> StreamHub:
-    hub: StreamHub = connection.app.state.hub
-    return hub
-
-
-def get_live_view(connection: HTTPConnection) -> LiveView | None:
-    """The viser live view, or None when the server runs without it."""
-    view: LiveView | None = connection.app.state.live_view
-    return view
-
-
-SettingsDep = Annotated[Settings, Depends(get_settings)]
-ManagerDep = Annotated[RunManager, Depends(get_manager)]
-StoreDep = Annotated[Store, Depends(get_store)]
-CatalogDep = Annotated[ScenarioCatalog, Depends(get_catalog)]
-ProtocolsDep = Annotated[ProtocolJobs, Depends(get_protocols)]
-StudiesDep = Annotated[StudyJobs, Depends(get_studies)]
-HubDep = Annotated[StreamHub, Depends(get_hub)]
-LiveViewDep = Annotated[LiveView | None, Depends(get_live_view)]
+SettingsDep = Annotated[Settings, Depends(_from_state("settings"))]
+ManagerDep = Annotated[RunManager, Depends(_from_state("manager"))]
+StoreDep = Annotated[Store, Depends(_from_state("store"))]
+CatalogDep = Annotated[ScenarioCatalog, Depends(_from_state("catalog"))]
+ProtocolsDep = Annotated[ProtocolJobs, Depends(_from_state("protocols"))]
+StudiesDep = Annotated[StudyJobs, Depends(_from_state("studies"))]
+HubDep = Annotated[StreamHub, Depends(_from_state("hub"))]
+LiveViewDep = Annotated[LiveView | None, Depends(_from_state("live_view"))]  # None: the server runs without it
 RunId = Annotated[str, Path(min_length=1, max_length=64, description="the run's id")]
 DemonName = Annotated[str, Path(min_length=1, max_length=64, description="the demon's name")]
 
