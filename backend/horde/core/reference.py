@@ -436,6 +436,7 @@ class ReferenceHorde:
         for name in self.order:
             demon = self.demons[name]
             demon.e = np.zeros_like(demon.e)
+            demon.gamma_t = 0.0  # nothing flows back across an episode start (ETD's followon F restarts)
             demon.e_grad = np.zeros_like(demon.e)
             demon.e_w = np.zeros_like(demon.e)
             if demon.spec.reset == "episode":

@@ -97,6 +97,7 @@ def demon_metrics(view: RunView, indices: Sequence[int] | None = None) -> dict[s
             delta=finite(hs.delta[i]),
             cumulant=finite(hs.cumulant[i]),
             diverged=bool(hs.diverged[i]),
+            step_size=finite(view.step_size[i]) if view.step_size is not None else None,
         )
         for i in (range(len(names)) if indices is None else indices)
     }
