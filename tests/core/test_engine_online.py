@@ -122,3 +122,12 @@ def test_engine_equals_reference_at_every_step(behaviour: Any, cut: float) -> No
     moved = {n: float(np.abs(sim.step_sizes(n) - ref.demons[n].alpha).max()) for n in ("tidbd", "auto", "auto_b")}
     assert min(moved.values()) > 1e-6, moved  # the step sizes did adapt
     assert not sim.horde_state.diverged.any()
+
+
+def test_the_small_exp_of_the_autostep_kernel_is_exp_to_rounding() -> None:
+    """Autostep's meta step evaluates exp on [-mu, mu] as a polynomial when mu <= 1/16 (adaptive_kernels)."""
+    from horde.core.adaptive_kernels import SMALL_EXP, _exp_small
+
+    xs = np.linspace(-SMALL_EXP, SMALL_EXP, 20001)
+    relative = np.array([abs(_exp_small(x) - np.exp(x)) for x in xs]) / np.exp(xs)
+    assert relative.max() < 5e-16

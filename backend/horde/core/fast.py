@@ -835,7 +835,8 @@ def _online_arrays(horde: Horde, net: Net, weights: int, traces: int, dmax: int)
         ascale=np.ones(horde.num_demons),
         meta=meta.astype(float),
         tau=np.array([float(horde.spec.learning.autostep_tau)]),
-        scratch=np.zeros((4, dmax)),
+        scratch=np.zeros((8, dmax)),
+        bounds=np.zeros(dmax + 1, np.int64),
     )
 
 
