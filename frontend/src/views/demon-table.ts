@@ -1,7 +1,8 @@
 /**
  * The live demon table of the selected run: per demon its prediction now (at the agent's state), the
  * truth once evaluated (from the world's start, beside the prediction there and the error), the
- * thesis's number when the scenario has one, RUPEE, UDE, and a `diverged` mark; a colour dot and a chart
+ * thesis's number when the scenario has one, RUPEE, UDE, the step size it takes now (α now: adaptive
+ * demons tune theirs), and a `diverged` mark; a colour dot and a chart
  * toggle under each name, and an Evaluate and a Remove button per demon (removing takes two presses).
  * Above it a summary (how many demons learn, how many diverged, mean RUPEE) and a filter. At Horde scale
  * the table scrolls in its own box and only the rows in sight exist (@tanstack/virtual-core). Cells are
@@ -25,7 +26,7 @@ const REMOVE_CONFIRM_MS = 4000;
 /** Above this many shown demons the table scrolls in its own box and keeps only the rows in sight. */
 export const VIRTUAL_FROM = 60;
 const ROW_ESTIMATE_PX = 72;
-const COLUMNS = 9;
+const COLUMNS = 10;
 
 function explained(tag: "th", term: Term, props: Record<string, unknown>, label: string): HTMLElement {
   return h(tag, { ...props, title: tip(term) }, h("span", { class: "term" }, label));
@@ -42,6 +43,7 @@ interface Row {
   thesis: HTMLElement;
   rupee: HTMLElement;
   ude: HTMLElement;
+  stepSize: HTMLElement;
   diverged: HTMLElement;
   chart: HTMLInputElement;
   evaluate: HTMLButtonElement;
@@ -137,6 +139,7 @@ export function demonTable(store: AppStore): HTMLElement {
       thesis: cell(),
       rupee: cell(),
       ude: cell(),
+      stepSize: cell(),
       diverged: h("span", { class: "tag diverged", hidden: true, title: tip("diverged") }, "diverged"),
       chart: h("input", { type: "checkbox", "aria-label": `Chart ${demon.name}` }), // beside the name: saves a column
       evaluate: h("button", { type: "button", class: "small", "aria-label": `Evaluate ${demon.name}` }, "Evaluate"),
@@ -165,6 +168,7 @@ export function demonTable(store: AppStore): HTMLElement {
       row.thesis,
       row.rupee,
       row.ude,
+      row.stepSize,
       h("td", {}, h("div", { class: "row-actions" }, row.evaluate, row.remove)),
     );
     return row;
@@ -274,6 +278,7 @@ export function demonTable(store: AppStore): HTMLElement {
       setText(row.thesis, formatNumber(thesis[demon.name]));
       setText(row.rupee, formatNumber(metrics?.rupee));
       setText(row.ude, formatNumber(metrics?.ude));
+      setText(row.stepSize, formatNumber(metrics?.step_size));
       // A diverged demon is frozen by the server; its numbers stop, the mark says why.
       row.diverged.hidden = !metrics?.diverged;
       row.chart.checked = charted.includes(demon.name);
@@ -310,6 +315,7 @@ export function demonTable(store: AppStore): HTMLElement {
         explained("th", "thesis", { scope: "col", rowspan: 2, class: "num" }, "Thesis"),
         explained("th", "rupee", { scope: "col", rowspan: 2, class: "num" }, "RUPEE"),
         explained("th", "ude", { scope: "col", rowspan: 2, class: "num" }, "UDE"),
+        explained("th", "stepSize", { scope: "col", rowspan: 2, class: "num" }, "α now"),
         h("th", { scope: "col", rowspan: 2 }, h("span", { class: "visually-hidden" }, "Actions")),
       ),
       h(
