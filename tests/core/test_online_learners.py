@@ -297,3 +297,44 @@ def test_dropping_rho_misses_the_answer(kind: str) -> None:
     assert abs(exact_chain_values(BEHAVIOUR_RIGHT)[2] - exact[2]) > 0.2
     theta = run_chain(kind, 40_000, rho_scale=0.0)
     assert abs(theta[2] - exact[2]) > 0.1
+
+
+# ----------------------------------------------------------------------------------------------
+# Baird's counterexample: emphatic TD stays bounded where off-policy TD diverges
+
+
+def test_emphatic_td_is_stable_on_bairds_counterexample_where_td_diverges() -> None:
+    """The expected updates (Sutton, Mahmood & White 2016, section 5; Sutton & Barto 2018, figure 11.6):
+    the sample ETD's followon trace has infinite variance on Baird's star (rho = 7, gamma = 0.99), so the
+    paper, the book and this test step with the expectation over the behaviour's transitions. Each
+    transition's update comes from `learners.etd_update` / `reference.td_step` themselves, with the followon
+    trace set to its expectation in that state: f(s) / d(s) = 1 in the upper states (nothing leads there under
+    the target policy) and (1 + 6 gamma) / (1 - gamma) in the lower one.
+    """
+    from tests.core.test_baird import GAMMA, PHI, SOLID, THETA0, B, mspbe_v
+
+    followon = np.array([1.0] * 6 + [(1 + 6 * GAMMA) / (1 - GAMMA)])  # E[F_t | S_t = s], lambda = 0: M = F
+    rho, alpha = 1.0 / B[SOLID], 0.01  # the dashed action has rho = 0 and moves nothing
+
+    def expected_step(theta: np.ndarray, emphatic: bool) -> np.ndarray:
+        total = np.zeros_like(theta)
+        for s in range(7):
+            if emphatic:
+                state = learners.online_zeros(1, 8)._replace(
+                    theta=theta[None].copy(), followon=np.array([followon[s] - 1.0]), rho_prev=np.ones(1)
+                )
+                lam, step = np.zeros(1), np.array([alpha])
+                zero, one, gamma, ratio = np.zeros(1), np.ones(1), np.array([GAMMA]), np.array([rho])
+                new = learners.etd_update(state, lam, step, PHI[s], PHI[6], zero, zero, one, gamma, ratio)[0].theta[0]
+            else:
+                new = reference.td_step(theta, theta, np.zeros(8), PHI[s], PHI[6], 0.0, 0.0, 0.0, GAMMA, rho, 0.0,
+                                        alpha, 0.0)[0]  # fmt: skip
+            total += B[SOLID] / 7 * (new - theta)  # d(s) b(solid | s)
+        return theta + total
+
+    td, etd = THETA0.copy(), THETA0.copy()
+    for _ in range(2000):
+        td, etd = expected_step(td, False), expected_step(etd, True)
+        assert np.abs(etd).max() < 2 * np.abs(THETA0).max()
+    assert np.abs(td).max() > 1000, "off-policy TD diverges on Baird's counterexample"
+    assert mspbe_v(etd) < 1e-15 < mspbe_v(THETA0), "ETD drives the projected Bellman error to zero"
