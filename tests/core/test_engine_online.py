@@ -42,6 +42,8 @@ DEMONS: list[dict[str, Any]] = [
      "outcome": {"sensor": "in:goal"}, "alpha": 0.5},
     {"name": "auto_b", "learner": "td", "step_size": "autostep", "meta_step": 0.1, "policy": "uniform",
      "cumulant": 1, "discount": 0.95, "reset": "never"},
+    {"name": "auto_reset", "learner": "td", "step_size": "autostep", "policy": "uniform", "cumulant": 1,
+     "discount": 0.9, "reset": "episode", "meta_step": 0.2},
     {"name": "plain_td", "learner": "td", "policy": FIXED, "cumulant": 1, "discount": 0.8},
 ]  # fmt: skip
 
@@ -119,7 +121,8 @@ def test_engine_equals_reference_at_every_step(behaviour: Any, cut: float) -> No
     assert slot_class["to_goal"] != slot_class["to_goal_a"], "a dutch trace holds alpha: no sharing across alphas"
     assert slot_class["emph"] == slot_class["emph_b"], "emphatic demons of one policy and continuation share"
     assert slot_class["tidbd"] == slot_class["tidbd_b"]
-    moved = {n: float(np.abs(sim.step_sizes(n) - ref.demons[n].alpha).max()) for n in ("tidbd", "auto", "auto_b")}
+    moved = {n: float(np.abs(sim.step_sizes(n) - ref.demons[n].alpha).max())
+             for n in ("tidbd", "auto", "auto_b", "auto_reset")}  # fmt: skip
     assert min(moved.values()) > 1e-6, moved  # the step sizes did adapt
     assert not sim.horde_state.diverged.any()
 

@@ -364,3 +364,22 @@ def _fold_scale(o, woff, db, i, d, end):
     for at in range(woff + i, end, db):
         o.step_a[at] *= o.ascale[d]
     o.ascale[d] = 1.0
+
+
+@njit(cache=True)
+def online_reset(bi, reset, alpha, o):
+    """An episode starts: adaptive demons that forget their weights (reset = "episode") restart their step
+    sizes at alpha and their normalisers at 0, as `reference.ReferenceHorde.observe` does (fast.py's
+    `_observe` zeroes their weights and h)."""
+    for b in range(bi.shape[0]):
+        if bi[b, B_LEARNER] < TIDBD:
+            continue
+        lo, hi, rows, woff = bi[b, B_LO], bi[b, B_HI], bi[b, B_ROWS], bi[b, B_WOFF]
+        db = hi - lo
+        for i in range(db):
+            if not reset[lo + i]:
+                continue
+            for row in range(rows):
+                o.step_a[woff + row * db + i] = alpha[lo + i]
+                o.step_v[woff + row * db + i] = 0.0
+            o.ascale[lo + i] = 1.0

@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit
 
 from horde.core import metrics
-from horde.core.adaptive_kernels import OnlineArrays, online_step
+from horde.core.adaptive_kernels import OnlineArrays, online_reset, online_step
 from horde.core.features import hashed_tiles
 from horde.core.horde import MAX_MAGNITUDE, Horde, HordeState
 from horde.core.metrics import RUPEE_ALPHA_H, RUPEE_BETA, UDE_BETA
@@ -715,6 +715,7 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
                          colors)  # fmt: skip
             _start_sensors(net, buf)
             _observe(net, buf)
+            online_reset(bi, net.reset, net.alpha, onl)
     result[R_STEPS] = steps
     result[R_EPISODES] = episodes
 
@@ -1004,6 +1005,7 @@ class FastLoop:
     def reset_world(self, rng: np.random.Generator) -> None:
         """A new episode: the world draws its start and colours, the Horde observes the first state."""
         _reset(self.net, self.buf, rng)
+        online_reset(self.net.bi, self.net.reset, self.net.alpha, self.onl)
 
     def run(
         self,
