@@ -1147,6 +1147,7 @@ class FastLoop:
         """Traces to zero, the Horde observes where the agent stands (after a load with new demons)."""
         self.buf.start_sensors[:] = self.buf.sensors
         _observe(self.net, self.buf)
+        online_reset(self.net.bi, self.net.reset, self.net.alpha, self.onl)
 
     # ------------------------------------------------------------------------------------------
 
