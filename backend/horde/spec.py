@@ -512,7 +512,6 @@ class BehaviourSpec(Model):
 
 Learner = Literal["gq", "gtd", "td", "true_online_td", "true_online_gtd", "etd"]
 StepSize = Literal["constant", "autostep", "tidbd"]
-STATE_VALUE_LEARNERS = ("gtd", "td", "true_online_td", "true_online_gtd", "etd")
 # Which step-size adaptation each learner has a published form for (README "Learners and step sizes").
 STEP_SIZE_LEARNERS: dict[str, tuple[str, ...]] = {
     "constant": ("gq", "gtd", "td", "true_online_td", "true_online_gtd", "etd"),
