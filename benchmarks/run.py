@@ -82,6 +82,10 @@ FULL = Plan(
         ("nexting", 2000, "td"),
         ("nexting", 8000, "td"),
         ("nexting", 8000, "gtd"),
+        ("nexting", 8000, "true_online_td"),  # the learners that need less tuning (README)
+        ("nexting", 8000, "etd"),
+        ("nexting", 8000, "td+autostep"),
+        ("nexting", 8000, "td+tidbd"),
         ("off_policy", 1000, "gtd"),
         ("off_policy", 8000, "gtd"),
         ("control", 100, "gq"),
@@ -97,7 +101,7 @@ FULL = Plan(
 QUICK = Plan(
     thesis=(2,),
     thesis_seconds=0.2,
-    scale=(("nexting", 50, "td"), ("off_policy", 50, "gtd"), ("control", 10, "gq")),
+    scale=(("nexting", 50, "td"), ("nexting", 50, "td+autostep"), ("off_policy", 50, "gtd"), ("control", 10, "gq")),
     warmup=10,
     timed=10,
     reference_steps=5,

@@ -5,7 +5,8 @@ questions and policies of `scenarios/nexting.toml` (57 sensors tiled into 6065 f
 with the demons below in place of the scenario's, under a uniform random behaviour, without RUPEE / UDE
 (as protocols run).
 
-* nexting: D TD(lambda) or GTD(lambda) demons on-policy, "what will sensor s read, scaled by c,
+* nexting: D TD(lambda) or GTD(lambda) demons (or true online TD, ETD, TD with Autostep / TIDBD: learner
+  "td+autostep") on-policy, "what will sensor s read, scaled by c,
   discounted at gamma" over the 57 sensors, five timescales (gamma 0, 0.5, 0.75, 0.875, 0.9375) and as
   many scales c as D needs: the demons of a timescale share one trace.
 * off_policy: D GTD(lambda) demons about 300 fixed target policies (drawn at random, seeded), each
@@ -38,6 +39,8 @@ def sensors() -> list[str]:
 
 
 def _demons(name: str, demons: int, learner: str, seed: int) -> list[dict[str, Any]]:
+    """The workload's demons; learner "td+autostep" means learner "td" with step_size "autostep"."""
+    learner, _, step_size = learner.partition("+")
     names = sensors()
     rng = np.random.default_rng(seed)
     out: list[dict[str, Any]] = []
@@ -67,6 +70,8 @@ def _demons(name: str, demons: int, learner: str, seed: int) -> list[dict[str, A
             })  # fmt: skip
     else:
         raise ValueError(f"unknown workload {name!r}")
+    if step_size:
+        out = [{**demon, "step_size": step_size} for demon in out]
     return out
 
 

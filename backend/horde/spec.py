@@ -702,7 +702,37 @@ class BehaviourSpec(Model):
 # ----------------------------------------------------------------------------------------------
 # Demons and learning (DESIGN sections 4 and 5)
 
-Learner = Literal["gq", "gtd", "td"]
+Learner = Literal["gq", "gtd", "td", "true_online_td", "true_online_gtd", "etd"]
+StepSize = Literal["constant", "autostep", "tidbd"]
+# Which step-size adaptation each learner has a published form for (README "Learners and step sizes").
+STEP_SIZE_LEARNERS: dict[str, tuple[str, ...]] = {
+    "constant": ("gq", "gtd", "td", "true_online_td", "true_online_gtd", "etd"),
+    "autostep": ("td",),  # AutoTIDBD (Kearney et al. 2019): Autostep (Mahmood et al. 2012) for TD(lambda)
+    "tidbd": ("td",),  # TIDBD(lambda) (Kearney et al. 2019), semi-gradient
+}
+WHY_NOT_ADAPTIVE = (
+    "Autostep and TIDBD are derived for TD(lambda) only (Mahmood, Sutton, Degris & Pilarski 2012 for supervised "
+    "learning; Kearney, Veeriah, Travnik, Pilarski & Sutton 2019 for TD(lambda)); no paper defines their "
+    "meta-gradient for the gradient-corrected (gq, gtd, true_online_gtd), true online or emphatic learners"
+)
+MetaStep = Annotated[float, Field(ge=0.0, le=1.0, allow_inf_nan=False)]
+AutostepTau = Annotated[float, Field(ge=1.0, le=1e9, allow_inf_nan=False)]
+
+
+def demon_step_size(demon: DemonSpec, learning: LearningSpec) -> tuple[str, float]:
+    """A demon's step-size mode and meta step size: its own, else [learning]'s where its learner has that mode."""
+    mode = demon.step_size
+    if mode is None:
+        mode = learning.step_size if step_size_problem(demon.learner, learning.step_size) is None else "constant"
+    meta = demon.meta_step if demon.meta_step is not None else learning.meta_step
+    return mode, meta
+
+
+def step_size_problem(learner: str, step_size: str) -> str | None:
+    """Why a learner x step-size combination is undefined, or None when a paper defines it."""
+    if learner in STEP_SIZE_LEARNERS[step_size]:
+        return None
+    return f"step_size {step_size!r} is not defined for learner {learner!r}: {WHY_NOT_ADAPTIVE}"
 
 
 class DemonSpec(Model):
@@ -715,7 +745,8 @@ class DemonSpec(Model):
     continuation: Expr = 1.0
     discount: Probability = 1.0
     learner: Learner = Field(
-        default="gq", description="gq: action values (GQ(lambda)); gtd, td: state values (GTD(lambda), TD)"
+        default="gq",
+        description="gq: action values (GQ(lambda)); gtd, td, true_online_td, true_online_gtd, etd: state values",
     )
     features: FeatureSpec | None = Field(default=None, description="defaults to the run's features")
     lambda_: Probability | None = Field(default=None, alias="lambda")
@@ -726,6 +757,14 @@ class DemonSpec(Model):
         default=None, description="step size of the secondary weights, also divided by the active count"
     )
     reset: Literal["never", "episode"] = "never"
+    step_size: StepSize | None = Field(
+        default=None,
+        description="constant (alpha as given), autostep or tidbd (per-weight step sizes adapted online, "
+        "starting from alpha); defaults to the run's [learning] step_size",
+    )
+    meta_step: MetaStep | None = Field(
+        default=None, description="meta step size of autostep (mu) or tidbd (theta); defaults to [learning]"
+    )
 
     @field_validator("cumulant", "outcome", "continuation", mode="before")
     @classmethod
@@ -744,6 +783,8 @@ class DemonSpec(Model):
             raise ValueError(
                 f"a {self.policy.kind} target policy needs action values: use learner 'gq', not {self.learner!r}"
             )
+        if self.step_size is not None and (problem := step_size_problem(self.learner, self.step_size)):
+            raise ValueError(problem)
         return self
 
 
@@ -753,6 +794,15 @@ class LearningSpec(Model):
     lambda_: Probability = Field(default=0.9, alias="lambda")
     alpha: Annotated[float, Field(ge=0.0, le=10.0, allow_inf_nan=False)] = 0.03
     alpha_w: Annotated[float, Field(ge=0.0, le=10.0, allow_inf_nan=False)] = 0.0001
+    step_size: StepSize = Field(
+        default="constant",
+        description="the step-size mode of demons that set none; an adaptive mode applies only to the learners "
+        "it is defined for (td), the others keep constant step sizes",
+    )
+    meta_step: MetaStep = Field(default=0.01, description="autostep's mu and tidbd's theta (meta step size)")
+    autostep_tau: AutostepTau = Field(
+        default=10_000.0, description="autostep's time scale tau of its normaliser v (Mahmood et al. 2012: 1e4)"
+    )
 
 
 # ----------------------------------------------------------------------------------------------

@@ -85,7 +85,7 @@ def test_state(client: TestClient, create_run: Callable[..., str]) -> None:
     assert state["run"] == run_id and state["step"] == 300 and state["status"] == "paused"
     assert 0 <= state["agent"]["x"] < 500 and 0 <= state["agent"]["y"] < 500
     assert set(state["predictions"]) == {"base", "steps"}
-    assert set(state["metrics"]["steps"]) == {"rupee", "ude", "delta", "cumulant", "diverged"}
+    assert set(state["metrics"]["steps"]) == {"rupee", "ude", "delta", "cumulant", "diverged", "step_size"}
     kinds = {e["kind"] for e in state["events"]}
     assert "episode" in kinds
     assert all(a["seq"] < b["seq"] for a, b in zip(state["events"], state["events"][1:], strict=False))

@@ -27,11 +27,12 @@ import numpy as np
 from numba import njit
 
 from horde.core import metrics
+from horde.core.adaptive_kernels import OnlineArrays, online_reset, online_step
 from horde.core.features import hashed_tiles
 from horde.core.horde import MAX_MAGNITUDE, Horde, HordeState
 from horde.core.metrics import RUPEE_ALPHA_H, RUPEE_BETA, UDE_BETA
 from horde.core.policies import FIXED, KIND_CODES, OF, UNIFORM
-from horde.core.scale import LEARNER_CODES, POLICY_CODES
+from horde.core.scale import POLICY_CODES
 from horde.core.scale_fast import (
     B_COFF,
     B_HI,
@@ -44,6 +45,7 @@ from horde.core.scale_fast import (
     B_VOFF,
     B_WOFF,
     GQ,
+    ONLINE,
     _observe_block,
     _read_values,
     _step,
@@ -555,7 +557,7 @@ def _metrics(gi, bi, dcls, g, action, x_t, delta, h, u, hu, mscale, tau, dstats,
 
 
 @njit(cache=True, nogil=True)  # releases the GIL: the server's other threads go on while a run learns
-def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics):
+def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics, onl):
     """Run steps until `max_steps` steps or `max_episodes` episode ends, starting new episodes as they end.
 
     The learning step is written out here rather than in a function of `net` and `buf`: passing the two
@@ -680,6 +682,12 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
                 touched[blo:bhi], values, pi_next, work[0], work[1], work[2], work[3], ev, work[4], work[5],
                 scratch[0], scratch[1],
             )  # fmt: skip
+            for ob in range(blo, bhi):  # the learners of adaptive_kernels.py, which _step skips
+                if bi[ob, B_LEARNER] >= ONLINE:
+                    _read_values(bi, ob, gi[g, G_NS], theta, idx[:k], values)
+                    online_step(bi, ob, lam[ob], alpha_now, alpha_w_now, dcls, net.cut, theta, w, trace, support, rows_,
+                                nnz, feat[g, :k], idx[:k], r_s, z_s, gamma_tp1, rho, class_gamma, q, pred, delta,
+                                touched, values, onl)  # fmt: skip
             _given_to_slots(gi, bi, dcls, pi, pi_given, g)
             for c in range(clo, chi):
                 for a in range(A):
@@ -711,6 +719,7 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
                          colors)  # fmt: skip
             _start_sensors(net, buf)
             _observe(net, buf)
+            online_reset(bi, net.reset, net.alpha, onl)
     result[R_STEPS] = steps
     result[R_EPISODES] = episodes
 
@@ -806,6 +815,36 @@ def _pack_programs(horde: Horde) -> dict[str, np.ndarray]:
     }
 
 
+def _online_arrays(horde: Horde, net: Net, weights: int, traces: int, dmax: int) -> OnlineArrays:
+    """The state of adaptive_kernels.py's learners, fresh: per-weight step sizes at alpha, scales 1."""
+    blocks = horde.blocks
+    cls_alpha = np.zeros(horde.num_classes)
+    cls_beta = np.zeros(horde.num_classes)
+    cls_alpha[horde.slot_class] = net.alpha  # the demons of a true online class share alpha (and alpha_w)
+    cls_beta[horde.slot_class] = net.alpha_w
+    sizes = [b.size for b in blocks]
+    step_a = np.concatenate([np.tile(b.alpha, int(r)) for b, r in zip(blocks, horde.block_rows, strict=True)]) if (
+        blocks) else np.zeros(0)  # fmt: skip
+    assert len(step_a) == weights and sum(sizes) == horde.num_demons
+    meta = np.concatenate([np.asarray(b.meta if b.meta is not None else np.zeros(b.size)) for b in blocks]) if (
+        blocks) else np.zeros(0)  # fmt: skip
+    return OnlineArrays(
+        v_old=np.zeros(horde.num_demons),
+        cls_alpha=cls_alpha,
+        cls_beta=cls_beta,
+        cls_f=np.zeros(horde.num_classes),
+        cls_rho_prev=np.zeros(horde.num_classes),
+        trace2=np.zeros(2 * traces),
+        step_a=step_a,
+        step_v=np.zeros(weights),
+        ascale=np.ones(horde.num_demons),
+        meta=meta.astype(float),
+        tau=np.array([float(horde.spec.learning.autostep_tau)]),
+        scratch=np.zeros((8, dmax)),
+        bounds=np.zeros(dmax + 1, np.int64),
+    )
+
+
 class FastLoop:
     """The compiled loop for one agent: a compiled `Horde` and its `World` in flat buffers.
 
@@ -824,7 +863,7 @@ class FastLoop:
         toff = np.cumsum([0, *rows]).astype(np.int64)
         voff = np.cumsum([0, *(rows * ncls)]).astype(np.int64)
         class_lo = np.cumsum([0, *ncls])[:-1]
-        codes = ([LEARNER_CODES[b.learner] for b in blocks], [POLICY_CODES[b.policy] for b in blocks])
+        codes = ([b.code for b in blocks], [POLICY_CODES[b.policy] for b in blocks])
         columns = (*codes, horde.block_lo, horde.block_lo + sizes, rows, woff[:-1], toff[:-1], voff[:-1], ncls,
                    class_lo)  # fmt: skip
         bi = np.stack([np.asarray(c, dtype=np.int64) for c in columns], axis=1).reshape(-1, 10)
@@ -928,6 +967,7 @@ class FastLoop:
             result=np.zeros(8),
         )
         self._woff, self._voff, self._toff = woff, voff, toff
+        self.onl = _online_arrays(horde, self.net, int(woff[-1]), int(voff[-1]), dmax)
 
     # ------------------------------------------------------------------------------------------
     # Views of the buffers
@@ -971,6 +1011,7 @@ class FastLoop:
     def reset_world(self, rng: np.random.Generator) -> None:
         """A new episode: the world draws its start and colours, the Horde observes the first state."""
         _reset(self.net, self.buf, rng)
+        online_reset(self.net.bi, self.net.reset, self.net.alpha, self.onl)
 
     def run(
         self,
@@ -989,7 +1030,7 @@ class FastLoop:
         self.buf.alpha_now[:] = np.where(live, self.net.alpha, 0.0)
         self.buf.alpha_w_now[:] = np.where(live, self.net.alpha_w, 0.0)
         self.buf.result[:] = 0.0
-        _run(self.net, self.buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics)
+        _run(self.net, self.buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics, self.onl)
         return self.buf.result
 
     # ------------------------------------------------------------------------------------------
@@ -1012,6 +1053,32 @@ class FastLoop:
 
     def thetas(self) -> list[np.ndarray]:
         return [self._weights(self.buf.theta, b).copy() for b in range(len(self.horde.blocks))]
+
+    def step_sizes(self, name: str) -> np.ndarray:
+        """[n] one demon's step size of every weight now: per-weight (autostep, tidbd) or alpha (constant)."""
+        b, col = self.horde.locate(name)
+        slot = int(self.horde.demon_slot[self.horde.index[name]])
+        if self.horde.blocks[b].step_size == "constant":
+            return np.full(int(self.horde.block_rows[b]), self.net.alpha[slot])
+        return self._weights(self.onl.step_a, b)[:, col] * self.onl.ascale[slot]
+
+    def effective_step_sizes(self) -> np.ndarray:
+        """[D] the step size each demon takes at the agent's state, in the units of `alpha` (before the division
+        by the active count): alpha for a constant step size; the sum of the per-weight step sizes over the
+        active features for autostep and tidbd."""
+        out = np.zeros(self.horde.num_demons)
+        for g, group in enumerate(self.horde.groups):
+            active = self.buf.feat[g, : group.coder.k]
+            for b in group.blocks:
+                block = self.horde.blocks[b]
+                lo = int(self.horde.block_lo[b])
+                slots = np.arange(lo, lo + block.size)
+                if block.step_size == "constant":
+                    values = self.net.alpha[slots] * group.coder.k
+                else:
+                    values = self._weights(self.onl.step_a, b)[active].sum(axis=0) * self.onl.ascale[slots]
+                out[self.horde.slot_demon[slots]] = values
+        return out
 
     def horde_state(self, weights_only: bool = False) -> HordeState:
         """A copy of the state in `horde.py`'s form (weights_only: w, e, h and delta_e left empty)."""
@@ -1086,6 +1153,7 @@ class FastLoop:
         """Traces to zero, the Horde observes where the agent stands (after a load with new demons)."""
         self.buf.start_sensors[:] = self.buf.sensors
         _observe(self.net, self.buf)
+        online_reset(self.net.bi, self.net.reset, self.net.alpha, self.onl)
 
     # ------------------------------------------------------------------------------------------
 

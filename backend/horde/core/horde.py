@@ -37,10 +37,12 @@ from horde.spec import (
     BehaviourSpec,
     DemonSpec,
     FeatureSpec,
+    LearningSpec,
     RunSpec,
     WorldSpec,
     check_demon_graph,
     demon_dependencies,
+    demon_step_size,
 )
 
 # Beyond this, in absolute value, a demon's TD error, prediction or action values mean nothing any more (a
@@ -113,6 +115,16 @@ def _policy_key(demon: DemonSpec) -> tuple[object, ...]:
     if policy.kind == "sign":
         return ("sign", policy.sensor, tuple(policy.actions or ()), float(policy.epsilon))
     return ("uniform",)
+
+
+def _dutch_key(demon: DemonSpec, defaults: LearningSpec) -> tuple[float, ...]:
+    """What else a trace depends on: a dutch trace (true online learners) holds alpha (and TOGTD's w trace
+    alpha_w), so only demons with the same step sizes share one."""
+    if demon.learner not in ("true_online_td", "true_online_gtd"):
+        return ()
+    alpha = demon.alpha if demon.alpha is not None else defaults.alpha
+    alpha_w = demon.alpha_w if demon.alpha_w is not None else defaults.alpha_w
+    return (float(alpha), float(alpha_w) if demon.learner == "true_online_gtd" else 0.0)
 
 
 class Horde:
@@ -206,20 +218,21 @@ class Horde:
         coder = StateCoder(features, width, height, world.sensor_names())
         defaults = spec.learning
         A = self.num_actions
-        by_block: dict[tuple[scale.Learner, float, scale.BlockPolicy], list[int]] = {}
+        by_block: dict[tuple[scale.Learner, float, scale.BlockPolicy, str], list[int]] = {}
         for i in members:
             d = self.demon_specs[i]
             lam = d.lambda_ if d.lambda_ is not None else defaults.lambda_
             own: scale.BlockPolicy = "given"
             if d.learner == "gq" and d.policy.kind in ("greedy", "softmax", "epsilon_greedy"):
                 own = d.policy.kind
-            by_block.setdefault((d.learner, float(lam), own), []).append(i)
+            by_block.setdefault((d.learner, float(lam), own, demon_step_size(d, defaults)[0]), []).append(i)
         first_block, first_class = len(self._blocks), len(self._class_kind)
         blocks, slots = [], []
-        for (learner, lam, own), block_members in by_block.items():
+        for (learner, lam, own, step_size), block_members in by_block.items():
             demons = [self.demon_specs[i] for i in block_members]
             if own == "given":
-                keys = [(_policy_key(d), repr(d.continuation), float(d.discount)) for d in demons]
+                keys = [(_policy_key(d), repr(d.continuation), float(d.discount), *_dutch_key(d, defaults))
+                        for d in demons]  # fmt: skip
                 order, classes = scale.trace_classes(keys)
                 block_members = [block_members[j] for j in order]
                 demons = [demons[j] for j in order]
@@ -249,6 +262,8 @@ class Horde:
                 classes=block_classes,
                 temperature=np.array([d.policy.temperature for d in demons]),
                 epsilon=np.array([d.policy.epsilon for d in demons]),
+                step_size=step_size,
+                meta=np.array([demon_step_size(d, defaults)[1] for d in demons]),
             )
             blocks.append(block)
             slots.extend(block_members)

@@ -25,6 +25,7 @@ from horde.spec import (
     RunSpec,
     SensorExpr,
     check_demon_graph,
+    demon_step_size,
 )
 
 
@@ -96,6 +97,143 @@ def td_step(
 
 
 STEPS = {"gq": gq_step, "gtd": gtd_step, "td": td_step}
+
+
+def true_online_td_step(
+    theta: np.ndarray,
+    e: np.ndarray,
+    v_old: float,
+    phi_t: np.ndarray,
+    phi_tp1: np.ndarray,
+    r_tp1: float,
+    z_tp1: float,
+    gamma_t: float,
+    gamma_tp1: float,
+    rho_t: float,
+    lam: float,
+    alpha: float,
+) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """True online TD(lambda) with a dutch trace, off-policy form (van Hasselt, Mahmood & Sutton 2014;
+    van Seijen, Mahmood, Pilarski, Machado & Sutton 2016, JMLR 17(145)); rho = 1 gives van Seijen &
+    Sutton 2014. v_old is theta_{t-1} . phi_t. Returns (theta, e, v_old for the next step, delta)."""
+    v_t, v_tp1 = theta @ phi_t, theta @ phi_tp1
+    delta = r_tp1 + (1 - gamma_tp1) * z_tp1 + gamma_tp1 * v_tp1 - v_t
+    e = rho_t * (gamma_t * lam * e + alpha * (1 - rho_t * gamma_t * lam * (e @ phi_t)) * phi_t)
+    theta = theta + delta * e + (v_t - v_old) * (e - alpha * rho_t * phi_t)
+    return theta, e, float(v_tp1), float(delta)
+
+
+def true_online_gtd_step(
+    theta: np.ndarray,
+    w: np.ndarray,
+    e: np.ndarray,
+    e_grad: np.ndarray,
+    e_w: np.ndarray,
+    v_old: float,
+    rho_prev: float,
+    phi_t: np.ndarray,
+    phi_tp1: np.ndarray,
+    r_tp1: float,
+    z_tp1: float,
+    gamma_t: float,
+    gamma_tp1: float,
+    rho_t: float,
+    lam: float,
+    alpha: float,
+    alpha_w: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, float, float]:
+    """True online GTD(lambda) (van Hasselt, Mahmood & Sutton 2014, Algorithm 2), constant lambda.
+
+    Three traces: the dutch trace e of theta, the accumulating trace e_grad of the correction term, and
+    the dutch trace e_w of w (decayed with rho_{t-1}). Returns (theta, w, e, e_grad, e_w, v_old, delta).
+    """
+    v_t, v_tp1 = theta @ phi_t, theta @ phi_tp1
+    delta = r_tp1 + (1 - gamma_tp1) * z_tp1 + gamma_tp1 * v_tp1 - v_t
+    e = rho_t * (gamma_t * lam * e + alpha * (1 - rho_t * gamma_t * lam * (e @ phi_t)) * phi_t)
+    e_grad = rho_t * (gamma_t * lam * e_grad + phi_t)
+    e_w = rho_prev * gamma_t * lam * e_w + alpha_w * (1 - rho_prev * gamma_t * lam * (e_w @ phi_t)) * phi_t
+    new_theta = (
+        theta
+        + delta * e
+        + (v_t - v_old) * (e - alpha * rho_t * phi_t)
+        - alpha * gamma_tp1 * (1 - lam) * (w @ e_grad) * phi_tp1
+    )
+    new_w = w + rho_t * delta * e_w - alpha_w * (w @ phi_t) * phi_t
+    return new_theta, new_w, e, e_grad, e_w, float(v_tp1), float(delta)
+
+
+def etd_step(
+    theta: np.ndarray,
+    e: np.ndarray,
+    followon: float,
+    rho_prev: float,
+    phi_t: np.ndarray,
+    phi_tp1: np.ndarray,
+    r_tp1: float,
+    z_tp1: float,
+    gamma_t: float,
+    gamma_tp1: float,
+    rho_t: float,
+    lam: float,
+    alpha: float,
+    interest: float = 1.0,
+) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """Emphatic TD(lambda) (Sutton, Mahmood & White 2016, JMLR 17(73), equations 21-23), constant lambda.
+
+    F_t = rho_{t-1} gamma_t F_{t-1} + i_t (the followon trace), M_t = lambda i_t + (1 - lambda) F_t (the
+    emphasis), e_t = rho_t (gamma_t lambda e_{t-1} + M_t phi_t), theta += alpha delta_t e_t.
+    Returns (theta, e, F_t, delta).
+    """
+    followon = rho_prev * gamma_t * followon + interest
+    emphasis = lam * interest + (1 - lam) * followon
+    e = rho_t * (gamma_t * lam * e + emphasis * phi_t)
+    delta = r_tp1 + (1 - gamma_tp1) * z_tp1 + gamma_tp1 * theta @ phi_tp1 - theta @ phi_t
+    return theta + alpha * delta * e, e, float(followon), float(delta)
+
+
+def adaptive_td_step(
+    theta: np.ndarray,
+    e: np.ndarray,
+    alphas: np.ndarray,
+    h: np.ndarray,
+    v: np.ndarray,
+    phi_t: np.ndarray,
+    phi_tp1: np.ndarray,
+    r_tp1: float,
+    z_tp1: float,
+    gamma_t: float,
+    gamma_tp1: float,
+    rho_t: float,
+    lam: float,
+    mode: str,
+    meta: float,
+    tau: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, float]:
+    """TD(lambda) with a step size per weight, adapted online (mode "tidbd" or "autostep").
+
+    TIDBD(lambda), semi-gradient (Kearney, Veeriah, Travnik, Pilarski & Sutton 2019, Algorithm 2), with
+    beta = log alpha: alpha_i *= exp(theta_meta delta phi_i h_i); theta += alpha delta e;
+    h_i = h_i [1 - alpha_i phi_i e_i]^+ + alpha_i delta e_i.
+    Autostep (Mahmood, Sutton, Degris & Pilarski 2012, Algorithm 1) for TD(lambda), as AutoTIDBD
+    (Kearney et al. 2019) builds it: the meta step divided by the normaliser
+    v_i = max(|delta phi_i h_i|, v_i + alpha_i phi_i e_i (|delta phi_i h_i| - v_i) / tau), and every alpha
+    divided by M = max(1, sum_i alpha_i e_i (phi_i - gamma_tp1 phi'_i)), the effective step size: the
+    fraction of delta that this step removes, so that no step overshoots. Returns (theta, e, alphas, h, v,
+    delta).
+    """
+    delta = r_tp1 + (1 - gamma_tp1) * z_tp1 + gamma_tp1 * theta @ phi_tp1 - theta @ phi_t
+    e = rho_t * (phi_t + gamma_t * lam * e)
+    sample = delta * phi_t * h  # the meta-gradient sample of each weight's log step size
+    if mode == "autostep":
+        v = np.maximum(np.abs(sample), v + alphas * phi_t * e * (np.abs(sample) - v) / tau)
+        ratio = np.divide(sample, v, out=np.zeros_like(v), where=v != 0)
+        alphas = alphas * np.exp(meta * ratio)
+        alphas = alphas / max(float(alphas @ (e * (phi_t - gamma_tp1 * phi_tp1))), 1.0)
+    else:
+        alphas = alphas * np.exp(meta * sample)
+    theta = theta + alphas * delta * e
+    h = h * np.maximum(1 - alphas * phi_t * e, 0.0) + alphas * delta * e
+    return theta, e, alphas, h, v, float(delta)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -217,6 +355,17 @@ class ReferenceDemon:
     w: np.ndarray
     e: np.ndarray
     gamma_t: float = 0.0
+    mode: str = "constant"  # step-size mode
+    meta: float = 0.0  # autostep's mu / tidbd's theta
+    tau: float = 1e4  # autostep's tau
+    alphas: np.ndarray = field(default_factory=lambda: np.zeros(0))  # per-weight step sizes (adaptive modes)
+    h: np.ndarray = field(default_factory=lambda: np.zeros(0))  # adaptive modes' h
+    v: np.ndarray = field(default_factory=lambda: np.zeros(0))  # autostep's normaliser
+    e_grad: np.ndarray = field(default_factory=lambda: np.zeros(0))  # true online GTD's second and third traces
+    e_w: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    v_old: float = 0.0  # true online learners: theta_{t-1} . phi_t
+    rho_prev: float = 0.0  # rho_{t-1}
+    followon: float = 0.0  # ETD's F
     phi_state_t: np.ndarray = field(default_factory=lambda: np.zeros(0))
     pi_t: np.ndarray = field(default_factory=lambda: np.full(NUM_ACTIONS, 0.25))
     prediction: float = 0.0
@@ -243,9 +392,12 @@ class ReferenceHorde:
             lam = d.lambda_ if d.lambda_ is not None else spec.learning.lambda_
             alpha = (d.alpha if d.alpha is not None else spec.learning.alpha) / k
             alpha_w = (d.alpha_w if d.alpha_w is not None else spec.learning.alpha_w) / k
+            mode, meta = demon_step_size(d, spec.learning)
             self.demons[d.name] = ReferenceDemon(
-                d, features, lam, alpha, alpha_w, np.zeros(n), np.zeros(n), np.zeros(n)
-            )
+                d, features, lam, alpha, alpha_w, np.zeros(n), np.zeros(n), np.zeros(n),
+                mode=mode, meta=meta, tau=spec.learning.autostep_tau, alphas=np.full(n, alpha), h=np.zeros(n),
+                v=np.zeros(n), e_grad=np.zeros(n), e_w=np.zeros(n),
+            )  # fmt: skip
 
     def _phi_state(self, demon: ReferenceDemon, x: float, y: float) -> np.ndarray:
         condition = demon.features.condition
@@ -283,9 +435,15 @@ class ReferenceHorde:
         for name in self.order:
             demon = self.demons[name]
             demon.e = np.zeros_like(demon.e)
+            demon.gamma_t = 0.0  # nothing flows back across an episode start (ETD's followon F restarts)
+            demon.e_grad = np.zeros_like(demon.e)
+            demon.e_w = np.zeros_like(demon.e)
             if demon.spec.reset == "episode":
                 demon.theta = np.zeros_like(demon.theta)
                 demon.w = np.zeros_like(demon.w)
+                demon.alphas = np.full_like(demon.alphas, demon.alpha)
+                demon.h = np.zeros_like(demon.h)
+                demon.v = np.zeros_like(demon.v)
             demon.phi_state_t = self._phi_state(demon, x, y)
             demon.pi_t = self._policy(demon, demon.phi_state_t)
             demon.prediction = self._prediction(demon, demon.phi_state_t, demon.pi_t)
@@ -312,13 +470,47 @@ class ReferenceHorde:
                 phi_next = sum(pi_tp1[a] * self._phi_sa(phi_state_tp1, a) for a in range(NUM_ACTIONS))
             else:
                 phi_t, phi_next = demon.phi_state_t, phi_state_tp1
-            step = STEPS[spec.learner]
-            demon.theta, demon.w, demon.e, demon.delta = step(
-                demon.theta, demon.w, demon.e, phi_t, np.asarray(phi_next), r, z,
-                demon.gamma_t, gamma_tp1, rho, demon.lam, demon.alpha, demon.alpha_w,
-            )  # fmt: skip
+            self._step(demon, phi_t, np.asarray(phi_next), r, z, gamma_tp1, rho)
             demon.gamma_t = gamma_tp1
             demon.phi_state_t = phi_state_tp1
             demon.pi_t = self._policy(demon, phi_state_tp1)
             demon.prediction = self._prediction(demon, phi_state_tp1, demon.pi_t)
             predictions[name] = demon.prediction
+
+    @staticmethod
+    def _step(
+        demon: ReferenceDemon,
+        phi_t: np.ndarray,
+        phi_next: np.ndarray,
+        r: float,
+        z: float,
+        gamma_tp1: float,
+        rho: float,
+    ) -> None:
+        """One learner step of one demon, by its learner and step-size mode."""
+        d = demon
+        common = (phi_t, phi_next, r, z, d.gamma_t, gamma_tp1, rho, d.lam)
+        learner = d.spec.learner
+        if d.mode != "constant":
+            d.theta, d.e, d.alphas, d.h, d.v, d.delta = adaptive_td_step(
+                d.theta, d.e, d.alphas, d.h, d.v, *common, d.mode, d.meta, d.tau
+            )
+        elif learner == "true_online_td":
+            d.theta, d.e, d.v_old, d.delta = true_online_td_step(d.theta, d.e, d.v_old, *common, d.alpha)
+        elif learner == "true_online_gtd":
+            d.theta, d.w, d.e, d.e_grad, d.e_w, d.v_old, d.delta = true_online_gtd_step(
+                d.theta, d.w, d.e, d.e_grad, d.e_w, d.v_old, d.rho_prev, *common, d.alpha, d.alpha_w
+            )
+        elif learner == "etd":
+            d.theta, d.e, d.followon, d.delta = etd_step(d.theta, d.e, d.followon, d.rho_prev, *common, d.alpha)
+        else:
+            d.theta, d.w, d.e, d.delta = STEPS[learner](d.theta, d.w, d.e, *common, d.alpha, d.alpha_w)
+        d.rho_prev = rho
+
+    @staticmethod
+    def effective_alpha(demon: ReferenceDemon) -> float:
+        """The step size a demon takes now: alpha times the active count, or the sum of its per-weight step
+        sizes over the active features (adaptive modes)."""
+        if demon.mode == "constant":
+            return demon.alpha * demon.features.active_count()
+        return float(demon.alphas[demon.phi_state_t > 0].sum())

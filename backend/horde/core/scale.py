@@ -45,9 +45,12 @@ from horde.core.world import NUM_ACTIONS
 A = NUM_ACTIONS  # actions of GQ blocks
 TRACE_CUT = 1e-8  # trace entries below this are set to zero (DESIGN section 6)
 
-Learner = Literal["td", "gtd", "gq"]
+Learner = Literal["td", "gtd", "gq", "true_online_td", "true_online_gtd", "etd"]
 BlockPolicy = Literal["given", "greedy", "softmax", "epsilon_greedy"]
-LEARNER_CODES = {"td": 0, "gtd": 1, "gq": 2}
+# Codes of the compiled loop; codes from 3 on are the learners of adaptive_kernels.py ("td+tidbd": TD(lambda)
+# with TIDBD step sizes, "td+autostep": with Autostep's).
+LEARNER_CODES = {"td": 0, "gtd": 1, "gq": 2, "true_online_td": 3, "true_online_gtd": 4, "etd": 5, "td+tidbd": 6,
+                 "td+autostep": 7}  # fmt: skip
 POLICY_CODES = {"given": FIXED, "greedy": GREEDY, "softmax": SOFTMAX, "epsilon_greedy": EPSILON_GREEDY}
 
 
@@ -75,6 +78,13 @@ class Block:
     classes: np.ndarray | None = None
     temperature: np.ndarray | None = None
     epsilon: np.ndarray | None = None
+    step_size: str = "constant"  # or "autostep" / "tidbd" (TD only): per-weight step sizes starting at alpha
+    meta: np.ndarray | None = None  # [Db] their meta step sizes
+
+    @property
+    def code(self) -> int:
+        """The learner's code in the compiled loop (LEARNER_CODES)."""
+        return LEARNER_CODES[self.learner if self.step_size == "constant" else f"{self.learner}+{self.step_size}"]
 
     def __post_init__(self) -> None:
         alpha = np.asarray(self.alpha, dtype=float).ravel()
@@ -88,6 +98,8 @@ class Block:
             object.__setattr__(self, name, value)
         if self.learner not in LEARNER_CODES or self.policy not in POLICY_CODES:
             raise ValueError(f"unknown learner {self.learner!r} or policy {self.policy!r}")
+        if self.step_size != "constant" and f"{self.learner}+{self.step_size}" not in LEARNER_CODES:
+            raise ValueError(f"step size {self.step_size!r} is not defined for learner {self.learner!r}")
         if len(alpha) == 0:
             raise ValueError("a block needs at least one demon")
         if self.policy != "given":

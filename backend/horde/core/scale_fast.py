@@ -26,6 +26,7 @@ from horde.core.policies import EPSILON_GREEDY, FIXED, SOFTMAX, TIE_TOLERANCE
 from horde.core.scale import LEARNER_CODES
 
 TD, GTD, GQ = LEARNER_CODES["td"], LEARNER_CODES["gtd"], LEARNER_CODES["gq"]
+ONLINE = LEARNER_CODES["true_online_td"]  # this code and above: adaptive_kernels.online_step learns the block
 # Columns of the block table.
 B_LEARNER, B_POLICY, B_LO, B_HI, B_ROWS, B_WOFF, B_TOFF, B_VOFF, B_NCLS, B_COFF = range(10)
 
@@ -310,6 +311,8 @@ def _step(
     k = x_t.shape[0]
     for b in range(bi.shape[0]):
         learner, kind = bi[b, B_LEARNER], bi[b, B_POLICY]
+        if learner >= ONLINE:  # fast.py runs adaptive_kernels.online_step for these blocks
+            continue
         lo, hi = bi[b, B_LO], bi[b, B_HI]
         woff, toff, voff, ncls, coff = bi[b, B_WOFF], bi[b, B_TOFF], bi[b, B_VOFF], bi[b, B_NCLS], bi[b, B_COFF]
         db = hi - lo

@@ -206,6 +206,14 @@ class Simulation:
         """Copies of every block's primary weights [n_b, Db] (the stopping rule compares them)."""
         return self._loop.thetas()
 
+    def step_sizes(self, name: str) -> np.ndarray:
+        """[n] the step size of each of one demon's weights now (adaptive demons tune them online)."""
+        return self._loop.step_sizes(name)
+
+    def effective_step_sizes(self) -> np.ndarray:
+        """[D] each demon's step size at the agent's state, in alpha's units (FastLoop.effective_step_sizes)."""
+        return self._loop.effective_step_sizes()
+
     def prediction_array(self) -> np.ndarray:
         """[D] every demon's prediction at the agent's state (a copy, in demon order)."""
         return self._loop.prediction()

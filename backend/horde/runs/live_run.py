@@ -568,6 +568,7 @@ class LiveRun:
             updated_at=time.time(),
             summary=self._summary,
             seq=self._seq,
+            step_size=sim.effective_step_sizes(),
         )
 
     def _publish(self, force: bool = True) -> RunView:

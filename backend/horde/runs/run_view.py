@@ -62,6 +62,7 @@ class RunView:
     updated_at: float
     summary: Summary | None
     seq: int  # increases with every publication
+    step_size: np.ndarray | None = None  # [D] each demon's effective step size (Simulation.effective_step_sizes)
 
     @property
     def position(self) -> tuple[float, float]:

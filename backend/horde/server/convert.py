@@ -77,7 +77,12 @@ def demon_metrics(view: RunView, indices: Sequence[int] | None = None) -> dict[s
     hs, rupee, ude, names = view.horde_state, view.rupee, view.ude, view.horde.names
     return {
         names[i]: DemonMetricsOut(
-            rupee=rupee[i], ude=ude[i], delta=hs.delta[i], cumulant=hs.cumulant[i], diverged=bool(hs.diverged[i])
+            rupee=rupee[i],
+            ude=ude[i],
+            delta=hs.delta[i],
+            cumulant=hs.cumulant[i],
+            diverged=bool(hs.diverged[i]),
+            step_size=view.step_size[i] if view.step_size is not None else None,
         )
         for i in (range(len(names)) if indices is None else indices)
     }

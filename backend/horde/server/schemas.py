@@ -242,6 +242,11 @@ class DemonMetricsOut(Out):
     delta: MaybeFloat
     cumulant: MaybeFloat
     diverged: bool
+    step_size: MaybeFloat = Field(
+        default=None,
+        description="the step size the demon takes now, in alpha's units: alpha for a constant step size; for "
+        "autostep and tidbd the sum of its per-weight step sizes over the active features",
+    )
 
 
 class EventOut(Out):

@@ -797,6 +797,11 @@ export interface components {
             diverged: boolean;
             /** Rupee */
             rupee: number | null;
+            /**
+             * Step Size
+             * @description the step size the demon takes now, in alpha's units: alpha for a constant step size; for autostep and tidbd the sum of its per-weight step sizes over the active features
+             */
+            step_size?: number | null;
             /** Ude */
             ude: number | null;
         };
@@ -887,11 +892,16 @@ export interface components {
             lambda?: number | null;
             /**
              * Learner
-             * @description gq: action values (GQ(lambda)); gtd, td: state values (GTD(lambda), TD)
+             * @description gq: action values (GQ(lambda)); gtd, td, true_online_td, true_online_gtd, etd: state values
              * @default gq
              * @enum {string}
              */
-            learner: "gq" | "gtd" | "td";
+            learner: "gq" | "gtd" | "td" | "true_online_td" | "true_online_gtd" | "etd";
+            /**
+             * Meta Step
+             * @description meta step size of autostep (mu) or tidbd (theta); defaults to [learning]
+             */
+            meta_step?: number | null;
             /** Name */
             name: string;
             /**
@@ -906,6 +916,11 @@ export interface components {
              * @enum {string}
              */
             reset: "never" | "episode";
+            /**
+             * Step Size
+             * @description constant (alpha as given), autostep or tidbd (per-weight step sizes adapted online, starting from alpha); defaults to the run's [learning] step_size
+             */
+            step_size?: ("constant" | "autostep" | "tidbd") | null;
         };
         /**
          * DemonSpec
@@ -943,11 +958,16 @@ export interface components {
             lambda?: number | null;
             /**
              * Learner
-             * @description gq: action values (GQ(lambda)); gtd, td: state values (GTD(lambda), TD)
+             * @description gq: action values (GQ(lambda)); gtd, td, true_online_td, true_online_gtd, etd: state values
              * @default gq
              * @enum {string}
              */
-            learner: "gq" | "gtd" | "td";
+            learner: "gq" | "gtd" | "td" | "true_online_td" | "true_online_gtd" | "etd";
+            /**
+             * Meta Step
+             * @description meta step size of autostep (mu) or tidbd (theta); defaults to [learning]
+             */
+            meta_step?: number | null;
             /** Name */
             name: string;
             /**
@@ -962,6 +982,11 @@ export interface components {
              * @enum {string}
              */
             reset: "never" | "episode";
+            /**
+             * Step Size
+             * @description constant (alpha as given), autostep or tidbd (per-weight step sizes adapted online, starting from alpha); defaults to the run's [learning] step_size
+             */
+            step_size?: ("constant" | "autostep" | "tidbd") | null;
         };
         /**
          * EncodedArray
@@ -1262,10 +1287,29 @@ export interface components {
              */
             alpha_w: number;
             /**
+             * Autostep Tau
+             * @description autostep's time scale tau of its normaliser v (Mahmood et al. 2012: 1e4)
+             * @default 10000
+             */
+            autostep_tau: number;
+            /**
              * Lambda
              * @default 0.9
              */
             lambda: number;
+            /**
+             * Meta Step
+             * @description autostep's mu and tidbd's theta (meta step size)
+             * @default 0.01
+             */
+            meta_step: number;
+            /**
+             * Step Size
+             * @description the step-size mode of demons that set none; an adaptive mode applies only to the learners it is defined for (td), the others keep constant step sizes
+             * @default constant
+             * @enum {string}
+             */
+            step_size: "constant" | "autostep" | "tidbd";
         };
         /** MaxExpr */
         "MaxExpr-Input": {

@@ -63,7 +63,11 @@ export const GLOSSARY = {
   },
   learner: {
     term: "Learner",
-    text: "GQ(λ) learns action values (for control demons); GTD(λ) learns state values with a gradient correction; TD is off-policy TD(λ) without the correction.",
+    text: "GQ(λ) learns action values (for control demons); GTD(λ) learns state values with a gradient correction; TD is off-policy TD(λ) without the correction; true online TD(λ) and GTD(λ) match the forward view exactly; emphatic TD(λ) is stable off-policy without a second weight vector.",
+  },
+  stepSize: {
+    term: "Step size mode",
+    text: "constant: α as given. autostep and tidbd (TD(λ) only): every weight gets its own step size, starting at α and tuned online by a meta step size; the table shows the step size a demon takes now, in α's units.",
   },
   control: {
     term: "Control demon",

@@ -8,6 +8,7 @@ import type { AppState, AppStore } from "../app/state";
 import { ApiError } from "../api/client";
 import type { Demon, DemonSpec } from "../api/types";
 import { runLabel } from "../lib/format";
+import { LEARNER_TEXT, STEP_SIZE_TEXT, choices } from "../lib/learners";
 import { readNumber, readOptionalNumber } from "../lib/parse";
 import { regionNames, sensorNames } from "../lib/world";
 import { h, options, replaceChildren } from "../ui/dom";
@@ -16,11 +17,9 @@ import { type ExprContext, exprInput } from "./expr-input";
 import { featuresFields } from "./features-fields";
 import { policyFields } from "./policy-fields";
 
-const LEARNERS: readonly (readonly [DemonSpec["learner"], string])[] = [
-  ["gq", "GQ(λ): action values"],
-  ["gtd", "GTD(λ): state values"],
-  ["td", "TD(λ): state values, no correction"],
-];
+const BLANK_MODE = "";
+/** Step-size modes, and the run's default (README "Learners and step sizes"). */
+const STEP_SIZES = [[BLANK_MODE, "the run's default"] as const, ...choices(STEP_SIZE_TEXT)];
 const RESETS: readonly (readonly [DemonSpec["reset"], string])[] = [
   ["never", "never"],
   ["episode", "at every episode start"],
@@ -38,11 +37,13 @@ export function demonEditor(store: AppStore): HTMLElement {
   const outcome = exprInput("Outcome", "outcome", errors, 0);
   const continuation = exprInput("Continuation", "continuation", errors, 1);
   const discount = numberInput(1, { name: "discount" });
-  const learner = h("select", { name: "learner" }, options(LEARNERS, "gq"));
+  const learner = h("select", { name: "learner" }, options(choices(LEARNER_TEXT), "gq"));
   const features = featuresFields(errors);
   const lambda = numberInput(null, { name: "lambda" });
   const alpha = numberInput(null, { name: "alpha" });
   const alphaW = numberInput(null, { name: "alpha_w" });
+  const stepSize = h("select", { name: "step_size" }, options(STEP_SIZES, BLANK_MODE));
+  const metaStep = numberInput(null, { name: "meta_step" });
   const reset = h("select", { name: "reset" }, options(RESETS, "never"));
   const submit = h("button", { type: "submit", class: "primary" }, "Add to run");
   const exprs = [cumulant, outcome, continuation];
@@ -60,6 +61,8 @@ export function demonEditor(store: AppStore): HTMLElement {
     lambda.value = demon.lambda == null ? "" : String(demon.lambda);
     alpha.value = demon.alpha == null ? "" : String(demon.alpha);
     alphaW.value = demon.alpha_w == null ? "" : String(demon.alpha_w);
+    stepSize.value = demon.step_size ?? BLANK_MODE;
+    metaStep.value = demon.meta_step == null ? "" : String(demon.meta_step);
     reset.value = demon.reset ?? "never";
   };
 
@@ -77,7 +80,9 @@ export function demonEditor(store: AppStore): HTMLElement {
       lambda: readOptionalNumber(lambda.value),
       alpha: readOptionalNumber(alpha.value),
       alpha_w: readOptionalNumber(alphaW.value),
+      meta_step: readOptionalNumber(metaStep.value),
     };
+    if (stepSize.value !== BLANK_MODE) spec.step_size = stepSize.value as NonNullable<DemonSpec["step_size"]>;
     const featureSpec = features.read();
     if (featureSpec) spec.features = featureSpec;
     return spec;
@@ -110,6 +115,7 @@ export function demonEditor(store: AppStore): HTMLElement {
     lambda.placeholder = learning ? String(learning.lambda) : "";
     alpha.placeholder = learning ? String(learning.alpha) : "";
     alphaW.placeholder = learning ? String(learning.alpha_w) : "";
+    metaStep.placeholder = learning?.meta_step != null ? String(learning.meta_step) : "";
     // Until the user edits, the form offers a blank demon that fits the run (it follows its control demon).
     if (!touched) {
       fill(blankDemon(demons));
@@ -193,6 +199,12 @@ export function demonEditor(store: AppStore): HTMLElement {
           field("λ (lambda)", lambda, { path: "lambda", errors, term: "lambda" }),
           field("α (alpha)", alpha, { path: "alpha", errors, term: "alpha" }),
           field("α_w (alpha_w)", alphaW, { path: "alpha_w", errors, term: "alphaW" }),
+        ),
+        h(
+          "div",
+          { class: "row" },
+          field("Step size", stepSize, { path: "step_size", errors, term: "stepSize" }),
+          field("Meta step", metaStep, { path: "meta_step", errors, hint: "autostep's μ, tidbd's θ" }),
         ),
         field("Forget the weights", reset, { path: "reset", errors }),
         h(

@@ -1,7 +1,8 @@
 /**
  * The live demon table of the selected run: per demon its prediction now (at the agent's state), the
  * truth once evaluated (from the world's start, beside the prediction there and the error), the
- * thesis's number when the scenario has one, RUPEE, UDE, and a `diverged` mark; a colour dot and a chart
+ * thesis's number when the scenario has one, RUPEE, UDE, the step size it takes now (α now: adaptive
+ * demons tune theirs), and a `diverged` mark; a colour dot and a chart
  * toggle under each name, and an Evaluate and a Remove button per demon (removing takes two presses).
  * Above it a summary (how many demons learn, how many diverged, mean RUPEE) and a filter. At Horde scale
  * the table scrolls in its own box and only the rows in sight exist (@tanstack/virtual-core). The rows
@@ -180,6 +181,7 @@ export function demonTable(store: AppStore): HTMLElement {
       <td class="num">${formatNumber(thesis[demon.name])}</td>
       <td class="num">${formatNumber(metrics?.rupee)}</td>
       <td class="num">${formatNumber(metrics?.ude)}</td>
+      <td class="num">${formatNumber(metrics?.step_size)}</td>
       <td>
         <div class="row-actions">
           <button
@@ -298,6 +300,7 @@ export function demonTable(store: AppStore): HTMLElement {
         explained("th", "thesis", { scope: "col", rowspan: 2, class: "num" }, "Thesis"),
         explained("th", "rupee", { scope: "col", rowspan: 2, class: "num" }, "RUPEE"),
         explained("th", "ude", { scope: "col", rowspan: 2, class: "num" }, "UDE"),
+        explained("th", "stepSize", { scope: "col", rowspan: 2, class: "num" }, "α now"),
         h("th", { scope: "col", rowspan: 2 }, h("span", { class: "visually-hidden" }, "Actions")),
       ),
       h(

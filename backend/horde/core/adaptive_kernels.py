@@ -1,0 +1,385 @@
+"""Compiled kernels (numba) of the learners that need less tuning: one block step each, in the one engine.
+
+`fast.py` runs these blocks right after `scale_fast._step` has run the group's GQ / GTD / TD blocks
+(`_step` skips every block whose learner code is at least `TOTD`). The equations are those of
+`learners.py` (readable) and `reference.py` (the oracle):
+
+* true online TD(lambda) (`TOTD`): the dutch trace depends on alpha, so demons share a trace only when
+  they share target policy, continuation and alpha (`horde.py` adds alpha to the trace key). Per demon it
+  keeps v_old = theta_{t-1} . x_t.
+* true online GTD(lambda) (`TOGTD`): three traces per class (the dutch trace of theta in the block's
+  trace columns, the correction's accumulating trace and w's dutch trace in `OnlineArrays.trace2`); the
+  second and third are kept dense over the block's rows (no support, no cut), so a TOGTD block costs
+  O(rows x demons) a step: fine at thesis scale, slow at Horde scale (README "Learners and step sizes").
+* emphatic TD(lambda) (`ETD`): the followon trace F and emphasis M are the same for a whole class (interest
+  1 everywhere), so the trace is shared as TD's is; F and rho_{t-1} are kept per class.
+* TD(lambda) with per-weight step sizes, `TIDBD` and `AUTOSTEP`: the accumulating trace is shared as TD's;
+  each demon has its own step size per weight (`step_a`, times a per-demon scale `ascale`, so that
+  Autostep's division of every step size by M costs O(1)), its own h (kept in the block's w, which TD
+  leaves unused) and, for Autostep, its normaliser v (`step_v`).
+
+A demon whose alpha is 0 (frozen: diverged, or not learning in a test run) stays exactly as it is.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from horde.core.scale import LEARNER_CODES
+from horde.core.scale_fast import B_COFF, B_HI, B_LEARNER, B_LO, B_NCLS, B_ROWS, B_TOFF, B_VOFF, B_WOFF
+
+TOTD = LEARNER_CODES["true_online_td"]
+TOGTD = LEARNER_CODES["true_online_gtd"]
+ETD = LEARNER_CODES["etd"]
+TIDBD = LEARNER_CODES["td+tidbd"]
+AUTOSTEP = LEARNER_CODES["td+autostep"]
+SMALL_EXP = 1.0 / 16  # Autostep's meta steps with mu at most this use _exp_small (|argument| <= mu)
+SCALE_FLOOR = 1e-150  # a demon's lazily kept step-size scale is folded back into its step sizes below this
+
+
+class OnlineArrays(NamedTuple):
+    """The state of these learners beyond the engine's weights and traces (slots and classes global)."""
+
+    v_old: np.ndarray  # [D] true online: theta_{t-1} . x_t
+    cls_alpha: np.ndarray  # [C] the alpha of a true online class's dutch trace
+    cls_beta: np.ndarray  # [C] TOGTD: alpha_w of the class's w trace
+    cls_f: np.ndarray  # [C] ETD's followon trace
+    cls_rho_prev: np.ndarray  # [C] rho_{t-1}
+    trace2: np.ndarray  # TOGTD: per block [2, rows, C_b] at 2 * B_VOFF: e_grad, then e_w
+    step_a: np.ndarray  # per-weight step sizes, as theta (before the scale)
+    step_v: np.ndarray  # Autostep's normaliser v, as theta
+    ascale: np.ndarray  # [D] the scale of each demon's step sizes
+    meta: np.ndarray  # [D] mu (Autostep) or theta (TIDBD)
+    tau: np.ndarray  # [1] Autostep's tau
+    scratch: np.ndarray  # [8, max(C_b, Db)]
+    bounds: np.ndarray  # [max(C_b) + 1] int: the first demon of each class of a block, then Db
+
+
+@njit(cache=True)
+def _trace_at(trace, voff, ncls, rows, c):
+    """Sum of class c's trace over the given rows."""
+    total = 0.0
+    for j in range(rows.shape[0]):
+        total += trace[voff + rows[j] * ncls + c]
+    return total
+
+
+@njit(cache=True)
+def _merge_trace(trace, support, toff, voff, ncls, nnz_b, x_t, decay, add, cut, rows):
+    """e <- decay e, plus add on the rows of x_t, per class, then the cut; returns the rows left (sorted,
+    in rows[:kept]) and writes them as the block's support."""
+    k = x_t.shape[0]
+    i_old = 0
+    j_new = 0
+    kept = 0
+    while i_old < nnz_b or j_new < k:
+        if j_new >= k or (i_old < nnz_b and support[toff + i_old] < x_t[j_new]):
+            row = support[toff + i_old]
+            on_x = False
+            i_old += 1
+        else:
+            row = x_t[j_new]
+            on_x = True
+            if i_old < nnz_b and support[toff + i_old] == row:
+                i_old += 1
+            j_new += 1
+        left = False
+        for c in range(ncls):
+            v = trace[voff + row * ncls + c] * decay[c]
+            if on_x:
+                v += add[c]
+            v = v if abs(v) >= cut else 0.0
+            trace[voff + row * ncls + c] = v
+            left = left or v != 0.0
+        if left:
+            rows[kept] = row
+            kept += 1
+    for s in range(kept):
+        support[toff + s] = rows[s]
+    return kept
+
+
+@njit(cache=True)
+def online_step(bi, b, lam_b, alpha, alpha_w, dcls, cut, theta, w, trace, support, rows, nnz, x_t, x_tp1, r, z,
+                gamma_tp1, rho_t, gamma, q, pred, delta, touched, values, o):  # fmt: skip
+    """One transition for block b (a learner of this module), in place: the learners.py equations.
+
+    `values[0, :Db]` must hold the block's values at s_{t+1} under the weights before this step
+    (`scale_fast._read_values`); on return it holds them after, and q, pred are set for s_{t+1}.
+    """
+    code = bi[b, B_LEARNER]
+    lo, hi, woff, toff, voff = bi[b, B_LO], bi[b, B_HI], bi[b, B_WOFF], bi[b, B_TOFF], bi[b, B_VOFF]
+    ncls, coff, nrows = bi[b, B_NCLS], bi[b, B_COFF], bi[b, B_ROWS]
+    db = hi - lo
+    decay, add, coef, fix = o.scratch[0], o.scratch[1], o.scratch[2], o.scratch[3]
+
+    # Each class's new trace: decay gamma_t lambda rho_t, and what x_t adds.
+    for c in range(ncls):
+        g_t, rho = gamma[coff + c], rho_t[coff + c]
+        decay[c] = g_t * lam_b * rho
+        if code in (TOTD, TOGTD):  # dutch: rho alpha (1 - rho gamma_t lambda e . x_t) on x_t
+            add[c] = rho * o.cls_alpha[coff + c] * (1.0 - decay[c] * _trace_at(trace, voff, ncls, x_t, c))
+        elif code == ETD:  # rho M_t, with F_t = rho_{t-1} gamma_t F_{t-1} + 1 and M_t = lambda + (1 - lambda) F_t
+            f = o.cls_rho_prev[coff + c] * g_t * o.cls_f[coff + c] + 1.0
+            o.cls_f[coff + c] = f
+            add[c] = rho * (lam_b + (1.0 - lam_b) * f)
+        else:
+            add[c] = rho
+    if code == TOGTD:
+        _togtd_traces(o, voff, nrows, ncls, coff, lam_b, x_t, gamma, rho_t)
+
+    # The TD error of each demon, before any weight moves.
+    for i in range(db):
+        d = lo + i
+        g1 = gamma_tp1[dcls[d]]
+        v_next = values[0, i]
+        dl = r[d] + (1.0 - g1) * z[d] + g1 * v_next - q[d, 0]
+        delta[d] = dl
+        coef[i] = 0.0
+        fix[i] = 0.0
+        if alpha[d] == 0.0:  # frozen
+            continue
+        if code in (TOTD, TOGTD):
+            change = q[d, 0] - o.v_old[d]  # (theta_t - theta_{t-1}) . x_t
+            coef[i] = dl + change
+            fix[i] = o.cls_alpha[dcls[d]] * rho_t[dcls[d]] * change
+        elif code == ETD:
+            coef[i] = alpha[d] * dl
+        else:
+            coef[i] = dl
+        o.v_old[d] = v_next
+
+    if code == TOGTD:  # the correction and w's update read w before it moves; theta's pass follows
+        _togtd_weights(o, theta, w, woff, voff, nrows, ncls, coff, lo, db, dcls, alpha, alpha_w, lam_b, x_t, x_tp1,
+                       gamma_tp1, rho_t, delta)  # fmt: skip
+
+    kept = _merge_trace(trace, support, toff, voff, ncls, nnz[b], x_t, decay, add, cut, rows)
+    nnz[b] = kept
+    touched[b] = kept
+
+    if code in (TIDBD, AUTOSTEP):
+        _adaptive(o, code == AUTOSTEP, theta, w, trace, rows, kept, woff, voff, nrows, ncls, coff, lo, db, dcls, alpha,
+                  x_t, x_tp1, gamma_tp1, delta)  # fmt: skip
+    else:
+        for s in range(kept):
+            row = rows[s]
+            base = woff + row * db
+            for i in range(db):
+                theta[base + i] += coef[i] * trace[voff + row * ncls + dcls[lo + i] - coff]
+        if code in (TOTD, TOGTD):
+            for j in range(x_t.shape[0]):
+                base = woff + x_t[j] * db
+                for i in range(db):
+                    theta[base + i] -= fix[i]
+
+    # The new values at s_{t+1}.
+    for i in range(db):
+        total = 0.0
+        for j in range(x_tp1.shape[0]):
+            total += theta[woff + x_tp1[j] * db + i]
+        values[0, i] = total
+        q[lo + i, 0] = total
+        pred[lo + i] = total
+    for c in range(ncls):
+        gamma[coff + c] = gamma_tp1[coff + c]
+        o.cls_rho_prev[coff + c] = rho_t[coff + c]
+
+
+@njit(cache=True)
+def _togtd_traces(o, voff, nrows, ncls, coff, lam_b, x_t, gamma, rho_t):
+    """TOGTD's e_grad = rho (gamma_t lambda e_grad + x_t) and e_w = rho_{t-1} gamma_t lambda e_w +
+    beta (1 - rho_{t-1} gamma_t lambda e_w . x_t) x_t, per class, dense over the block's rows."""
+    grad = 2 * voff
+    wtr = 2 * voff + nrows * ncls
+    for c in range(ncls):
+        g_t, rho = gamma[coff + c], rho_t[coff + c]
+        decay_w = o.cls_rho_prev[coff + c] * g_t * lam_b
+        add_w = o.cls_beta[coff + c] * (1.0 - decay_w * _trace_at(o.trace2, wtr, ncls, x_t, c))
+        for row in range(nrows):
+            o.trace2[grad + row * ncls + c] *= rho * g_t * lam_b
+            o.trace2[wtr + row * ncls + c] *= decay_w
+        for j in range(x_t.shape[0]):
+            o.trace2[grad + x_t[j] * ncls + c] += rho
+            o.trace2[wtr + x_t[j] * ncls + c] += add_w
+
+
+@njit(cache=True)
+def _togtd_weights(o, theta, w, woff, voff, nrows, ncls, coff, lo, db, dcls, alpha, alpha_w, lam_b, x_t, x_tp1,
+                   gamma_tp1, rho_t, delta):  # fmt: skip
+    """TOGTD: theta -= alpha gamma_tp1 (1 - lambda) (w . e_grad) x_tp1 and w += rho delta e_w - beta (w . x_t) x_t,
+    both from w before this step."""
+    grad = 2 * voff
+    wtr = 2 * voff + nrows * ncls
+    for i in range(db):
+        d = lo + i
+        if alpha[d] == 0.0:
+            continue
+        c = dcls[d]
+        col = c - coff
+        w_grad = 0.0
+        w_x = 0.0
+        for row in range(nrows):
+            w_grad += w[woff + row * db + i] * o.trace2[grad + row * ncls + col]
+        for j in range(x_t.shape[0]):
+            w_x += w[woff + x_t[j] * db + i]
+        correction = alpha[d] * gamma_tp1[c] * (1.0 - lam_b) * w_grad
+        for j in range(x_tp1.shape[0]):
+            theta[woff + x_tp1[j] * db + i] -= correction
+        step = rho_t[c] * delta[d]
+        for row in range(nrows):
+            w[woff + row * db + i] += step * o.trace2[wtr + row * ncls + col]
+        for j in range(x_t.shape[0]):
+            w[woff + x_t[j] * db + i] -= alpha_w[d] * w_x
+
+
+@njit(cache=True)
+def _adaptive(o, autostep, theta, h, trace, rows, kept, woff, voff, nrows, ncls, coff, lo, db, dcls, alpha, x_t, x_tp1,
+              gamma_tp1, delta):  # fmt: skip
+    """TIDBD / Autostep for TD(lambda) (reference.adaptive_td_step) over the trace's rows; h lives in w.
+
+    Row by row, and within a row class by class, each class's demons in one contiguous, branch-free run
+    (feature-major, as the other kernels): a frozen demon enters with rate 0 and delta 0, which leaves its
+    weights, h, v and step sizes as they are. Per trace row this reads and writes three numbers per demon
+    (step size, theta, h) where TD moves one: a third of TD's speed is the floor of memory traffic.
+    """
+    a, v, scale = o.step_a, o.step_v, o.ascale
+    rate, dlv, effective, meta_x = o.scratch[5, :db], o.scratch[6, :db], o.scratch[7, :db], o.scratch[4, :db]
+    bounds = o.bounds
+    inv_tau = 1.0 / o.tau[0]
+    small = True  # every meta step size of the block within _exp_small's range
+    c_prev = -1
+    nb = 0
+    for i in range(db):
+        d = lo + i
+        small = small and o.meta[d] <= SMALL_EXP
+        live = 1.0 if alpha[d] != 0.0 else 0.0
+        rate[i] = scale[d] * live
+        dlv[i] = delta[d] * live if live > 0.0 else 0.0
+        if dcls[d] != c_prev:  # demons of a class are consecutive: bounds[c] is its first
+            bounds[nb] = i
+            nb += 1
+            c_prev = dcls[d]
+    bounds[nb] = db
+    # The meta step on the rows of x_t (where phi_i = 1): alpha_i *= exp(meta delta h_i [/ v_i]).
+    for j in range(x_t.shape[0]):
+        base = woff + x_t[j] * db
+        tr = voff + x_t[j] * ncls
+        for c in range(ncls):
+            e = trace[tr + c]
+            if not autostep:
+                for i in range(bounds[c], bounds[c + 1]):
+                    at = base + i
+                    a[at] *= math.exp(o.meta[lo + i] * dlv[i] * h[at])
+                continue
+            for i in range(bounds[c], bounds[c + 1]):  # v_i, then the argument of exp: |x| <= mu as |sample| <= v
+                at = base + i
+                sample = dlv[i] * h[at]
+                size = abs(sample)
+                vi = max(size, v[at] + a[at] * rate[i] * e * (size - v[at]) * inv_tau)
+                v[at] = vi
+                meta_x[i] = o.meta[lo + i] * (sample / vi if vi > 0.0 else 0.0)
+            if small:
+                for i in range(bounds[c], bounds[c + 1]):
+                    a[base + i] *= _exp_small(meta_x[i])
+            else:
+                for i in range(bounds[c], bounds[c + 1]):
+                    a[base + i] *= math.exp(meta_x[i])
+    if autostep:  # every step size divided by M = max(1, the effective step size alpha . e (x_t - gamma x_tp1))
+        effective[:] = 0.0
+        for j in range(x_t.shape[0]):
+            base = woff + x_t[j] * db
+            for c in range(ncls):
+                e = trace[voff + x_t[j] * ncls + c]
+                for i in range(bounds[c], bounds[c + 1]):
+                    effective[i] += a[base + i] * e
+        for j in range(x_tp1.shape[0]):
+            base = woff + x_tp1[j] * db
+            for c in range(ncls):
+                e = trace[voff + x_tp1[j] * ncls + c]
+                if e == 0.0:
+                    continue
+                for i in range(bounds[c], bounds[c + 1]):
+                    effective[i] -= gamma_tp1[coff + c] * a[base + i] * e
+        for i in range(db):
+            m = effective[i] * rate[i]
+            if m > 1.0:
+                scale[lo + i] /= m
+                rate[i] /= m
+    for i in range(db):
+        if scale[lo + i] < SCALE_FLOOR:
+            _fold_scale(o, woff, db, i, lo + i, woff + nrows * db)
+            rate[i] = 1.0 if alpha[lo + i] != 0.0 else 0.0
+    # theta += alpha delta e; h = h [1 - alpha phi e]^+ + alpha delta e, over the trace's rows.
+    for s in range(kept):
+        row = rows[s]
+        base = woff + row * db
+        on_x = _on(x_t, row) > 0.0
+        for c in range(ncls):
+            e = trace[voff + row * ncls + c]
+            if e == 0.0:
+                continue
+            if on_x:
+                for i in range(bounds[c], bounds[c + 1]):
+                    at = base + i
+                    step = a[at] * rate[i] * e
+                    change = step * dlv[i]
+                    theta[at] += change
+                    h[at] = h[at] * max(1.0 - step, 0.0) + change
+            else:
+                for i in range(bounds[c], bounds[c + 1]):
+                    at = base + i
+                    change = a[at] * rate[i] * e * dlv[i]
+                    theta[at] += change
+                    h[at] += change
+
+
+@njit(cache=True, inline="always")
+def _exp_small(x):
+    """exp(x) for |x| <= SMALL_EXP: its Taylor polynomial of degree 9 (the remainder is below 3e-19 relative,
+    far under the double's rounding), in multiply-adds that vectorize where math.exp is a call per number."""
+    return 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6 + x * (1.0 / 24 + x * (1.0 / 120 + x * (
+        1.0 / 720 + x * (1.0 / 5040 + x * (1.0 / 40320 + x * (1.0 / 362880)))))))))  # fmt: skip
+
+
+@njit(cache=True)
+def _on(x, row):
+    """1.0 when row is one of the sorted active features x, else 0.0."""
+    lo, hi = 0, x.shape[0]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if x[mid] < row:
+            lo = mid + 1
+        else:
+            hi = mid
+    return 1.0 if lo < x.shape[0] and x[lo] == row else 0.0
+
+
+@njit(cache=True)
+def _fold_scale(o, woff, db, i, d, end):
+    """Multiply demon d's scale into its stored step sizes (column i of the block at woff..end), scale 1."""
+    for at in range(woff + i, end, db):
+        o.step_a[at] *= o.ascale[d]
+    o.ascale[d] = 1.0
+
+
+@njit(cache=True)
+def online_reset(bi, reset, alpha, o):
+    """An episode starts: adaptive demons that forget their weights (reset = "episode") restart their step
+    sizes at alpha and their normalisers at 0, as `reference.ReferenceHorde.observe` does (fast.py's
+    `_observe` zeroes their weights and h)."""
+    for b in range(bi.shape[0]):
+        if bi[b, B_LEARNER] < TIDBD:
+            continue
+        lo, hi, rows, woff = bi[b, B_LO], bi[b, B_HI], bi[b, B_ROWS], bi[b, B_WOFF]
+        db = hi - lo
+        for i in range(db):
+            if not reset[lo + i]:
+                continue
+            for row in range(rows):
+                o.step_a[woff + row * db + i] = alpha[lo + i]
+                o.step_v[woff + row * db + i] = 0.0
+            o.ascale[lo + i] = 1.0

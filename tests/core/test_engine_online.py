@@ -1,0 +1,136 @@
+"""The one engine runs true online TD/GTD(lambda), emphatic TD(lambda), TIDBD and Autostep as the oracle does.
+
+Every transition of the simulation is replayed into `reference.ReferenceHorde`; after every step every
+demon's weights, trace and prediction agree to 1e-9 (relative, for numbers above 1) with the trace cut at
+0, and to 1e-5 with the default cut. Demons that may share a trace do (same target policy, continuation
+and, for the dutch traces, alpha); the adaptive demons' per-weight step sizes are compared too.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pytest
+
+from horde.core.reference import ReferenceHorde
+from horde.core.scale import TRACE_CUT
+from horde.core.simulation import Simulation
+from horde.spec import RunSpec
+
+FIXED = {"kind": "fixed", "probabilities": [0.4, 0.1, 0.1, 0.4]}
+DEMONS: list[dict[str, Any]] = [
+    {"name": "base", "policy": {"kind": "softmax", "temperature": 0.5}, "cumulant": {"sensor": "reward"}},
+    {"name": "to_goal", "learner": "true_online_td", "policy": {"of": "base"}, "outcome": {"sensor": "in:goal"},
+     "discount": 0.9},
+    {"name": "to_goal_b", "learner": "true_online_td", "policy": {"of": "base"}, "cumulant": {"sensor": "bump"},
+     "discount": 0.9},
+    {"name": "to_goal_a", "learner": "true_online_td", "policy": {"of": "base"}, "cumulant": 0.1, "alpha": 0.05},
+    {"name": "steps_to", "learner": "true_online_td", "policy": FIXED, "cumulant": 1, "discount": 0.9,
+     "lambda": 0.5},
+    {"name": "gtd_to", "learner": "true_online_gtd", "policy": FIXED, "cumulant": {"sensor": "bump"},
+     "discount": 0.8, "alpha_w": 0.05},
+    {"name": "gtd_to_b", "learner": "true_online_gtd", "policy": {"of": "base"}, "outcome": {"sensor": "in:goal"}},
+    {"name": "emph", "learner": "etd", "policy": FIXED, "cumulant": {"sensor": "reward"}, "discount": 0.9},
+    {"name": "emph_b", "learner": "etd", "policy": FIXED, "cumulant": 0.2, "discount": 0.9, "alpha": 0.02},
+    {"name": "emph_c", "learner": "etd", "policy": "uniform", "outcome": {"sensor": "in:crit"},
+     "continuation": {"if": {"sensor": "in:crit"}, "then": 0, "else": 1}},
+    {"name": "tidbd", "learner": "td", "step_size": "tidbd", "meta_step": 0.05, "policy": FIXED,
+     "cumulant": {"sensor": "bump"}, "discount": 0.8},
+    {"name": "tidbd_b", "learner": "td", "step_size": "tidbd", "policy": FIXED, "cumulant": 1, "discount": 0.8},
+    {"name": "auto", "learner": "td", "step_size": "autostep", "policy": {"of": "base"},
+     "outcome": {"sensor": "in:goal"}, "alpha": 0.5},
+    {"name": "auto_b", "learner": "td", "step_size": "autostep", "meta_step": 0.1, "policy": "uniform",
+     "cumulant": 1, "discount": 0.95, "reset": "never"},
+    {"name": "auto_reset", "learner": "td", "step_size": "autostep", "policy": "uniform", "cumulant": 1,
+     "discount": 0.9, "reset": "episode", "meta_step": 0.2},
+    {"name": "plain_td", "learner": "td", "policy": FIXED, "cumulant": 1, "discount": 0.8},
+]  # fmt: skip
+
+
+def spec(behaviour: Any = "uniform") -> RunSpec:
+    return RunSpec.model_validate(
+        {
+            "world": {
+                "width": 500,
+                "height": 500,
+                "step": 100,
+                "slip": 0.1,
+                "start": [0, 0],
+                "max_steps": 40,
+                "regions": [
+                    {"name": "goal", "kind": "terminal", "rect": [400, 400, 500, 500], "reward": 1},
+                    {"name": "pit", "kind": "terminal", "rect": [400, 200, 500, 300], "reward": -1},
+                    {"name": "wall", "kind": "obstacle", "rect": [100, 200, 200, 300]},
+                    {"name": "crit", "kind": "zone", "rect": [100, 300, 400, 500]},
+                ],
+            },
+            "features": {"kind": "stripes", "parts": 5},
+            "learning": {"lambda": 0.9, "alpha": 0.1, "alpha_w": 0.01, "meta_step": 0.02, "autostep_tau": 100},
+            "behaviour": behaviour,
+            "demons": DEMONS,
+            "seed": 11,
+        }
+    )
+
+
+def compare(sim: Simulation, ref: ReferenceHorde, step: int, tolerance: float) -> float:
+    state = sim.horde_state
+    largest = 0.0
+    for i, name in enumerate(sim.horde.names):
+        demon = ref.demons[name]
+        theta, w, e = sim.horde.demon_arrays(state, name)
+        pairs = [("theta", theta, demon.theta), ("e", e, demon.e),
+                 ("prediction", state.prediction[i : i + 1], np.array([demon.prediction]))]  # fmt: skip
+        if demon.spec.learner in ("true_online_gtd", "gq", "gtd"):
+            pairs.append(("w", w, demon.w))
+        if demon.mode != "constant":
+            pairs.append(("h", w, demon.h))
+            pairs.append(("alphas", sim.step_sizes(name), demon.alphas))
+        for what, ours, plain in pairs:
+            gap = float(np.abs(ours - plain).max()) / max(1.0, float(np.abs(plain).max()))  # relative above 1
+            largest = max(largest, gap)
+            assert gap <= tolerance, f"{what} of {name!r} at step {step}: gap {gap:.3g}"
+    return largest
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("cut", [0.0, TRACE_CUT], ids=["cut=0", "default cut"])
+@pytest.mark.parametrize("behaviour", ["uniform", {"kind": "epsilon_greedy", "demon": "base", "epsilon": 0.5}])
+def test_engine_equals_reference_at_every_step(behaviour: Any, cut: float) -> None:
+    run = spec(behaviour)
+    sim = Simulation(run, cut=cut)
+    ref = ReferenceHorde(run)
+    names = sim.world.sensor_names
+    ref.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
+    tolerance = 1e-9 if cut == 0.0 else 1e-5
+    episodes = 0
+    for step in range(1, 801):
+        result = sim.step()
+        sensors = sim.sensors
+        ref.learn(result.action, sim.behaviour_probability, float(sensors[0]), float(sensors[1]),
+                  dict(zip(names, sensors.tolist(), strict=True)), result.terminated)  # fmt: skip
+        if result.done:
+            episodes += 1
+            ref.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
+        compare(sim, ref, step, tolerance)
+    assert episodes >= 10
+    horde = sim.horde
+    slot_class = {n: horde.slot_class[horde.demon_slot[horde.index[n]]] for n in horde.names}
+    assert slot_class["to_goal"] == slot_class["to_goal_b"], "true online demons with one alpha share a trace"
+    assert slot_class["to_goal"] != slot_class["to_goal_a"], "a dutch trace holds alpha: no sharing across alphas"
+    assert slot_class["emph"] == slot_class["emph_b"], "emphatic demons of one policy and continuation share"
+    assert slot_class["tidbd"] == slot_class["tidbd_b"]
+    moved = {n: float(np.abs(sim.step_sizes(n) - ref.demons[n].alpha).max())
+             for n in ("tidbd", "auto", "auto_b", "auto_reset")}  # fmt: skip
+    assert min(moved.values()) > 1e-6, moved  # the step sizes did adapt
+    assert not sim.horde_state.diverged.any()
+
+
+def test_the_small_exp_of_the_autostep_kernel_is_exp_to_rounding() -> None:
+    """Autostep's meta step evaluates exp on [-mu, mu] as a polynomial when mu <= 1/16 (adaptive_kernels)."""
+    from horde.core.adaptive_kernels import SMALL_EXP, _exp_small
+
+    xs = np.linspace(-SMALL_EXP, SMALL_EXP, 20001)
+    relative = np.array([abs(_exp_small(x) - np.exp(x)) for x in xs]) / np.exp(xs)
+    assert relative.max() < 5e-16

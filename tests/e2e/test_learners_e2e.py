@@ -1,0 +1,37 @@
+"""The demon editor's learner and step-size choices, and the demon table's "α now" column, in a browser."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from . import test_dashboard_e2e as dashboard
+from .test_dashboard_e2e import NUMBER, Server, cell, select_run, wait_until
+
+console, page, server = dashboard.console, dashboard.page, dashboard.server  # the dashboard tests' fixtures
+
+if TYPE_CHECKING:
+    from playwright.sync_api import Page
+
+STEP_SIZE_COLUMN = 8  # prediction now, 3 of evaluation, thesis, RUPEE, UDE, then the step size now
+
+
+def test_an_autostep_demon_joins_and_shows_its_step_size(page: Page, server: Server) -> None:
+    run_id = server.create_run()
+    select_run(page, run_id)
+    page.get_by_role("tab", name="Demon editor").click()
+    form = page.locator("form.demon-form")
+    form.get_by_label("Name", exact=True).fill("auto_steps")
+    form.get_by_label("Learner").select_option("td")
+    options = form.get_by_label("Step size").locator("option").all_inner_texts()
+    assert any(text.startswith("autostep (TD only):") for text in options), options  # one line of explanation
+    form.get_by_label("Step size").select_option("autostep")
+    form.get_by_role("button", name="Add to run").click()
+    page.get_by_role("status").filter(has_text="Added demon 'auto_steps'").wait_for()
+    added = next(d for d in server.client.get(f"/api/runs/{run_id}/demons").json() if d["name"] == "auto_steps")
+    assert added["spec"]["learner"] == "td" and added["spec"]["step_size"] == "autostep"
+
+    page.get_by_role("tab", name="Live").click()
+    page.get_by_role("columnheader", name="α now").wait_for()
+    page.locator('table.demon-table tr[data-demon="auto_steps"]').wait_for()
+    wait_until(lambda: NUMBER.match(cell(page, "auto_steps", STEP_SIZE_COLUMN)) is not None, what="its step size")
+    assert NUMBER.match(cell(page, "base", STEP_SIZE_COLUMN)) is not None  # constant demons show alpha
