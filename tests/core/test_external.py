@@ -7,6 +7,8 @@ numbers exactly: one engine, two ways in. Then N actions (not four), and the rec
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import pytest
 from tests.core.test_fast import assert_same
@@ -48,8 +50,27 @@ def grid_spec() -> RunSpec:
     )  # fmt: skip
 
 
-def test_external_transitions_equal_the_grid_loop() -> None:
-    spec = grid_spec()
+def adaptive_spec() -> RunSpec:
+    """The grid spec with the learners of adaptive_kernels.py (which `_step` skips) beside the others."""
+    body = grid_spec().model_dump(mode="json", exclude_none=True)
+    body["demons"] += [
+        {"name": "online", "learner": "true_online_td", "policy": "uniform", "cumulant": {"sensor": "in:zone"},
+         "discount": 0.8},
+        {"name": "online_gtd", "learner": "true_online_gtd", "policy": {"of": "control"}, "cumulant": 1,
+         "discount": 0.5},
+        {"name": "emphatic", "learner": "etd", "policy": {"of": "control"}, "cumulant": {"sensor": "y"},
+         "discount": 0.5},
+        {"name": "auto", "learner": "td", "step_size": "autostep", "policy": "uniform", "cumulant": 1,
+         "discount": 0.8},
+        {"name": "tidbd", "learner": "td", "step_size": "tidbd", "policy": "uniform", "cumulant": {"sensor": "x"},
+         "discount": 0.5},
+    ]  # fmt: skip
+    return RunSpec.model_validate(body)
+
+
+@pytest.mark.parametrize("make_spec", [grid_spec, adaptive_spec], ids=["learners", "adaptive learners"])
+def test_external_transitions_equal_the_grid_loop(make_spec: Callable[[], RunSpec]) -> None:
+    spec = make_spec()
     sim = Simulation(spec, np.random.default_rng(11))
     external = ExternalLoop(Horde(spec))
     external.observe(sim.start_sensors)

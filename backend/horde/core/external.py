@@ -21,6 +21,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import ArrayLike
 
+from horde.core.adaptive_kernels import online_reset, online_step
 from horde.core.fast import (
     G_BHI,
     G_BLO,
@@ -45,6 +46,7 @@ from horde.core.fast import (
     _step,
 )
 from horde.core.horde import Horde, HordeState
+from horde.core.scale_fast import B_LEARNER, ONLINE, _read_values
 from horde.core.world import World
 from horde.spec import BehaviourSpec, WorldSpec
 
@@ -68,7 +70,7 @@ def _apply_rules(rules, sensors, class_fixed):
 
 
 @njit(cache=True, nogil=True)
-def _learn_rows(net, buf, rules, sensors_tp1, actions, b_probs, terminated, with_metrics, pred_out):
+def _learn_rows(net, buf, onl, rules, sensors_tp1, actions, b_probs, terminated, with_metrics, pred_out):
     """Learn from each row's transition in order (the learning half of `fast._run`, position 0, 0).
 
     pred_out: [T, D] the predictions (slot order) after each row, or [0, D] to keep none.
@@ -117,6 +119,12 @@ def _learn_rows(net, buf, rules, sensors_tp1, actions, b_probs, terminated, with
                 buf.work[0], buf.work[1], buf.work[2], buf.work[3], buf.ev, buf.work[4], buf.work[5], buf.scratch[0],
                 buf.scratch[1],
             )  # fmt: skip
+            for ob in range(blo, bhi):  # the learners of adaptive_kernels.py, which _step skips
+                if bi[ob, B_LEARNER] >= ONLINE:
+                    _read_values(bi, ob, gi[g, G_NS], buf.theta, idx[:k], buf.values)
+                    online_step(bi, ob, lam[ob], buf.alpha_now, buf.alpha_w_now, dcls, net.cut, buf.theta, buf.w,
+                                buf.trace, buf.support, buf.rows, buf.nnz, feat[g, :k], idx[:k], r_s, z_s, gamma_tp1,
+                                rho, buf.class_gamma, q, pred, buf.delta, buf.touched, buf.values, onl)  # fmt: skip
             _given_to_slots(gi, bi, dcls, pi, pi_given, g)
             for c in range(clo, chi):
                 for a in range(A):
@@ -194,6 +202,7 @@ class ExternalLoop:
         self.fast.buf.start_sensors[:] = rows[0]
         _apply_rules(self._rules, rows[0], self.fast.net.class_fixed)
         _observe(self.fast.net, self.fast.buf)
+        online_reset(self.fast.net.bi, self.fast.net.reset, self.fast.net.alpha, self.fast.onl)
 
     def learn(
         self,
@@ -232,7 +241,8 @@ class ExternalLoop:
         if len(rows):
             ends[-1] = terminated
         kept = np.zeros((len(rows) if keep_predictions else 0, self.horde.num_demons))  # [T, D] slot order
-        _learn_rows(self.fast.net, self.fast.buf, self._rules, rows, acts, probs, ends, self.with_metrics, kept)
+        fast = self.fast
+        _learn_rows(fast.net, fast.buf, fast.onl, self._rules, rows, acts, probs, ends, self.with_metrics, kept)
         self.steps += len(rows)
         if terminated or truncated:
             self.episodes += 1
