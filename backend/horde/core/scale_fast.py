@@ -181,51 +181,8 @@ def _observe(
 
 
 @njit(cache=True)
-def _update_pair(theta, w, b0, b1, db, e0, e1, f0, f1, td, ad, awd, step_x, w_dot_e):
-    """Two support rows (at flat offsets b0, b1) of a shared trace: theta += ad e; for GTD/GQ also w . e
-    and w += awd e - f alpha_w (w . x_t)  (f = 1 on the rows of x_t, else 0). Offsets unsigned (`_at`)."""
-    u0 = _at(b0)
-    u1 = _at(b1)
-    if td:
-        for i in range(db):
-            a = ad[i]
-            theta[u0 + _at(i)] += a * e0
-            theta[u1 + _at(i)] += a * e1
-        return
-    for i in range(db):
-        a = ad[i]
-        aw = awd[i]
-        sx = step_x[i]
-        j0 = u0 + _at(i)
-        j1 = u1 + _at(i)
-        v0 = w[j0]
-        v1 = w[j1]
-        w_dot_e[i] += v0 * e0 + v1 * e1
-        theta[j0] += a * e0
-        theta[j1] += a * e1
-        w[j0] = v0 + aw * e0 - f0 * sx
-        w[j1] = v1 + aw * e1 - f1 * sx
-
-
-@njit(cache=True)
-def _update_one(theta, w, b0, db, e, f, td, ad, awd, step_x, w_dot_e):
-    """One support row of a shared trace (as `_update_pair`)."""
-    u0 = _at(b0)
-    if td:
-        for i in range(db):
-            theta[u0 + _at(i)] += ad[i] * e
-        return
-    for i in range(db):
-        j0 = u0 + _at(i)
-        wv = w[j0]
-        w_dot_e[i] += wv * e
-        theta[j0] += ad[i] * e
-        w[j0] = wv + awd[i] * e - f * step_x[i]
-
-
-@njit(cache=True)
 def _update_each(th, wr, ev, f, td, ad, awd, step_x, w_dot_e):
-    """One support row with a trace value per demon (ev): the updates of `_update_one`."""
+    """One support row with a trace value per demon (ev): the updates of the one-class row in `_columns`."""
     db = th.shape[0]
     if td:
         for i in range(db):
@@ -241,7 +198,7 @@ def _update_each(th, wr, ev, f, td, ad, awd, step_x, w_dot_e):
 
 @njit(cache=True)
 def _update_each_pair(th0, w0, ev0, f0, th1, w1, ev1, f1, td, ad, awd, step_x, w_dot_e):
-    """Two support rows with a trace value per demon: the updates of `_update_pair`."""
+    """Two support rows with a trace value per demon: the updates of the one-class pair in `_columns`."""
     db = th0.shape[0]
     if td:
         for i in range(db):
@@ -359,7 +316,7 @@ def _step(
             gamma[coff + c] = gamma_tp1[coff + c]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _merge(bi, b, lam_b, cut, n_s, trace, support, rows, rows_e, rows_f, nnz, touched, x_t, action, b_prob, rho_t,
            pi, gamma, decay, add):  # fmt: skip
     """Block b's traces for this step: every class's decay (gamma_t lambda rho_t) and what x_t adds (rho_t
@@ -499,16 +456,49 @@ def _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, e
     # trace row itself).
     ad_, awd_, dot_e = ad[i0:i1], awd[i0:i1], w_dot_e[i0:i1]
     if ncls == 1:
+        # Written out here rather than in a function called per row: such a call takes and gives back a
+        # count of each array it is passed, most of a step's time in a block of one demon.
         s = 0
-        while s + 2 <= kept:
-            b0 = woff + rows[s] * db + i0
-            b1 = woff + rows[s + 1] * db + i0
-            _update_pair(theta, w, b0, b1, width, rows_e[s], rows_e[s + 1], rows_f[s], rows_f[s + 1], td, ad_, awd_,
-                         step_x, dot_e)  # fmt: skip
-            s += 2
-        if s < kept:
-            b0 = woff + rows[s] * db + i0
-            _update_one(theta, w, b0, width, rows_e[s], rows_f[s], td, ad_, awd_, step_x, dot_e)
+        while s < kept:
+            e0 = rows_e[s]
+            f0 = rows_f[s]
+            u0 = _at(woff + rows[s] * db + i0)
+            if s + 1 < kept:  # two rows: theta += ad e; GTD / GQ: w . e, w += awd e - f alpha_w (w . x_t)
+                e1 = rows_e[s + 1]
+                f1 = rows_f[s + 1]
+                u1 = _at(woff + rows[s + 1] * db + i0)
+                if td:
+                    for i in range(width):
+                        a = ad[i0 + i]
+                        theta[u0 + _at(i)] += a * e0
+                        theta[u1 + _at(i)] += a * e1
+                else:
+                    for i in range(width):
+                        a = ad[i0 + i]
+                        aw = awd[i0 + i]
+                        sx = step_x[i]
+                        j0 = u0 + _at(i)
+                        j1 = u1 + _at(i)
+                        v0 = w[j0]
+                        v1 = w[j1]
+                        w_dot_e[i0 + i] += v0 * e0 + v1 * e1
+                        theta[j0] += a * e0
+                        theta[j1] += a * e1
+                        w[j0] = v0 + aw * e0 - f0 * sx
+                        w[j1] = v1 + aw * e1 - f1 * sx
+                s += 2
+            else:  # the last row alone
+                if td:
+                    for i in range(width):
+                        theta[u0 + _at(i)] += ad[i0 + i] * e0
+                else:
+                    for i in range(width):
+                        j0 = u0 + _at(i)
+                        wv = w[j0]
+                        w_dot_e[i0 + i] += wv * e0
+                        theta[j0] += ad[i0 + i] * e0
+                        w[j0] = wv + awd[i0 + i] * e0 - f0 * step_x[i]
+                s += 1
     else:
         e0 = ev[0, i0:i1]
         e1 = ev[1, i0:i1]
