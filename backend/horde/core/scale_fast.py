@@ -13,6 +13,12 @@ and w updates, each weight row read and written once; the w term at x_t is fused
 correction at x_{t+1} fused with reading the new values. Rows are read four at a time and updated two at
 a time: more memory streams in flight made sparse rows 1.3 to 1.6 times faster. A demon whose step
 sizes are 0 (frozen) stays exactly as it is.
+
+`_step` splits a block's step in two: `_merge` (the traces: nothing per demon) and `_columns` (every
+demon's numbers, touching only its own columns), so that a block of at least PARALLEL_MIN demons can
+learn on several threads, each over a run of its demons (`_columns_parallel`), with the same operations
+in the same order as on one thread: the result does not depend on the thread count, to the last bit.
+Offsets into the flat buffers are unsigned (`_at`), so that row loops load contiguous vectors.
 """
 
 from __future__ import annotations
