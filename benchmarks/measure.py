@@ -2,7 +2,7 @@
 
 Every figure is measured in the running process, so that ratios (to the reference, to the bandwidth)
 compare like with like on a machine that other work may be sharing. Times are wall-clock medians over
-many steps after a warm-up; the thread's CPU time is kept beside them, and a CPU time well below the
+many steps after a warm-up; the process's CPU time is kept beside them, and a CPU time well below the
 wall time means the machine was busy with something else.
 """
 
@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,14 +26,37 @@ class Timing:
 
 
 def time_steps(step: Callable[[int], object], first: int, count: int, per_call: int = 1) -> Timing:
-    """Call `step(t)` for t = first .. first + count - 1, timing each call; `per_call` steps per call."""
+    """Call `step(t)` for t = first .. first + count - 1, timing each call; `per_call` steps per call.
+    CPU time is the process's (every thread a step uses; the benchmark runs nothing else meanwhile)."""
     walls, cpus = [], []
     for t in range(first, first + count):
-        w0, c0 = time.perf_counter(), time.thread_time()
+        w0, c0 = time.perf_counter(), time.process_time()
         step(t)
         walls.append(time.perf_counter() - w0)
-        cpus.append(time.thread_time() - c0)
+        cpus.append(time.process_time() - c0)
     return Timing(float(np.median(walls)) / per_call, float(np.median(cpus)) / per_call, count * per_call)
+
+
+def time_alternating(
+    step: Callable[[int], object],
+    setups: Sequence[Callable[[], object]],
+    count: int,
+    per_call: int = 1,
+    rounds: int = 4,
+) -> list[Timing]:
+    """`time_steps` under each of `setups` (say, a thread count), in `rounds` alternating rounds of
+    count / rounds calls, so that a change in the machine's load falls on every setup alike."""
+    walls: list[list[float]] = [[] for _ in setups]
+    cpus: list[list[float]] = [[] for _ in setups]
+    per_round = max(1, count // rounds)
+    for _ in range(rounds):
+        for i, setup in enumerate(setups):
+            setup()
+            timing = time_steps(step, 0, per_round, per_call)
+            walls[i].append(timing.wall)
+            cpus[i].append(timing.cpu)
+    return [Timing(float(np.median(w)), float(np.median(c)), per_round * rounds * per_call)
+            for w, c in zip(walls, cpus, strict=True)]  # fmt: skip
 
 
 @dataclass(frozen=True)

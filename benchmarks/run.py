@@ -21,7 +21,7 @@ import json
 import math
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import TextIO
@@ -56,6 +56,9 @@ class Row:
     reference_demons: int = 0
     threads: int = 1
     bound_fraction: float = math.nan  # unique bytes / bandwidth over the CPU time of a step
+    single_thread_ms_per_step: float = math.nan  # the same steps on one thread, measured in the same run
+    single_thread_cpu_ms_per_step: float = math.nan
+    thread_speedup: float = math.nan  # wall ms per step on one thread / on `threads` threads
     notes: str = ""
 
 
@@ -101,7 +104,14 @@ FULL = Plan(
 QUICK = Plan(
     thesis=(2,),
     thesis_seconds=0.2,
-    scale=(("nexting", 50, "td"), ("nexting", 50, "td+autostep"), ("off_policy", 50, "gtd"), ("control", 10, "gq")),
+    # nexting 600: a block past scale_fast.PARALLEL_MIN, split over the cores (the speed-up over one thread)
+    scale=(
+        ("nexting", 50, "td"),
+        ("nexting", 50, "td+autostep"),
+        ("nexting", 600, "td"),
+        ("off_policy", 50, "gtd"),
+        ("control", 10, "gq"),
+    ),
     warmup=10,
     timed=10,
     reference_steps=5,
@@ -183,7 +193,17 @@ def run_scale(name: str, demons: int, learner: str, plan: Plan, bandwidth: float
     theirs = np.array([reference.demons[d.name].prediction for d in small.demons])
     sim.run(max(plan.warmup - plan.reference_steps, 0))
     chunk = 5
-    timing = measure.time_steps(lambda t: sim.run(chunk), 0, max(1, plan.timed // chunk), per_call=chunk)
+    threads = sim.threads  # the run's share of the cores (all of them: it runs alone)
+    calls = max(1, plan.timed // chunk)
+    if threads > 1:  # the same steps on one thread, rounds alternated: the speed-up measured in this run
+
+        def use(count: int | None) -> Callable[[], None]:
+            return lambda: setattr(sim, "threads", count)
+
+        timing, single = measure.time_alternating(lambda t: sim.run(chunk), [use(None), use(1)], calls, chunk)
+        sim.threads = None
+    else:
+        timing = single = measure.time_steps(lambda t: sim.run(chunk), 0, calls, per_call=chunk)
     rss = measure.rss_bytes() - rss_before
     memory = sum(a.nbytes for a in sim._loop.buf if isinstance(a, np.ndarray))
     nnz = float(sim._loop.buf.touched.mean())
@@ -204,8 +224,11 @@ def run_scale(name: str, demons: int, learner: str, plan: Plan, bandwidth: float
         memory_per_demon_bytes=(rss if rss > 0 else memory) / demons,
         reference_error=float(np.abs(ours - theirs).max()),
         reference_demons=len(picked),
-        threads=sim.threads,
+        threads=threads,
         bound_fraction=traffic / bandwidth / timing.cpu,
+        single_thread_ms_per_step=1e3 * single.wall,
+        single_thread_cpu_ms_per_step=1e3 * single.cpu,
+        thread_speedup=single.wall / timing.wall,
         notes=f"{len(sim.horde.blocks)} blocks, {sim.horde.num_classes} trace classes, "
         f"buffers {memory / demons / 1024:.1f} KiB/demon (memory_per_demon_bytes: resident growth)",
     )
@@ -255,6 +278,7 @@ def format_table(report: Report) -> str:
         "demons",
         "learner",
         "thr",
+        "x 1 thr",
         "steps/s",
         "ms/step",
         "cpu ms",
@@ -273,6 +297,7 @@ def format_table(report: Report) -> str:
             str(r.demons),
             r.learner,
             str(r.threads),
+            _fmt(r.thread_speedup, 2),
             _fmt(r.steps_per_second),
             _fmt(r.ms_per_step, 3),
             _fmt(r.cpu_ms_per_step, 3),
@@ -289,7 +314,7 @@ def format_table(report: Report) -> str:
     ]
     widths = [max(len(row[i]) for row in [header, *rows]) for i in range(len(header))]
     lines = [
-        "  ".join(c.rjust(w) if i > 3 else c.ljust(w) for i, (c, w) in enumerate(zip(row, widths, strict=True)))
+        "  ".join(c.rjust(w) if i > 4 else c.ljust(w) for i, (c, w) in enumerate(zip(row, widths, strict=True)))
         for row in [header, *rows]
     ]
     lines.insert(1, "  ".join("-" * w for w in widths))
@@ -299,7 +324,8 @@ def format_table(report: Report) -> str:
             f"bandwidth fraction: a step's unique bytes of weight and trace rows per wall second over "
             f"{report.bandwidth.best / 1e9:.1f} GB/s (best of numpy copy / update / read of "
             f"{report.bandwidth.megabytes} MB, measured in this run); bound: the same per CPU second; "
-            f"thr: threads; total {report.seconds:.0f} s. The machine may be shared: compare CPU ms with wall ms."
+            f"thr: threads; x 1 thr: speed-up over one thread (wall, rounds alternated in this run); "
+            f"total {report.seconds:.0f} s. The machine may be shared: compare CPU ms with wall ms."
         )
     return "\n".join(lines)
 

@@ -12,6 +12,8 @@ from pathlib import Path
 import pytest
 
 from horde.cli import main
+from horde.core import threads
+from horde.core.scale_fast import PARALLEL_MIN
 
 REQUIRED = {
     "workload": str,
@@ -47,6 +49,14 @@ def test_quick_bench_writes_every_workload(tmp_path: Path, capsys: pytest.Captur
     scale_rows = [r for r in rows if r["workload"] != "thesis"]
     assert all(r["reference_error"] < 1e-6 for r in scale_rows), "the product path agrees with reference.py"
     assert all(r["threads"] >= 1 for r in rows)
+    # a block past the threshold learns on every core of an idle process, and the speed-up over one
+    # thread is measured beside it (its size is not asserted: the machine may be shared)
+    wide = [r for r in scale_rows if r["demons"] >= PARALLEL_MIN]
+    assert wide, "the quick plan has a workload past the threshold"
+    for row in wide:
+        assert row["threads"] == threads.budget()
+        assert math.isfinite(row["thread_speedup"]) and row["thread_speedup"] > 0
+        assert row["single_thread_ms_per_step"] == pytest.approx(row["thread_speedup"] * row["ms_per_step"])
 
 
 def test_bench_can_run_one_workload(tmp_path: Path) -> None:

@@ -1,0 +1,28 @@
+"""The learning engine (numba). Its compiled kernels are cached on disk per version of this folder's sources.
+
+numba keys a cached function by its own file only: `fast._run` compiled with the kernels of
+`scale_fast.py` would be loaded unchanged after an edit of `scale_fast.py` alone, with the old kernels
+inside. So the cache lives in a folder named after a digest of every source file here (unless
+NUMBA_CACHE_DIR says otherwise), and any edit starts a fresh one.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from pathlib import Path
+
+import numba
+
+
+def _cache_folder() -> None:
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return
+    here = Path(__file__).parent
+    digest = hashlib.sha256()
+    for path in sorted(here.glob("*.py")):
+        digest.update(path.name.encode() + b"\0" + path.read_bytes())
+    numba.config.CACHE_DIR = str(here / "__pycache__" / f"numba-{digest.hexdigest()[:16]}")  # type: ignore[attr-defined]
+
+
+_cache_folder()

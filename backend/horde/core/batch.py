@@ -16,6 +16,7 @@ import time
 from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
+from horde.core import threads
 from horde.core.experiment import Progress, ProtocolResult, TrialResult, run_trial, summarize
 from horde.spec import RunSpec
 
@@ -60,7 +61,10 @@ def run_trials_batched(
     method = "fork" if "fork" in multiprocessing.get_all_start_methods() else None
     context = multiprocessing.get_context(method)
     out: dict[int, TrialResult] = {}
-    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+    # each worker learns on its share of the cores (one thread unless numba's layer is fork-safe TBB)
+    share = (threads.worker_budget(workers),)
+    with ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=threads.set_budget,
+                             initargs=share) as pool:  # fmt: skip
         futures = {pool.submit(run_trial, spec, trial): trial for trial in numbers}
         for future in as_completed(futures):
             out[futures[future]] = future.result()

@@ -46,6 +46,7 @@ from horde.core.scale_fast import (
     B_WOFF,
     GQ,
     ONLINE,
+    _at,
     _observe_block,
     _read_values,
     _step,
@@ -526,9 +527,9 @@ def _metrics(gi, bi, dcls, g, action, x_t, delta, h, u, hu, mscale, tau, dstats,
         for i in range(db):
             hx[i] = 0.0
         for j in range(k):
-            start = woff + (shift + x_t[j]) * db
+            start = _at(woff + (shift + x_t[j]) * db)
             for i in range(db):
-                hx[i] += h[start + i]
+                hx[i] += h[start + _at(i)]
         for i in range(db):
             d = delta[lo + i]
             if not math.isfinite(d):
@@ -539,26 +540,28 @@ def _metrics(gi, bi, dcls, g, action, x_t, delta, h, u, hu, mscale, tau, dstats,
             hx[db + i] = d  # delta, 0 where not finite
         for s in range(nnz[b]):
             row = support[toff + s]
-            start = woff + row * db
+            start = _at(woff + row * db)
             for i in range(db):
                 ev = trace[voff + row * ncls] if ncls == 1 else trace[voff + row * ncls + dcls[lo + i] - coff]
                 d = hx[db + i]
-                h0, u0 = h[start + i], u[start + i]
+                at = start + _at(i)
+                h0, u0 = h[at], u[at]
                 h1, u1 = h0 + alpha_h * d * ev, u0 + gain * d * ev
-                h[start + i], u[start + i] = h1, u1
+                h[at], u[at] = h1, u1
                 hu[lo + i] += h1 * u1 - h0 * u0
         for j in range(k):
-            start = woff + (shift + x_t[j]) * db
+            start = _at(woff + (shift + x_t[j]) * db)
             for i in range(db):
-                h0 = h[start + i]
+                h0 = h[start + _at(i)]
                 h1 = h0 - alpha_h * hx[i]
-                h[start + i] = h1
-                hu[lo + i] += (h1 - h0) * u[start + i]
+                h[start + _at(i)] = h1
+                hu[lo + i] += (h1 - h0) * u[start + _at(i)]
 
 
 @njit(cache=True, nogil=True)  # releases the GIL: the server's other threads go on while a run learns
-def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics, onl):
+def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics, onl, threads=1):
     """Run steps until `max_steps` steps or `max_episodes` episode ends, starting new episodes as they end.
+    Blocks of many demons learn on `threads` threads (`scale_fast._step`; the same numbers whatever it is).
 
     The learning step is written out here rather than in a function of `net` and `buf`: passing the two
     named tuples of ~40 arrays to a function costs about a microsecond per call (every array's count is
@@ -680,7 +683,7 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
                 net.cut, gi[g, G_NS], theta, w, trace, support, rows_, rows_e, rows_f, nnz[blo:bhi], feat[g, :k],
                 action, b_prob, idx[:k], r_s, z_s, gamma_tp1, rho, pi_given, class_gamma, q, pi, pred, delta,
                 touched[blo:bhi], values, pi_next, work[0], work[1], work[2], work[3], ev, work[4], work[5],
-                scratch[0], scratch[1],
+                scratch[0], scratch[1], threads,
             )  # fmt: skip
             for ob in range(blo, bhi):  # the learners of adaptive_kernels.py, which _step skips
                 if bi[ob, B_LEARNER] >= ONLINE:
@@ -1021,8 +1024,10 @@ class FastLoop:
         behaviour: BehaviourSpec | None = None,
         learning: np.ndarray | None = None,
         with_metrics: bool = True,
+        threads: int = 1,
     ) -> np.ndarray:
-        """Step until `max_steps` steps or `max_episodes` ended episodes; returns the result fields (R_*)."""
+        """Step until `max_steps` steps or `max_episodes` ended episodes; returns the result fields (R_*).
+        Blocks of at least `scale_fast.PARALLEL_MIN` demons learn on `threads` threads."""
         beh_i, beh_f, beh_probs = self._behaviour(behaviour or self.horde.behaviour)
         live = ~self.buf.diverged
         if learning is not None:
@@ -1030,7 +1035,7 @@ class FastLoop:
         self.buf.alpha_now[:] = np.where(live, self.net.alpha, 0.0)
         self.buf.alpha_w_now[:] = np.where(live, self.net.alpha_w, 0.0)
         self.buf.result[:] = 0.0
-        _run(self.net, self.buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics, self.onl)
+        _run(self.net, self.buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics, self.onl, threads)
         return self.buf.result
 
     # ------------------------------------------------------------------------------------------

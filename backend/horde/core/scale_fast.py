@@ -13,6 +13,12 @@ and w updates, each weight row read and written once; the w term at x_t is fused
 correction at x_{t+1} fused with reading the new values. Rows are read four at a time and updated two at
 a time: more memory streams in flight made sparse rows 1.3 to 1.6 times faster. A demon whose step
 sizes are 0 (frozen) stays exactly as it is.
+
+`_step` splits a block's step in two: `_merge` (the traces: nothing per demon) and `_columns` (every
+demon's numbers, touching only its own columns), so that a block of at least PARALLEL_MIN demons can
+learn on several threads, each over a run of its demons (`_columns_parallel`), with the same operations
+in the same order as on one thread: the result does not depend on the thread count, to the last bit.
+Offsets into the flat buffers are unsigned (`_at`), so that row loops load contiguous vectors.
 """
 
 from __future__ import annotations
@@ -20,7 +26,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from horde.core.policies import EPSILON_GREEDY, FIXED, SOFTMAX, TIE_TOLERANCE
 from horde.core.scale import LEARNER_CODES
@@ -60,35 +66,54 @@ def _value_policy(kind, q, temperature, epsilon, out):
 
 @njit(cache=True)
 def _sum_rows(flat, start, x, db, acc):
-    """acc[:db] += the rows x of the [n, db] array at flat[start:], four rows at a time."""
+    """acc += the rows x of the [n, db] array at flat[start:], four rows at a time (acc may be a run of
+    columns: start then points at its first column, and db stays the row length).
+
+    Offsets into the flat buffers are unsigned (`_at`): numba wraps a signed index that may be negative,
+    which turns the loop's loads into gathers (2 to 8 times slower); a slice per row avoids that too,
+    but costs a reference count per row, which tiny blocks feel."""
+    width = acc.shape[0]
     k = x.shape[0]
     j = 0
     while j + 4 <= k:
-        o0 = start + x[j] * db
-        o1 = start + x[j + 1] * db
-        o2 = start + x[j + 2] * db
-        o3 = start + x[j + 3] * db
-        for i in range(db):
-            acc[i] += ((flat[o0 + i] + flat[o1 + i]) + flat[o2 + i]) + flat[o3 + i]
+        o0 = _at(start + x[j] * db)
+        o1 = _at(start + x[j + 1] * db)
+        o2 = _at(start + x[j + 2] * db)
+        o3 = _at(start + x[j + 3] * db)
+        for i in range(width):
+            u = _at(i)
+            acc[i] += ((flat[o0 + u] + flat[o1 + u]) + flat[o2 + u]) + flat[o3 + u]
         j += 4
     while j < k:
-        o0 = start + x[j] * db
-        for i in range(db):
-            acc[i] += flat[o0 + i]
+        o0 = _at(start + x[j] * db)
+        for i in range(width):
+            acc[i] += flat[o0 + _at(i)]
         j += 1
+
+
+@njit(cache=True, inline="always")
+def _at(offset):
+    """An offset into a flat buffer as an unsigned integer (never wrapped around: see `_sum_rows`)."""
+    return np.uint64(offset)
 
 
 @njit(cache=True)
 def _read_values(bi, b, n_s, theta, x, out):
     """Values at active state features x under the current weights: out[a, :Db] for a < A (GQ) or a = 0."""
-    A = out.shape[0]
+    _read_range(bi, b, n_s, theta, x, 0, bi[b, B_HI] - bi[b, B_LO], out)
+
+
+@njit(cache=True)
+def _read_range(bi, b, n_s, theta, x, i0, i1, out):
+    """`_read_values` for the block's demons i0 <= i < i1 only: out[a, i0:i1]."""
     lo, hi, woff = bi[b, B_LO], bi[b, B_HI], bi[b, B_WOFF]
     db = hi - lo
+    A = out.shape[0]
     actions = A if bi[b, B_LEARNER] == GQ else 1
     for a in range(actions):
-        acc = out[a, :db]
+        acc = out[a, i0:i1]
         acc[:] = 0.0
-        _sum_rows(theta, woff + a * n_s * db, x, db, acc)
+        _sum_rows(theta, woff + a * n_s * db + i0, x, db, acc)
 
 
 @njit(cache=True)
@@ -109,10 +134,17 @@ def _target(bi, b, i, dcls, temperature, epsilon, pi_given, values, scratch_q, o
 @njit(cache=True)
 def _observe_block(bi, b, dcls, temperature, epsilon, pi_given, values, q, pi, pred, scratch_q, scratch_pi):
     """Store values, policies and predictions of block b read at a state (`values` from _read_values)."""
+    _observe_range(bi, b, 0, bi[b, B_HI] - bi[b, B_LO], dcls, temperature, epsilon, pi_given, values, q, pi, pred,
+                   scratch_q, scratch_pi)  # fmt: skip
+
+
+@njit(cache=True)
+def _observe_range(bi, b, i0, i1, dcls, temperature, epsilon, pi_given, values, q, pi, pred, scratch_q, scratch_pi):
+    """`_observe_block` for the block's demons i0 <= i < i1 only."""
     A = q.shape[1]
-    lo, hi = bi[b, B_LO], bi[b, B_HI]
+    lo = bi[b, B_LO]
     gq = bi[b, B_LEARNER] == GQ
-    for i in range(hi - lo):
+    for i in range(i0, i1):
         d = lo + i
         if not gq:
             q[d, 0] = values[0, i]
@@ -160,45 +192,8 @@ def _observe(
 
 
 @njit(cache=True)
-def _update_pair(theta, w, b0, b1, db, e0, e1, f0, f1, td, ad, awd, step_x, w_dot_e):
-    """Two support rows (at flat offsets b0, b1) of a shared trace: theta += ad e; for GTD/GQ also w . e
-    and w += awd e - f alpha_w (w . x_t)  (f = 1 on the rows of x_t, else 0)."""
-    if td:
-        for i in range(db):
-            a = ad[i]
-            theta[b0 + i] += a * e0
-            theta[b1 + i] += a * e1
-        return
-    for i in range(db):
-        a = ad[i]
-        aw = awd[i]
-        sx = step_x[i]
-        v0 = w[b0 + i]
-        v1 = w[b1 + i]
-        w_dot_e[i] += v0 * e0 + v1 * e1
-        theta[b0 + i] += a * e0
-        theta[b1 + i] += a * e1
-        w[b0 + i] = v0 + aw * e0 - f0 * sx
-        w[b1 + i] = v1 + aw * e1 - f1 * sx
-
-
-@njit(cache=True)
-def _update_one(theta, w, b0, db, e, f, td, ad, awd, step_x, w_dot_e):
-    """One support row of a shared trace (as `_update_pair`)."""
-    if td:
-        for i in range(db):
-            theta[b0 + i] += ad[i] * e
-        return
-    for i in range(db):
-        wv = w[b0 + i]
-        w_dot_e[i] += wv * e
-        theta[b0 + i] += ad[i] * e
-        w[b0 + i] = wv + awd[i] * e - f * step_x[i]
-
-
-@njit(cache=True)
 def _update_each(th, wr, ev, f, td, ad, awd, step_x, w_dot_e):
-    """One support row with a trace value per demon (ev): the updates of `_update_one`."""
+    """One support row with a trace value per demon (ev): the updates of the one-class row in `_columns`."""
     db = th.shape[0]
     if td:
         for i in range(db):
@@ -214,7 +209,7 @@ def _update_each(th, wr, ev, f, td, ad, awd, step_x, w_dot_e):
 
 @njit(cache=True)
 def _update_each_pair(th0, w0, ev0, f0, th1, w1, ev1, f1, td, ad, awd, step_x, w_dot_e):
-    """Two support rows with a trace value per demon: the updates of `_update_pair`."""
+    """Two support rows with a trace value per demon: the updates of the one-class pair in `_columns`."""
     db = th0.shape[0]
     if td:
         for i in range(db):
@@ -305,202 +300,297 @@ def _step(
     add,
     scratch_q,
     scratch_pi,
+    threads=1,
 ):
-    """One transition for every block (the equations of scale.step), in place. x_t and x_tp1 are sorted."""
-    A = q.shape[1]
-    k = x_t.shape[0]
+    """One transition for every block (the equations of scale.step), in place. x_t and x_tp1 are sorted.
+
+    Per block: `_merge` (the trace classes' decay, x_t's rows merged into the support, the cut), then
+    `_columns` over the block's demons, which touches only their columns: with `threads` > 1 and at
+    least PARALLEL_MIN demons, the demons are split into runs of columns learned by that many threads
+    (`_columns_parallel`). Every number is computed by the same operations in the same order whatever
+    the split, so the result does not depend on the number of threads, to the last bit."""
     for b in range(bi.shape[0]):
-        learner, kind = bi[b, B_LEARNER], bi[b, B_POLICY]
-        if learner >= ONLINE:  # fast.py runs adaptive_kernels.online_step for these blocks
+        if bi[b, B_LEARNER] >= ONLINE:  # fast.py runs adaptive_kernels.online_step for these blocks
             continue
-        lo, hi = bi[b, B_LO], bi[b, B_HI]
-        woff, toff, voff, ncls, coff = bi[b, B_WOFF], bi[b, B_TOFF], bi[b, B_VOFF], bi[b, B_NCLS], bi[b, B_COFF]
-        db = hi - lo
-        gq = learner == GQ
-        td = learner == TD
-        own = kind != FIXED
-        lam_b = lam[b]
-        actions = A if gq else 1
-        shift = action * n_s if gq else 0
-
-        # Values at s_{t+1} under the weights before this update, the target policy there, delta.
-        _read_values(bi, b, n_s, theta, x_tp1, values)
-        for i in range(db):
-            d = lo + i
-            g1 = gamma_tp1[dcls[d]]
-            if gq:
-                _target(bi, b, i, dcls, temperature, epsilon, pi_given, values, scratch_q, scratch_pi)
-                v_next = 0.0
-                for a in range(A):
-                    pi_next[a, i] = scratch_pi[a]
-                    v_next += scratch_pi[a] * values[a, i]
-                v_t = q[d, action]
-            else:
-                v_next = values[0, i]
-                v_t = q[d, 0]
-            dl = r[d] + (1.0 - g1) * z[d] + g1 * v_next - v_t
-            delta[d] = dl
-            # a frozen demon (step size 0) stays exactly as it is, even when its delta is not finite
-            ad[i] = alpha[d] * dl if alpha[d] != 0.0 else 0.0
-            awd[i] = alpha_w[d] * dl if alpha_w[d] != 0.0 else 0.0
-            w_dot_e[i] = 0.0
-            w_dot_x[i] = 0.0
-
-        # Trace classes: decay gamma_t lambda rho_t, and what x_t adds (rho_t for TD/GTD, 1 for GQ).
-        for c in range(ncls):
-            rho = pi[lo + c, action] / b_prob if own else rho_t[coff + c]
-            decay[c] = gamma[coff + c] * lam_b * rho
-            add[c] = 1.0 if gq else rho
-
-        # alpha_w (w . x_t) under the old w.
-        step_x = w_dot_x[:db]
-        if not td:
-            _sum_rows(w, woff + shift * db, x_t, db, step_x)
-            for i in range(db):
-                step_x[i] = step_x[i] * alpha_w[lo + i] if alpha_w[lo + i] != 0.0 else 0.0
-
-        # Merge x_t's rows into the support (both sorted). A shared trace gets its new values and the
-        # cut here (one number per row), so that the weight pass below sees only the rows it updates.
-        old = nnz[b]
-        i_old = 0
-        j_new = 0
-        out = 0
-        while i_old < old or j_new < k:
-            if j_new >= k or (i_old < old and support[toff + i_old] < shift + x_t[j_new]):
-                row = support[toff + i_old]
-                on_x = False
-                i_old += 1
-            else:
-                row = shift + x_t[j_new]
-                on_x = True
-                if i_old < old and support[toff + i_old] == row:
-                    i_old += 1
-                j_new += 1
-            if ncls == 1:
-                v = trace[voff + row] * decay[0]
-                if on_x:
-                    v += add[0]
-                trace[voff + row] = v if abs(v) >= cut else 0.0
-                if trace[voff + row] == 0.0:
-                    if on_x and not td:  # no trace left here, but w still loses alpha_w (w . x_t) x_t
-                        wr = w[woff + row * db : woff + (row + 1) * db]
-                        for i in range(db):
-                            wr[i] -= step_x[i]
-                    continue
-                rows_e[out] = trace[voff + row]  # the stored value (in the layout's dtype)
-            rows[out] = row
-            rows_f[out] = 1.0 if on_x else 0.0
-            out += 1
-
-        # The weight pass over the merged rows, in row order. One class: two rows at a time. Several
-        # classes: each row's trace values (decayed and cut), spread over the classes' demons.
-        kept = 0
-        if ncls == 1:
-            s = 0
-            while s + 2 <= out:
-                b0 = woff + rows[s] * db
-                b1 = woff + rows[s + 1] * db
-                _update_pair(theta, w, b0, b1, db, rows_e[s], rows_e[s + 1], rows_f[s], rows_f[s + 1], td, ad, awd,
-                             step_x, w_dot_e)  # fmt: skip
-                s += 2
-            if s < out:
-                b0 = woff + rows[s] * db
-                _update_one(theta, w, b0, db, rows_e[s], rows_f[s], td, ad, awd, step_x, w_dot_e)
-            support[toff : toff + out] = rows[:out]
-            kept = out
+        kept, dropped = _merge(bi, b, lam[b], cut, n_s, trace, support, rows, rows_e, rows_f, nnz, touched, x_t,
+                               action, b_prob, rho_t, pi, gamma, decay, add)  # fmt: skip
+        db = bi[b, B_HI] - bi[b, B_LO]
+        if threads > 1 and db >= PARALLEL_MIN:
+            _columns_parallel(threads, bi, b, kept, dropped, lam[b], alpha, alpha_w, temperature, epsilon, dcls,
+                              cls_lo, cls_hi, n_s, theta, w, trace, rows, rows_e, rows_f, x_t, action, x_tp1, r, z,
+                              gamma_tp1, pi_given, q, pi, pred, delta, values, pi_next, ad, awd, w_dot_e, w_dot_x,
+                              ev)  # fmt: skip
         else:
-            # Several classes: each row's trace values (decayed and cut) per demon, in ev (own-value
-            # blocks: the trace row itself); rows left with a trace are updated two at a time.
-            pending = -1  # a kept row waiting for a partner
-            for s in range(out):
-                row = rows[s]
-                tr = trace[voff + row * ncls : voff + (row + 1) * ncls]
-                if not _decay_classes(tr, rows_f[s] > 0.0, decay, add, cut):
-                    if rows_f[s] > 0.0 and not td:
-                        wr = w[woff + row * db : woff + (row + 1) * db]
-                        for i in range(db):
-                            wr[i] -= step_x[i]
-                    continue
-                support[toff + kept] = row
-                kept += 1
-                slot = 0 if pending < 0 else 1
-                if not own:
-                    spread = ev[slot, :db]
-                    for c in range(ncls):
-                        spread[cls_lo[coff + c] : cls_hi[coff + c]] = tr[c]
-                if pending < 0:
-                    pending = s
-                    continue
-                r0, r1 = rows[pending], row
-                b0, b1 = woff + r0 * db, woff + r1 * db
-                e0 = trace[voff + r0 * ncls : voff + (r0 + 1) * ncls] if own else ev[0, :db]
-                e1 = tr if own else ev[1, :db]
-                _update_each_pair(
-                    theta[b0 : b0 + db],
-                    w[b0 : b0 + db],
-                    e0,
-                    rows_f[pending],
-                    theta[b1 : b1 + db],
-                    w[b1 : b1 + db],
-                    e1,
-                    rows_f[s],
-                    td,
-                    ad,
-                    awd,
-                    step_x,
-                    w_dot_e,
-                )
-                pending = -1
-            if pending >= 0:
-                r0 = rows[pending]
-                b0 = woff + r0 * db
-                e0 = trace[voff + r0 * ncls : voff + (r0 + 1) * ncls] if own else ev[0, :db]
-                _update_each(theta[b0 : b0 + db], w[b0 : b0 + db], e0, rows_f[pending], td, ad, awd, step_x, w_dot_e)
-        nnz[b] = kept
-        touched[b] = kept
-
-        # The correction at x_bar_{t+1}, fused with reading the new values at s_{t+1}.
-        correction = w_dot_e[:db]
-        if not td:
-            for i in range(db):
-                a_i = alpha[lo + i]
-                correction[i] = a_i * gamma_tp1[dcls[lo + i]] * (1.0 - lam_b) * correction[i] if a_i != 0.0 else 0.0
-        mode = 0 if td else (2 if gq else 1)
-        for a in range(actions):
-            _correct_and_read(theta, woff + a * n_s * db, x_tp1, db, correction, pi_next[a, :db], mode, values[a, :db])
-        _observe_block(bi, b, dcls, temperature, epsilon, pi_given, values, q, pi, pred, scratch_q, scratch_pi)
-        for c in range(ncls):
+            _columns(bi, b, 0, db, kept, dropped, lam[b], alpha, alpha_w, temperature, epsilon, dcls, cls_lo, cls_hi,
+                     n_s, theta, w, trace, rows, rows_e, rows_f, x_t, action, x_tp1, r, z, gamma_tp1, pi_given, q, pi,
+                     pred, delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, ev, scratch_q, scratch_pi)  # fmt: skip
+        coff = bi[b, B_COFF]
+        for c in range(bi[b, B_NCLS]):
             gamma[coff + c] = gamma_tp1[coff + c]
+
+
+@njit(cache=True, inline="always")
+def _merge(bi, b, lam_b, cut, n_s, trace, support, rows, rows_e, rows_f, nnz, touched, x_t, action, b_prob, rho_t,
+           pi, gamma, decay, add):  # fmt: skip
+    """Block b's traces for this step: every class's decay (gamma_t lambda rho_t) and what x_t adds (rho_t
+    for TD/GTD, 1 for GQ); x_t's rows merged into the support (both sorted), each row's trace values
+    decayed and cut. Nothing per demon is touched, so the block's columns can be learned apart.
+
+    Returns (kept, dropped): the rows left with a trace, in rows[:kept] in increasing order (the new
+    support; rows_f 1 on the rows of x_t, rows_e the value of a one-class trace); and, for GTD / GQ,
+    the rows of x_t left with none (their w still loses alpha_w (w . x_t) x_t), at the end of `rows`.
+    """
+    learner, kind = bi[b, B_LEARNER], bi[b, B_POLICY]
+    lo, toff, voff, ncls, coff = bi[b, B_LO], bi[b, B_TOFF], bi[b, B_VOFF], bi[b, B_NCLS], bi[b, B_COFF]
+    gq = learner == GQ
+    td = learner == TD
+    own = kind != FIXED
+    shift = action * n_s if gq else 0
+    for c in range(ncls):
+        rho = pi[lo + c, action] / b_prob if own else rho_t[coff + c]
+        decay[c] = gamma[coff + c] * lam_b * rho
+        add[c] = 1.0 if gq else rho
+    k = x_t.shape[0]
+    end = rows.shape[0] - 1
+    old = nnz[b]
+    i_old = 0
+    j_new = 0
+    out = 0
+    dropped = 0
+    while i_old < old or j_new < k:
+        if j_new >= k or (i_old < old and support[toff + i_old] < shift + x_t[j_new]):
+            row = support[toff + i_old]
+            on_x = False
+            i_old += 1
+        else:
+            row = shift + x_t[j_new]
+            on_x = True
+            if i_old < old and support[toff + i_old] == row:
+                i_old += 1
+            j_new += 1
+        if ncls == 1:
+            v = trace[voff + row] * decay[0]
+            if on_x:
+                v += add[0]
+            trace[voff + row] = v if abs(v) >= cut else 0.0
+            left = trace[voff + row] != 0.0
+            rows_e[out] = trace[voff + row]  # the stored value (in the layout's dtype)
+        else:
+            left = _decay_classes(trace[voff + row * ncls : voff + (row + 1) * ncls], on_x, decay, add, cut)
+        if not left:
+            if on_x and not td:
+                rows[end - dropped] = row
+                dropped += 1
+            continue
+        rows[out] = row
+        rows_f[out] = 1.0 if on_x else 0.0
+        out += 1
+    support[toff : toff + out] = rows[:out]
+    nnz[b] = out
+    touched[b] = out
+    return out, dropped
+
+
+PARALLEL_MIN = 512  # demons of a block from which its columns are split over threads
+ALIGN = 8  # column runs start at multiples of 8 numbers (64 bytes, a cache line) within a row
+
+
+@njit(cache=True, parallel=True)
+def _columns_parallel(threads, bi, b, kept, dropped, lam_b, alpha, alpha_w, temperature, epsilon, dcls, cls_lo,
+                      cls_hi, n_s, theta, w, trace, rows, rows_e, rows_f, x_t, action, x_tp1, r, z, gamma_tp1,
+                      pi_given, q, pi, pred, delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, ev):  # fmt: skip
+    """`_columns` of block b on `threads` threads, each over one run of the block's demons."""
+    db = bi[b, B_HI] - bi[b, B_LO]
+    runs = min(threads, (db + ALIGN - 1) // ALIGN)
+    width = ((db + runs - 1) // runs + ALIGN - 1) // ALIGN * ALIGN
+    scratch = np.empty((runs, 2, q.shape[1]))
+    for t in prange(runs):
+        i0 = min(t * width, db)
+        i1 = min(i0 + width, db)
+        _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, epsilon, dcls, cls_lo, cls_hi,
+                 n_s, theta, w, trace, rows, rows_e, rows_f, x_t, action, x_tp1, r, z, gamma_tp1, pi_given, q, pi,
+                 pred, delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, ev, scratch[t, 0], scratch[t, 1])  # fmt: skip
+
+
+@njit(cache=True)
+def _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, epsilon, dcls, cls_lo, cls_hi, n_s,
+             theta, w, trace, rows, rows_e, rows_f, x_t, action, x_tp1, r, z, gamma_tp1, pi_given, q, pi, pred,
+             delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, ev, scratch_q, scratch_pi):  # fmt: skip
+    """Block b's demons i0 <= i < i1 learn the transition, after `_merge`: only their columns of the
+    weights and of the per-demon buffers (values, pi_next, ad, awd, w_dot_e, w_dot_x, ev) are touched."""
+    learner, kind = bi[b, B_LEARNER], bi[b, B_POLICY]
+    lo, hi = bi[b, B_LO], bi[b, B_HI]
+    woff, voff, ncls, coff = bi[b, B_WOFF], bi[b, B_VOFF], bi[b, B_NCLS], bi[b, B_COFF]
+    db = hi - lo
+    width = i1 - i0
+    gq = learner == GQ
+    td = learner == TD
+    own = kind != FIXED
+    A = q.shape[1]
+    actions = A if gq else 1
+    shift = action * n_s if gq else 0
+
+    # Values at s_{t+1} under the weights before this update, the target policy there, delta.
+    _read_range(bi, b, n_s, theta, x_tp1, i0, i1, values)
+    for i in range(i0, i1):
+        d = lo + i
+        g1 = gamma_tp1[dcls[d]]
+        if gq:
+            _target(bi, b, i, dcls, temperature, epsilon, pi_given, values, scratch_q, scratch_pi)
+            v_next = 0.0
+            for a in range(A):
+                pi_next[a, i] = scratch_pi[a]
+                v_next += scratch_pi[a] * values[a, i]
+            v_t = q[d, action]
+        else:
+            v_next = values[0, i]
+            v_t = q[d, 0]
+        dl = r[d] + (1.0 - g1) * z[d] + g1 * v_next - v_t
+        delta[d] = dl
+        # a frozen demon (step size 0) stays exactly as it is, even when its delta is not finite
+        ad[i] = alpha[d] * dl if alpha[d] != 0.0 else 0.0
+        awd[i] = alpha_w[d] * dl if alpha_w[d] != 0.0 else 0.0
+        w_dot_e[i] = 0.0
+        w_dot_x[i] = 0.0
+
+    # alpha_w (w . x_t) under the old w; the rows of x_t left without a trace lose it here.
+    step_x = w_dot_x[i0:i1]
+    if not td:
+        _sum_rows(w, woff + shift * db + i0, x_t, db, step_x)
+        for i in range(width):
+            step_x[i] = step_x[i] * alpha_w[lo + i0 + i] if alpha_w[lo + i0 + i] != 0.0 else 0.0
+        end = rows.shape[0] - 1
+        for j in range(dropped):
+            start = _at(woff + rows[end - j] * db + i0)
+            for i in range(width):
+                w[start + _at(i)] -= step_x[i]
+
+    # The weight pass over the support, in row order, two rows at a time. One class: its trace value
+    # per row; several: each row's values spread over the classes' demons (own-value blocks: the
+    # trace row itself).
+    ad_, awd_, dot_e = ad[i0:i1], awd[i0:i1], w_dot_e[i0:i1]
+    if ncls == 1:
+        # Written out here rather than in a function called per row: such a call takes and gives back a
+        # count of each array it is passed, most of a step's time in a block of one demon.
+        s = 0
+        while s < kept:
+            e0 = rows_e[s]
+            f0 = rows_f[s]
+            u0 = _at(woff + rows[s] * db + i0)
+            if s + 1 < kept:  # two rows: theta += ad e; GTD / GQ: w . e, w += awd e - f alpha_w (w . x_t)
+                e1 = rows_e[s + 1]
+                f1 = rows_f[s + 1]
+                u1 = _at(woff + rows[s + 1] * db + i0)
+                if td:
+                    for i in range(width):
+                        a = ad[i0 + i]
+                        theta[u0 + _at(i)] += a * e0
+                        theta[u1 + _at(i)] += a * e1
+                else:
+                    for i in range(width):
+                        a = ad[i0 + i]
+                        aw = awd[i0 + i]
+                        sx = step_x[i]
+                        j0 = u0 + _at(i)
+                        j1 = u1 + _at(i)
+                        v0 = w[j0]
+                        v1 = w[j1]
+                        w_dot_e[i0 + i] += v0 * e0 + v1 * e1
+                        theta[j0] += a * e0
+                        theta[j1] += a * e1
+                        w[j0] = v0 + aw * e0 - f0 * sx
+                        w[j1] = v1 + aw * e1 - f1 * sx
+                s += 2
+            else:  # the last row alone
+                if td:
+                    for i in range(width):
+                        theta[u0 + _at(i)] += ad[i0 + i] * e0
+                else:
+                    for i in range(width):
+                        j0 = u0 + _at(i)
+                        wv = w[j0]
+                        w_dot_e[i0 + i] += wv * e0
+                        theta[j0] += ad[i0 + i] * e0
+                        w[j0] = wv + awd[i0 + i] * e0 - f0 * step_x[i]
+                s += 1
+    else:
+        e0 = ev[0, i0:i1]
+        e1 = ev[1, i0:i1]
+        s = 0
+        while s < kept:
+            pair = s + 1 < kept
+            r0 = rows[s]
+            r1 = rows[s + 1] if pair else r0
+            if own:
+                e0 = trace[voff + r0 * ncls + i0 : voff + r0 * ncls + i1]
+                e1 = trace[voff + r1 * ncls + i0 : voff + r1 * ncls + i1]
+            else:
+                _spread(trace, voff + r0 * ncls, ncls, cls_lo, cls_hi, coff, i0, i1, e0)
+                if pair:
+                    _spread(trace, voff + r1 * ncls, ncls, cls_lo, cls_hi, coff, i0, i1, e1)
+            b0 = woff + r0 * db + i0
+            if pair:
+                b1 = woff + r1 * db + i0
+                _update_each_pair(theta[b0 : b0 + width], w[b0 : b0 + width], e0, rows_f[s], theta[b1 : b1 + width],
+                                  w[b1 : b1 + width], e1, rows_f[s + 1], td, ad_, awd_, step_x, dot_e)  # fmt: skip
+                s += 2
+            else:
+                _update_each(theta[b0 : b0 + width], w[b0 : b0 + width], e0, rows_f[s], td, ad_, awd_, step_x, dot_e)
+                s += 1
+
+    # The correction at x_bar_{t+1}, fused with reading the new values at s_{t+1}.
+    if not td:
+        for i in range(i0, i1):
+            a_i = alpha[lo + i]
+            w_dot_e[i] = a_i * gamma_tp1[dcls[lo + i]] * (1.0 - lam_b) * w_dot_e[i] if a_i != 0.0 else 0.0
+    mode = 0 if td else (2 if gq else 1)
+    for a in range(actions):
+        _correct_and_read(theta, woff + a * n_s * db + i0, x_tp1, db, dot_e, pi_next[a, i0:i1], mode,
+                          values[a, i0:i1])  # fmt: skip
+    _observe_range(bi, b, i0, i1, dcls, temperature, epsilon, pi_given, values, q, pi, pred, scratch_q, scratch_pi)
+
+
+@njit(cache=True)
+def _spread(trace, start, ncls, cls_lo, cls_hi, coff, i0, i1, out):
+    """out[i - i0] = the trace value (trace[start + c]) of the class of demon i, for i0 <= i < i1."""
+    for c in range(ncls):
+        c0 = max(cls_lo[coff + c], i0)
+        c1 = min(cls_hi[coff + c], i1)
+        if c0 < c1:
+            out[c0 - i0 : c1 - i0] = trace[start + c]
 
 
 @njit(cache=True)
 def _correct_and_read(theta, start, x, db, correction, weight, mode, acc):
     """theta -= correction * weight on the rows x (mode 2: a weight per demon, 1: weight 1, 0: no
-    correction), then acc = the sum of those rows: the new values at s_{t+1}. Two rows at a time."""
+    correction), then acc = the sum of those rows: the new values at s_{t+1}. Two rows at a time. As in
+    `_sum_rows`, acc may be a run of columns (start at its first column, db the row length), and
+    offsets are unsigned."""
     k = x.shape[0]
-    for i in range(db):
+    width = acc.shape[0]
+    for i in range(width):
         acc[i] = 0.0
     j = 0
     while j < k:
         pair = j + 1 < k
-        b0 = start + x[j] * db
-        b1 = start + x[j + 1] * db if pair else b0
+        u0 = _at(start + x[j] * db)
+        u1 = _at(start + x[j + 1] * db) if pair else u0
         if mode == 2:
-            for i in range(db):
+            for i in range(width):
                 c = correction[i] * weight[i]
-                theta[b0 + i] -= c
+                theta[u0 + _at(i)] -= c
                 if pair:
-                    theta[b1 + i] -= c
+                    theta[u1 + _at(i)] -= c
         elif mode == 1:
-            for i in range(db):
-                theta[b0 + i] -= correction[i]
+            for i in range(width):
+                theta[u0 + _at(i)] -= correction[i]
                 if pair:
-                    theta[b1 + i] -= correction[i]
+                    theta[u1 + _at(i)] -= correction[i]
         if pair:
-            for i in range(db):
-                acc[i] += theta[b0 + i] + theta[b1 + i]
+            for i in range(width):
+                acc[i] += theta[u0 + _at(i)] + theta[u1 + _at(i)]
             j += 2
         else:
-            for i in range(db):
-                acc[i] += theta[b0 + i]
+            for i in range(width):
+                acc[i] += theta[u0 + _at(i)]
             j += 1

@@ -12,6 +12,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from horde.core import threads
 from horde.core.fast import (
     FOREVER,
     R_ACTION,
@@ -26,6 +27,7 @@ from horde.core.fast import (
 )
 from horde.core.horde import Horde, HordeState
 from horde.core.scale import TRACE_CUT
+from horde.core.scale_fast import PARALLEL_MIN
 from horde.core.world import World, WorldState
 from horde.spec import BehaviourSpec, RunSpec
 
@@ -74,6 +76,8 @@ class Simulation:
         self.episode = 0
         self.total_steps = 0
         self.with_metrics = True
+        self._threads: int | None = None
+        self._parallel = any(b.size >= PARALLEL_MIN for b in self.horde.blocks)
         self._loop = FastLoop(self.horde, self.world)
         self._loop.reset_world(self.rng)
 
@@ -113,8 +117,20 @@ class Simulation:
 
     @property
     def threads(self) -> int:
-        """Threads a step uses (the kernels are single-threaded)."""
-        return 1
+        """Threads a step uses: 1 unless a block has at least `scale_fast.PARALLEL_MIN` demons; then the
+        number set here, or by default this process's share of the cores (`horde.core.threads`)."""
+        return self._thread_count(joining=True)
+
+    @threads.setter
+    def threads(self, count: int | None) -> None:
+        """Set the threads of this simulation's steps (None: the process's share, which follows the runs)."""
+        self._threads = None if count is None else max(1, int(count))
+
+    def _thread_count(self, joining: bool) -> int:
+        """Threads for a step; joining: as if this run started learning now (else it is counted already)."""
+        if not self._parallel:
+            return 1
+        return self._threads if self._threads is not None else threads.share(1 if joining else 0)
 
     @property
     def start_sensors(self) -> np.ndarray:
@@ -155,6 +171,7 @@ class Simulation:
         new.episode = self.episode
         new.total_steps = self.total_steps
         new.with_metrics = self.with_metrics
+        new._threads = self._threads
         new.set_returns(self.episode_return, self.last_return)
         return new
 
@@ -184,7 +201,12 @@ class Simulation:
         learning: np.ndarray | None = None,
     ) -> StepResult:
         """Step until `max_steps` steps or until `max_episodes` episodes have ended; return the last step."""
-        out = self._loop.run(self.rng, max_steps, max_episodes, behaviour, learning, self.with_metrics)
+        threads.enter()  # counted as running while it learns: runs share the process's cores (threads.share)
+        try:
+            out = self._loop.run(self.rng, max_steps, max_episodes, behaviour, learning, self.with_metrics,
+                                 self._thread_count(joining=False))  # fmt: skip
+        finally:
+            threads.leave()
         self.total_steps += int(out[R_STEPS])
         self.episode += int(out[R_EPISODES])
         return StepResult(

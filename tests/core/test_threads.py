@@ -1,0 +1,142 @@
+"""A run's threads: the same numbers whatever their count, and cores yielded to the other runs.
+
+Blocks of at least `scale_fast.PARALLEL_MIN` demons split their demons into runs of columns learned by
+threads (`scale_fast._columns_parallel`); every number is computed by the same operations in the same
+order whatever the split, so the state after many steps must be equal to the last bit for 1, 2 and 3
+threads. `horde.core.threads` gives each run the process's cores divided among the runs learning.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections.abc import Iterator
+from typing import Any
+
+import numba
+import numpy as np
+import pytest
+
+from horde.core import threads
+from horde.core.scale_fast import PARALLEL_MIN
+from horde.core.simulation import Simulation
+from horde.spec import RunSpec
+
+from .test_engine_vs_reference import run_spec
+from .test_fast import assert_same
+
+D = PARALLEL_MIN + 13  # demons per block: over the threshold, and not a multiple of the column alignment
+
+
+DISCOUNTS = (0, 0.5, 0.8, 0.9, 0.95)
+
+
+def wide_spec() -> RunSpec:
+    """Three blocks past the threshold: TD on-policy at five discounts (five shared traces), GTD about
+    three fixed target policies, and GQ control demons (a trace of their own each), with episode ends."""
+    sensors = ["x", "y", "bump", "reward", "in:goal", "in:crit", "color:lamp"]
+    policies = ([0.4, 0.1, 0.1, 0.4], [0.1, 0.2, 0.3, 0.4], [0.25, 0.25, 0.25, 0.25])
+    demons: list[dict[str, Any]] = []
+    for i in range(D):
+        demons.append({"name": f"td{i}", "learner": "td", "policy": "uniform", "discount": DISCOUNTS[i % 5],
+                       "cumulant": {"mul": [{"sensor": sensors[i % len(sensors)]}, 1 + i // 35]}})  # fmt: skip
+        demons.append({"name": f"gtd{i}", "learner": "gtd", "discount": 0.9, "lambda": 0.7,
+                       "policy": {"kind": "fixed", "probabilities": policies[i % 3]},
+                       "cumulant": {"sensor": sensors[i % len(sensors)]}})  # fmt: skip
+        demons.append({"name": f"gq{i}", "learner": "gq", "discount": 0.8,
+                       "policy": {"kind": "softmax", "temperature": 0.5 + i % 4},
+                       "cumulant": {"sensor": sensors[i % len(sensors)]}})  # fmt: skip
+    data = run_spec("uniform").model_dump(by_alias=True)
+    data.update(demons=demons, features={"kind": "tiles", "tilings": 4, "tiles": 4})
+    return RunSpec.model_validate(data)
+
+
+@pytest.fixture(scope="module")
+def spec() -> RunSpec:
+    return wide_spec()
+
+
+def run_with(spec: RunSpec, count: int, steps: int = 300) -> Simulation:
+    sim = Simulation(spec, np.random.default_rng(11))
+    sim.threads = count
+    sim.run(steps)
+    return sim
+
+
+@pytest.mark.slow
+def test_thread_count_does_not_change_a_single_bit(spec: RunSpec) -> None:
+    one = run_with(spec, 1)
+    assert one.threads == 1
+    assert {b.size for b in one.horde.blocks} == {D}, "every block is past the threshold"
+    assert one.episode >= 3, "episodes ended (traces cleared, a new start observed)"
+    for count in (2, 3):
+        other = run_with(spec, count)
+        assert other.threads == count
+        assert_same(one.horde_state, other.horde_state)
+        np.testing.assert_array_equal(one.readout().rupee, other.readout().rupee)
+        np.testing.assert_array_equal(one.readout().ude, other.readout().ude)
+        assert one.position == other.position
+    # a threading layer started: the blocks were split over threads (it raises if none ever ran)
+    assert numba.threading_layer() in ("tbb", "omp", "workqueue")
+
+
+def test_small_hordes_take_one_thread() -> None:
+    sim = Simulation(run_spec("uniform"))
+    sim.threads = 4
+    assert sim.threads == 1, "no block is wide enough to split"
+
+
+@pytest.fixture
+def budget_of_two() -> Iterator[None]:
+    threads.set_budget(2)
+    try:
+        yield
+    finally:
+        threads.set_budget(None)
+
+
+def test_runs_share_the_budget(budget_of_two: None, spec: RunSpec) -> None:
+    sim = Simulation(spec)
+    assert threads.running_runs() == 0
+    assert sim.threads == threads.share(1) == 2, "alone, a run takes every core"
+    with threads.running():
+        assert sim.threads == 1, "with another run learning, it takes its half"
+        with threads.running():
+            assert threads.share() == 1, "never less than one thread"
+    assert sim.threads == 2, "and takes them back when the other run stops"
+    sim.threads = 3
+    assert sim.threads == 3, "a count set by hand wins"
+    sim.threads = None
+    assert sim.threads == 2
+
+
+@pytest.mark.slow
+def test_a_learning_run_is_counted_while_it_steps(budget_of_two: None, spec: RunSpec) -> None:
+    """Two simulations in two threads: while one steps (inside Simulation.run), the other gets one thread."""
+    busy = Simulation(spec)
+    other = Simulation(spec)
+    stop = threading.Event()
+
+    def learn() -> None:
+        while not stop.is_set():
+            busy.run(5)
+
+    worker = threading.Thread(target=learn, daemon=True)
+    worker.start()
+    try:
+        seen = set()
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and 1 not in seen:
+            seen.add(other.threads)
+            time.sleep(0.001)
+        assert 1 in seen, f"the other run never yielded a core while one was learning (saw {seen})"
+    finally:
+        stop.set()
+        worker.join(60)
+    assert not worker.is_alive(), "the learning thread stopped within 60 s"
+    assert threads.running_runs() == 0 and other.threads == 2
+
+
+def test_worker_processes_share_the_cores(budget_of_two: None) -> None:
+    assert threads.worker_budget(2) == 1  # 2 cores over 2 workers (and one thread after a fork under OpenMP)
+    assert threads.worker_budget(1) == (2 if threads.LAYER == "tbb" else 1)
