@@ -195,7 +195,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--seed", type=int, help="override the seed")
     run.add_argument("--json", metavar="PATH", help="also write the results as JSON")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
-    run.add_argument("--log", metavar="FILE", help="a stream scenario: learn this recorded CSV log at full speed")
+    run.add_argument("--log", metavar="FILE", help="a stream scenario: learn a CSV or Parquet log at full speed")
     run.add_argument("--strip", metavar="PNG", help="with --log: draw sensors, predictions and realised returns")
     run.add_argument("--strip-sensors", metavar="A,B", help="the sensors to draw (default: the first three)")
     run.add_argument("--strip-demons", metavar="A,B", help="the demons to draw (default: the first three)")

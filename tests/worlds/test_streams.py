@@ -238,3 +238,55 @@ def test_the_strip_chart_of_a_log(tmp_path: Path, capsys: pytest.CaptureFixture[
     assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert horde_main([*args, "--strip-demons", "nobody"]) == 2
     assert "--strip-demons: unknown demon 'nobody'" in capsys.readouterr().err
+
+
+def write_parquet(csv_log: Path, path: Path, bad_rows: dict[int, dict[str, Any]] | None = None) -> None:
+    """The CSV log's records as a Parquet file (typed columns), with some cells replaced (None: a null)."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    with csv_log.open(newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    for index, cells in (bad_rows or {}).items():
+        rows[index].update(cells)
+    columns = {
+        name: [
+            None if row[name] is None else (int(row[name]) if name == "action" else float(row[name])) for row in rows
+        ]
+        for name in rows[0]
+    }
+    pq.write_table(pa.table(columns), path, row_group_size=700)  # several row groups: read in batches
+
+
+def test_a_parquet_log_learns_as_its_csv_log_does(tmp_path: Path) -> None:
+    spec = RunSpec.model_validate(stream_spec())
+    log = tmp_path / "log.csv"
+    write_log(log, 2_500, seed=3)
+    parquet = tmp_path / "log.parquet"
+    write_parquet(log, parquet)
+    from_csv, from_parquet = learn_log(spec, log), learn_log(spec, parquet)
+    assert from_parquet.records == from_parquet.learned == 2_500 and not from_parquet.refused
+    assert [d.prediction for d in from_parquet.demons] == [d.prediction for d in from_csv.demons]
+    assert [d.mean_return for d in from_parquet.demons] == [d.mean_return for d in from_csv.demons]
+
+
+def test_a_parquet_log_with_bad_rows_names_file_row_and_field(tmp_path: Path) -> None:
+    spec = RunSpec.model_validate(stream_spec())
+    log = tmp_path / "log.csv"
+    write_log(log, 40)
+    parquet = tmp_path / "log.parquet"
+    write_parquet(log, parquet, {4: {"heat": None}, 9: {"action": "7"}})
+    result = learn_log(spec, parquet)
+    assert (result.records, result.learned) == (40, 38)
+    assert [(r.index, r.field) for r in result.refused] == [
+        (5, f"{parquet}:5: observation.heat"),
+        (10, f"{parquet}:10: action"),
+    ], result.refused
+
+
+def test_a_file_that_is_no_parquet_is_named(tmp_path: Path) -> None:
+    spec = RunSpec.model_validate(stream_spec())
+    fake = tmp_path / "log.parquet"
+    fake.write_text("light,wheel,heat,action\n0.5,0,30,1\n")
+    with pytest.raises(ValueError, match=r"log\.parquet: not a Parquet file"):
+        learn_log(spec, fake)

@@ -19,7 +19,7 @@ import numpy as np
 
 from horde.core.questions import Program
 from horde.spec import RunSpec, expr_predictions
-from horde.worlds.records import RecordLearner, Refusal, read_log, stream_world
+from horde.worlds.records import RecordLearner, Refusal, log_length, read_log, stream_world
 
 MAX_KEPT = 20_000_000  # predictions x records kept for the realised-return comparison (160 MB)
 TAIL_WEIGHT = 1e-3  # records whose remaining return weighs more than this at the log's end are left out
@@ -86,10 +86,10 @@ def realised_returns(spec: RunSpec, sensors: np.ndarray) -> tuple[np.ndarray, np
 
 
 def learn_log(spec: RunSpec, path: Path, progress: Callable[[int, int], None] | None = None) -> LogResult:
-    """Learn every record of a CSV log in order; compare predictions with realised returns afterwards."""
+    """Learn every record of a CSV or Parquet log in order; compare predictions with realised returns afterwards."""
     world = stream_world(spec)
     learner = RecordLearner(spec)
-    total = max(sum(1 for _ in path.open()) - 1, 0)
+    total = log_length(path)
     readable = [i for i, d in enumerate(spec.demons)
                 if not any(expr_predictions(e) for e in (d.cumulant, d.outcome, d.continuation))]  # fmt: skip
     keep = total * len(spec.demons) <= MAX_KEPT

@@ -15,7 +15,9 @@ the next good record is then observed afresh (a transition across a gap would be
 never made).
 
 A CSV log has a header naming the sensors (every sensor of the world, any order), `action`, and
-optionally `b0 .. b{A-1}`; one record per line. `read_log` yields chunks of checked records.
+optionally `b0 .. b{A-1}`; one record per line. A Parquet log (`.parquet`) has columns of the same
+names, one record per row; its refusals name the row (from 1) where a CSV log's name the line.
+`read_log` yields chunks of checked records.
 """
 
 from __future__ import annotations
@@ -32,6 +34,8 @@ import numpy as np
 from horde.core.external import ExternalLoop
 from horde.core.horde import Horde
 from horde.spec import RunSpec, StreamWorldSpec
+
+Layout = tuple[list[int], int, list[int] | None]  # a log's sensor columns, action column, probability columns
 
 
 class RecordError(ValueError):
@@ -181,23 +185,17 @@ class RecordLearner:
 
 
 def read_log(path: Path, world: StreamWorldSpec, chunk: int = 10_000) -> Iterator[tuple[Records, list[Refusal]]]:
-    """Chunks of checked records from a CSV log (see the module); refusals name `FILE:LINE: field`."""
+    """Chunks of checked records from a CSV or Parquet log (see the module); refusals name `FILE:LINE: field`
+    (`FILE:ROW: field` for Parquet)."""
     if path.suffix.lower() == ".parquet":
-        raise ValueError(f"{path}: Parquet logs need pyarrow, which is not installed; write the log as CSV")
-    names = world.sensor_names()
+        yield from _read_parquet(path, world, chunk)
+        return
     with path.open(newline="") as handle:
         reader = csv.reader(handle)
         header = next(reader, None)
         if header is None:
             raise ValueError(f"{path}:1: the log is empty (a header line names the sensors and action)")
-        header = [h.strip() for h in header]
-        missing = [n for n in [*names, "action"] if n not in header]
-        if missing:
-            raise ValueError(f"{path}:1: the header lacks {', '.join(missing)} (it names {', '.join(header)})")
-        columns = [header.index(n) for n in names]
-        action_column = header.index("action")
-        prob_columns = [header.index(f"b{a}") for a in range(world.actions)] if "b0" in header else None
-        layout = (columns, action_column, prob_columns)
+        layout = _layout(path, world, [h.strip() for h in header])
         rows: list[list[str]] = []
         first = 2
         for row in reader:
@@ -210,6 +208,49 @@ def read_log(path: Path, world: StreamWorldSpec, chunk: int = 10_000) -> Iterato
             yield _log_chunk(world, rows, first, layout, path)
 
 
+def log_length(path: Path) -> int:
+    """The number of records in a CSV log (its lines after the header) or a Parquet log (its rows)."""
+    if path.suffix.lower() == ".parquet":
+        import pyarrow.parquet as pq
+
+        try:
+            return int(pq.ParquetFile(path).metadata.num_rows)
+        except Exception as exc:  # pyarrow's ArrowInvalid, OSError
+            raise ValueError(f"{path}: not a Parquet file ({exc})") from exc
+    with path.open(newline="") as handle:
+        return max(sum(1 for _ in handle) - 1, 0)
+
+
+def _layout(path: Path, world: StreamWorldSpec, header: list[str]) -> Layout:
+    """Where a log's sensors, action and (optional) behaviour probabilities are, by the header's names."""
+    names = world.sensor_names()
+    missing = [n for n in [*names, "action"] if n not in header]
+    if missing:
+        raise ValueError(f"{path}:1: the header lacks {', '.join(missing)} (it names {', '.join(header)})")
+    columns = [header.index(n) for n in names]
+    action_column = header.index("action")
+    prob_columns = [header.index(f"b{a}") for a in range(world.actions)] if "b0" in header else None
+    return columns, action_column, prob_columns
+
+
+def _read_parquet(path: Path, world: StreamWorldSpec, chunk: int) -> Iterator[tuple[Records, list[Refusal]]]:
+    """`read_log` for a Parquet file: its columns by name, read a batch of rows at a time; a missing value
+    (null) is refused like an empty CSV cell, naming its column."""
+    import pyarrow.parquet as pq  # only when a Parquet log is read: pyarrow takes a while to import
+
+    try:
+        log = pq.ParquetFile(path)
+    except Exception as exc:  # pyarrow raises its own ArrowInvalid (and OSError) for a file that is no Parquet
+        raise ValueError(f"{path}: not a Parquet file ({exc})") from exc
+    layout = _layout(path, world, list(log.schema_arrow.names))
+    first = 1
+    for batch in log.iter_batches(batch_size=chunk):
+        columns = [batch.column(i).to_pylist() for i in range(batch.num_columns)]
+        rows = [["" if value is None else value for value in row] for row in zip(*columns, strict=True)]
+        yield _log_chunk(world, rows, first, layout, path)
+        first += len(rows)
+
+
 def _row_record(row: list[str], layout: tuple[list[int], int, list[int] | None]) -> dict[str, Any]:
     """One CSV row as a record (cells that are not numbers stay text, to be refused naming their column)."""
     columns, action_column, prob_columns = layout
@@ -220,9 +261,6 @@ def _row_record(row: list[str], layout: tuple[list[int], int, list[int] | None])
     if prob_columns is not None:
         record["behaviour_probabilities"] = [_number(row[c]) if c < len(row) else None for c in prob_columns]
     return record
-
-
-Layout = tuple[list[int], int, list[int] | None]  # a log's sensor columns, action column, probability columns
 
 
 def _log_chunk(
