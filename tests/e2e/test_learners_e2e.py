@@ -4,8 +4,10 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from playwright.sync_api import expect
+
 from . import test_dashboard_e2e as dashboard
-from .test_dashboard_e2e import NUMBER, Server, cell, select_run, wait_until
+from .test_dashboard_e2e import NUMBER, Server, cell, cell_at, select_run
 
 console, page, server = dashboard.console, dashboard.page, dashboard.server  # the dashboard tests' fixtures
 
@@ -33,5 +35,5 @@ def test_an_autostep_demon_joins_and_shows_its_step_size(page: Page, server: Ser
     page.get_by_role("tab", name="Live").click()
     page.get_by_role("columnheader", name="α now").wait_for()
     page.locator('table.demon-table tr[data-demon="auto_steps"]').wait_for()
-    wait_until(lambda: NUMBER.match(cell(page, "auto_steps", STEP_SIZE_COLUMN)) is not None, what="its step size")
+    expect(cell_at(page, "auto_steps", STEP_SIZE_COLUMN), "the autostep demon shows its step size").to_have_text(NUMBER)
     assert NUMBER.match(cell(page, "base", STEP_SIZE_COLUMN)) is not None  # constant demons show alpha
