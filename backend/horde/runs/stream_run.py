@@ -222,6 +222,11 @@ class StreamRuns:
             if self._runs.pop(run_id, None) is None:
                 raise NotFoundError(f"no stream run {run_id!r}")
 
+    def holds(self, run: StreamRun) -> bool:
+        """Whether this very run is still registered (not deleted)."""
+        with self._lock:
+            return self._runs.get(run.id) is run
+
     def list(self) -> list[StreamRun]:
         with self._lock:
             return list(self._runs.values())

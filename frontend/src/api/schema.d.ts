@@ -1981,10 +1981,10 @@ export interface components {
         };
         /**
          * StreamClose
-         * @description How the server closes a WebSocket stream: 1000 NORMAL: the stream is over (a study stopped); 1001 GOING_AWAY: the server is stopping; 1008 ORIGIN_REFUSED: a page of another site may not open the stream; 1013 TOO_SLOW: the client fell too far behind, or a send timed out ('try again later'); 4404 NOT_FOUND: no such run (or study); 4410 RUN_DELETED: the run was deleted while streamed
+         * @description How the server closes a WebSocket stream: 1000 NORMAL: the stream is over (a study stopped); 1001 GOING_AWAY: the server is stopping; 1008 ORIGIN_REFUSED: a page of another site may not open the stream; 1013 TOO_SLOW: the client fell too far behind, or a send timed out ('try again later'); 4401 UNAUTHORIZED: the server requires its HORDE_TOKEN (pushing records to a stream run); 4404 NOT_FOUND: no such run (or study, or stream run); 4410 RUN_DELETED: the run (or stream run) was deleted while streamed
          * @enum {integer}
          */
-        StreamClose: 1000 | 1001 | 1008 | 1013 | 4404 | 4410;
+        StreamClose: 1000 | 1001 | 1008 | 1013 | 4401 | 4404 | 4410;
         /** StreamHistoryOut */
         StreamHistoryOut: {
             /**

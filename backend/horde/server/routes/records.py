@@ -33,6 +33,7 @@ from horde.server.origins import origin_allowed
 from horde.server.responses import BAD_BODY, BUSY, NOT_FOUND, UNAUTHORIZED
 from horde.server.schemas import In, Out
 from horde.server.settings import Settings
+from horde.server.stream_protocol import StreamClose
 from horde.spec import RunSpec
 from horde.worlds.phase_plane import MAX_PHASE_RESOLUTION
 
@@ -249,21 +250,22 @@ def _items(text: str) -> list[Any]:
 
 @router.websocket("/{stream_id}/records")
 async def stream_records(websocket: WebSocket, stream_id: str) -> None:
-    """Push records, read predictions (see the module). Close codes: 4404 unknown stream run, 4401 no token
-    (when HORDE_TOKEN is set: `Authorization: Bearer` or `?token=`), 1008 a page of another site."""
+    """Push records, read predictions (see the module). Close codes (StreamClose): 4404 unknown stream run,
+    4401 no token (when HORDE_TOKEN is set: `Authorization: Bearer` or `?token=`), 1008 a page of another
+    site, 4410 the stream run was deleted (what was pushed after that is not learned)."""
     settings: Settings = websocket.app.state.settings
     headers = websocket.headers
     if not origin_allowed(headers.get("origin"), headers.get("host"), settings.is_loopback(), settings.origins):
-        await websocket.close(code=1008, reason="this page's origin may not push records")
+        await websocket.close(code=StreamClose.ORIGIN_REFUSED, reason="this page's origin may not push records")
         return
     if not _token_ok(websocket, settings):
-        await websocket.close(code=4401, reason="this server requires its HORDE_TOKEN")
+        await websocket.close(code=StreamClose.UNAUTHORIZED, reason="this server requires its HORDE_TOKEN")
         return
     streams: StreamRuns = websocket.app.state.streams
     try:
         run = streams.get(stream_id)
     except NotFoundError:
-        await websocket.close(code=4404, reason=f"no stream run {stream_id!r}")
+        await websocket.close(code=StreamClose.NOT_FOUND, reason=f"no stream run {stream_id!r}")
         return
     await websocket.accept()
     await websocket.send_json({"type": "hello", "sensors": run.spec.world.sensor_names(),
@@ -289,6 +291,7 @@ async def stream_records(websocket: WebSocket, stream_id: str) -> None:
                                        "predictions": result.predictions.tolist()})  # fmt: skip
 
     learner = asyncio.create_task(learn())
+    deleted = False
     try:
         while not learner.done():
             text = await websocket.receive_text()
@@ -298,6 +301,9 @@ async def stream_records(websocket: WebSocket, stream_id: str) -> None:
                 problem = f"not JSON: {exc}" if isinstance(exc, json.JSONDecodeError) else str(exc)
                 await websocket.send_json({"type": "error", "index": None, "field": "message", "message": problem})
                 continue
+            if not streams.holds(run):  # deleted meanwhile: this message is not learned, nor any later one
+                deleted = True
+                break
             await queue.put(items)  # waits while QUEUE messages are unlearned: back-pressure
     except WebSocketDisconnect:
         pass
@@ -306,3 +312,6 @@ async def stream_records(websocket: WebSocket, stream_id: str) -> None:
             await queue.put(None)
             with contextlib.suppress(Exception):
                 await learner
+        if deleted:
+            with contextlib.suppress(Exception):
+                await websocket.close(code=StreamClose.RUN_DELETED, reason=f"stream run {run.id!r} was deleted")
