@@ -103,6 +103,7 @@ def test_pushed_records_draw_the_strip_chart_and_the_phase_plane(server: Running
             time.sleep(0.2)
         SHOTS.mkdir(parents=True, exist_ok=True)
         page.screenshot(path=str(SHOTS / "stream-strip.png"), full_page=True)
+        strip.screenshot(path=str(SHOTS / "stream-strip-chart.png"))
         assert errors == []
     finally:
         page.close()

@@ -299,7 +299,7 @@ function remPx(): number {
 
 function plotSize(box: HTMLElement): { width: number; height: number } {
   const width = Math.max(160, Math.floor(box.clientWidth));
-  return { width, height: Math.round(Math.min(12 * remPx(), Math.max(8 * remPx(), width * 0.45))) };
+  return { width, height: Math.round(Math.min(14 * remPx(), Math.max(10 * remPx(), width * 0.6))) };
 }
 
 function draw(plot: Plot, columns: Columns, series: uPlot.Series[]): void {
