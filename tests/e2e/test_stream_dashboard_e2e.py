@@ -4,7 +4,6 @@ returns) drawn from records pushed over REST, and its phase plane in the same em
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -97,10 +96,7 @@ def test_pushed_records_draw_the_strip_chart_and_the_phase_plane(server: Running
         frame = page.frame_locator("iframe.viser-frame")
         frame.locator("body").wait_for(timeout=15_000)
         viser = next(f for f in page.frames if f.url.startswith(api.get("/api/view").json()["url"].rstrip("/")))
-        deadline = time.monotonic() + 30
-        while not viser.evaluate(PHASE_MAP):
-            assert time.monotonic() < deadline, "the live view never drew the phase plane"
-            time.sleep(0.2)
+        viser.wait_for_function(PHASE_MAP, timeout=60_000)  # a GPU-less client on a busy machine is slow
         SHOTS.mkdir(parents=True, exist_ok=True)
         page.screenshot(path=str(SHOTS / "stream-strip.png"), full_page=True)
         strip.screenshot(path=str(SHOTS / "stream-strip-chart.png"))

@@ -93,3 +93,19 @@ def test_bad_history_requests_name_the_field(client: TestClient) -> None:
         assert response.json()["detail"][0]["loc"] == ["query", field]
     empty = client.get(f"{url}/history").json()  # nothing pushed yet: empty series, not an error
     assert empty["records"] == [] and empty["returns"]["light_g0.5"] == []
+
+
+def test_the_ring_of_recent_records_keeps_the_newest_in_order() -> None:
+    from horde.runs.stream_run import RecentRecords
+
+    ring = RecentRecords(5, sensors=1, demons=3)
+    for start, n in [(0, 3), (3, 4), (7, 1)]:  # wraps around twice
+        rows = np.arange(start, start + n, dtype=float)
+        ring.add(rows[:, None], np.stack([rows, 10 * rows, 100 * rows], axis=1), np.arange(start, start + n),
+                 np.zeros(n, dtype=bool))  # fmt: skip
+    observations, predictions, numbers, _ = ring.last(10, [2, 0])
+    assert numbers.tolist() == [3, 4, 5, 6, 7] and observations[:, 0].tolist() == [3, 4, 5, 6, 7]
+    assert predictions.tolist() == [[100 * k, k] for k in [3, 4, 5, 6, 7]]  # the demons asked, in that order
+    big = np.arange(12, dtype=float)
+    ring.add(big[:, None], np.zeros((12, 3)), np.arange(12), np.zeros(12, dtype=bool))  # more than it holds
+    assert ring.last(2, [0])[2].tolist() == [10, 11]

@@ -230,6 +230,7 @@ def test_a_stream_run_is_drawn_as_a_phase_plane_in_the_same_view() -> None:
         assert drawn["/phase/y_label"][0].text == "wheel [-1, 1]"
         assert drawn["/phase/title"][0].text.startswith("light_if_left: ")
         assert view.panel.total.value == 60 and view.panel.status.value == "stream: 60 records received"
+        assert view.panel._checkboxes == {}, "no 'Demons shown' boxes: a stream run has no charts of them"
         # The agent sits at the last (x, y) reading: light 0.9 (59 * 0.1 mod 1), wheel 0.5 - 0.59.
         agent = drawn["/phase/agent"][0].position
         assert agent[:2] == pytest.approx(((0.9 - 0.5) * 10.0, (-0.09 + 1.0) / 2.0 * 10.0 - 5.0))

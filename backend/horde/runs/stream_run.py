@@ -53,12 +53,13 @@ class RecentRecords:
         self._next = (self._next + n) % self.capacity
         self.size = min(self.size + n, self.capacity)
 
-    def last(self, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """The last n rows, oldest first: (observations [n, S], predictions [n, D], numbers [n], restarts [n])."""
+    def last(self, n: int, demons: list[int]) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The last n rows, oldest first: (observations [n, S], predictions [n, len(demons)] of those demon
+        indices only, numbers [n], restarts [n]); copies (fancy indexing)."""
         n = min(n, self.size)
         rows = (self._next - n + np.arange(n)) % self.capacity
-        return (self.observations[rows].copy(), self.predictions[rows].copy(), self.numbers[rows].copy(),
-                self.restarts[rows].copy())  # fmt: skip
+        return (self.observations[rows], self.predictions[np.ix_(rows, np.asarray(demons, dtype=np.int64))], self.numbers[rows],
+                self.restarts[rows])  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -166,7 +167,8 @@ class StreamRun:
                 message = f"unknown {field[:-1]} {unknown[0]!r} (known: {', '.join(known[:20])})"
                 raise SpecError([FieldProblem(("query", field), message)])
         with self._lock:
-            observations, predictions, numbers, restarts = self.recent.last(last)
+            columns = [self.names.index(d) for d in demons]
+            observations, predictions, numbers, restarts = self.recent.last(last, columns)
         index = {d.name: i for i, d in enumerate(self.spec.demons)}
         readable = [d for d in demons if not any(expr_predictions(e) for e in
                     (self.spec.demons[index[d]].cumulant, self.spec.demons[index[d]].outcome,
@@ -182,7 +184,7 @@ class StreamRun:
         return StreamHistory(
             numbers=numbers,
             sensors={s: observations[:, names.index(s)] for s in sensors},
-            predictions={d: predictions[:, self.names.index(d)] for d in demons},
+            predictions={d: predictions[:, k] for k, d in enumerate(demons)},
             returns={d: returns.get(d) for d in demons},
         )
 

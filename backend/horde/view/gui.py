@@ -232,8 +232,9 @@ class ControlPanel:
             _set(self.run, option)
         self.changed.set()
 
-    def set_demons(self, names: Sequence[str]) -> None:
-        """Rebuild the demon widgets for a newly chosen run (or when demons joined or left it)."""
+    def set_demons(self, names: Sequence[str], with_shown: bool = True) -> None:
+        """Rebuild the demon widgets for a newly chosen run (or when demons joined or left it); without
+        `with_shown`, only the value map's dropdown (a stream run has no charts of shown demons)."""
         for handle in self._demon_handles:
             handle.remove()
         self._demon_handles, self._checkboxes = [], {}
@@ -248,6 +249,8 @@ class ControlPanel:
         value = gui.add_dropdown("Value map", tuple(names), initial_value=self.value_demon, order=20)
         value.on_update(lambda event: self._on_value_demon(event, value))
         self._demon_handles.append(value)
+        if not with_shown:
+            return
         folder = gui.add_folder("Demons shown", order=21)
         with folder:
             for name in names[:MAX_DEMON_CHECKBOXES]:

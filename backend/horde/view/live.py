@@ -269,7 +269,7 @@ class LiveView:
             if run_id != self._shown_run:
                 self.applier.clear()
             self._shown_run, self._demon_names, self._map_key, self._spec = run_id, demons, None, None
-            panel.set_demons(demons)
+            panel.set_demons(demons, with_shown=False)
             panel.set_sensors(sensors)
             self._point_camera(phase_camera())
         panel.show_phase_state(received, learned)
