@@ -58,8 +58,8 @@ class RecentRecords:
         indices only, numbers [n], restarts [n]); copies (fancy indexing)."""
         n = min(n, self.size)
         rows = (self._next - n + np.arange(n)) % self.capacity
-        return (self.observations[rows], self.predictions[np.ix_(rows, np.asarray(demons, dtype=np.int64))], self.numbers[rows],
-                self.restarts[rows])  # fmt: skip
+        columns = np.asarray(demons, dtype=np.int64)
+        return self.observations[rows], self.predictions[np.ix_(rows, columns)], self.numbers[rows], self.restarts[rows]
 
 
 @dataclass(frozen=True)
