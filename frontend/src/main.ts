@@ -19,6 +19,7 @@ import { liveToolbar } from "./views/live-toolbar";
 import { protocolPanel } from "./views/protocol-panel";
 import { runResults } from "./views/run-results";
 import { runsPanel } from "./views/runs-panel";
+import { streamRuns } from "./views/stream-runs";
 import { studiesPanel } from "./views/studies-panel";
 import { tabs } from "./views/tabs";
 import { tour } from "./views/tour";
@@ -28,11 +29,13 @@ import { worldEditor } from "./views/world-editor";
 const store = createStore();
 const helpPanel = help();
 const guide = tour(store);
+const streams = streamRuns(store);
 
 const live = h(
   "div",
   { class: "live" },
   liveToolbar(store, guide.start),
+  streams.strip,
   demonTable(store),
   demonOverview(store),
   runResults(store),
@@ -47,7 +50,7 @@ const app = h(
   h(
     "div",
     { class: "layout" },
-    h("aside", { class: "sidebar", "aria-label": "Runs" }, launcher(store), runsPanel(store)),
+    h("aside", { class: "sidebar", "aria-label": "Runs" }, launcher(store), runsPanel(store), streams.list),
     h(
       "main",
       { id: "main", tabindex: "-1" },

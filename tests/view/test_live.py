@@ -202,3 +202,47 @@ def test_the_dashboard_chooses_the_demons_labelled_beyond_the_checkboxes() -> No
     finally:
         view.stop()
         source.manager.stop()
+
+
+def test_a_stream_run_is_drawn_as_a_phase_plane_in_the_same_view() -> None:
+    from tests.worlds.test_streams import stream_spec
+
+    from horde.runs.stream_run import StreamRuns
+    from horde.view.source import CommandRefusedError
+
+    manager, streams = RunManager(), StreamRuns()
+    manager.create(load_scenario(SCENARIOS / "experiment1.toml"), hz=50.0)
+    stream = streams.create(RunSpec.model_validate({**stream_spec(), "name": "robot"}))
+    source = ManagerSource(manager, streams)
+    view = started_by_hand(source)
+    try:
+        grid_run = source.list_runs()[0][0]
+        assert source.list_runs()[1] == (stream.id, "stream robot")
+        view.refresh()  # the grid run first
+        assert "/world/floor" in view.applier.drawn
+        view.show(stream.id)
+        stream.push([{"observation": [0.1 * k % 1, 0.5 - 0.01 * k, 30.0], "action": k % 3} for k in range(60)])
+        view.refresh()
+        drawn = view.applier.drawn
+        assert "/world/floor" not in drawn, "the grid run's world is gone"
+        assert {"/phase/map", "/phase/trail", "/phase/agent", "/phase/x_label", "/phase/y_label"} <= set(drawn)
+        assert drawn["/phase/x_label"][0].text == "light [0, 1]"
+        assert drawn["/phase/y_label"][0].text == "wheel [-1, 1]"
+        assert drawn["/phase/title"][0].text.startswith("light_if_left: ")
+        assert view.panel.total.value == 60 and view.panel.status.value == "stream: 60 records received"
+        assert view.panel._checkboxes == {}, "no 'Demons shown' boxes: a stream run has no charts of them"
+        # The agent sits at the last (x, y) reading: light 0.9 (59 * 0.1 mod 1), wheel 0.5 - 0.59.
+        agent = drawn["/phase/agent"][0].position
+        assert agent[:2] == pytest.approx(((0.9 - 0.5) * 10.0, (-0.09 + 1.0) / 2.0 * 10.0 - 5.0))
+        view.panel.phase_y, view.panel.value_demon = "heat", "wheel_g0.9"
+        view.refresh()
+        assert view.applier.drawn["/phase/y_label"][0].text == "heat [20, 40]"
+        assert view.applier.drawn["/phase/title"][0].text.startswith("wheel_g0.9: ")
+        with pytest.raises(CommandRefusedError, match="stream run"):
+            source.play(stream.id)
+        view.show(grid_run)
+        view.refresh()
+        assert "/world/floor" in view.applier.drawn and "/phase/map" not in view.applier.drawn
+    finally:
+        view.stop()
+        manager.stop()

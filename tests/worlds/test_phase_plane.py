@@ -74,13 +74,3 @@ def test_the_phase_plane_route(tmp_path) -> None:  # type: ignore[no-untyped-def
         assert bad.status_code == 422 and bad.json()["detail"][0]["loc"] == ["query", "x"]
         bad = client.get(url, params={"demon": "nobody", "x": "light", "y": "heat"})
         assert bad.status_code == 422 and bad.json()["detail"][0]["loc"] == ["query", "demon"]
-
-
-def test_the_stream_view_draws_a_phase_plane_response() -> None:
-    from horde.view.stream_view import nodes_from
-
-    body = {"demon": "d", "x": {"sensor": "position", "low": -1.2, "high": 0.6},
-            "y": {"sensor": "velocity", "low": -0.07, "high": 0.07}, "values": [[0.0, 1.0], [None, 2.0]],
-            "trail": [[-0.5, 0.0], [-0.4, 0.01]]}  # fmt: skip
-    names = {n.name for n in nodes_from(body)}
-    assert {"/phase/map", "/phase/trail", "/phase/agent", "/phase/x_label"} <= names

@@ -47,12 +47,12 @@ spec (naming the field). When HORDE_TOKEN is set, every POST, PUT, PATCH and DEL
 """
 
 
-def _live_view(settings: Settings, manager: RunManager, port: int) -> LiveView:
-    """The viser live view of the manager's runs on `port` (or the next free one), guarded by the server's
-    token and origins."""
+def _live_view(settings: Settings, manager: RunManager, port: int, streams: StreamRuns | None = None) -> LiveView:
+    """The viser live view of the manager's runs (and the stream runs, as phase planes) on `port` (or the next
+    free one), guarded by the server's token and origins."""
     token = settings.token.get_secret_value() if settings.token is not None else None
     return LiveView(
-        ManagerSource(manager),
+        ManagerSource(manager, streams),
         host=settings.host,
         port=port,
         token=token,
@@ -78,7 +78,7 @@ def _lifespan(
         sys.setswitchinterval(settings.switch_interval)
         manager.start()
         if settings.viser_port is not None:
-            app.state.live_view = _live_view(settings, manager, settings.viser_port)
+            app.state.live_view = _live_view(settings, manager, settings.viser_port, app.state.streams)
             app.state.live_view.start()
             if announce is not None:
                 announce(app.state.live_view.url)

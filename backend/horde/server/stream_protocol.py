@@ -23,6 +23,7 @@ class StreamClose(IntEnum):
     GOING_AWAY = 1001
     ORIGIN_REFUSED = 1008
     TOO_SLOW = 1013
+    UNAUTHORIZED = 4401
     NOT_FOUND = 4404
     RUN_DELETED = 4410
 
@@ -32,8 +33,9 @@ CLOSE_MEANINGS: dict[StreamClose, str] = {
     StreamClose.GOING_AWAY: "the server is stopping",
     StreamClose.ORIGIN_REFUSED: "a page of another site may not open the stream",
     StreamClose.TOO_SLOW: "the client fell too far behind, or a send timed out ('try again later')",
-    StreamClose.NOT_FOUND: "no such run (or study)",
-    StreamClose.RUN_DELETED: "the run was deleted while streamed",
+    StreamClose.UNAUTHORIZED: "the server requires its HORDE_TOKEN (pushing records to a stream run)",
+    StreamClose.NOT_FOUND: "no such run (or study, or stream run)",
+    StreamClose.RUN_DELETED: "the run (or stream run) was deleted while streamed",
 }
 
 # Each stream's message: (component, the model it is, what it says).

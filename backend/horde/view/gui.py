@@ -80,6 +80,8 @@ class ControlPanel:
         self.value_demon: str | None = None
         self.shown: tuple[str, ...] = ()
         self.three_d = False
+        self.phase_x: str | None = None  # the sensors along a phase plane's axes (stream runs)
+        self.phase_y: str | None = None
         self.changed = threading.Event()  # the selection changed: redraw now
         self._run_ids: dict[str, str] = {}  # dropdown option -> run id
         self._demon_handles: list[viser.GuiDropdownHandle[str] | viser.GuiFolderHandle] = []
@@ -230,8 +232,9 @@ class ControlPanel:
             _set(self.run, option)
         self.changed.set()
 
-    def set_demons(self, names: Sequence[str]) -> None:
-        """Rebuild the demon widgets for a newly chosen run (or when demons joined or left it)."""
+    def set_demons(self, names: Sequence[str], with_shown: bool = True) -> None:
+        """Rebuild the demon widgets for a newly chosen run (or when demons joined or left it); without
+        `with_shown`, only the value map's dropdown (a stream run has no charts of shown demons)."""
         for handle in self._demon_handles:
             handle.remove()
         self._demon_handles, self._checkboxes = [], {}
@@ -246,6 +249,8 @@ class ControlPanel:
         value = gui.add_dropdown("Value map", tuple(names), initial_value=self.value_demon, order=20)
         value.on_update(lambda event: self._on_value_demon(event, value))
         self._demon_handles.append(value)
+        if not with_shown:
+            return
         folder = gui.add_folder("Demons shown", order=21)
         with folder:
             for name in names[:MAX_DEMON_CHECKBOXES]:
@@ -271,6 +276,40 @@ class ControlPanel:
         finally:
             self._ticking = False
         self.changed.set()
+
+    def set_sensors(self, names: Sequence[str]) -> None:
+        """The phase plane's axis choices for a run drawn as one (after `set_demons`, removed with its widgets)."""
+        gui = self.server.gui
+        with self.lock:
+            self.phase_x = self.phase_x if self.phase_x in names else (names[0] if names else None)
+            fallback = names[min(1, len(names) - 1)] if names else None
+            self.phase_y = self.phase_y if self.phase_y in names else fallback
+        for label, attribute, order, hint in (
+            ("Phase plane x", "phase_x", 18, "the sensor along the plane's x axis"),
+            ("Phase plane y", "phase_y", 19, "the sensor along y (the others held at their last readings)"),
+        ):
+            handle = gui.add_dropdown(label, tuple(names), initial_value=getattr(self, attribute), order=order,
+                                      hint=hint)  # fmt: skip
+            handle.on_update(self._sensor_callback(handle, attribute))
+            self._demon_handles.append(handle)
+
+    def _sensor_callback(self, handle: Any, attribute: str) -> Callable[[Any], None]:
+        def changed(event: Any) -> None:
+            if self._may_change(event):
+                setattr(self, attribute, handle.value)
+                self.changed.set()
+            else:
+                _set(handle, getattr(self, attribute))
+
+        return changed
+
+    def show_phase_state(self, received: int, learned: int) -> None:
+        """A stream run's counters: it has no episodes, steps or return of its own."""
+        _set(self.status, f"stream: {received} records received")
+        _set(self.episode, 0)
+        _set(self.step, learned)
+        _set(self.total, learned)
+        _set(self.episode_return, 0.0)
 
     def _set_value_demon(self, name: str) -> None:
         self.value_demon = name

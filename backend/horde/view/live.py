@@ -29,6 +29,7 @@ from horde.spec import RunSpec
 from horde.view import camera, scene
 from horde.view.apply import SceneApplier
 from horde.view.gui import ControlPanel
+from horde.view.phase_plane import phase_camera, phase_plane_nodes
 from horde.view.source import ViewSnapshot, ViewSource
 
 log = logging.getLogger(__name__)
@@ -203,6 +204,10 @@ class LiveView:
         if run_id is None:
             self._show_nothing()
             return
+        is_phase = getattr(self.source, "is_phase", None)
+        if is_phase is not None and is_phase(run_id):
+            self._refresh_phase(run_id, now)
+            return
         snapshot = self.source.snapshot(run_id, panel.shown)
         names = tuple(demon.name for demon in snapshot.spec.demons)
         if run_id != self._shown_run or names != self._demon_names:
@@ -253,6 +258,33 @@ class LiveView:
         self._map_key, self._map_time = key, now
 
     # ------------------------------------------------------------------------------------------
+    # Runs without a plane (stream runs): a phase plane of two sensors
+
+    def _refresh_phase(self, run_id: str, now: float) -> None:
+        """The phase plane of the chosen demon over the chosen sensors, redrawn `map_hz` times a second
+        while records arrive, at once when the choice changes."""
+        panel = self.panel
+        sensors, demons, received, learned = self.source.phase_status(run_id)  # type: ignore[attr-defined]
+        if run_id != self._shown_run or demons != self._demon_names:
+            if run_id != self._shown_run:
+                self.applier.clear()
+            self._shown_run, self._demon_names, self._map_key, self._spec = run_id, demons, None, None
+            panel.set_demons(demons, with_shown=False)
+            panel.set_sensors(sensors)
+            self._point_camera(phase_camera())
+        panel.show_phase_state(received, learned)
+        key = (run_id, panel.value_demon, panel.phase_x, panel.phase_y, received)
+        if key == self._map_key:
+            return
+        if self._map_key is not None and key[:4] == self._map_key[:4] and now - self._map_time < 1.0 / self.map_hz:
+            return
+        phase = self.source.phase_snapshot(run_id, panel.value_demon, panel.phase_x, panel.phase_y,  # type: ignore[attr-defined]
+                                           self.resolution)  # fmt: skip
+        with self.server.atomic():
+            self.applier.apply(phase_plane_nodes(phase.x, phase.y, phase.demon, phase.values, phase.trail), "phase")
+        self._map_key, self._map_time = key, now
+
+    # ------------------------------------------------------------------------------------------
     # Camera
 
     def _set_view_mode(self, three_d: bool) -> None:
@@ -260,7 +292,9 @@ class LiveView:
         if self._spec is None:
             return
         world = self._spec.grid
-        pose = camera.tilted(world) if three_d else camera.top_down(world)
+        self._point_camera(camera.tilted(world) if three_d else camera.top_down(world))
+
+    def _point_camera(self, pose: camera.CameraPose) -> None:
         initial = self.server.initial_camera
         initial.fov = pose.fov
         initial.position = pose.position

@@ -4,6 +4,10 @@ Everything the view reads comes from a run's published `RunView` (an immutable c
 history buffer, so the view never touches a learner's mutable state; commands go through the run's
 command queue like REST requests do. The agent's trail is sampled from the views the live view
 takes (about 30 a second), which is every step when watching and a sample at full speed.
+
+Stream runs (`StreamRuns`, given as `streams`) are listed after the grid runs, labelled "stream"; the
+view draws them as a phase plane (`phase_snapshot`) and refuses the commands (a stream run learns what
+its clients push: it has nothing to play or step).
 """
 
 from __future__ import annotations
@@ -14,11 +18,12 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from horde.runs.errors import NotFoundError, RunError
+from horde.runs.errors import NotFoundError, RunError, SpecError
 from horde.runs.manager import RunManager
 from horde.runs.readout import cell_centres, value_map
 from horde.runs.run_view import RunView
-from horde.view.source import CommandRefusedError, History, ViewSnapshot
+from horde.runs.stream_run import StreamRun, StreamRuns
+from horde.view.source import CommandRefusedError, History, PhaseSnapshot, ViewSnapshot
 
 TRAIL_POINTS = 500  # most positions kept of one episode's trail
 HISTORY_ROWS = 400  # most rows of a demon's history sent to the charts
@@ -29,10 +34,12 @@ class ManagerSource:
 
     Args:
         manager: the server's runs.
+        streams: the server's stream runs, drawn as phase planes (None: grid runs only).
     """
 
-    def __init__(self, manager: RunManager) -> None:
+    def __init__(self, manager: RunManager, streams: StreamRuns | None = None) -> None:
         self.manager = manager
+        self.streams = streams
         self._lock = threading.Lock()
         self._trails: dict[str, tuple[int, deque[tuple[float, float]]]] = {}  # run -> (episode, points)
 
@@ -44,7 +51,50 @@ class ManagerSource:
 
     def list_runs(self) -> list[tuple[str, str]]:
         views = sorted(self.manager.list(), key=lambda v: v.created_at)
-        return [(v.id, v.spec.name or "") for v in views]
+        streams = sorted(self.streams.list(), key=lambda r: r.created) if self.streams is not None else []
+        return [(v.id, v.spec.name or "") for v in views] + [(r.id, f"stream {r.spec.name or ''}".strip())
+                                                             for r in streams]  # fmt: skip
+
+    def is_phase(self, run_id: str) -> bool:
+        """Whether the run is drawn as a phase plane (a stream run) rather than as a grid world."""
+        if self.streams is None:
+            return False
+        try:
+            self.streams.get(run_id)
+        except NotFoundError:
+            return False
+        return True
+
+    def phase_status(self, run_id: str) -> tuple[tuple[str, ...], tuple[str, ...], int, int]:
+        """A stream run's (sensor names, demon names, records received, records learned): cheap, every frame."""
+        run = self._stream(run_id)
+        return tuple(run.spec.world.sensor_names()), tuple(run.names), run.learner.received, run.learner.learned
+
+    def _stream(self, run_id: str) -> StreamRun:
+        if self.streams is None:
+            raise KeyError(run_id)
+        try:
+            return self.streams.get(run_id)
+        except NotFoundError:
+            raise KeyError(run_id) from None
+
+    def phase_snapshot(self, run_id: str, demon: str | None, x: str | None, y: str | None,
+                       resolution: int) -> PhaseSnapshot:  # fmt: skip
+        """The stream run's phase plane: `demon`'s values over sensors x and y (None: the first demon, the
+        first two sensors). Raises KeyError for an unknown run, demon or sensor."""
+        run = self._stream(run_id)
+        sensors = tuple(run.spec.world.sensor_names())
+        demon = demon or run.names[0]
+        x = x or sensors[0]
+        y = y or sensors[min(1, len(sensors) - 1)]
+        try:
+            ax, ay, values, trail = run.phase_plane(demon, x, y, resolution)
+        except SpecError as exc:
+            raise KeyError(str(exc)) from None
+        status = run.status()
+        return PhaseSnapshot(run_id=run.id, sensors=sensors, demons=tuple(run.names), received=status.received,
+                             learned=status.learned, demon=demon, x=ax, y=ay, values=values, trail=trail,
+                             predictions=dict(zip(run.names, status.predictions.tolist(), strict=True)))  # fmt: skip
 
     def _trail(self, view: RunView) -> tuple[tuple[float, float], ...]:
         with self._lock:
@@ -117,6 +167,9 @@ class ManagerSource:
 
     def _command(self, run_id: str, name: str, *args: object, **kwargs: object) -> None:
         """Call the run's command; what it refuses (say, play when finished) or cannot save is told back."""
+        if self.is_phase(run_id):
+            raise CommandRefusedError("a stream run learns the records its clients push: it has no play, pause, "
+                                      "step, reset or speed")  # fmt: skip
         try:
             run = self.manager.get(run_id)
         except NotFoundError:

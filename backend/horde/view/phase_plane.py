@@ -7,14 +7,24 @@ names and ranges as labels.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
+from horde.view.camera import FOV, MARGIN, PANEL_SHIFT, CameraPose
 from horde.view.nodes import Node
 from horde.view.scene import value_texture
 from horde.worlds.phase_plane import Axis
 
 PLANE_SIZE = 10.0
 TRAIL_Z = 0.02
+
+
+def phase_camera() -> CameraPose:
+    """Straight down on the plane (its labels included), x to the right, y up, clear of the GUI panel."""
+    distance = 0.5 * (PLANE_SIZE + 2.0) * MARGIN / math.tan(FOV / 2)
+    cx = PANEL_SHIFT * PLANE_SIZE
+    return CameraPose((cx, 0.0, distance), (cx, 0.0, 0.0), (0.0, 1.0, 0.0))
 
 
 def to_plane(x: Axis, y: Axis, xs: np.ndarray, ys: np.ndarray) -> np.ndarray:

@@ -19,6 +19,7 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from horde.spec import RunSpec
+from horde.worlds.phase_plane import Axis
 
 
 class CommandRefusedError(Exception):
@@ -77,6 +78,35 @@ class ViewSnapshot:
     rupee: Mapping[str, float]
     indicator_colors: Mapping[str, str]
     history: History = field(default_factory=History)
+
+
+@dataclass(frozen=True)
+class PhaseSnapshot:
+    """A run of a world without a plane (a stream run) as the view draws it: a phase plane of two sensors.
+
+    Attributes:
+        run_id: the run.
+        sensors: the world's sensor names (the axes to choose from).
+        demons: the run's demon names (the value maps to choose from).
+        received, learned: records received (good or refused) and taken in.
+        demon: the demon whose value map `values` is, over `x` and `y`.
+        x, y: the sensors along the plane's axes, with their ranges.
+        values: [R, R] the demon's prediction over the plane (row j at y's j-th cell; nan: diverged).
+        trail: [N, 2] the recent (x, y) readings, oldest first, the current one last.
+        predictions: demon name -> prediction at the last observation.
+    """
+
+    run_id: str
+    sensors: tuple[str, ...]
+    demons: tuple[str, ...]
+    received: int
+    learned: int
+    demon: str
+    x: Axis
+    y: Axis
+    values: np.ndarray
+    trail: np.ndarray
+    predictions: Mapping[str, float]
 
 
 @runtime_checkable

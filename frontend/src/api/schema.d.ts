@@ -434,7 +434,8 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        get?: never;
+        /** Every stream run, oldest first, with its counters and predictions */
+        get: operations["list_streams_api_streams_get"];
         put?: never;
         /** Start a stream run (a run spec whose world is of kind 'stream') */
         post: operations["create_stream_api_streams_post"];
@@ -457,6 +458,28 @@ export interface paths {
         post?: never;
         /** Stop and forget a stream run */
         delete: operations["delete_stream_api_streams__stream_id__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/streams/{stream_id}/history": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * The recent records' sensors, and each demon's prediction beside the return that followed
+         * @description The strip chart of the nexting paper: the last `last` good records (the server keeps the last 2,000, fewer
+         *     for Hordes of more than 2,000 demons) with each chosen demon's prediction made at the time beside the
+         *     realised discounted return computed afterwards from the stream.
+         */
+        get: operations["get_stream_history_api_streams__stream_id__history_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
         options?: never;
         head?: never;
         patch?: never;
@@ -2002,10 +2025,39 @@ export interface components {
         };
         /**
          * StreamClose
-         * @description How the server closes a WebSocket stream: 1000 NORMAL: the stream is over (a study stopped); 1001 GOING_AWAY: the server is stopping; 1008 ORIGIN_REFUSED: a page of another site may not open the stream; 1013 TOO_SLOW: the client fell too far behind, or a send timed out ('try again later'); 4404 NOT_FOUND: no such run (or study); 4410 RUN_DELETED: the run was deleted while streamed
+         * @description How the server closes a WebSocket stream: 1000 NORMAL: the stream is over (a study stopped); 1001 GOING_AWAY: the server is stopping; 1008 ORIGIN_REFUSED: a page of another site may not open the stream; 1013 TOO_SLOW: the client fell too far behind, or a send timed out ('try again later'); 4401 UNAUTHORIZED: the server requires its HORDE_TOKEN (pushing records to a stream run); 4404 NOT_FOUND: no such run (or study, or stream run); 4410 RUN_DELETED: the run (or stream run) was deleted while streamed
          * @enum {integer}
          */
-        StreamClose: 1000 | 1001 | 1008 | 1013 | 4404 | 4410;
+        StreamClose: 1000 | 1001 | 1008 | 1013 | 4401 | 4404 | 4410;
+        /** StreamHistoryOut */
+        StreamHistoryOut: {
+            /**
+             * Predictions
+             * @description demon -> its prediction on observing each record (null: not a finite number)
+             */
+            predictions: {
+                [key: string]: (number | null)[];
+            };
+            /**
+             * Records
+             * @description each row's record number in the stream (0 = the first ever sent)
+             */
+            records: number[];
+            /**
+             * Returns
+             * @description demon -> the discounted return that followed each record, computed afterwards from the records after it (null where the stream has not gone far enough yet, or a refused record broke it; the behaviour's return, so the demon's answer only for on-policy questions); null for a demon whose question reads other demons' predictions
+             */
+            returns: {
+                [key: string]: (number | null)[] | null;
+            };
+            /**
+             * Sensors
+             * @description sensor -> its reading at each record
+             */
+            sensors: {
+                [key: string]: number[];
+            };
+        };
         /** StreamOut */
         StreamOut: {
             /** Actions */
@@ -2019,6 +2071,12 @@ export interface components {
              * @description good records taken in (the first observed, every later one learned)
              */
             learned: number;
+            /**
+             * Name
+             * @description the run spec's name
+             * @default
+             */
+            name: string;
             /**
              * Predictions
              * @description each demon's prediction at the last observation
@@ -4122,6 +4180,26 @@ export interface operations {
             };
         };
     };
+    list_streams_api_streams_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["StreamOut"][];
+                };
+            };
+        };
+    };
     create_stream_api_streams_post: {
         parameters: {
             query?: never;
@@ -4258,6 +4336,54 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    get_stream_history_api_streams__stream_id__history_get: {
+        parameters: {
+            query?: {
+                /** @description comma-separated (default: the first 4) */
+                sensors?: string | null;
+                /** @description comma-separated (default: the first 4) */
+                demons?: string | null;
+                /** @description records, at most */
+                last?: number;
+            };
+            header?: never;
+            path: {
+                /** @description the stream run's id */
+                stream_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["StreamHistoryOut"];
                 };
             };
             /** @description Unknown run, demon, world or scenario */

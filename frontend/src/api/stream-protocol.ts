@@ -13,9 +13,11 @@ export const StreamClose = {
   ORIGIN_REFUSED: 1008,
   /** the client fell too far behind, or a send timed out ('try again later') */
   TOO_SLOW: 1013,
-  /** no such run (or study) */
+  /** the server requires its HORDE_TOKEN (pushing records to a stream run) */
+  UNAUTHORIZED: 4401,
+  /** no such run (or study, or stream run) */
   NOT_FOUND: 4404,
-  /** the run was deleted while streamed */
+  /** the run (or stream run) was deleted while streamed */
   RUN_DELETED: 4410,
 } as const satisfies Record<string, components["schemas"]["StreamClose"]>;
 

@@ -47,3 +47,7 @@ export type StudyDetail = Schemas["StudyResultsOut"];
 export type StudyConfig = Schemas["StudyConfigOut"];
 export type StudyIn = Schemas["StudySpec"];
 export type Band = Schemas["BandOut"];
+/** A stream run (a world of kind `stream`): its counters and every demon's latest prediction. */
+export type StreamRun = Schemas["StreamOut"];
+/** The strip chart's data: recent sensors, predictions made at the time, realised returns computed afterwards. */
+export type StreamHistory = Schemas["StreamHistoryOut"];

@@ -1,5 +1,6 @@
-"""Stream runs: POST /api/streams, GET|DELETE /api/streams/{id}, POST /api/streams/{id}/records and
-WS /api/streams/{id}/records, where a client (a robot, a replayed log) pushes records and reads predictions.
+"""Stream runs: POST|GET /api/streams, GET|DELETE /api/streams/{id}, POST /api/streams/{id}/records and
+WS /api/streams/{id}/records, where a client (a robot, a replayed log) pushes records and reads predictions;
+GET /api/streams/{id}/phase-plane and /history for what the live view and the dashboard draw.
 
 A record is {observation: [S readings], action, behaviour_probabilities?: [A]} (horde.worlds.records). The
 REST route takes a batch whole or not at all: any refused record is a 422 naming it
@@ -26,17 +27,19 @@ from fastapi import APIRouter, Depends, Path, Query, Request, Response, WebSocke
 from pydantic import Field
 
 from horde.runs.errors import FieldProblem, NotFoundError, SpecError
-from horde.runs.stream_run import MAX_RECORDS_PER_BATCH, PushResult, StreamRun, StreamRuns
+from horde.runs.stream_run import HISTORY, MAX_RECORDS_PER_BATCH, PushResult, StreamRun, StreamRuns
 from horde.server.deps import WriteAccess
 from horde.server.origins import origin_allowed
 from horde.server.responses import BAD_BODY, BUSY, NOT_FOUND, UNAUTHORIZED
 from horde.server.schemas import In, Out
 from horde.server.settings import Settings
+from horde.server.stream_protocol import StreamClose
 from horde.spec import RunSpec
 from horde.worlds.phase_plane import MAX_PHASE_RESOLUTION
 
 router = APIRouter(prefix="/streams", tags=["streams"])
 QUEUE = 8  # WebSocket messages waiting to be learned, at most
+MAX_HISTORY_SERIES = 16  # sensors or demons one history request may name
 
 
 def get_streams(request: Request) -> StreamRuns:
@@ -64,6 +67,7 @@ class RecordsIn(In):
 
 class StreamOut(Out):
     id: str
+    name: str = Field(default="", description="the run spec's name")
     sensors: list[str]
     actions: int
     demons: list[str]
@@ -75,6 +79,7 @@ class StreamOut(Out):
 def _out(run: StreamRun, result: PushResult) -> StreamOut:
     return StreamOut(
         id=run.id,
+        name=run.spec.name or "",
         sensors=run.spec.world.sensor_names(),
         actions=run.spec.world.num_actions(),
         demons=run.names,
@@ -94,6 +99,11 @@ def _out(run: StreamRun, result: PushResult) -> StreamOut:
 def create_stream(spec: RunSpec, streams: StreamsDep) -> StreamOut:
     run = streams.create(spec)
     return _out(run, run.status())
+
+
+@router.get("", summary="Every stream run, oldest first, with its counters and predictions")
+def list_streams(streams: StreamsDep) -> list[StreamOut]:
+    return [_out(run, run.status()) for run in sorted(streams.list(), key=lambda r: r.created)]
 
 
 @router.get("/{stream_id}", summary="A stream run's counters and predictions", responses=NOT_FOUND)
@@ -164,6 +174,60 @@ def get_phase_plane(
                          trail=trail.tolist())  # fmt: skip
 
 
+class StreamHistoryOut(Out):
+    records: list[int] = Field(description="each row's record number in the stream (0 = the first ever sent)")
+    sensors: dict[str, list[float]] = Field(description="sensor -> its reading at each record")
+    predictions: dict[str, list[float | None]] = Field(
+        description="demon -> its prediction on observing each record (null: not a finite number)"
+    )
+    returns: dict[str, list[float | None] | None] = Field(
+        description="demon -> the discounted return that followed each record, computed afterwards from the "
+        "records after it (null where the stream has not gone far enough yet, or a refused record broke it; the "
+        "behaviour's return, so the demon's answer only for on-policy questions); null for a demon whose "
+        "question reads other demons' predictions"
+    )
+
+
+def _names(text: str | None, default: list[str], field: str) -> list[str]:
+    if text is None:
+        return default
+    names = [n.strip() for n in text.split(",") if n.strip()]
+    if not names or len(names) > MAX_HISTORY_SERIES:
+        message = f"give 1 to {MAX_HISTORY_SERIES} comma-separated names"
+        raise SpecError([FieldProblem(("query", field), message)])
+    return names
+
+
+def _floats(values: np.ndarray) -> list[float | None]:
+    return [float(v) if np.isfinite(v) else None for v in values]
+
+
+@router.get(
+    "/{stream_id}/history",
+    summary="The recent records' sensors, and each demon's prediction beside the return that followed",
+    responses=NOT_FOUND,
+)
+def get_stream_history(
+    stream_id: StreamId,
+    streams: StreamsDep,
+    sensors: Annotated[str | None, Query(max_length=2000, description="comma-separated (default: the first 4)")] = None,
+    demons: Annotated[str | None, Query(max_length=2000, description="comma-separated (default: the first 4)")] = None,
+    last: Annotated[int, Query(ge=2, le=HISTORY, description="records, at most")] = 1000,
+) -> StreamHistoryOut:
+    """The strip chart of the nexting paper: the last `last` good records (the server keeps the last 2,000, fewer
+    for Hordes of more than 2,000 demons) with each chosen demon's prediction made at the time beside the
+    realised discounted return computed afterwards from the stream."""
+    run = streams.get(stream_id)
+    names = run.spec.world.sensor_names()
+    history = run.history(_names(sensors, names[:4], "sensors"), _names(demons, run.names[:4], "demons"), last)
+    return StreamHistoryOut(
+        records=history.numbers.tolist(),
+        sensors={s: v.tolist() for s, v in history.sensors.items()},
+        predictions={d: _floats(v) for d, v in history.predictions.items()},
+        returns={d: None if v is None else _floats(v) for d, v in history.returns.items()},
+    )
+
+
 def _token_ok(websocket: WebSocket, settings: Settings) -> bool:
     if settings.token is None:
         return True
@@ -186,21 +250,22 @@ def _items(text: str) -> list[Any]:
 
 @router.websocket("/{stream_id}/records")
 async def stream_records(websocket: WebSocket, stream_id: str) -> None:
-    """Push records, read predictions (see the module). Close codes: 4404 unknown stream run, 4401 no token
-    (when HORDE_TOKEN is set: `Authorization: Bearer` or `?token=`), 1008 a page of another site."""
+    """Push records, read predictions (see the module). Close codes (StreamClose): 4404 unknown stream run,
+    4401 no token (when HORDE_TOKEN is set: `Authorization: Bearer` or `?token=`), 1008 a page of another
+    site, 4410 the stream run was deleted (what was pushed after that is not learned)."""
     settings: Settings = websocket.app.state.settings
     headers = websocket.headers
     if not origin_allowed(headers.get("origin"), headers.get("host"), settings.is_loopback(), settings.origins):
-        await websocket.close(code=1008, reason="this page's origin may not push records")
+        await websocket.close(code=StreamClose.ORIGIN_REFUSED, reason="this page's origin may not push records")
         return
     if not _token_ok(websocket, settings):
-        await websocket.close(code=4401, reason="this server requires its HORDE_TOKEN")
+        await websocket.close(code=StreamClose.UNAUTHORIZED, reason="this server requires its HORDE_TOKEN")
         return
     streams: StreamRuns = websocket.app.state.streams
     try:
         run = streams.get(stream_id)
     except NotFoundError:
-        await websocket.close(code=4404, reason=f"no stream run {stream_id!r}")
+        await websocket.close(code=StreamClose.NOT_FOUND, reason=f"no stream run {stream_id!r}")
         return
     await websocket.accept()
     await websocket.send_json({"type": "hello", "sensors": run.spec.world.sensor_names(),
@@ -226,6 +291,7 @@ async def stream_records(websocket: WebSocket, stream_id: str) -> None:
                                        "predictions": result.predictions.tolist()})  # fmt: skip
 
     learner = asyncio.create_task(learn())
+    deleted = False
     try:
         while not learner.done():
             text = await websocket.receive_text()
@@ -235,6 +301,9 @@ async def stream_records(websocket: WebSocket, stream_id: str) -> None:
                 problem = f"not JSON: {exc}" if isinstance(exc, json.JSONDecodeError) else str(exc)
                 await websocket.send_json({"type": "error", "index": None, "field": "message", "message": problem})
                 continue
+            if not streams.holds(run):  # deleted meanwhile: this message is not learned, nor any later one
+                deleted = True
+                break
             await queue.put(items)  # waits while QUEUE messages are unlearned: back-pressure
     except WebSocketDisconnect:
         pass
@@ -243,3 +312,6 @@ async def stream_records(websocket: WebSocket, stream_id: str) -> None:
             await queue.put(None)
             with contextlib.suppress(Exception):
                 await learner
+        if deleted:
+            with contextlib.suppress(Exception):
+                await websocket.close(code=StreamClose.RUN_DELETED, reason=f"stream run {run.id!r} was deleted")

@@ -1,0 +1,105 @@
+"""A stream run in a real browser: listed in the dashboard, its strip chart (predictions beside realised
+returns) drawn from records pushed over REST, and its phase plane in the same embedded live view."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import pytest
+
+from horde.server import Settings
+
+from .conftest import CHROMIUM, ROOT, SHOTS, RunningServer, free_port, serve_in_thread
+
+if TYPE_CHECKING:
+    from playwright.sync_api import Browser
+
+DIST = ROOT / "frontend" / "dist"
+SENSORS = [{"name": "light", "low": 0, "high": 1}, {"name": "wheel", "low": -1, "high": 1}]
+# Pixels of a colour on a uPlot canvas (the prediction's blue, the return's near-black), for "is it drawn".
+PIXELS_OF = """([selector, rgb]) => {
+    const canvas = document.querySelector(selector);
+    if (!canvas) return 0;
+    const data = canvas.getContext("2d").getImageData(0, 0, canvas.width, canvas.height).data;
+    let n = 0;
+    for (let i = 0; i < data.length; i += 4) {
+        if (Math.abs(data[i] - rgb[0]) < 40 && Math.abs(data[i + 1] - rgb[1]) < 40
+            && Math.abs(data[i + 2] - rgb[2]) < 40 && data[i + 3] > 200) n++;
+    }
+    return n;
+}"""
+PHASE_MAP = """() => !!window.__viserMutable?.nodeRefFromName?.["/phase/map"]"""
+
+pytestmark = [
+    pytest.mark.e2e,
+    pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium at /usr/bin/chromium"),
+    pytest.mark.skipif(not (DIST / "index.html").exists(), reason="frontend/dist is not built: run `make frontend`"),
+]
+
+
+@pytest.fixture
+def server(tmp_path: Path) -> Iterator[RunningServer]:
+    settings = Settings(data=tmp_path / "data", token=None, viser_port=free_port(), snapshot_every=3600.0)
+    with serve_in_thread(settings) as running:
+        yield running
+
+
+def spec() -> dict[str, Any]:
+    return {
+        "name": "robot",
+        "world": {"kind": "stream", "actions": 2, "sensors": SENSORS},
+        "features": {"kind": "sensors", "tilings": 4, "tiles": 6, "size": 256,
+                     "sensors": [{"sensor": s["name"], "low": s["low"], "high": s["high"]} for s in SENSORS]},
+        "demons": [{"name": "light_g0.8", "learner": "td", "cumulant": {"sensor": "light"}, "discount": 0.8},
+                   {"name": "wheel_g0.5", "learner": "td", "cumulant": {"sensor": "wheel"}, "discount": 0.5}],
+    }  # fmt: skip
+
+
+def records(start: int, n: int) -> list[dict[str, Any]]:
+    return [{"observation": [0.5 + 0.4 * math.sin(k / 20), math.cos(k / 7)], "action": k % 2}
+            for k in range(start, start + n)]  # fmt: skip
+
+
+def test_pushed_records_draw_the_strip_chart_and_the_phase_plane(server: RunningServer, browser: Browser) -> None:
+    api = server.client
+    stream = api.post("/api/streams", json=spec()).json()["id"]
+    assert api.post(f"/api/streams/{stream}/records", json={"records": records(0, 300)}).status_code == 200
+    errors: list[str] = []
+    page = browser.new_page(viewport={"width": 1280, "height": 1100})
+    try:
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.goto(server.url)
+        row = page.locator(f'li.run-item[data-stream="{stream}"]')
+        row.wait_for(timeout=15_000)
+        assert "300 records learned of 300 received" in row.inner_text()
+        row.locator("button").click()
+        strip = page.locator('[data-testid="stream-strip"]')
+        strip.wait_for(state="visible", timeout=15_000)
+        assert "predictions beside realised returns" in strip.locator("h2").inner_text()
+        assert "Dashed black: the discounted return that actually followed" in strip.inner_text()
+        canvas = 'figure[data-demon="light_g0.8"] canvas'
+        page.locator(canvas).wait_for(timeout=15_000)
+        page.wait_for_function(f"() => ({PIXELS_OF})([{canvas!r}, [0, 114, 178]]) > 50", timeout=15_000)
+        assert page.evaluate(PIXELS_OF, [canvas, [17, 24, 39]]) > 50, "the realised return is drawn beside it"
+        sensor_canvas = 'figure[data-sensor="light"] canvas'
+        page.locator(sensor_canvas).wait_for(timeout=15_000)
+        caption = page.locator('figure[data-demon="light_g0.8"] figcaption')
+        caption.filter(has_text="mean |prediction − return|").wait_for(timeout=15_000)
+        # More records arrive: the list and the chart follow.
+        assert api.post(f"/api/streams/{stream}/records", json={"records": records(300, 200)}).status_code == 200
+        page.locator('[data-testid="stream-strip"] p.hint', has_text="500 records learned").wait_for(timeout=15_000)
+        # The same embedded live view now draws the stream run's phase plane.
+        assert api.get("/api/view").json()["run"] == stream, "selecting a stream run shows it in the live view"
+        frame = page.frame_locator("iframe.viser-frame")
+        frame.locator("body").wait_for(timeout=15_000)
+        viser = next(f for f in page.frames if f.url.startswith(api.get("/api/view").json()["url"].rstrip("/")))
+        viser.wait_for_function(PHASE_MAP, timeout=60_000)  # a GPU-less client on a busy machine is slow
+        SHOTS.mkdir(parents=True, exist_ok=True)
+        page.screenshot(path=str(SHOTS / "stream-strip.png"), full_page=True)
+        strip.screenshot(path=str(SHOTS / "stream-strip-chart.png"))
+        assert errors == []
+    finally:
+        page.close()
