@@ -1,5 +1,5 @@
 """Request dependencies as Annotated aliases: settings, the run manager, the store, a run, write access,
-the protocol and study jobs, the stream hub and the live view.
+the protocol and study jobs, the stream hub, the stream runs and the live view.
 
 These functions are the only readers of `app.state` (which `create_app` and its lifespan fill); routes
 take what they need as parameters. They take an `HTTPConnection`, so HTTP routes and WebSocket routes
@@ -20,6 +20,7 @@ from horde.runs.live_run import LiveRun
 from horde.runs.manager import RunManager
 from horde.runs.protocols import ProtocolJobs
 from horde.runs.store import Store
+from horde.runs.stream_run import StreamRuns
 from horde.server.catalog import ScenarioCatalog
 from horde.server.settings import Settings
 from horde.server.stream import StreamHub
@@ -47,6 +48,7 @@ CatalogDep = Annotated[ScenarioCatalog, Depends(_from_state("catalog"))]
 ProtocolsDep = Annotated[ProtocolJobs, Depends(_from_state("protocols"))]
 StudiesDep = Annotated[StudyJobs, Depends(_from_state("studies"))]
 HubDep = Annotated[StreamHub, Depends(_from_state("hub"))]
+StreamsDep = Annotated[StreamRuns, Depends(_from_state("streams"))]  # stream runs (routes/records.py)
 LiveViewDep = Annotated[LiveView | None, Depends(_from_state("live_view"))]  # None: the server runs without it
 RunId = Annotated[str, Path(min_length=1, max_length=64, description="the run's id")]
 DemonName = Annotated[str, Path(min_length=1, max_length=64, description="the demon's name")]

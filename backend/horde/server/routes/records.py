@@ -23,12 +23,12 @@ import json
 from typing import Annotated, Any
 
 import numpy as np
-from fastapi import APIRouter, Depends, Path, Query, Request, Response, WebSocket, WebSocketDisconnect, status
+from fastapi import APIRouter, Path, Query, Response, WebSocket, WebSocketDisconnect, status
 from pydantic import Field
 
 from horde.runs.errors import FieldProblem, NotFoundError, SpecError
-from horde.runs.stream_run import HISTORY, MAX_RECORDS_PER_BATCH, PushResult, StreamRun, StreamRuns
-from horde.server.deps import WriteAccess
+from horde.runs.stream_run import HISTORY, MAX_RECORDS_PER_BATCH, PushResult, StreamRun
+from horde.server.deps import SettingsDep, StreamsDep, WriteAccess
 from horde.server.origins import origin_allowed
 from horde.server.responses import BAD_BODY, BUSY, NOT_FOUND, UNAUTHORIZED
 from horde.server.schemas import In, Out
@@ -42,12 +42,6 @@ QUEUE = 8  # WebSocket messages waiting to be learned, at most
 MAX_HISTORY_SERIES = 16  # sensors or demons one history request may name
 
 
-def get_streams(request: Request) -> StreamRuns:
-    streams: StreamRuns = request.app.state.streams
-    return streams
-
-
-StreamsDep = Annotated[StreamRuns, Depends(get_streams)]
 StreamId = Annotated[str, Path(min_length=1, max_length=64, description="the stream run's id")]
 
 
@@ -249,11 +243,10 @@ def _items(text: str) -> list[Any]:
 
 
 @router.websocket("/{stream_id}/records")
-async def stream_records(websocket: WebSocket, stream_id: str) -> None:
+async def stream_records(websocket: WebSocket, stream_id: str, settings: SettingsDep, streams: StreamsDep) -> None:
     """Push records, read predictions (see the module). Close codes (StreamClose): 4404 unknown stream run,
     4401 no token (when HORDE_TOKEN is set: `Authorization: Bearer` or `?token=`), 1008 a page of another
     site, 4410 the stream run was deleted (what was pushed after that is not learned)."""
-    settings: Settings = websocket.app.state.settings
     headers = websocket.headers
     if not origin_allowed(headers.get("origin"), headers.get("host"), settings.is_loopback(), settings.origins):
         await websocket.close(code=StreamClose.ORIGIN_REFUSED, reason="this page's origin may not push records")
@@ -261,7 +254,6 @@ async def stream_records(websocket: WebSocket, stream_id: str) -> None:
     if not _token_ok(websocket, settings):
         await websocket.close(code=StreamClose.UNAUTHORIZED, reason="this server requires its HORDE_TOKEN")
         return
-    streams: StreamRuns = websocket.app.state.streams
     try:
         run = streams.get(stream_id)
     except NotFoundError:
