@@ -421,6 +421,8 @@ class LiveRun:
 
     def _do_pause(self) -> RunView:
         self._require(("running",), "pause")
+        if self._last_row < self._sim.total_steps:  # the history (and its charts) ends where the run stands
+            self._record()
         self._set_status("paused", f"paused at step {self._sim.total_steps}")
         return self._commit(snapshot=True)
 
