@@ -186,18 +186,23 @@ class Horde:
 
     def _compile(self, spec: RunSpec, stage_of: dict[str, int]) -> tuple[Stage, ...]:
         sensor_index = {name: i for i, name in enumerate(spec.world.sensor_names())}
+        # One pass over the demons (a chain of 1,000 demons has 1,000 stages: a pass per stage held the
+        # GIL long enough to delay the server's other requests), and one coder per feature set.
+        features_of: dict[str, FeatureSpec] = {}
+        coders: dict[str, StateCoder] = {}
+        by_stage: list[dict[tuple[str, bool], list[int]]] = [{} for _ in range(max(stage_of.values(), default=-1) + 1)]
+        default_key = spec.features.model_dump_json()
+        for i, demon in enumerate(self.demon_specs):
+            key = demon.features.model_dump_json() if demon.features else default_key
+            features_of.setdefault(key, demon.features or spec.features)
+            by_stage[stage_of[demon.name]].setdefault((key, demon.learner == "gq"), []).append(i)
         stages = []
-        for stage in range(max(stage_of.values(), default=-1) + 1):
-            keys: dict[tuple[str, bool], list[int]] = {}
-            features_of: dict[str, FeatureSpec] = {}
-            for i, demon in enumerate(self.demon_specs):
-                if stage_of[demon.name] == stage:
-                    features = demon.features or spec.features
-                    key = features.model_dump_json()
-                    features_of[key] = features
-                    keys.setdefault((key, demon.learner == "gq"), []).append(i)
+        for stage, keys in enumerate(by_stage):
+            for key, _ in keys:
+                if key not in coders:
+                    coders[key] = StateCoder(features_of[key], *self._plane(spec), spec.world.sensor_names())
             groups = tuple(
-                self._compile_group(spec, stage, features_of[key], action_values, members)
+                self._compile_group(spec, stage, coders[key], action_values, members)
                 for (key, action_values), members in keys.items()
             )
             demons = np.concatenate([g.demons for g in groups])
@@ -210,12 +215,15 @@ class Horde:
             stages.append(Stage(groups, demons, program, np.array([d.discount for d in specs])))
         return tuple(stages)
 
-    def _compile_group(
-        self, spec: RunSpec, stage: int, features: FeatureSpec, action_values: bool, members: list[int]
-    ) -> Group:
+    @staticmethod
+    def _plane(spec: RunSpec) -> tuple[float, float]:
         world = spec.world
-        width, height = (world.width, world.height) if isinstance(world, WorldSpec) else (1.0, 1.0)  # no plane
-        coder = StateCoder(features, width, height, world.sensor_names())
+        return (world.width, world.height) if isinstance(world, WorldSpec) else (1.0, 1.0)  # no plane
+
+    def _compile_group(
+        self, spec: RunSpec, stage: int, coder: StateCoder, action_values: bool, members: list[int]
+    ) -> Group:
+        features = coder.spec
         defaults = spec.learning
         A = self.num_actions
         by_block: dict[tuple[scale.Learner, float, scale.BlockPolicy, str], list[int]] = {}
