@@ -32,7 +32,7 @@ def test_an_exception_while_learning_marks_the_run_failed_and_the_thread_lives_o
         def explode(*args: object, **kwargs: object) -> None:
             raise FloatingPointError("boom")
 
-        run._sim.run = explode  # type: ignore[method-assign]
+        run.session.sim.run = explode  # type: ignore[method-assign]
         run.start()
         wait_until(lambda: run.view.status == "failed", "the run to fail")
         assert "FloatingPointError: boom" in run.view.message

@@ -93,28 +93,28 @@ def test_a_slow_view_never_stretches_the_publish_interval_beyond_its_cap(monkeyp
     """Issue 10, reproducer 6: one view that took long to make (the learner waited for the GIL) froze the
     published state for 80 s, as the interval was 20 times the wall time a view took. It is 20 times the
     learner thread's own CPU time now, and never more than MAX_PUBLISH_INTERVAL."""
-    from horde.runs import live_run
+    from horde.runs import recorder
 
     spec = RunSpec.model_validate(make_spec())
     run = LiveRun("r1", new_simulation(spec), Limits())
-    make_view = run._make_view
+    make_view = run.recorder.make_view
 
     def waited() -> Any:  # wall time passes, this thread's CPU time does not
         time.sleep(0.3)
-        return make_view()
+        return make_view(run.session)
 
-    monkeypatch.setattr(run, "_make_view", waited)
+    monkeypatch.setattr(run.recorder, "make_view", lambda session: waited())
     began = time.monotonic()
-    run._publish(force=True)
-    assert run._next_publish - began <= 0.3 + 2 * live_run.PUBLISH_INTERVAL, "waiting is not the view's cost"
+    run.recorder.publish(run.session, force=True)
+    assert run.recorder._next_publish - began <= 0.3 + 2 * recorder.PUBLISH_INTERVAL, "waiting is not the view's cost"
 
     def busy() -> Any:  # a view that really costs 0.2 s of CPU would ask for 4 s between publications
         end = time.thread_time() + 0.2
         while time.thread_time() < end:
             pass
-        return make_view()
+        return make_view(run.session)
 
-    monkeypatch.setattr(run, "_make_view", busy)
+    monkeypatch.setattr(run.recorder, "make_view", lambda session: busy())
     began = time.monotonic()
-    run._publish(force=True)
-    assert run._next_publish - began <= live_run.MAX_PUBLISH_INTERVAL + 0.01
+    run.recorder.publish(run.session, force=True)
+    assert run.recorder._next_publish - began <= recorder.MAX_PUBLISH_INTERVAL + 0.01

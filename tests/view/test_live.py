@@ -246,3 +246,49 @@ def test_a_stream_run_is_drawn_as_a_phase_plane_in_the_same_view() -> None:
     finally:
         view.stop()
         manager.stop()
+
+
+def test_a_gymnasium_run_is_drawn_as_a_phase_plane_with_its_trail_and_commands() -> None:
+    from tests.server.test_gym_runs import gym_spec
+
+    from horde.worlds.phase_plane import axis_of, phase_plane
+
+    manager = RunManager()
+    run_id = manager.create(RunSpec.model_validate(gym_spec())).id
+    source = ManagerSource(manager)
+    view = started_by_hand(source)
+    view.map_hz = 1e6  # every frame redraws the plane
+    try:
+        assert source.is_phase(run_id) and not source.is_stream(run_id)
+        view.show(run_id)
+        view.refresh()  # the episode's first state starts the trail
+        positions = [manager.get(run_id).view.sensors[:2].copy()]  # type: ignore[index]
+        for _ in range(5):  # the view samples the run's sensors once per frame, as the grid's trail
+            source.step(run_id, 7)  # a GUI command reaches the run (streams refuse them)
+            positions.append(manager.get(run_id).view.sensors[:2].copy())  # type: ignore[index]
+            view.refresh()
+        drawn = view.applier.drawn
+        assert "/world/floor" not in drawn
+        assert {"/phase/map", "/phase/trail", "/phase/agent"} <= set(drawn)
+        assert drawn["/phase/x_label"][0].text == "position [-1.2, 0.6]"
+        assert drawn["/phase/y_label"][0].text == "velocity [-0.07, 0.07]"
+        assert view.panel.total.value == 35 and view.panel.status.value == "paused"
+        assert view.panel._checkboxes, "a live run's demons can be shown in the charts"
+        # The agent sits at the run's last (position, velocity); the trail holds each frame's reading.
+        segments = drawn["/phase/trail"][0].points  # [N - 1, 2, 3]
+        x, y = axis_of(manager.get(run_id).view.horde, "position"), axis_of(manager.get(run_id).view.horde, "velocity")
+        scene = np.array([((p - x.low) / (x.high - x.low) - 0.5, (v - y.low) / (y.high - y.low) - 0.5)
+                          for p, v in positions]) * 10.0  # fmt: skip
+        np.testing.assert_allclose(segments[:, 0, :2], scene[:-1])
+        np.testing.assert_allclose(segments[:, 1, :2], scene[1:])
+        assert drawn["/phase/agent"][0].position[:2] == pytest.approx(tuple(scene[-1]))
+        # The value map is the demon's prediction over the plane, the other sensors held at the agent's.
+        snapshot = source.phase_snapshot(run_id, "velocity_g0.9", "position", "velocity", 8)
+        published = manager.get(run_id).view
+        expected_map = phase_plane(published.horde, published.horde_state, "velocity_g0.9", x, y,
+                                   published.sensors, 8)  # fmt: skip
+        np.testing.assert_array_equal(snapshot.values, expected_map)
+        assert np.ptp(snapshot.values) > 0, "a learned velocity demon varies over the plane"
+    finally:
+        view.stop()
+        manager.stop()

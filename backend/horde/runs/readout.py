@@ -50,6 +50,14 @@ class Evaluation:
     exact: float | None = None  # the exact answer at `start`, on a lattice world that has one
 
 
+def _require_grid(view: RunView, loc: tuple[str, ...], what: str) -> None:
+    """Raises SpecError (422 at `loc`) for a run whose world is not the grid: `what` needs positions."""
+    if view.spec.world.kind != "grid":
+        raise SpecError.at(loc, f"{what} needs the grid world; this run's world is a {view.spec.world.kind} one "
+                                "(the live view draws its demons' values over a phase plane of two sensors, and "
+                                "`horde run` compares its predictions with realised returns)")  # fmt: skip
+
+
 def _demon_index(view: RunView, name: str) -> int:
     if name not in view.horde.index:
         raise NotFoundError(f"run {view.id!r} has no demon {name!r}")
@@ -59,6 +67,7 @@ def _demon_index(view: RunView, name: str) -> int:
 def value_map(view: RunView, name: str, resolution: int) -> ValueMap:
     """The demon's prediction over the world on a resolution x resolution grid, with frozen weights."""
     demon = _demon_index(view, name)
+    _require_grid(view, ("path", "run_id"), "a value map over the world")
     world = view.spec.grid
     xs, ys = cell_centres(world.width, world.height, resolution)  # [N] each
     gx, gy = np.meshgrid(xs, ys)  # [N, N] each, rows along y
@@ -86,6 +95,7 @@ def evaluate(
         SpecError: a start outside the world or inside an obstacle (naming the field `from`).
     """
     demon = _demon_index(view, name)
+    _require_grid(view, ("body", "from"), "a Monte-Carlo evaluation from a point")
     x, y = start
     world = World(view.spec.grid)
     if not view.spec.grid.contains(x, y):

@@ -11,6 +11,7 @@ from pydantic import Field
 from horde.core.simulation import Simulation
 from horde.runs.errors import SpecError
 from horde.spec import RunSpec
+from horde.worlds.gym_simulation import GymSimulation
 
 MIN_HZ = 0.01  # paced runs: one step every 100 s at the slowest
 MAX_HZ = 10_000.0  # beyond this, run at full speed (hz = null)
@@ -62,17 +63,20 @@ def check_limits(spec: RunSpec, limits: Limits) -> None:
         )
 
 
-def new_simulation(spec: RunSpec) -> Simulation:
-    """A fresh simulation of the spec, seeded like trial 0 of its protocol.
+def new_simulation(spec: RunSpec) -> Simulation | GymSimulation:
+    """A fresh source of transitions for the spec's world, seeded like trial 0 of its protocol: the grid
+    world's `Simulation`, or a `GymSimulation` for a Gymnasium environment.
 
     Raises:
-        SpecError: the spec validates but cannot run (for example a start area that is all obstacle).
+        SpecError: the spec validates but cannot run (for example a start area that is all obstacle), or
+            its world is a stream (whose records clients push: POST /api/streams).
     """
-    if spec.world.kind != "grid":
-        where = "POST /api/streams" if spec.world.kind == "stream" else "`horde run` (the command line)"
-        raise SpecError.at(("body", "world", "kind"), f"live runs take the grid world; a {spec.world.kind} world "
-                                                      f"runs with {where}")  # fmt: skip
+    if spec.world.kind == "stream":
+        raise SpecError.at(("body", "world", "kind"), "a stream world learns the records its clients push: "
+                                                      "create it with POST /api/streams")  # fmt: skip
     try:
+        if spec.world.kind == "gymnasium":
+            return GymSimulation(spec, trial_rng(spec))
         return Simulation(spec, trial_rng(spec))
     except ValueError as exc:
         raise SpecError.at(("body",), f"the spec cannot run: {exc}") from None

@@ -15,6 +15,7 @@ import numpy as np
 from horde.core.horde import Horde, HordeState
 from horde.core.world import WorldState
 from horde.spec import RunSpec
+from horde.worlds.gym_simulation import GymWorldState
 
 RunStatus = Literal["created", "running", "paused", "finished", "failed"]
 STATUSES: tuple[RunStatus, ...] = ("created", "running", "paused", "finished", "failed")
@@ -53,7 +54,7 @@ class RunView:
     horde_state: HordeState  # a copy, never changed
     rupee: np.ndarray  # [D]
     ude: np.ndarray  # [D]
-    world_state: WorldState
+    world_state: WorldState | GymWorldState
     episode: int  # episodes completed
     total_steps: int
     episode_return: float
@@ -63,10 +64,15 @@ class RunView:
     summary: Summary | None
     seq: int  # increases with every publication
     step_size: np.ndarray | None = None  # [D] each demon's effective step size (Simulation.effective_step_sizes)
+    sensors: np.ndarray | None = None  # [S] the sensors at the agent's state, for a world without a plane
 
     @property
     def position(self) -> tuple[float, float]:
-        return float(self.world_state.x[0]), float(self.world_state.y[0])
+        """The agent's (x, y) in the grid world; elsewhere its first two sensors (the phase plane's default)."""
+        if isinstance(self.world_state, WorldState):
+            return float(self.world_state.x[0]), float(self.world_state.y[0])
+        sensors = self.sensors if self.sensors is not None else np.zeros(2)
+        return float(sensors[0]), float(sensors[min(1, len(sensors) - 1)])
 
     @property
     def episode_step(self) -> int:

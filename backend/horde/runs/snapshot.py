@@ -27,6 +27,7 @@ from horde.runs.errors import SpecError
 from horde.runs.run_setup import Hz, new_simulation
 from horde.runs.run_view import RunStatus
 from horde.spec import RunSpec
+from horde.worlds.gym_simulation import GymSimulation
 
 FORMAT: Literal["horde-snapshot/1"] = "horde-snapshot/1"
 DTYPES: dict[str, str] = {"float64": "<f8", "int64": "<i8", "bool": "|b1"}
@@ -83,7 +84,7 @@ class Snapshot(BaseModel):
 class Restored:
     """A simulation rebuilt from a snapshot, with the run-level values that came with it."""
 
-    sim: Simulation
+    sim: Simulation | GymSimulation
     status: RunStatus
     hz: float | None
     stop_reference: list[np.ndarray] | None
@@ -206,7 +207,7 @@ class Frozen:
 
 
 def freeze(
-    sim: Simulation,
+    sim: Simulation | GymSimulation,
     spec: RunSpec,
     status: RunStatus,
     hz: float | None,
@@ -255,7 +256,7 @@ def encode_frozen(frozen: Frozen) -> Snapshot:
 
 
 def capture(
-    sim: Simulation,
+    sim: Simulation | GymSimulation,
     spec: RunSpec,
     status: RunStatus,
     hz: float | None,
@@ -273,10 +274,11 @@ def restore(snapshot: Snapshot) -> Restored:
     """
     spec = snapshot.spec
     sim = new_simulation(spec)
-    world_state: WorldState = _decode_tree(sim.world_state, snapshot.world, "world")
-    x, y = float(world_state.x[0]), float(world_state.y[0])
-    if not spec.grid.contains(x, y):
-        raise SpecError.at(("body", "world", "x"), f"the agent at ({x}, {y}) stands outside the world")
+    world_state = _decode_tree(sim.world_state, snapshot.world, "world")
+    if isinstance(world_state, WorldState):
+        x, y = float(world_state.x[0]), float(world_state.y[0])
+        if not spec.grid.contains(x, y):
+            raise SpecError.at(("body", "world", "x"), f"the agent at ({x}, {y}) stands outside the world")
     sim.world_state = world_state
     sim.horde_state = _decode_tree(sim.horde_state, snapshot.horde, "horde")
     sim.rng.bit_generator.state = {

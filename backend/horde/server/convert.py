@@ -112,6 +112,9 @@ def state_out(view: RunView, events: list[Event], demons: Sequence[int] | None =
         metrics=demon_metrics(view, indices),
         demon_total=len(names),
         events=[event_out(e) for e in events],
+        sensors=None
+        if view.sensors is None
+        else dict(zip(view.spec.world.sensor_names(), view.sensors.tolist(), strict=True)),
     )
 
 

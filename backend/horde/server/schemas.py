@@ -280,6 +280,10 @@ class StateOut(Out):
         default=0, description="the run's demons; a stream message carries at most 200 of them, the next ones in turn"
     )
     events: list[EventOut] = Field(description="recent events (a stream message: those since the last message)")
+    sensors: dict[str, MaybeFloat] | None = Field(
+        default=None,
+        description="a Gymnasium run's sensors at the agent's state (its `agent` is then the first two of them)",
+    )
 
 
 class DemonOut(Out):

@@ -258,21 +258,29 @@ class LiveView:
         self._map_key, self._map_time = key, now
 
     # ------------------------------------------------------------------------------------------
-    # Runs without a plane (stream runs): a phase plane of two sensors
+    # Runs without a plane (Gymnasium and stream runs): a phase plane of two sensors
 
     def _refresh_phase(self, run_id: str, now: float) -> None:
         """The phase plane of the chosen demon over the chosen sensors, redrawn `map_hz` times a second
         while records arrive, at once when the choice changes."""
         panel = self.panel
         sensors, demons, received, learned = self.source.phase_status(run_id)  # type: ignore[attr-defined]
+        is_stream = getattr(self.source, "is_stream", lambda run: True)(run_id)
         if run_id != self._shown_run or demons != self._demon_names:
             if run_id != self._shown_run:
                 self.applier.clear()
             self._shown_run, self._demon_names, self._map_key, self._spec = run_id, demons, None, None
-            panel.set_demons(demons, with_shown=False)
+            panel.set_demons(demons, with_shown=not is_stream)
             panel.set_sensors(sensors)
             self._point_camera(phase_camera())
-        panel.show_phase_state(received, learned)
+        if is_stream:
+            panel.show_phase_state(received, learned)
+        else:  # a live run of a Gymnasium world: its status, counters and charts as a grid run's
+            snapshot = self.source.snapshot(run_id, panel.shown)
+            panel.show_state(snapshot)
+            if now - self._chart_time >= 1.0 / self.chart_hz:
+                self._chart_time = now
+                panel.show_charts(snapshot, panel.shown)
         key = (run_id, panel.value_demon, panel.phase_x, panel.phase_y, received)
         if key == self._map_key:
             return

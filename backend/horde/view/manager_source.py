@@ -5,9 +5,10 @@ history buffer, so the view never touches a learner's mutable state; commands go
 command queue like REST requests do. The agent's trail is sampled from the views the live view
 takes (about 30 a second), which is every step when watching and a sample at full speed.
 
-Stream runs (`StreamRuns`, given as `streams`) are listed after the grid runs, labelled "stream"; the
-view draws them as a phase plane (`phase_snapshot`) and refuses the commands (a stream run learns what
-its clients push: it has nothing to play or step).
+Runs of a world without a plane are drawn as a phase plane of two sensors (`phase_snapshot`): live runs
+of a Gymnasium environment (played, paused and stepped as grid runs are; their trail is sampled from the
+views as the grid's is), and stream runs (`StreamRuns`, given as `streams`, listed after the live runs and
+labelled "stream"), whose commands are refused: a stream run learns what its clients push.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from horde.runs.readout import cell_centres, value_map
 from horde.runs.run_view import RunView
 from horde.runs.stream_run import StreamRun, StreamRuns
 from horde.view.source import CommandRefusedError, History, PhaseSnapshot, ViewSnapshot
+from horde.worlds.phase_plane import axis_of, phase_plane
 
 TRAIL_POINTS = 500  # most positions kept of one episode's trail
 HISTORY_ROWS = 400  # most rows of a demon's history sent to the charts
@@ -42,6 +44,7 @@ class ManagerSource:
         self.streams = streams
         self._lock = threading.Lock()
         self._trails: dict[str, tuple[int, deque[tuple[float, float]]]] = {}  # run -> (episode, points)
+        self._sensor_trails: dict[str, tuple[int, deque[np.ndarray]]] = {}  # run -> (seq, sensors [S] each)
 
     def _view(self, run_id: str) -> RunView:
         try:
@@ -55,8 +58,8 @@ class ManagerSource:
         return [(v.id, v.spec.name or "") for v in views] + [(r.id, f"stream {r.spec.name or ''}".strip())
                                                              for r in streams]  # fmt: skip
 
-    def is_phase(self, run_id: str) -> bool:
-        """Whether the run is drawn as a phase plane (a stream run) rather than as a grid world."""
+    def is_stream(self, run_id: str) -> bool:
+        """Whether the run is a stream run (it learns what clients push: no commands)."""
         if self.streams is None:
             return False
         try:
@@ -65,10 +68,56 @@ class ManagerSource:
             return False
         return True
 
+    def is_phase(self, run_id: str) -> bool:
+        """Whether the run is drawn as a phase plane (a stream run, or a live run of a Gymnasium world)."""
+        if self.is_stream(run_id):
+            return True
+        try:
+            return self.manager.get(run_id).view.spec.world.kind != "grid"
+        except NotFoundError:
+            return False
+
     def phase_status(self, run_id: str) -> tuple[tuple[str, ...], tuple[str, ...], int, int]:
-        """A stream run's (sensor names, demon names, records received, records learned): cheap, every frame."""
+        """A phase-plane run's (sensor names, demon names, records received or steps, records learned or
+        steps): cheap, every frame; a live run's sensors join its trail here."""
+        if not self.is_stream(run_id):
+            view = self._view(run_id)
+            self._sample_sensors(view)
+            names = tuple(view.spec.world.sensor_names())
+            return names, tuple(view.horde.names), view.total_steps, view.total_steps
         run = self._stream(run_id)
         return tuple(run.spec.world.sensor_names()), tuple(run.names), run.learner.received, run.learner.learned
+
+    def _sample_sensors(self, view: RunView) -> np.ndarray:
+        """[N, S] the live run's recent sensor readings, the view's own appended once per publication."""
+        with self._lock:
+            seq, points = self._sensor_trails.get(view.id, (-1, deque(maxlen=TRAIL_POINTS)))
+            if view.sensors is not None and seq != view.seq:
+                points.append(view.sensors)
+            self._sensor_trails[view.id] = (view.seq, points)
+            return np.array(points).reshape(len(points), -1)
+
+    def _live_phase(self, view: RunView, demon: str | None, x: str | None, y: str | None,
+                    resolution: int) -> PhaseSnapshot:  # fmt: skip
+        """A Gymnasium run's phase plane from its published view (its weights frozen there)."""
+        sensors = tuple(view.spec.world.sensor_names())
+        demon = demon or view.horde.names[0]
+        x, y = x or sensors[0], y or sensors[min(1, len(sensors) - 1)]
+        if demon not in view.horde.index:
+            raise KeyError(demon)
+        try:
+            ax, ay = axis_of(view.horde, x), axis_of(view.horde, y)
+        except ValueError as exc:
+            raise KeyError(str(exc)) from None
+        trail = self._sample_sensors(view)
+        held = view.sensors if view.sensors is not None else np.zeros(len(sensors))
+        values = phase_plane(view.horde, view.horde_state, demon, ax, ay, held, resolution)
+        columns = [sensors.index(x), sensors.index(y)]
+        prediction = view.horde_state.prediction
+        return PhaseSnapshot(run_id=view.id, sensors=sensors, demons=tuple(view.horde.names),
+                             received=view.total_steps, learned=view.total_steps, demon=demon, x=ax, y=ay,
+                             values=values, trail=trail[:, columns] if len(trail) else np.zeros((0, 2)),
+                             predictions=dict(zip(view.horde.names, prediction.tolist(), strict=True)))  # fmt: skip
 
     def _stream(self, run_id: str) -> StreamRun:
         if self.streams is None:
@@ -82,6 +131,8 @@ class ManagerSource:
                        resolution: int) -> PhaseSnapshot:  # fmt: skip
         """The stream run's phase plane: `demon`'s values over sensors x and y (None: the first demon, the
         first two sensors). Raises KeyError for an unknown run, demon or sensor."""
+        if not self.is_stream(run_id):
+            return self._live_phase(self._view(run_id), demon, x, y, resolution)
         run = self._stream(run_id)
         sensors = tuple(run.spec.world.sensor_names())
         demon = demon or run.names[0]
@@ -110,10 +161,10 @@ class ManagerSource:
         view = self._view(run_id)
         names = [n for n in (demons if demons is not None else view.horde.names) if n in view.horde.index]
         index = [view.horde.index[n] for n in names]
-        world = view.horde.spec.grid
         colors = {}
-        for slot, region in enumerate(r for r in world.regions if r.kind == "indicator"):
-            colors[region.name] = (region.colors or [])[int(view.world_state.colors[0, slot])].name
+        regions = view.spec.grid.regions if view.spec.world.kind == "grid" else []
+        for slot, region in enumerate(r for r in regions if r.kind == "indicator"):
+            colors[region.name] = (region.colors or [])[int(view.world_state.colors[0, slot])].name  # type: ignore[union-attr]
         return ViewSnapshot(
             run_id=view.id,
             spec=view.spec,
@@ -167,7 +218,7 @@ class ManagerSource:
 
     def _command(self, run_id: str, name: str, *args: object, **kwargs: object) -> None:
         """Call the run's command; what it refuses (say, play when finished) or cannot save is told back."""
-        if self.is_phase(run_id):
+        if self.is_stream(run_id):
             raise CommandRefusedError("a stream run learns the records its clients push: it has no play, pause, "
                                       "step, reset or speed")  # fmt: skip
         try:

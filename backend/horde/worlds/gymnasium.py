@@ -116,20 +116,26 @@ class GymAgent:
     Args:
         spec: a run spec whose world is of kind "gymnasium".
         rng: the run's generator (default: seeded from spec.seed).
+        world, sensors: an environment already under way and the sensors at its state (a live run's demons
+            changed); default a new environment, reset with a seed drawn from `rng`.
     """
 
-    def __init__(self, spec: RunSpec, rng: np.random.Generator | None = None) -> None:
+    def __init__(self, spec: RunSpec, rng: np.random.Generator | None = None, *, world: GymWorld | None = None,
+                 sensors: np.ndarray | None = None) -> None:  # fmt: skip
         if not isinstance(spec.world, GymnasiumWorldSpec):
             raise ValueError(f"a GymAgent needs a gymnasium world, not {spec.world.kind!r}")
         self.spec = spec
         self.rng = rng if rng is not None else np.random.default_rng(spec.seed)
-        self.world = GymWorld(spec.world)
+        self.world = world if world is not None else GymWorld(spec.world)
         self.horde = Horde(spec)
         self.loop = ExternalLoop(self.horde)
         self.episode = 0
         self.total_steps = 0
         self.returns = [0.0, 0.0]  # the episode under way, the last finished one
-        self.sensors = self.world.reset(seed=int(self.rng.integers(2**31)))
+        if world is not None and sensors is not None:
+            self.sensors = np.array(sensors, dtype=float)
+        else:
+            self.sensors = self.world.reset(seed=int(self.rng.integers(2**31)))
         self.loop.observe(self.sensors)
 
     def behaviour_probs(self, behaviour: BehaviourSpec | None = None) -> np.ndarray:

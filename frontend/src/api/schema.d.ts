@@ -1986,6 +1986,13 @@ export interface components {
             /** Run */
             run: string;
             /**
+             * Sensors
+             * @description a Gymnasium run's sensors at the agent's state (its `agent` is then the first two of them)
+             */
+            sensors?: {
+                [key: string]: number | null;
+            } | null;
+            /**
              * Status
              * @enum {string}
              */

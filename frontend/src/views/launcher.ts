@@ -6,7 +6,7 @@
 import { attempt, launchRun, notify } from "../app/actions";
 import type { AppStore } from "../app/state";
 import { ApiError, api, unwrap } from "../api/client";
-import type { RunTemplate } from "../api/types";
+import type { AnyWorldSpec, RunTemplate } from "../api/types";
 import { gridWorld } from "../api/types";
 import { runLabel } from "../lib/format";
 import { readNumber, readOptionalNumber } from "../lib/parse";
@@ -20,6 +20,17 @@ const SCENARIO_WORLD = "";
 const WATCH_HZ = 20;
 /** A live run of a thesis scenario at full speed on the 2-core development machine (measured). */
 const FULL_SPEED_HZ = 200_000;
+/** A live run of a Gymnasium scenario (the environment steps in Python) at full speed there (measured: README). */
+const GYM_FULL_SPEED_HZ = 1_500;
+/** Truncation of a Gymnasium world without its own `max_steps`: the classic-control limits are 200 to 500. */
+const GYM_MAX_STEPS = 500;
+
+/** Steps per episode at most, and steps per second at full speed, of a scenario's world. */
+function worldPace(world: AnyWorldSpec | null | undefined): { maxSteps: number; fullSpeed: number } {
+  if (world && "kind" in world && world.kind === "gymnasium")
+    return { maxSteps: world.max_steps ?? GYM_MAX_STEPS, fullSpeed: GYM_FULL_SPEED_HZ };
+  return { maxSteps: gridWorld(world)?.max_steps ?? 100, fullSpeed: FULL_SPEED_HZ };
+}
 
 export function launcher(store: AppStore): HTMLElement {
   const errors = new FormErrors();
@@ -32,6 +43,7 @@ export function launcher(store: AppStore): HTMLElement {
   const name = textInput("", { name: "name", placeholder: "the scenario's name" });
   const estimate = h("p", { class: "hint estimate", "aria-live": "polite", dataset: { testid: "estimate" } });
   let maxSteps = 100;
+  let fullSpeed = FULL_SPEED_HZ;
   let hzTouched = false;
   const showEstimate = () => {
     const count = readOptionalNumber(episodes.value);
@@ -40,8 +52,8 @@ export function launcher(store: AppStore): HTMLElement {
       setText(estimate, "Runs until paused (no episode count).");
       return;
     }
-    const at = runDuration(count, maxSteps, speed, FULL_SPEED_HZ);
-    const full = runDuration(count, maxSteps, null, FULL_SPEED_HZ);
+    const at = runDuration(count, maxSteps, speed, fullSpeed);
+    const full = runDuration(count, maxSteps, null, fullSpeed);
     setText(
       estimate,
       speed === null
@@ -96,10 +108,12 @@ export function launcher(store: AppStore): HTMLElement {
       if (scenario.value !== name) return;
       seed.value = String(spec.seed);
       episodes.value = String(spec.protocol?.episodes ?? "");
-      maxSteps = gridWorld(spec.world)?.max_steps ?? 100;
+      ({ maxSteps, fullSpeed } = worldPace(spec.world));
+      if (spec.world && "kind" in spec.world && spec.world.kind === "gymnasium")
+        description.textContent = `${description.textContent ?? ""} Gymnasium ${spec.world.id}: the live view draws a phase plane of two sensors.`;
       // A protocol too long to watch starts at full speed (the run card's speed control slows it down).
       if (!hzTouched) {
-        const long = runDuration(spec.protocol?.episodes ?? 0, maxSteps, WATCH_HZ, FULL_SPEED_HZ) > WATCHABLE_SECONDS;
+        const long = runDuration(spec.protocol?.episodes ?? 0, maxSteps, WATCH_HZ, fullSpeed) > WATCHABLE_SECONDS;
         hz.value = long ? "" : String(WATCH_HZ);
       }
       showEstimate();

@@ -1,0 +1,211 @@
+"""A Gymnasium agent behind the face a live run steps: `GymSimulation`, the grid `Simulation`'s twin.
+
+A live run (`horde.runs.session`) steps a source of transitions through one small interface: `run` some
+steps, read the Horde's state, swap the demons (`with_spec`), freeze and restore. The grid world's
+`Simulation` is one source; this is another, a `GymAgent` (the environment stepped in Python, the Horde
+learning each transition through `ExternalLoop`). What the grid keeps in a `WorldState` (the agent's
+position), a Gymnasium world keeps in a `GymWorldState`: the environment's internal state, the steps of
+the episode under way, the sensors there, and the environment's own generator, so that a restored run
+goes on bit for bit. Snapshots need an environment that keeps its state in `unwrapped.state` (every
+classic-control one does); others run, but cannot be saved (`GymStateError`).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from horde.core.horde import Horde, HordeState
+from horde.core.simulation import Readout, StepResult
+from horde.spec import BehaviourSpec, RunSpec
+from horde.worlds.gymnasium import GymAgent
+
+FOREVER = 2**62
+_WORD = (1 << 32) - 1
+
+
+class GymStateError(ValueError):
+    """The environment keeps no `unwrapped.state` to save and restore."""
+
+
+class GymWorldState(NamedTuple):
+    """What a Gymnasium world needs to go on exactly: arrays only (the snapshot format's leaves)."""
+
+    env_state: np.ndarray  # [k] the environment's `unwrapped.state`
+    steps: np.ndarray  # [1] int: transitions so far in the episode under way (its time limit counts them)
+    sensors: np.ndarray  # [S] the sensors at the agent's state
+    env_rng: np.ndarray  # [10] int: the environment's PCG64 state (see `_rng_words`)
+
+
+def _rng_words(state: dict) -> np.ndarray:
+    """[10] int64: a PCG64 state's two 128-bit numbers as four 32-bit words each, has_uint32, uinteger."""
+    words = [(int(state["state"][key]) >> (32 * i)) & _WORD for key in ("state", "inc") for i in range(4)]
+    return np.array([*words, int(state["has_uint32"]), int(state["uinteger"])], dtype=np.int64)
+
+
+def _rng_state(words: np.ndarray) -> dict:
+    value = [int(w) & _WORD for w in words]
+    number = [sum(value[4 * k + i] << (32 * i) for i in range(4)) for k in range(2)]
+    return {"bit_generator": "PCG64", "state": {"state": number[0], "inc": number[1]},
+            "has_uint32": value[8], "uinteger": value[9]}  # fmt: skip
+
+
+class GymSimulation:
+    """The agent on a Gymnasium world, stepped by a live run.
+
+    Args:
+        spec: a run spec whose world is of kind "gymnasium".
+        rng: the run's generator (default: seeded from spec.seed).
+        agent: the agent to wrap (`with_spec` hands the environment over; default a new one).
+    """
+
+    def __init__(self, spec: RunSpec, rng: np.random.Generator | None = None, agent: GymAgent | None = None) -> None:
+        self.agent = agent if agent is not None else GymAgent(spec, rng)
+        self.spec = spec
+        self.rng = self.agent.rng
+        self.horde: Horde = self.agent.horde
+        self.with_metrics = True
+
+    # ------------------------------------------------------------------------------------------
+    # Counters and state
+
+    @property
+    def episode(self) -> int:
+        return self.agent.episode
+
+    @episode.setter
+    def episode(self, value: int) -> None:
+        self.agent.episode = value
+
+    @property
+    def total_steps(self) -> int:
+        return self.agent.total_steps
+
+    @total_steps.setter
+    def total_steps(self, value: int) -> None:
+        self.agent.total_steps = value
+
+    @property
+    def episode_return(self) -> float:
+        return float(self.agent.returns[0])
+
+    @property
+    def last_return(self) -> float:
+        return float(self.agent.returns[1])
+
+    def set_returns(self, episode_return: float, last_return: float) -> None:
+        self.agent.returns = [float(episode_return), float(last_return)]
+
+    @property
+    def sensors(self) -> np.ndarray:
+        """[S] the sensors at the agent's state (a copy)."""
+        return np.array(self.agent.sensors, dtype=float)
+
+    @property
+    def horde_state(self) -> HordeState:
+        return self.agent.loop.horde_state()
+
+    @horde_state.setter
+    def horde_state(self, state: HordeState) -> None:
+        fast = self.agent.loop.fast
+        fast.load(state, fast.world_state())
+
+    def view_state(self) -> HordeState:
+        """A copy for readers: the primary weights only (as `Simulation.view_state`)."""
+        return self.agent.loop.fast.horde_state(weights_only=True)
+
+    @property
+    def world_state(self) -> GymWorldState:
+        """The environment's state (raises GymStateError for one that keeps none in `unwrapped.state`)."""
+        env = self.agent.world.env
+        state = getattr(env.unwrapped, "state", None)
+        if state is None:
+            raise GymStateError(f"{self.spec.world.kind} world {getattr(self.spec.world, 'id', '')!r} keeps no "
+                                "state that a snapshot could hold")  # fmt: skip
+        steps = env.get_wrapper_attr("_elapsed_steps") if hasattr(env, "get_wrapper_attr") else 0
+        return GymWorldState(
+            env_state=np.array(state, dtype=float).reshape(-1),
+            steps=np.array([int(steps or 0)], dtype=np.int64),
+            sensors=self.sensors,
+            env_rng=_rng_words(env.unwrapped.np_random.bit_generator.state),
+        )
+
+    @world_state.setter
+    def world_state(self, state: GymWorldState) -> None:
+        env = self.agent.world.env
+        env.unwrapped.state = np.array(state.env_state, dtype=float)
+        env.unwrapped.np_random.bit_generator.state = _rng_state(state.env_rng)
+        if hasattr(env, "set_wrapper_attr"):
+            env.set_wrapper_attr("_elapsed_steps", int(state.steps[0]))
+        self.agent.sensors = np.array(state.sensors, dtype=float)
+        buf = self.agent.loop.fast.buf
+        buf.sensors[:] = state.sensors
+
+    @property
+    def episode_step(self) -> int:
+        env = self.agent.world.env
+        return int(env.get_wrapper_attr("_elapsed_steps") or 0) if hasattr(env, "get_wrapper_attr") else 0
+
+    def with_spec(self, spec: RunSpec) -> GymSimulation:
+        """The same agent and environment under a changed set of demons; demons kept keep their weights,
+        traces restart at the current state (as `Simulation.with_spec`)."""
+        old = self.agent
+        agent = GymAgent(spec, old.rng, world=old.world, sensors=old.sensors)
+        agent.loop.fast.load(agent.horde.carry_over(old.horde, old.loop.horde_state()), agent.loop.fast.world_state())
+        agent.loop.observe(old.sensors)
+        agent.episode, agent.total_steps, agent.returns = old.episode, old.total_steps, list(old.returns)
+        new = GymSimulation(spec, agent=agent)
+        new.with_metrics = self.with_metrics
+        return new
+
+    # ------------------------------------------------------------------------------------------
+    # Acting
+
+    def run(self, max_steps: int, max_episodes: int = FOREVER, behaviour: BehaviourSpec | None = None,
+            learning: np.ndarray | None = None) -> StepResult:  # fmt: skip
+        """Step until `max_steps` steps or until `max_episodes` episodes have ended; return the last step."""
+        agent = self.agent
+        agent.loop.with_metrics = self.with_metrics
+        if learning is not None:
+            agent.loop.set_learning(learning)
+        ended, last = 0, None
+        try:
+            for _ in range(max_steps):
+                last = agent.step(behaviour)
+                if last.done:
+                    ended += 1
+                    if ended >= max_episodes:
+                        break
+        finally:
+            if learning is not None:
+                agent.loop.set_learning(None)
+        if last is None:
+            return StepResult(-1, 0.0, False, False, 0.0)
+        return StepResult(last.action, last.reward, last.terminated, last.truncated, 0.0)
+
+    # ------------------------------------------------------------------------------------------
+    # Reading out
+
+    def thetas(self) -> list[np.ndarray]:
+        return self.agent.loop.fast.thetas()
+
+    def effective_step_sizes(self) -> np.ndarray:
+        return self.agent.loop.fast.effective_step_sizes()
+
+    def step_sizes(self, name: str) -> np.ndarray:
+        return self.agent.loop.fast.step_sizes(name)
+
+    def prediction_array(self) -> np.ndarray:
+        return self.agent.loop.prediction()
+
+    def predictions(self) -> dict[str, float]:
+        return self.agent.predictions()
+
+    def readout(self) -> Readout:
+        """What the run layer records every step or so, in O(D) (as `Simulation.readout`)."""
+        fast = self.agent.loop.fast
+        buf = fast.buf
+        return Readout(prediction=fast.prediction(), cumulant=fast._per_demon(buf.cumulant),
+                       delta=fast._per_demon(buf.delta), rupee=fast.rupee(), ude=fast.ude(),
+                       diverged=fast._per_demon(buf.diverged))  # fmt: skip
