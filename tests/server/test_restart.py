@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import os
 import signal
-import socket
 import sqlite3
 import subprocess
 import sys
@@ -20,15 +19,11 @@ from pathlib import Path
 
 import httpx
 
+from serving import free_port
+
 from .helpers import WORLD, make_spec, wait_for
 
 STARTUP_TIMEOUT = 120.0  # the first start may compile the learning kernels
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 @contextmanager
