@@ -167,6 +167,8 @@ def drag(page: Page, world: dict[str, float], start: tuple[float, float], end: t
 
 
 def test_draw_a_world_by_dragging_save_it_run_it_and_see_its_value_map(browser: Browser, server: RunningServer) -> None:
+    """Why 70 lines: one user's path (draw the regions, name them, save, launch a run on the drawn world, see
+    its value map), each step on the page the previous one left."""
     page, errors = new_page(browser, 1440, 1000, TOUR_DONE)
     page.goto(server.url)
     page.get_by_role("tab", name="World editor").click()

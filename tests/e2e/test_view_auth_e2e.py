@@ -15,6 +15,7 @@ from websockets.exceptions import ConnectionClosed, InvalidStatus
 from websockets.sync.client import connect
 
 from horde.server import Settings
+from polling import wait_until
 
 from .conftest import CHROMIUM, RunningServer, browser_page, free_port, serve_in_thread
 
@@ -83,10 +84,7 @@ def test_without_the_token_the_panel_changes_nothing(browser: Browser, server: R
         play = page.get_by_role("button", name="Play", exact=True)
         expect(play).to_be_visible(timeout=10_000)
         play.click()
-        deadline = time.monotonic() + 10
-        while api.get(f"/api/runs/{run}").json()["status"] != "running":
-            assert time.monotonic() < deadline, "Play with the token did not start the run"
-            time.sleep(0.05)
+        wait_until(lambda: api.get(f"/api/runs/{run}").json()["status"] == "running", "Play to start the run", 10)
 
         # A second browser, without the token, still sees no commands.
         other = browser.new_page(viewport={"width": 1280, "height": 800})

@@ -7,7 +7,6 @@ of a scene node; `.position` is the node's position in its parent frame (here th
 
 from __future__ import annotations
 
-import time
 from collections.abc import Iterator
 
 import pytest
@@ -17,6 +16,7 @@ from horde.runs.manager import RunManager
 from horde.scenarios import load_scenario
 from horde.view import LiveView, ManagerSource
 from horde.view.scene import agent_radius
+from polling import wait_until
 
 from .conftest import AGENT_AT, IN_BROWSER, ROOT, SHOTS, browser_page, drawn_at, free_port
 
@@ -64,9 +64,7 @@ def test_the_agent_moves_in_the_browser_when_the_run_steps(
         for _ in range(30):
             before = source.snapshot(run).total_steps
             step.click()
-            deadline = time.monotonic() + 5.0
-            while source.snapshot(run).total_steps == before and time.monotonic() < deadline:
-                time.sleep(0.02)
+            wait_until(lambda b=before: source.snapshot(run).total_steps > b, "the Step button to step the run", 5.0)
             snap = source.snapshot(run)
             if (snap.x, snap.y) != (0.0, 0.0):
                 break
