@@ -733,7 +733,7 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
                     _read_values(bi, ob, gi[g, G_NS], theta, idx[:k], values)
                     online_step(bi, ob, lam[ob], alpha_now, alpha_w_now, dcls, net.cut, theta, w, trace, support, rows_,
                                 nnz, feat[g, :k], idx[:k], r_s, z_s, gamma_tp1, rho, class_gamma, q, pred, delta,
-                                touched, values, onl)  # fmt: skip
+                                touched, values, onl, threads)  # fmt: skip
             _given_to_slots(gi, bi, dcls, pi, pi_given, g)
             for c in range(clo, chi):
                 for a in range(A):
