@@ -1892,6 +1892,13 @@ export interface components {
             hz?: number | null;
             /** Last Return */
             last_return: number;
+            /**
+             * Online
+             * @description the true online, emphatic and adaptive learners' state beyond the weights and traces: per-weight step sizes (autostep, tidbd) and their normalisers, v_old, followon traces; absent in older snapshots, which restore these at their start values
+             */
+            online?: {
+                [key: string]: components["schemas"]["EncodedArray"];
+            } | null;
             rng: components["schemas"]["RngState"];
             spec: components["schemas"]["RunSpec-Input"];
             /**
@@ -1934,6 +1941,13 @@ export interface components {
             hz?: number | null;
             /** Last Return */
             last_return: number;
+            /**
+             * Online
+             * @description the true online, emphatic and adaptive learners' state beyond the weights and traces: per-weight step sizes (autostep, tidbd) and their normalisers, v_old, followon traces; absent in older snapshots, which restore these at their start values
+             */
+            online?: {
+                [key: string]: components["schemas"]["EncodedArray"];
+            } | null;
             rng: components["schemas"]["RngState"];
             spec: components["schemas"]["RunSpec-Output"];
             /**
