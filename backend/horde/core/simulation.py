@@ -13,6 +13,7 @@ from typing import NamedTuple
 import numpy as np
 
 from horde.core import threads
+from horde.core.adaptive_kernels import OnlineArrays
 from horde.core.fast import (
     FOREVER,
     R_ACTION,
@@ -42,6 +43,16 @@ class AdaptiveState(NamedTuple):
     step_a: np.ndarray  # per-weight step sizes of autostep / tidbd demons (before their scale)
     step_v: np.ndarray  # autostep's normaliser v per weight
     ascale: np.ndarray  # [D] the scale of each demon's step sizes
+
+    @classmethod
+    def copy_of(cls, onl: OnlineArrays) -> AdaptiveState:
+        """Copies of these arrays of a loop's `onl`."""
+        return cls(*(getattr(onl, name).copy() for name in cls._fields))
+
+    def load_into(self, onl: OnlineArrays) -> None:
+        """Copy these arrays back into a loop's `onl` (of a loop of the same spec)."""
+        for name, array in zip(self._fields, self, strict=True):
+            getattr(onl, name)[...] = array
 
 
 @dataclass(frozen=True)
@@ -108,14 +119,11 @@ class Simulation:
     def learner_state(self) -> AdaptiveState:
         """Copies of what the true online, emphatic and adaptive learners keep beyond `horde_state`: the per-weight
         step sizes of autostep and tidbd demons among them (snapshots keep it, so a restored run goes on tuned)."""
-        onl = self._loop.onl
-        return AdaptiveState(*(getattr(onl, name).copy() for name in AdaptiveState._fields))
+        return AdaptiveState.copy_of(self._loop.onl)
 
     def load_learner_state(self, state: AdaptiveState) -> None:
         """Copy a `learner_state()` of a simulation of the same spec back into the engine."""
-        onl = self._loop.onl
-        for name, array in zip(AdaptiveState._fields, state, strict=True):
-            getattr(onl, name)[...] = array
+        state.load_into(self._loop.onl)
 
     def view_state(self) -> HordeState:
         """A copy for readers (value maps, policies, predictions): the state with the primary weights, and
