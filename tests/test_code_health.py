@@ -35,7 +35,6 @@ ALLOWED: dict[str, str] = {
     "backend/horde/core/fast.py": "issue-9 splits the compiled loop",
     "backend/horde/core/fast.py::FastLoop.__init__": "issue-9",
     "backend/horde/core/horde.py": "issue-9 / issue-10 (Horde._compile)",
-    "backend/horde/core/horde.py::Horde._compile_group": "issue-10",
     "backend/horde/core/horde.py::Horde.forward": "issue-9",
     "backend/horde/core/reference.py": "issue-13 (the oracle of the new learners)",
     "backend/horde/core/scale_fast.py": "issue-9 / issue-13s",
