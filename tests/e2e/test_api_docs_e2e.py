@@ -49,7 +49,9 @@ def test_the_api_docs_render_with_the_network_cut_off(
     with browser_page(browser, 1280, 900) as (page, errors):
         page.route("**/*", only_loopback)
         page.goto(server.url + path)
-        page.locator(operation).first.wait_for(state="attached", timeout=30_000)
+        # ReDoc lays out every schema before it shows an operation (the expression types are recursive):
+        # 50 s at a load average of 10. The test is about rendering offline, not about its speed.
+        page.locator(operation).first.wait_for(state="attached", timeout=150_000)
         summary = page.locator(operation).get_by_text("Create a run").first
         assert summary.is_visible(), f"{path} shows the operation's summary"
     assert blocked == [], f"{path} asked for something beyond the server: {blocked}"
