@@ -76,3 +76,10 @@ def test_a_demon_joining_leaves_the_others_step_sizes_tuned(spec: RunSpec) -> No
         np.testing.assert_array_equal(after.step_sizes(name), sizes, err_msg=f"{name}'s step sizes")
     start = float(joined.learning.alpha)
     assert np.all(after.step_sizes("late") == start / 5), "the new constant demon takes alpha over the active count"
+
+
+def test_runs_without_such_learners_keep_their_snapshots_as_they_were() -> None:
+    plain = RunSpec.model_validate(make_spec(demons=[DEMONS[-1]], behaviour="uniform"))
+    sim = new_simulation(plain)
+    sim.run(10)
+    assert capture(sim, plain, "paused", None, None).online is None  # no step-size arrays the size of theta
