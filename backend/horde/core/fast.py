@@ -19,6 +19,10 @@ every row at every step; `horde_state()` hands out the product.
 
 The kernels here compile without reference counting (`_nrt=False`, as in `scale_fast.py`): only `_run`
 (which allocates its scratch) and the world's reset (the generator) count references.
+
+Why one long module: the learning step lives once, inside `_run`'s loop (see its docstring for why it is
+not a function of its own), and the kernels it calls sit beside it; the Python half (`FastLoop`: packing,
+state in and out) could move to a module of its own, which is left for a change that can re-measure.
 """
 
 from __future__ import annotations
