@@ -638,6 +638,7 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
     rows_, rows_e, rows_f, values, pi_next, work, ev, scratch = (
         buf.rows, buf.rows_e, buf.rows_f, buf.values, buf.pi_next, buf.work, buf.ev, buf.scratch
     )  # fmt: skip
+    num_actions = class_pi.shape[1]
     num_regions = rects.shape[0]
     num_indicators = net.ind_region.shape[0]
     inside = np.zeros(num_regions, dtype=np.bool_)
@@ -744,7 +745,7 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
                                 touched, values, onl)  # fmt: skip
             _given_to_slots(gi, bi, dcls, pi, pi_given, g)
             for c in range(clo, chi):
-                for a in range(A):
+                for a in range(num_actions):  # the Horde's actions (a given world may have other than A)
                     class_pi[c, a] = pi_given[c, a]
             for s in range(slo, shi):
                 gamma[s] = gamma_tp1[dcls[s]]
