@@ -16,6 +16,13 @@ Divergence: a demon whose TD error, prediction or action values go non-finite or
 
 RUPEE's average of delta e decays by one number per group (`mscale`), so that its decay does not touch
 every row at every step; `horde_state()` hands out the product.
+
+The kernels here compile without reference counting (`_nrt=False`, as in `scale_fast.py`): only `_run`
+(which allocates its scratch) and the world's reset (the generator) count references.
+
+Why one long module: the learning step lives once, inside `_run`'s loop (see its docstring for why it is
+not a function of its own), and the kernels it calls sit beside it; the Python half (`FastLoop`: packing,
+state in and out) could move to a module of its own, which is left for a change that can re-measure.
 """
 
 from __future__ import annotations
@@ -45,6 +52,7 @@ from horde.core.scale_fast import (
     B_VOFF,
     B_WOFF,
     GQ,
+    NO_NRT,
     ONLINE,
     _at,
     _observe_block,
@@ -197,19 +205,19 @@ NO_GIVEN = Given(np.zeros((0, 1)), np.zeros(0, np.int64), np.zeros(0), np.zeros(
 # World
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _holds(rects, r, x, y):
     """Region r's rectangle holds (x, y): x0 <= x < x1 and y0 <= y < y1."""
     return rects[r, 0] <= x and x < rects[r, 2] and rects[r, 1] <= y and y < rects[r, 3]
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _inside(wp, rects, x, y, out):
     for r in range(rects.shape[0]):
         out[r] = _holds(rects, r, x, y)
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _blocked(wp, rects, is_obstacle, x, y):
     if x < 0.0 or x >= wp[W_WIDTH] or y < 0.0 or y >= wp[W_HEIGHT]:
         return True
@@ -219,7 +227,7 @@ def _blocked(wp, rects, is_obstacle, x, y):
     return False
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _is_start_bad(wp, rects, is_obstacle, is_terminal, x, y):
     if _blocked(wp, rects, is_obstacle, x, y):
         return True
@@ -251,7 +259,7 @@ def _world_reset(rng, wp, rects, is_obstacle, is_terminal, color_cdf, color_coun
         colors[i] = min(c, color_count[i] - 1)
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _terminal_reward(is_terminal, inside, term_reward, term_ind, term_table, colors):
     for r in range(inside.shape[0]):
         if inside[r] and is_terminal[r]:
@@ -265,12 +273,12 @@ def _terminal_reward(is_terminal, inside, term_reward, term_ind, term_table, col
 # Features
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _cell(u, parts):
     return min(max(math.floor(u * parts), 0), parts - 1)
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _features(gi, thresholds, tiled_col, tiled_low, tiled_high, tiled_values, g, x, y, sensors, condition, wp, out):
     """Active state features of group g at (x, y) (and its sensors, for kind "sensors") into out[:k]."""
     kind = gi[g, G_KIND]
@@ -320,7 +328,7 @@ def _features(gi, thresholds, tiled_col, tiled_low, tiled_high, tiled_values, g,
             out[j] += block * base_n
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _behaviour(beh_i, beh_f, beh_probs, q, out):
     A = out.shape[0]  # the world's number of actions
     kind = beh_i[0]
@@ -338,7 +346,7 @@ def _behaviour(beh_i, beh_f, beh_probs, q, out):
 # Questions
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _evaluate(lo, hi, node_kind, node_arg, node_start, node_children, sensors, pred, values):
     for n in range(lo, hi):
         kind = node_kind[n]
@@ -374,7 +382,7 @@ def _evaluate(lo, hi, node_kind, node_arg, node_start, node_children, sensors, p
 # The Horde
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _sort(a, k):
     """Insertion sort of a[:k] in place (coded features are sorted already: this costs one pass)."""
     for i in range(1, k):
@@ -386,7 +394,7 @@ def _sort(a, k):
         a[j + 1] = v
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _given_policies(gi, class_kind, class_of, class_fixed, pi, pi_given, g):
     """pi_given of group g's classes at the state just observed: fixed, uniform, or the followed slot's."""
     A = pi_given.shape[1]
@@ -395,7 +403,7 @@ def _given_policies(gi, class_kind, class_of, class_fixed, pi, pi_given, g):
             pi_given[c, a] = pi[class_of[c], a] if class_kind[c] == OF else class_fixed[c, a]
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _apply_rules(rules, sensors, class_fixed):
     """Target policies of "sign" classes at a state: rules [R, 5] = (class, sensor column, action where
     negative, action where >= 0, epsilon) write (1 - epsilon) on the chosen action plus epsilon / A."""
@@ -409,7 +417,7 @@ def _apply_rules(rules, sensors, class_fixed):
         class_fixed[c, chosen] += 1.0 - epsilon
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _given_to_slots(gi, bi, dcls, pi, pi_given, g):
     """Slots of given-policy blocks take their class's policy (the block kernel sets GQ ones itself)."""
     A = pi.shape[1]
@@ -421,7 +429,7 @@ def _given_to_slots(gi, bi, dcls, pi, pi_given, g):
                 pi[s, a] = pi_given[dcls[s], a]
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _start_sensors(net, buf):
     """The sensors at an episode's first state: no move yet, so bump, steps, reward and terminal are 0."""
     num_regions = net.rects.shape[0]
@@ -437,7 +445,7 @@ def _start_sensors(net, buf):
     sensors[sensors.shape[0] - 1] = 0.0
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _observe(net, buf):
     """An episode starts: reset demons forget, traces to zero, every group observes the first state."""
     bi = net.bi
@@ -471,10 +479,11 @@ def _observe(net, buf):
                            buf.pi, buf.pred, buf.scratch[0], buf.scratch[1])  # fmt: skip
         _given_to_slots(net.gi, bi, net.dcls, buf.pi, buf.pi_given, g)
         for c in range(net.gi[g, G_CLO], net.gi[g, G_CHI]):
-            buf.class_pi[c, :] = buf.pi_given[c, :]
+            for a in range(buf.class_pi.shape[1]):  # element by element: a slice copy may allocate
+                buf.class_pi[c, a] = buf.pi_given[c, a]
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _slot_diverged(s, gq, delta, pred, q):
     """Whether slot s's TD error, prediction or (GQ) action values are non-finite or beyond MAX_MAGNITUDE."""
     A = q.shape[1]
@@ -485,7 +494,7 @@ def _slot_diverged(s, gq, delta, pred, q):
     return bad
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _any_diverged(gi, bi, g, delta, pred, q, diverged):
     """Whether a demon of group g not yet marked has diverged (`_slot_diverged`)."""
     for b in range(gi[g, G_BLO], gi[g, G_BHI]):
@@ -496,7 +505,7 @@ def _any_diverged(gi, bi, g, delta, pred, q, diverged):
     return False
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _freeze_diverged(net, buf, g):
     """Mark demons of group g that have diverged (`_slot_diverged`); freeze them and set their weights to 0."""
     bi = net.bi
@@ -524,7 +533,7 @@ def _freeze_diverged(net, buf, g):
                            buf.pi, buf.pred, buf.scratch[0], buf.scratch[1])  # fmt: skip
 
 
-@njit(cache=True)
+@njit(**NO_NRT)
 def _metrics(gi, bi, dcls, g, action, x_t, delta, h, u, hu, mscale, tau, dstats, trace, support, nnz, hx):
     """RUPEE and UDE of group g after its step (metrics.update, with the average of delta e scaled lazily).
 
@@ -630,6 +639,7 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
     rows_, rows_e, rows_f, values, pi_next, work, ev, scratch = (
         buf.rows, buf.rows_e, buf.rows_f, buf.values, buf.pi_next, buf.work, buf.ev, buf.scratch
     )  # fmt: skip
+    num_actions = class_pi.shape[1]
     num_regions = rects.shape[0]
     num_indicators = net.ind_region.shape[0]
     inside = np.zeros(num_regions, dtype=np.bool_)
@@ -736,7 +746,7 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
                                 touched, values, onl, threads)  # fmt: skip
             _given_to_slots(gi, bi, dcls, pi, pi_given, g)
             for c in range(clo, chi):
-                for a in range(A):
+                for a in range(num_actions):  # the Horde's actions (a given world may have other than A)
                     class_pi[c, a] = pi_given[c, a]
             for s in range(slo, shi):
                 gamma[s] = gamma_tp1[dcls[s]]
