@@ -19,6 +19,21 @@
   leaves unused) and, for Autostep, its normaliser v (`step_v`).
 
 A demon whose alpha is 0 (frozen: diverged, or not learning in a test run) stays exactly as it is.
+
+As `scale_fast._step`, a step is split into what is shared (each class's trace, merged and cut once per
+step: nothing per demon) and `_columns`, every demon's numbers over its own columns of the feature-major
+weights, which a block of at least `PARALLEL_MIN` demons learns on the run's threads, a run of columns
+each (`_columns_parallel`), to the same bits whatever the count. What each step costs per demon:
+
+* true online TD / ETD: one walk over the rows of the trace's support, x_t and x_tp1 (theta read and
+  written once per row, the values at s_{t+1} summed from each row as it moves): the support's rows, as
+  TD, plus the rows of x_t that the cut dropped.
+* Autostep / TIDBD: the meta step touches the rows of x_t only (phi_i = 0 elsewhere: the papers' update
+  leaves alpha_i and v_i of other weights as they are), the effective step size reads the step sizes at
+  x_t and x_tp1, and theta and h move on the support's rows (every weight with a nonzero trace, as the
+  papers' updates). Per support row that is three numbers per demon (step size, theta, h) where TD moves
+  one, and on x_t five (v and the step size written); the meta step's exp and division make that pass
+  compute-bound.
 """
 
 from __future__ import annotations
@@ -313,7 +328,7 @@ def _adaptive_columns(autostep, small, i0, i1, lo, db, woff, voff, ncls, coff, n
     with reading the new values at x_tp1. Per trace row this reads and writes three numbers per demon
     (step size, theta, h) where TD moves one.
     """
-    rate, dlv, effective, meta_x = scratch[5], scratch[6], scratch[7], scratch[4]
+    rate, dlv, effective = scratch[5], scratch[6], scratch[7]
     inv_tau = 1.0 / tau
     for i in range(i0, i1):
         effective[i] = 0.0
@@ -330,27 +345,27 @@ def _adaptive_columns(autostep, small, i0, i1, lo, db, woff, voff, ncls, coff, n
                 for i in range(c0, c1):
                     u = _at(i)
                     at = base + u
-                    a[at] *= math.exp(meta[lo + i] * dlv[u] * h[at])
+                    a[at] *= math.exp(meta[_at(lo + i)] * dlv[u] * h[at])
                 continue
-            for i in range(c0, c1):  # v_i, then the argument of exp: |x| <= mu as |sample| <= v
-                u = _at(i)
-                at = base + u
-                sample = dlv[u] * h[at]
-                size = abs(sample)
-                vi = max(size, v[at] + a[at] * rate[u] * e * (size - v[at]) * inv_tau)
-                v[at] = vi
-                meta_x[u] = meta[lo + i] * (sample / vi if vi > 0.0 else 0.0)
-            if small:
+            if small:  # v_i, then the argument of exp: |x| <= mu as |sample| <= v
                 for i in range(c0, c1):
                     u = _at(i)
                     at = base + u
-                    a[at] *= _exp_small(meta_x[u])
+                    sample = dlv[u] * h[at]
+                    size = abs(sample)
+                    vi = max(size, v[at] + a[at] * rate[u] * e * (size - v[at]) * inv_tau)
+                    v[at] = vi
+                    a[at] *= _exp_small(meta[_at(lo + i)] * (sample / vi if vi > 0.0 else 0.0))
                     effective[u] += a[at] * e
             else:
                 for i in range(c0, c1):
                     u = _at(i)
                     at = base + u
-                    a[at] *= math.exp(meta_x[u])
+                    sample = dlv[u] * h[at]
+                    size = abs(sample)
+                    vi = max(size, v[at] + a[at] * rate[u] * e * (size - v[at]) * inv_tau)
+                    v[at] = vi
+                    a[at] *= math.exp(meta[_at(lo + i)] * (sample / vi if vi > 0.0 else 0.0))
                     effective[u] += a[at] * e
     if autostep:  # every step size divided by M = max(1, the effective step size alpha . e (x_t - gamma x_tp1))
         for j in range(x_tp1.shape[0]):

@@ -1,0 +1,113 @@
+"""The learners that need less tuning on a run's threads: the same numbers whatever the count.
+
+Blocks of true online TD(lambda), emphatic TD(lambda) and TD(lambda) with Autostep / TIDBD of at least
+`scale_fast.PARALLEL_MIN` demons split their demons into runs of columns learned by threads
+(`adaptive_kernels._columns_parallel`); each column goes through the same operations in the same order
+whatever the split (and Autostep's column chunks), so every weight, trace, per-weight step size,
+normaliser and prediction must be equal to the last bit on 1, 2 and 3 threads. A few demons of the
+threaded run are also replayed into the oracle (`reference.py`), which has no threads at all.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numba
+import numpy as np
+import pytest
+
+from horde.core.reference import ReferenceHorde
+from horde.core.scale_fast import PARALLEL_MIN
+from horde.core.simulation import Simulation
+from horde.spec import RunSpec
+
+from .test_engine_vs_reference import run_spec
+from .test_fast import assert_same
+
+D = PARALLEL_MIN + 13  # demons per block: over the threshold, not a multiple of the column alignment
+DISCOUNTS = (0, 0.5, 0.8, 0.9, 0.95)
+SENSORS = ("x", "y", "bump", "reward", "in:goal", "in:crit", "color:lamp")
+POLICIES = ([0.4, 0.1, 0.1, 0.4], [0.1, 0.2, 0.3, 0.4], [0.25, 0.25, 0.25, 0.25])
+
+
+def online_spec(demons: int = D) -> RunSpec:
+    """Four blocks past the threshold: true online TD about three fixed target policies at two alphas and
+    five discounts (30 dutch-trace classes), ETD about the three policies, Autostep on-policy at five
+    discounts with two meta steps (one past the polynomial exp's range) and demons reset every episode,
+    and TIDBD about the three policies; with episode ends."""
+    out: list[dict[str, Any]] = []
+    for i in range(demons):
+        cumulant = {"mul": [{"sensor": SENSORS[i % 7]}, 1 + i // 35]}
+        fixed = {"kind": "fixed", "probabilities": POLICIES[i % 3]}
+        out += [
+            {"name": f"to{i}", "learner": "true_online_td", "discount": DISCOUNTS[i % 5], "policy": fixed,
+             "alpha": (0.1, 0.05)[i % 2], "cumulant": cumulant},
+            {"name": f"etd{i}", "learner": "etd", "discount": 0.9, "lambda": 0.7, "policy": fixed,
+             "cumulant": {"sensor": SENSORS[i % 7]}},
+            {"name": f"auto{i}", "learner": "td", "step_size": "autostep", "lambda": 0.8, "policy": "uniform",
+             "discount": DISCOUNTS[i % 5], "meta_step": (0.01, 0.2)[i % 2], "alpha": (0.5, 0.1)[i % 2],
+             "reset": "episode" if i % 3 == 0 else "never", "cumulant": cumulant},
+            {"name": f"tidbd{i}", "learner": "td", "step_size": "tidbd", "lambda": 0.5, "discount": 0.8,
+             "policy": fixed, "meta_step": 0.01, "cumulant": {"sensor": SENSORS[i % 7]}},
+        ]  # fmt: skip
+    data = run_spec("uniform").model_dump(by_alias=True)
+    data.update(demons=out, features={"kind": "tiles", "tilings": 4, "tiles": 4})
+    return RunSpec.model_validate(data)
+
+
+@pytest.fixture(scope="module")
+def spec() -> RunSpec:
+    return online_spec()
+
+
+def run_with(spec: RunSpec, count: int, steps: int = 300) -> Simulation:
+    sim = Simulation(spec, np.random.default_rng(11))
+    sim.threads = count
+    sim.run(steps)
+    return sim
+
+
+@pytest.mark.slow
+def test_thread_count_does_not_change_a_single_bit(spec: RunSpec) -> None:
+    one = run_with(spec, 1)
+    assert one.threads == 1
+    assert {b.size for b in one.horde.blocks} == {D}, "every block is past the threshold"
+    assert one.episode >= 3, "episodes ended (traces cleared, adaptive demons reset)"
+    scales = one._loop.onl.ascale
+    assert scales.min() < 1.0, "Autostep's bound divided some step sizes (the effective step size passed 1)"
+    for count in (2, 3):
+        other = run_with(spec, count)
+        assert other.threads == count
+        assert_same(one.horde_state, other.horde_state)
+        for field in ("v_old", "cls_f", "step_a", "step_v", "ascale"):
+            np.testing.assert_array_equal(getattr(one._loop.onl, field), getattr(other._loop.onl, field), field)
+        np.testing.assert_array_equal(one.effective_step_sizes(), other.effective_step_sizes())
+        assert one.position == other.position
+    assert numba.threading_layer() in ("tbb", "omp", "workqueue"), "a threading layer ran the blocks"
+
+
+@pytest.mark.slow
+def test_threaded_blocks_equal_the_oracle(spec: RunSpec) -> None:
+    """Twelve demons spread over the blocks, replayed into ReferenceHorde from the threaded run's own
+    transitions: predictions equal to 1e-9 with the trace cut at 0 (while the oracle's stay finite: TIDBD,
+    without Autostep's bound, may diverge on these cumulants, and the engine then freezes the demon)."""
+    sim = Simulation(spec, np.random.default_rng(5), cut=0.0)
+    sim.threads = 2
+    picked = np.linspace(0, len(spec.demons) - 1, 12).astype(np.int64)
+    data = spec.model_dump(by_alias=True)
+    data["demons"] = [data["demons"][i] for i in picked]
+    reference = ReferenceHorde(RunSpec.model_validate(data))
+    names = sim.world.sensor_names
+    reference.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
+    for step in range(120):
+        result = sim.step()
+        sensors = sim.sensors
+        reference.learn(result.action, sim.behaviour_probability, float(sensors[0]), float(sensors[1]),
+                        dict(zip(names, sensors.tolist(), strict=True)), result.terminated)  # fmt: skip
+        if result.done:
+            reference.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
+        ours = sim.prediction_array()[picked]
+        theirs = np.array([reference.demons[spec.demons[i].name].prediction for i in picked])
+        live = np.isfinite(theirs)  # a demon the oracle lets diverge, the engine freezes (README)
+        np.testing.assert_allclose(ours[live], theirs[live], rtol=1e-9, atol=1e-9, err_msg=f"step {step}")
+    assert live.sum() >= 10, "most of the picked demons stayed finite: the comparison covered them"
