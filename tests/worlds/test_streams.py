@@ -290,3 +290,19 @@ def test_a_file_that_is_no_parquet_is_named(tmp_path: Path) -> None:
     fake.write_text("light,wheel,heat,action\n0.5,0,30,1\n")
     with pytest.raises(ValueError, match=r"log\.parquet: not a Parquet file"):
         learn_log(spec, fake)
+
+
+def test_a_stream_run_has_a_demon_table_equal_to_its_learner(client: TestClient) -> None:
+    run = client.post("/api/streams", json=stream_spec()).json()["id"]
+    rng = np.random.default_rng(3)
+    records = [{"observation": [rng.random(), rng.uniform(-1, 1), 30.0], "action": int(rng.integers(3))}
+               for _ in range(300)]  # fmt: skip
+    pushed = client.post(f"/api/streams/{run}/records", json={"records": records}).json()
+    table = client.get(f"/api/streams/{run}/demons").json()
+    assert [d["name"] for d in table] == pushed["demons"]
+    # The table's predictions are the learner's after the last record; every demon has its error measures.
+    assert {d["name"]: d["prediction"] for d in table} == pushed["predictions"]
+    assert all(d["metrics"]["rupee"] is not None and d["metrics"]["ude"] is not None for d in table)
+    assert all(not d["metrics"]["diverged"] and d["metrics"]["step_size"] > 0 for d in table)
+    assert next(d for d in table if d["name"] == "light_if_left")["spec"]["learner"] == "gq"
+    assert client.get("/api/streams/nope/demons").status_code == 404

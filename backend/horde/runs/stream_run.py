@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from horde.core.simulation import Readout
 from horde.runs.errors import BusyError, FieldProblem, NotFoundError, SpecError
 from horde.spec import RunSpec
 from horde.worlds.phase_plane import Axis, axis_of, phase_plane
@@ -187,6 +188,16 @@ class StreamRun:
             predictions={d: predictions[:, k] for k, d in enumerate(demons)},
             returns={d: returns.get(d) for d in demons},
         )
+
+    def readout(self) -> tuple[Readout, np.ndarray]:
+        """Every demon's numbers at the last observation (the demon table's), and [D] their step sizes now."""
+        with self._lock:
+            fast = self.learner.loop.fast
+            buf = fast.buf
+            out = Readout(prediction=fast.prediction(), cumulant=fast._per_demon(buf.cumulant),
+                          delta=fast._per_demon(buf.delta), rupee=fast.rupee(), ude=fast.ude(),
+                          diverged=fast._per_demon(buf.diverged).astype(bool))  # fmt: skip
+            return out, fast.effective_step_sizes()
 
     def status(self) -> PushResult:
         with self._lock:
