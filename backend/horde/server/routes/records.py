@@ -28,6 +28,7 @@ from pydantic import Field
 
 from horde.runs.errors import FieldProblem, NotFoundError, SpecError
 from horde.runs.stream_run import HISTORY, MAX_RECORDS_PER_BATCH, PushResult, StreamRun
+from horde.runs.stream_snapshot import StreamSnapshot
 from horde.server.deps import SettingsDep, StreamsDep, WriteAccess
 from horde.server.origins import origin_allowed
 from horde.server.responses import BAD_BODY, BUSY, NOT_FOUND, UNAUTHORIZED
@@ -122,6 +123,23 @@ def get_stream_demons(stream_id: StreamId, streams: StreamsDep) -> list[DemonOut
                  colour=demon_colour(i))
         for i, spec in enumerate(horde.demon_specs)
     ]  # fmt: skip
+
+
+@router.get("/{stream_id}/snapshot", summary="A stream run's learner, to import elsewhere", responses=NOT_FOUND)
+def get_stream_snapshot(stream_id: StreamId, streams: StreamsDep) -> StreamSnapshot:
+    return streams.get(stream_id).snapshot()
+
+
+@router.post(
+    "/import",
+    summary="A new stream run from a snapshot: it learns the next record as the exported run would have",
+    status_code=status.HTTP_201_CREATED,
+    dependencies=[WriteAccess],
+    responses={**BAD_BODY, **UNAUTHORIZED, **BUSY},
+)
+def import_stream(snapshot: StreamSnapshot, streams: StreamsDep) -> StreamOut:
+    run = streams.import_snapshot(snapshot)
+    return _out(run, run.status())
 
 
 @router.delete(
