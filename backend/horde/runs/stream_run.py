@@ -232,7 +232,14 @@ class StreamRuns:
             return run
 
     def import_snapshot(self, snapshot: StreamSnapshot) -> StreamRun:
-        """A new stream run that learns the next record exactly as the snapshot's run would have."""
+        """A new stream run that learns the next record exactly as the snapshot's run would have.
+
+        Raises:
+            SpecError: a snapshot of another world kind (422 at spec.world.kind), or arrays that do not fit.
+        """
+        if snapshot.spec.world.kind != "stream":
+            message = f"a stream run needs world.kind = 'stream', not {snapshot.spec.world.kind!r}"
+            raise SpecError([FieldProblem(("body", "spec", "world", "kind"), message)])
         return self.create(snapshot.spec, restore_stream(snapshot))
 
     def get(self, run_id: str) -> StreamRun:
