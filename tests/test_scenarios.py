@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from grids import lamp, lamp_terminal
 from horde.core.check import WorldCheckError, check_world
 from horde.core.simulation import Simulation
 from horde.core.world import World
@@ -46,21 +47,8 @@ KINDS: dict[str, dict[str, Any]] = {
         "regions": [
             {"name": "wall", "kind": "obstacle", "rect": [100, 0, 150, 200]},
             {"name": "pit", "kind": "terminal", "rect": [0, 250, 100, 300], "reward": -1},
-            {
-                "name": "door",
-                "kind": "terminal",
-                "rect": [300, 100, 400, 200],
-                "reward": {"indicator": "lamp", "values": {"on": 2, "off": -2}},
-            },
-            {
-                "name": "lamp",
-                "kind": "indicator",
-                "rect": [200, 0, 300, 100],
-                "colors": [
-                    {"name": "on", "value": 1, "probability": 0.3},
-                    {"name": "off", "value": -1, "probability": 0.7},
-                ],
-            },
+            lamp_terminal("door", [300, 100, 400, 200], on=2, off=-2),
+            lamp([200, 0, 300, 100], on=(1, 0.3), off=(-1, 0.7)),
         ],
     },
     "open-field-no-terminal": {"width": 300, "height": 300, "step": 100, "start": [150, 150], "max_steps": 25},

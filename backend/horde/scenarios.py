@@ -20,13 +20,18 @@ class ScenarioError(ValueError):
     """A scenario file that cannot be read or does not validate; the message names file and line."""
 
 
-def scenario_dir() -> Path:
-    """`HORDE_SCENARIOS`, else the repository's scenarios/ folder, else ./scenarios."""
-    env = os.environ.get("HORDE_SCENARIOS")
+def file_dir(variable: str, folder: str) -> Path:
+    """The environment variable `variable`, else the repository's `folder`/ (beside backend/), else ./`folder`."""
+    env = os.environ.get(variable)
     if env:
         return Path(env)
-    repo = Path(__file__).resolve().parents[2] / "scenarios"
-    return repo if repo.is_dir() else Path.cwd() / "scenarios"
+    repo = Path(__file__).resolve().parents[2] / folder
+    return repo if repo.is_dir() else Path.cwd() / folder
+
+
+def scenario_dir() -> Path:
+    """`HORDE_SCENARIOS`, else the repository's scenarios/ folder, else ./scenarios."""
+    return file_dir("HORDE_SCENARIOS", "scenarios")
 
 
 def _line_of(text: str, loc: tuple[int | str, ...]) -> int | None:

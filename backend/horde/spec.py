@@ -4,7 +4,7 @@ Every model is frozen and forbids unknown keys, so a typo in a scenario file or 
 422 naming the field instead of a silently ignored setting. Every size is bounded (DESIGN section 8,
 security). The same models validate TOML scenario files and REST bodies.
 
-Why one module of about 850 lines: it is the whole data model, read top-down as a schema (world,
+Why one module of about 1150 lines: it is the whole data model, read top-down as a schema (world,
 features, expressions, demons, protocol, run), and its cross-field checks (a demon's expression naming
 a sensor the world defines, a family expanding into demons that name each other) need the classes
 together; its functions are short. Moving whole classes out would be re-exported from here anyway.

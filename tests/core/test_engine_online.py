@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from grids import CRIT, GOAL, PIT, WALL, grid
 from horde.core.reference import ReferenceHorde
 from horde.core.scale import TRACE_CUT
 from horde.core.simulation import Simulation
@@ -51,20 +52,7 @@ DEMONS: list[dict[str, Any]] = [
 def spec(behaviour: Any = "uniform") -> RunSpec:
     return RunSpec.model_validate(
         {
-            "world": {
-                "width": 500,
-                "height": 500,
-                "step": 100,
-                "slip": 0.1,
-                "start": [0, 0],
-                "max_steps": 40,
-                "regions": [
-                    {"name": "goal", "kind": "terminal", "rect": [400, 400, 500, 500], "reward": 1},
-                    {"name": "pit", "kind": "terminal", "rect": [400, 200, 500, 300], "reward": -1},
-                    {"name": "wall", "kind": "obstacle", "rect": [100, 200, 200, 300]},
-                    {"name": "crit", "kind": "zone", "rect": [100, 300, 400, 500]},
-                ],
-            },
+            "world": grid(GOAL, PIT, WALL, CRIT, slip=0.1, max_steps=40),
             "features": {"kind": "stripes", "parts": 5},
             "learning": {"lambda": 0.9, "alpha": 0.1, "alpha_w": 0.01, "meta_step": 0.02, "autostep_tau": 100},
             "behaviour": behaviour,

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from grids import CRIT, GOAL, PIT, WALL, grid, lamp, lamp_terminal
 from horde.core.reference import ReferenceHorde
 from horde.core.scale import TRACE_CUT
 from horde.core.simulation import Simulation
@@ -171,35 +172,9 @@ DEMONS: list[dict[str, Any]] = [
 
 
 def run_spec(behaviour: Any, **world: Any) -> RunSpec:
-    fields: dict[str, Any] = {
-        "width": 500,
-        "height": 500,
-        "step": 100,
-        "slip": 0.1,
-        "start": [0, 0],
-        "max_steps": 40,
-        "regions": [
-            {"name": "goal", "kind": "terminal", "rect": [400, 400, 500, 500], "reward": 1},
-            {
-                "name": "pit",
-                "kind": "terminal",
-                "rect": [400, 200, 500, 300],
-                "reward": {"indicator": "lamp", "values": {"yellow": -1, "purple": 0.5}},
-            },
-            {"name": "wall", "kind": "obstacle", "rect": [100, 200, 200, 300]},
-            {"name": "crit", "kind": "zone", "rect": [100, 300, 400, 500]},
-            {
-                "name": "lamp",
-                "kind": "indicator",
-                "rect": [300, 100, 400, 300],
-                "colors": [
-                    {"name": "yellow", "value": 1, "probability": 0.5},
-                    {"name": "purple", "value": -1, "probability": 0.5},
-                ],
-            },
-        ],
-    }
-    fields.update(world)
+    pit = lamp_terminal("pit", PIT["rect"], yellow=-1, purple=0.5)
+    indicator = lamp([300, 100, 400, 300], yellow=(1, 0.5), purple=(-1, 0.5))
+    fields = grid(GOAL, pit, WALL, CRIT, indicator, slip=0.1, max_steps=40) | world
     return RunSpec.model_validate(
         {
             "world": fields,

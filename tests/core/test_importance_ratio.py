@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from grids import GOAL, PIT, grid
 from horde.core import evaluate, learners
 from horde.core.horde import Horde
 from horde.core.simulation import Simulation
@@ -147,17 +148,7 @@ TARGET = [0.4, 0.1, 0.1, 0.4]
 def lattice_spec(policy: object) -> RunSpec:
     return RunSpec.model_validate(
         {
-            "world": {
-                "width": 500,
-                "height": 500,
-                "step": 100,
-                "start": [0, 0],
-                "max_steps": 100,
-                "regions": [
-                    {"name": "goal", "kind": "terminal", "rect": [400, 400, 500, 500], "reward": 1},
-                    {"name": "pit", "kind": "terminal", "rect": [400, 0, 500, 100], "reward": -1},
-                ],
-            },
+            "world": grid(GOAL, PIT | {"rect": [400, 0, 500, 100]}),
             "features": {"kind": "grid", "tiles": 5},
             "behaviour": "uniform",
             "learning": {"lambda": 0.5, "alpha": 0.1, "alpha_w": 0.0},

@@ -57,6 +57,11 @@ def inputs(numbers, width: int, batch: int = 4):
     )
 
 
+def cases(numbers, with_if: bool):
+    """(expressions, sensors, predictions) drawn from `numbers`."""
+    return st.tuples(expressions(numbers, with_if), inputs(numbers, len(SENSORS)), inputs(numbers, len(DEMONS)))
+
+
 def check(exprs, sensors: np.ndarray, predictions: np.ndarray, tolerance: float) -> None:
     program = Program(exprs, SENSOR_INDEX, DEMON_INDEX)
     out = program.evaluate(sensors, predictions)
@@ -69,23 +74,15 @@ def check(exprs, sensors: np.ndarray, predictions: np.ndarray, tolerance: float)
 
 
 @settings(max_examples=200, deadline=None)
-@given(
-    exprs=expressions(halves, with_if=True),
-    sensors=inputs(halves, len(SENSORS)),
-    predictions=inputs(halves, len(DEMONS)),
-)
-def test_program_equals_the_recursive_interpreter(exprs, sensors, predictions):
-    check(exprs, sensors, predictions, tolerance=0.0)
+@given(cases(halves, with_if=True))
+def test_program_equals_the_recursive_interpreter(case):
+    check(*case, tolerance=0.0)
 
 
 @settings(max_examples=100, deadline=None)
-@given(
-    exprs=expressions(floats, with_if=False),
-    sensors=inputs(floats, len(SENSORS)),
-    predictions=inputs(floats, len(DEMONS)),
-)
-def test_program_equals_the_recursive_interpreter_on_any_floats(exprs, sensors, predictions):
-    check(exprs, sensors, predictions, tolerance=1e-9)
+@given(cases(floats, with_if=False))
+def test_program_equals_the_recursive_interpreter_on_any_floats(case):
+    check(*case, tolerance=1e-9)
 
 
 def test_each_operator_by_hand():

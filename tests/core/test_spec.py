@@ -8,6 +8,7 @@ import pytest
 from pydantic import BaseModel, ValidationError
 
 import horde.spec as spec_module
+from grids import lamp, lamp_terminal
 from horde.spec import (
     IMPOSSIBLE_START,
     DemonSpec,
@@ -214,22 +215,9 @@ def test_kind_rules():
         "regions": [{"name": "wall", "kind": "obstacle", "rect": [100, 200, 200, 300]}],
     }
     assert "start lies inside obstacle 'wall'" in message(WorldSpec.model_validate, inside)
-    lamp = {
-        "name": "lamp",
-        "kind": "indicator",
-        "rect": [0, 0, 1, 1],
-        "colors": [
-            {"name": "y", "value": 1, "probability": 0.5},
-            {"name": "p", "value": -1, "probability": 0.5},
-        ],
-    }
-    pit = {
-        "name": "pit",
-        "kind": "terminal",
-        "rect": [2, 2, 3, 3],
-        "reward": {"indicator": "lamp", "values": {"y": 1}},
-    }
-    assert "exactly the colours" in message(WorldSpec.model_validate, {"regions": [lamp, pit]})
+    indicator = lamp([0, 0, 1, 1], y=(1, 0.5), p=(-1, 0.5))
+    pit = lamp_terminal("pit", [2, 2, 3, 3], y=1)
+    assert "exactly the colours" in message(WorldSpec.model_validate, {"regions": [indicator, pit]})
 
 
 def test_policy_shorthands():

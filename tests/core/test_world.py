@@ -5,42 +5,22 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from grids import CRIT, GOAL, PIT, WALL, grid, lamp, lamp_terminal
 from horde.core.simulation import Simulation
 from horde.core.world import DOWN, LEFT, RIGHT, UP, ImpossibleStartError, World
 from horde.spec import IMPOSSIBLE_START, RunSpec, WorldSpec
 
 REGIONS = [
-    {"name": "wall", "kind": "obstacle", "rect": [100, 200, 200, 300]},
-    {"name": "goal", "kind": "terminal", "rect": [400, 400, 500, 500], "reward": 1.0},
-    {
-        "name": "pit",
-        "kind": "terminal",
-        "rect": [400, 200, 500, 300],
-        "reward": {"indicator": "lamp", "values": {"yellow": 2.0, "purple": -3.0}},
-    },
-    {
-        "name": "lamp",
-        "kind": "indicator",
-        "rect": [300, 200, 400, 300],
-        "colors": [
-            {"name": "yellow", "value": 1.0, "probability": 0.5},
-            {"name": "purple", "value": -1.0, "probability": 0.5},
-        ],
-    },
-    {"name": "crit", "kind": "zone", "rect": [0, 0, 200, 200]},
+    WALL,
+    GOAL,
+    lamp_terminal("pit", PIT["rect"], yellow=2.0, purple=-3.0),
+    lamp([300, 200, 400, 300], yellow=(1.0, 0.5), purple=(-1.0, 0.5)),
+    CRIT | {"rect": [0, 0, 200, 200]},
 ]
 
 
 def make_world(**overrides: object) -> World:
-    fields: dict[str, object] = {
-        "width": 500,
-        "height": 500,
-        "step": 100,
-        "start": [0, 0],
-        "regions": REGIONS,
-    }
-    fields.update(overrides)
-    return World(WorldSpec.model_validate(fields))
+    return World(WorldSpec.model_validate(grid(*REGIONS) | overrides))
 
 
 def at(world: World, points: list[tuple[float, float]], steps: int = 0, color: int = 0):
@@ -135,19 +115,7 @@ def test_a_custom_transient_reward_is_paid_on_every_transition():
 
 
 def test_indicator_colours_are_drawn_with_their_probabilities():
-    regions = [
-        {
-            "name": "lamp",
-            "kind": "indicator",
-            "rect": [300, 200, 400, 300],
-            "colors": [
-                {"name": "red", "value": 1, "probability": 0.2},
-                {"name": "green", "value": 2, "probability": 0.5},
-                {"name": "blue", "value": 3, "probability": 0.3},
-            ],
-        }
-    ]
-    world = make_world(regions=regions)
+    world = make_world(regions=[lamp([300, 200, 400, 300], red=(1, 0.2), green=(2, 0.5), blue=(3, 0.3))])
     n = 40_000
     colors = world.reset(np.random.default_rng(7), n).colors[:, 0]
     for index, p in enumerate([0.2, 0.5, 0.3]):

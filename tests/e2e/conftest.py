@@ -2,25 +2,20 @@
 
 from __future__ import annotations
 
-import socket
-import threading
-import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
-import httpx
 import pytest
-import uvicorn
 
-from horde.server import Settings, create_app
+from horde.server import Settings
 from horde.spec import WorldSpec
 from horde.view.scene import agent_point, to_scene
+from serving import RunningServer, free_port, serve_in_thread
 
 if TYPE_CHECKING:
-    from playwright.sync_api import Browser
+    from playwright.sync_api import Browser, Locator, Page
 
 CHROMIUM = Path("/usr/bin/chromium")
 # Playwright cannot download browsers here; these flags run Debian's chromium headless, with no network
@@ -38,6 +33,17 @@ CHROMIUM_ARGS = [
     "--enable-unsafe-swiftshader",
 ]
 ROOT = Path(__file__).resolve().parents[2]
+DIST = ROOT / "frontend" / "dist"
+# A browser test module says `pytestmark = IN_BROWSER` (it opens pages of its own: viser, the API docs) or
+# `pytestmark = ON_DASHBOARD` (it opens the built dashboard, so frontend/dist must exist).
+IN_BROWSER = [
+    pytest.mark.e2e,
+    pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium at /usr/bin/chromium"),
+]
+ON_DASHBOARD = [
+    *IN_BROWSER,
+    pytest.mark.skipif(not (DIST / "index.html").exists(), reason="frontend/dist is not built: run `make frontend`"),
+]
 # Screenshots go to a build folder (git-ignored); `make screenshots` copies the ones the docs show.
 SHOTS = ROOT / "test-artifacts" / "screenshots"
 # True once the viser client's agent node (its THREE.Object3D, from the client's own test hook
@@ -53,38 +59,52 @@ def drawn_at(world: WorldSpec, x: float, y: float) -> list[float]:
     return list(to_scene(world, *agent_point(world, x, y))[:2])
 
 
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
+def quiet_settings(data: Path, **changes: Any) -> Settings:
+    """A test server's settings: data under `data`, no token, a free viser port, no periodic snapshots."""
+    fields: dict[str, Any] = {"data": data, "token": None, "viser_port": free_port(), "snapshot_every": 3600.0}
+    return Settings(**(fields | changes))
 
 
-@dataclass
-class RunningServer:
-    url: str
-    client: httpx.Client
+@pytest.fixture
+def server(tmp_path: Path) -> Iterator[RunningServer]:
+    """A fresh server for one test (`quiet_settings`); a module that shares one defines its own."""
+    with serve_in_thread(quiet_settings(tmp_path / "data")) as running:
+        yield running
+
+
+def collect_errors(page: Page, keep: Callable[[Any], bool] = lambda message: True) -> list[str]:
+    """The list that `page`'s console errors (those `keep` keeps, with the URL they came from) and its
+    uncaught exceptions are appended to from now on."""
+    errors: list[str] = []
+
+    def on_console(message: Any) -> None:
+        if message.type == "error" and keep(message):
+            errors.append(f"{message.text} ({message.location.get('url', '')})")
+
+    page.on("console", on_console)
+    page.on("pageerror", lambda error: errors.append(f"uncaught: {error}"))
+    return errors
 
 
 @contextmanager
-def serve_in_thread(settings: Settings) -> Iterator[RunningServer]:
-    """The real app (lifespan and all), served by uvicorn in a background thread on a free loopback port."""
-    app = create_app(settings)
-    port = free_port()
-    server = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning"))
-    thread = threading.Thread(target=server.run, name="uvicorn-e2e", daemon=True)
-    thread.start()
-    deadline = time.monotonic() + 30
-    while not server.started:
-        assert time.monotonic() < deadline, "the server did not start"
-        assert thread.is_alive(), "the server thread died"
-        time.sleep(0.02)
-    url = f"http://127.0.0.1:{port}"
+def browser_page(
+    browser: Browser, width: int, height: int, ignore: Callable[[str], bool] = lambda text: False
+) -> Iterator[tuple[Page, list[str]]]:
+    """A fresh page of `width` x `height` and its errors (`collect_errors`, less those whose text `ignore`
+    names); closed on the way out."""
+    context = browser.new_context(viewport={"width": width, "height": height})
+    page = context.new_page()
     try:
-        with httpx.Client(base_url=url, timeout=30) as client:
-            yield RunningServer(url, client)
+        yield page, collect_errors(page, lambda message: not ignore(message.text))
     finally:
-        server.should_exit = True
-        thread.join(timeout=20)
+        context.close()
+
+
+def fill_and_press(form: Locator, fields: dict[str, str], button: str) -> None:
+    """Type each value into the field labelled by its key, then press the button named `button`."""
+    for label, value in fields.items():
+        form.get_by_label(label).fill(value)
+    form.get_by_role("button", name=button).click()
 
 
 @pytest.fixture(scope="session", autouse=True)

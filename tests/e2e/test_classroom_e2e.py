@@ -19,12 +19,11 @@ from playwright.sync_api import expect
 
 from horde.server import Settings
 
-from .conftest import CHROMIUM, ROOT, SHOTS, RunningServer, free_port, serve_in_thread
+from .conftest import ON_DASHBOARD, ROOT, SHOTS, RunningServer, collect_errors, free_port, serve_in_thread
 
 if TYPE_CHECKING:
     from playwright.sync_api import Browser, Page
 
-DIST = ROOT / "frontend" / "dist"
 AXE = ROOT / "frontend" / "node_modules" / "axe-core" / "axe.min.js"
 SIZES = [(1024, 768), (1440, 900), (1920, 1080)]
 WATCH_SECONDS = 30
@@ -32,11 +31,7 @@ WATCH_SECONDS = 30
 TOUR_DONE = "localStorage.setItem('horde-lab-tour-done', '1')"
 LARGE_TEXT = "localStorage.setItem('horde-lab-large-text', '1')"
 
-pytestmark = [
-    pytest.mark.e2e,
-    pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium at /usr/bin/chromium"),
-    pytest.mark.skipif(not (DIST / "index.html").exists(), reason="frontend/dist is not built: run `make frontend`"),
-]
+pytestmark = ON_DASHBOARD
 
 
 @pytest.fixture(scope="module")
@@ -56,16 +51,12 @@ def new_page(browser: Browser, width: int, height: int, *scripts: str) -> tuple[
         context.add_init_script(script)
     page = context.new_page()
     page.set_default_timeout(20_000)
-    errors: list[str] = []
 
-    def on_console(message: Any) -> None:
+    def from_the_dashboard(message: Any) -> bool:
         host = urlparse(page.main_frame.url).netloc
-        if message.type == "error" and (not host or host in message.location.get("url", "")):
-            errors.append(f"{message.text} ({message.location.get('url', '')})")
+        return not host or host in message.location.get("url", "")
 
-    page.on("console", on_console)
-    page.on("pageerror", lambda e: errors.append(str(e)))
-    return page, errors
+    return page, collect_errors(page, from_the_dashboard)
 
 
 def launch(server: RunningServer, **template: Any) -> str:
@@ -176,6 +167,8 @@ def drag(page: Page, world: dict[str, float], start: tuple[float, float], end: t
 
 
 def test_draw_a_world_by_dragging_save_it_run_it_and_see_its_value_map(browser: Browser, server: RunningServer) -> None:
+    """Why 70 lines: one user's path (draw the regions, name them, save, launch a run on the drawn world, see
+    its value map), each step on the page the previous one left."""
     page, errors = new_page(browser, 1440, 1000, TOUR_DONE)
     page.goto(server.url)
     page.get_by_role("tab", name="World editor").click()

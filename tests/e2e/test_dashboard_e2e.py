@@ -20,18 +20,13 @@ from playwright.sync_api import expect
 
 from horde.server import Settings
 
-from .conftest import CHROMIUM, ROOT, SHOTS, free_port, serve_in_thread
+from .conftest import ON_DASHBOARD, SHOTS, collect_errors, fill_and_press, free_port, serve_in_thread
 
-DIST = ROOT / "frontend" / "dist"
 VIEWPORT = {"width": 1280, "height": 800}
 TIMEOUT_MS = 15_000
 NUMBER = re.compile(r"^-?\d+(\.\d+)?(e[+-]\d+)?$")
 
-pytestmark = [
-    pytest.mark.e2e,
-    pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium at /usr/bin/chromium"),
-    pytest.mark.skipif(not (DIST / "index.html").exists(), reason="frontend/dist is not built: run `make frontend`"),
-]
+pytestmark = ON_DASHBOARD
 
 if TYPE_CHECKING:  # Playwright itself is imported in the browser fixture
     from playwright.sync_api import Browser, Locator, Page
@@ -93,13 +88,7 @@ def open_page(browser: Browser, console: Console) -> Iterator[Page]:
     context = browser.new_context(viewport=VIEWPORT)
     page = context.new_page()
     page.set_default_timeout(TIMEOUT_MS)
-
-    def on_console(message: Any) -> None:
-        if message.type == "error":
-            console.errors.append(f"{message.text} ({message.location.get('url', '')})")
-
-    page.on("console", on_console)
-    page.on("pageerror", lambda error: console.errors.append(f"uncaught: {error}"))
+    console.errors = collect_errors(page)
     try:
         yield page
     finally:
@@ -119,6 +108,16 @@ def select_run(page: Page, run_id: str) -> None:
     """Click the run's name in the run list (it appears within a second, at the list's next refresh)."""
     page.locator(f'li.run-item[data-run="{run_id}"] button.run-select').click()
     page.locator(f'li.run-item.selected[data-run="{run_id}"]').wait_for()
+
+
+def new_demon(page: Page, server: Server, name: str) -> tuple[str, Locator]:
+    """A new run, selected, and the demon editor's form with `name` filled in: (run id, form)."""
+    run_id = server.create_run()
+    select_run(page, run_id)
+    page.get_by_role("tab", name="Demon editor").click()
+    form = page.locator("form.demon-form")
+    form.get_by_label("Name", exact=True).fill(name)
+    return run_id, form
 
 
 def cell_at(page: Page, demon: str, column: int) -> Locator:
@@ -194,11 +193,7 @@ def test_launch_experiment1_and_watch_it_learn(page: Page, server: Server) -> No
 
 
 def test_add_a_demon_to_a_live_run_and_see_a_422_at_its_field(page: Page, server: Server, console: Console) -> None:
-    run_id = server.create_run()
-    select_run(page, run_id)
-    page.get_by_role("tab", name="Demon editor").click()
-    form = page.locator("form.demon-form")
-    form.get_by_label("Name", exact=True).fill("reach_goal")
+    run_id, form = new_demon(page, server, "reach_goal")
     # Will the agent reach the goal, following the base demon? Outcome 1 in the goal, 0 elsewhere.
     form.get_by_label("Target policy").select_option("of")
     form.get_by_label("Follows").select_option("base")
@@ -539,9 +534,7 @@ def test_all_of_experiment2_in_one_click_beside_the_thesis(page: Page, server: S
     panel = page.locator("section.protocol-panel")
     panel.get_by_label("Scenario").select_option("group:experiment2")
     # Short protocols for the test: the fields apply to every scenario of the group.
-    panel.get_by_label("Trials").fill("1")
-    panel.get_by_label("Episodes per trial").fill("150")
-    panel.get_by_role("button", name="Run").click()
+    fill_and_press(panel, {"Trials": "1", "Episodes per trial": "150"}, "Run")
     note = panel.locator(".group-note")
     note.filter(has_text="all 5 done").wait_for(timeout=180_000)
 

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 from playwright.sync_api import expect
 
 from . import test_dashboard_e2e as dashboard
-from .test_dashboard_e2e import NUMBER, Server, cell, cell_at, select_run
+from .test_dashboard_e2e import NUMBER, Server, cell, cell_at, new_demon
 
 console, page, server = dashboard.console, dashboard.page, dashboard.server  # the dashboard tests' fixtures
 
@@ -18,11 +18,7 @@ STEP_SIZE_COLUMN = 8  # prediction now, 3 of evaluation, thesis, RUPEE, UDE, the
 
 
 def test_an_autostep_demon_joins_and_shows_its_step_size(page: Page, server: Server) -> None:
-    run_id = server.create_run()
-    select_run(page, run_id)
-    page.get_by_role("tab", name="Demon editor").click()
-    form = page.locator("form.demon-form")
-    form.get_by_label("Name", exact=True).fill("auto_steps")
+    run_id, form = new_demon(page, server, "auto_steps")
     form.get_by_label("Learner").select_option("td")
     options = form.get_by_label("Step size").locator("option").all_inner_texts()
     assert any(text.startswith("autostep (TD only):") for text in options), options  # one line of explanation

@@ -8,27 +8,21 @@ from __future__ import annotations
 
 import re
 import time
-from collections.abc import Iterator
-from pathlib import Path
 
-import pytest
+from playwright.sync_api import Browser, expect
 
-from horde.server import Settings
-
-from .conftest import CHROMIUM, CHROMIUM_ARGS, ROOT, RunningServer, free_port, serve_in_thread
+from .conftest import (
+    ON_DASHBOARD,
+    RunningServer,
+    browser_page,
+)
 from .test_dashboard_live_e2e import AGENT_NODE, viser_race
 
-DIST = ROOT / "frontend" / "dist"
 SECONDS = 10.0  # measured while both pages stream
 MAX_FRAME_GAP_MS = 3000.0  # generous: a frame gap this long is a page that froze
 MAX_CLICK_S = 15.0
 
-pytestmark = [
-    pytest.mark.e2e,
-    pytest.mark.slow,
-    pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium at /usr/bin/chromium"),
-    pytest.mark.skipif(not (DIST / "index.html").exists(), reason="frontend/dist is not built: run `make frontend`"),
-]
+pytestmark = ON_DASHBOARD
 
 FRAME_GAPS = """() => {
   window.__gaps = [];
@@ -38,70 +32,46 @@ FRAME_GAPS = """() => {
 }"""
 
 
-@pytest.fixture
-def server(tmp_path: Path) -> Iterator[RunningServer]:
-    settings = Settings(data=tmp_path / "data", token=None, viser_port=free_port(), snapshot_every=3600.0)
-    with serve_in_thread(settings) as running:
-        yield running
-
-
-def test_nexting_launched_from_the_dashboard_learns_and_the_page_stays_responsive(server: RunningServer) -> None:
-    from playwright.sync_api import sync_playwright
-
+def test_nexting_launched_from_the_dashboard_learns_and_the_page_stays_responsive(
+    browser: Browser, server: RunningServer
+) -> None:
     api = server.client
-    errors: list[str] = []
-    with sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
-        try:
-            page = browser.new_page(viewport={"width": 1280, "height": 1000})
-            page.set_default_timeout(60_000)
-            page.on(
-                "console", lambda m: errors.append(m.text) if m.type == "error" and not viser_race(m.text) else None
-            )
-            page.on("pageerror", lambda e: errors.append(str(e)))
-            page.goto(server.url)
-            launcher = page.locator("section.launcher")
-            launcher.get_by_label("Scenario").select_option("nexting")
-            launcher.get_by_label("Steps/s").fill("")  # full speed
-            launcher.get_by_role("button", name="Launch").click()
-            selected = page.locator("li.run-item.selected")
-            selected.wait_for()
-            run = selected.get_attribute("data-run")
-            assert run, "the launched run is selected"
+    with browser_page(browser, 1280, 1000, ignore=viser_race) as (page, errors):
+        page.set_default_timeout(60_000)
+        page.goto(server.url)
+        launcher = page.locator("section.launcher")
+        launcher.get_by_label("Scenario").select_option("nexting")
+        launcher.get_by_label("Steps/s").fill("")  # full speed
+        launcher.get_by_role("button", name="Launch").click()
+        selected = page.locator("li.run-item.selected")
+        selected.wait_for()
+        run = selected.get_attribute("data-run")
+        assert run, "the launched run is selected"
 
-            # The live view follows the selected run and draws its agent.
-            view_url = api.get("/api/view").json()["url"]
-            frame = page.frame_locator("iframe.viser-frame")
-            view = next(f for f in page.frames if f.url.startswith(view_url))
-            view.wait_for_function(AGENT_NODE, timeout=120_000)
-            assert frame.get_by_text("Connected").first.is_visible()
+        # The live view follows the selected run and draws its agent.
+        view_url = api.get("/api/view").json()["url"]
+        frame = page.frame_locator("iframe.viser-frame")
+        view = next(f for f in page.frames if f.url.startswith(view_url))
+        view.wait_for_function(AGENT_NODE, timeout=120_000)
+        assert frame.get_by_text("Connected").first.is_visible()
 
-            # Steps per second of the run, and the gaps between the page's animation frames, meanwhile.
-            page.evaluate(FRAME_GAPS)
-            first = api.get(f"/api/runs/{run}").json()
-            began = time.monotonic()
-            time.sleep(SECONDS)
-            last = api.get(f"/api/runs/{run}").json()
-            seconds = time.monotonic() - began
-            gaps = page.evaluate("window.__gaps")
-            rate = (last["step"] - first["step"]) / seconds
+        # Steps per second of the run, and the gaps between the page's animation frames, meanwhile.
+        page.evaluate(FRAME_GAPS)
+        first = api.get(f"/api/runs/{run}").json()
+        began = time.monotonic()
+        time.sleep(SECONDS)
+        last = api.get(f"/api/runs/{run}").json()
+        seconds = time.monotonic() - began
+        gaps = page.evaluate("window.__gaps")
+        rate = (last["step"] - first["step"]) / seconds
 
-            # A click takes effect: pause the run from the run list, until its badge says so.
-            clicked = time.monotonic()
-            page.locator(f'li.run-item[data-run="{run}"]').get_by_role("button", name=re.compile("^Pause run")).click()
-            deadline = clicked + 60
-            status = ""
-            while time.monotonic() < deadline:
-                status = api.get(f"/api/runs/{run}").json()["status"]
-                badge = page.locator(f'li.run-item[data-run="{run}"] .badge').inner_text()
-                if badge == "paused":
-                    break
-                time.sleep(0.05)
-            click_s = time.monotonic() - clicked
-            assert badge == "paused", f"the run's badge says {badge!r} (status {status!r}) 60 s after the click"
-            demons = len(last["demons"])
-        finally:
-            browser.close()
+        # A click takes effect: pause the run from the run list, until its badge says so.
+        clicked = time.monotonic()
+        page.locator(f'li.run-item[data-run="{run}"]').get_by_role("button", name=re.compile("^Pause run")).click()
+        badge = page.locator(f'li.run-item[data-run="{run}"] .badge')
+        expect(badge, "the run's badge within 60 s of the click").to_have_text("paused", timeout=60_000)
+        click_s = time.monotonic() - clicked
+        demons = len(last["demons"])
 
     frames = sorted(gaps)
     longest = frames[-1] if frames else float("inf")

@@ -4,21 +4,15 @@ returns) drawn from records pushed over REST, and its phase plane in the same em
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-import pytest
+from stream_specs import LIGHT_WHEEL, nexting, robot, tiled
 
-from horde.server import Settings
-
-from .conftest import CHROMIUM, ROOT, SHOTS, RunningServer, free_port, serve_in_thread
+from .conftest import ON_DASHBOARD, SHOTS, RunningServer
 
 if TYPE_CHECKING:
     from playwright.sync_api import Browser
 
-DIST = ROOT / "frontend" / "dist"
-SENSORS = [{"name": "light", "low": 0, "high": 1}, {"name": "wheel", "low": -1, "high": 1}]
 # Pixels of a colour on a uPlot canvas (the prediction's blue, the return's near-black), for "is it drawn".
 PIXELS_OF = """([selector, rgb]) => {
     const canvas = document.querySelector(selector);
@@ -33,29 +27,11 @@ PIXELS_OF = """([selector, rgb]) => {
 }"""
 PHASE_MAP = """() => !!window.__viserMutable?.nodeRefFromName?.["/phase/map"]"""
 
-pytestmark = [
-    pytest.mark.e2e,
-    pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium at /usr/bin/chromium"),
-    pytest.mark.skipif(not (DIST / "index.html").exists(), reason="frontend/dist is not built: run `make frontend`"),
-]
-
-
-@pytest.fixture
-def server(tmp_path: Path) -> Iterator[RunningServer]:
-    settings = Settings(data=tmp_path / "data", token=None, viser_port=free_port(), snapshot_every=3600.0)
-    with serve_in_thread(settings) as running:
-        yield running
+pytestmark = ON_DASHBOARD
 
 
 def spec() -> dict[str, Any]:
-    return {
-        "name": "robot",
-        "world": {"kind": "stream", "actions": 2, "sensors": SENSORS},
-        "features": {"kind": "sensors", "tilings": 4, "tiles": 6, "size": 256,
-                     "sensors": [{"sensor": s["name"], "low": s["low"], "high": s["high"]} for s in SENSORS]},
-        "demons": [{"name": "light_g0.8", "learner": "td", "cumulant": {"sensor": "light"}, "discount": 0.8},
-                   {"name": "wheel_g0.5", "learner": "td", "cumulant": {"sensor": "wheel"}, "discount": 0.5}],
-    }  # fmt: skip
+    return robot(tiled(LIGHT_WHEEL, tilings=4, tiles=6, size=256), nexting("light", 0.8), nexting("wheel", 0.5))
 
 
 def records(start: int, n: int) -> list[dict[str, Any]]:

@@ -17,19 +17,14 @@ import pytest
 
 from horde.server import Settings
 
-from .conftest import CHROMIUM, ROOT, RunningServer, serve_in_thread
+from .conftest import ON_DASHBOARD, RunningServer, collect_errors, fill_and_press, serve_in_thread
 
 if TYPE_CHECKING:
     from playwright.sync_api import Browser, Page
 
-DIST = ROOT / "frontend" / "dist"
 TIMEOUT_MS = 20_000
 
-pytestmark = [
-    pytest.mark.e2e,
-    pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium at /usr/bin/chromium"),
-    pytest.mark.skipif(not (DIST / "index.html").exists(), reason="frontend/dist is not built: run `make frontend`"),
-]
+pytestmark = ON_DASHBOARD
 
 
 @pytest.fixture(scope="module")
@@ -46,9 +41,7 @@ def page(browser: Browser, server: RunningServer) -> Iterator[Page]:
     context = browser.new_context(viewport={"width": 1280, "height": 900}, accept_downloads=True)
     page = context.new_page()
     page.set_default_timeout(TIMEOUT_MS)
-    errors: list[str] = []
-    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-    page.on("pageerror", lambda e: errors.append(f"uncaught: {e}"))
+    errors = collect_errors(page)
     page.goto(server.url)
     page.get_by_role("heading", name="Horde Lab").wait_for()
     page.get_by_role("tab", name="Studies").click()
@@ -63,10 +56,7 @@ def test_run_a_small_study_and_see_curves_bands_and_the_best(page: Page) -> None
     from playwright.sync_api import expect
 
     panel = page.locator(".studies-panel")
-    panel.get_by_label("Runs per configuration").fill("3")
-    panel.get_by_label("Episodes per run").fill("60")
-    panel.get_by_label("Checkpoints").fill("3")
-    panel.get_by_role("button", name="Launch").click()
+    fill_and_press(panel, {"Runs per configuration": "3", "Episodes per run": "60", "Checkpoints": "3"}, "Launch")
     badge = panel.locator(".study-job .badge")
     expect(badge).to_have_text("finished", timeout=90_000)
     expect(panel.get_by_test_id("study-count")).to_have_text("18 of 18 tasks")

@@ -10,12 +10,14 @@ from pathlib import Path
 
 import pytest
 import viser
+from playwright.sync_api import Browser
 from websockets.exceptions import ConnectionClosed, InvalidStatus
 from websockets.sync.client import connect
 
 from horde.server import Settings
+from polling import wait_until
 
-from .conftest import CHROMIUM, CHROMIUM_ARGS, RunningServer, free_port, serve_in_thread
+from .conftest import CHROMIUM, RunningServer, browser_page, free_port, serve_in_thread
 
 TOKEN = "s3cret-token"
 AUTH = {"Authorization": f"Bearer {TOKEN}"}
@@ -48,8 +50,8 @@ def test_the_live_view_disconnects_other_sites(server: RunningServer) -> None:
 
 @pytest.mark.e2e
 @pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium at /usr/bin/chromium")
-def test_without_the_token_the_panel_changes_nothing(server: RunningServer) -> None:
-    from playwright.sync_api import expect, sync_playwright
+def test_without_the_token_the_panel_changes_nothing(browser: Browser, server: RunningServer) -> None:
+    from playwright.sync_api import expect
 
     api = server.client
     body = {"scenario": "experiment1", "seed": 3, "protocol": {"episodes": 0}}  # runs until paused
@@ -57,45 +59,38 @@ def test_without_the_token_the_panel_changes_nothing(server: RunningServer) -> N
     assert api.post("/api/view", json={"run": run}, headers=AUTH).status_code == 200
     url = api.get("/api/view").json()["url"]
 
-    with sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
-        try:
-            page = browser.new_page(viewport={"width": 1280, "height": 800})
-            page.goto(url)
-            page.get_by_role("button", name="Expand panel").click(timeout=30_000)  # it starts minimized
-            tilt = page.get_by_role("button", name="Tilt to 3-D")
-            expect(tilt).to_be_visible(timeout=30_000)
-            for name in ("Play", "Pause", "Step", "Reset"):  # the commands are absent
-                expect(page.get_by_role("button", name=name, exact=True)).to_have_count(0)
-            expect(page.get_by_text("Full speed")).to_have_count(0)
+    with browser_page(browser, 1280, 800) as (page, errors):
+        page.goto(url)
+        page.get_by_role("button", name="Expand panel").click(timeout=30_000)  # it starts minimized
+        tilt = page.get_by_role("button", name="Tilt to 3-D")
+        expect(tilt).to_be_visible(timeout=30_000)
+        for name in ("Play", "Pause", "Step", "Reset"):  # the commands are absent
+            expect(page.get_by_role("button", name=name, exact=True)).to_have_count(0)
+        expect(page.get_by_text("Full speed")).to_have_count(0)
 
-            tilt.click()  # a shared view setting: refused, and the browser is told so
-            expect(page.get_by_text("This server needs its token").first).to_be_visible(timeout=10_000)
-            expect(page.get_by_role("button", name="Tilt to 3-D")).to_be_visible()
+        tilt.click()  # a shared view setting: refused, and the browser is told so
+        expect(page.get_by_text("This server needs its token").first).to_be_visible(timeout=10_000)
+        expect(page.get_by_role("button", name="Tilt to 3-D")).to_be_visible()
 
-            token = page.get_by_role("textbox").first  # the browser's own Token field
-            token.fill("wrong")
-            token.press("Enter")
-            expect(page.get_by_text("That is not this server's token").first).to_be_visible(timeout=10_000)
-            expect(page.get_by_role("button", name="Play", exact=True)).to_have_count(0)
-            assert api.get(f"/api/runs/{run}").json()["status"] == "created"
+        token = page.get_by_role("textbox").first  # the browser's own Token field
+        token.fill("wrong")
+        token.press("Enter")
+        expect(page.get_by_text("That is not this server's token").first).to_be_visible(timeout=10_000)
+        expect(page.get_by_role("button", name="Play", exact=True)).to_have_count(0)
+        assert api.get(f"/api/runs/{run}").json()["status"] == "created"
 
-            token.fill(TOKEN)
-            token.press("Enter")
-            play = page.get_by_role("button", name="Play", exact=True)
-            expect(play).to_be_visible(timeout=10_000)
-            play.click()
-            deadline = time.monotonic() + 10
-            while api.get(f"/api/runs/{run}").json()["status"] != "running":
-                assert time.monotonic() < deadline, "Play with the token did not start the run"
-                time.sleep(0.05)
+        token.fill(TOKEN)
+        token.press("Enter")
+        play = page.get_by_role("button", name="Play", exact=True)
+        expect(play).to_be_visible(timeout=10_000)
+        play.click()
+        wait_until(lambda: api.get(f"/api/runs/{run}").json()["status"] == "running", "Play to start the run", 10)
 
-            # A second browser, without the token, still sees no commands.
-            other = browser.new_page(viewport={"width": 1280, "height": 800})
-            other.goto(url)
-            other.get_by_role("button", name="Expand panel").click(timeout=30_000)
-            expect(other.get_by_role("button", name="Tilt to 3-D")).to_be_visible(timeout=30_000)
-            expect(other.get_by_role("button", name="Pause", exact=True)).to_have_count(0)
-        finally:
-            browser.close()
+        # A second browser, without the token, still sees no commands.
+        other = browser.new_page(viewport={"width": 1280, "height": 800})
+        other.goto(url)
+        other.get_by_role("button", name="Expand panel").click(timeout=30_000)
+        expect(other.get_by_role("button", name="Tilt to 3-D")).to_be_visible(timeout=30_000)
+        expect(other.get_by_role("button", name="Pause", exact=True)).to_have_count(0)
+    assert errors == [], errors
     assert api.get(f"/api/runs/{run}").json()["status"] == "running"

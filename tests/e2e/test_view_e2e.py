@@ -7,27 +7,25 @@ of a scene node; `.position` is the node's position in its parent frame (here th
 
 from __future__ import annotations
 
-import time
 from collections.abc import Iterator
 
 import pytest
+from playwright.sync_api import Browser
 
 from horde.runs.manager import RunManager
 from horde.scenarios import load_scenario
 from horde.view import LiveView, ManagerSource
 from horde.view.scene import agent_radius
+from polling import wait_until
 
-from .conftest import AGENT_AT, CHROMIUM, CHROMIUM_ARGS, ROOT, SHOTS, drawn_at, free_port
+from .conftest import AGENT_AT, IN_BROWSER, ROOT, SHOTS, browser_page, drawn_at, free_port
 
 AGENT_POSITION = """() => {
     const node = window.__viserMutable?.nodeRefFromName?.["/agent"];
     return node ? [node.position.x, node.position.y, node.position.z] : null;
 }"""
 
-pytestmark = [
-    pytest.mark.e2e,
-    pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium at /usr/bin/chromium"),
-]
+pytestmark = IN_BROWSER
 
 
 @pytest.fixture
@@ -43,54 +41,44 @@ def live() -> Iterator[tuple[LiveView, ManagerSource]]:
     manager.stop()
 
 
-def test_the_agent_moves_in_the_browser_when_the_run_steps(live: tuple[LiveView, ManagerSource]) -> None:
-    from playwright.sync_api import sync_playwright
-
+def test_the_agent_moves_in_the_browser_when_the_run_steps(
+    browser: Browser, live: tuple[LiveView, ManagerSource]
+) -> None:
     view, source = live
     run = source.list_runs()[0][0]
     spec = source.snapshot(run).spec
     world = spec.world
 
-    errors: list[str] = []
-    with sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
-        try:
-            page = browser.new_page(viewport={"width": 1280, "height": 800})
-            page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-            page.on("pageerror", lambda e: errors.append(str(e)))
-            page.goto(view.url)
-            page.wait_for_function(AGENT_POSITION, timeout=30_000)
-            x, y, z = page.evaluate(AGENT_POSITION)
-            assert [x, y] == pytest.approx(drawn_at(world, 0.0, 0.0))  # experiment1 starts at (0, 0)
-            assert z == pytest.approx(agent_radius(spec.world))
+    with browser_page(browser, 1280, 800) as (page, errors):
+        page.goto(view.url)
+        page.wait_for_function(AGENT_POSITION, timeout=30_000)
+        x, y, z = page.evaluate(AGENT_POSITION)
+        assert [x, y] == pytest.approx(drawn_at(world, 0.0, 0.0))  # experiment1 starts at (0, 0)
+        assert z == pytest.approx(agent_radius(spec.world))
 
-            # The panel starts minimized (embedded, it would cover the world): one click opens it.
-            step = page.get_by_role("button", name="Step", exact=True)
-            assert not step.is_visible()
-            page.get_by_role("button", name="Expand panel").click()
-            # Step with the GUI's button until the agent has left its start (a bump leaves it there).
-            for _ in range(30):
-                before = source.snapshot(run).total_steps
-                step.click()
-                deadline = time.monotonic() + 5.0
-                while source.snapshot(run).total_steps == before and time.monotonic() < deadline:
-                    time.sleep(0.02)
-                snap = source.snapshot(run)
-                if (snap.x, snap.y) != (0.0, 0.0):
-                    break
-            assert (snap.x, snap.y) != (0.0, 0.0)
-            page.wait_for_function(AGENT_AT, arg=drawn_at(world, snap.x, snap.y), timeout=10_000)
-
-            # Learn a while, so that the picture shows a value map worth seeing.
-            source.step(run, 2000)
+        # The panel starts minimized (embedded, it would cover the world): one click opens it.
+        step = page.get_by_role("button", name="Step", exact=True)
+        assert not step.is_visible()
+        page.get_by_role("button", name="Expand panel").click()
+        # Step with the GUI's button until the agent has left its start (a bump leaves it there).
+        for _ in range(30):
+            before = source.snapshot(run).total_steps
+            step.click()
+            wait_until(lambda b=before: source.snapshot(run).total_steps > b, "the Step button to step the run", 5.0)
             snap = source.snapshot(run)
-            page.wait_for_function(AGENT_AT, arg=drawn_at(world, snap.x, snap.y), timeout=10_000)
-            page.wait_for_timeout(1500)  # a value map refresh and a chart refresh
-            for close in page.locator(".mantine-Notification-root button").all():
-                close.click()  # the "software WebGL" notice of a GPU-less browser
-            page.wait_for_timeout(300)
-            SHOTS.mkdir(parents=True, exist_ok=True)
-            page.screenshot(path=str(SHOTS / "view.png"))
-        finally:
-            browser.close()
+            if (snap.x, snap.y) != (0.0, 0.0):
+                break
+        assert (snap.x, snap.y) != (0.0, 0.0)
+        page.wait_for_function(AGENT_AT, arg=drawn_at(world, snap.x, snap.y), timeout=10_000)
+
+        # Learn a while, so that the picture shows a value map worth seeing.
+        source.step(run, 2000)
+        snap = source.snapshot(run)
+        page.wait_for_function(AGENT_AT, arg=drawn_at(world, snap.x, snap.y), timeout=10_000)
+        page.wait_for_timeout(1500)  # a value map refresh and a chart refresh
+        for close in page.locator(".mantine-Notification-root button").all():
+            close.click()  # the "software WebGL" notice of a GPU-less browser
+        page.wait_for_timeout(300)
+        SHOTS.mkdir(parents=True, exist_ok=True)
+        page.screenshot(path=str(SHOTS / "view.png"))
     assert errors == []

@@ -7,65 +7,46 @@ whose entry "/agent" is the agent node's THREE.Object3D (position in scene units
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from pathlib import Path
-
-import pytest
+from playwright.sync_api import Browser
 
 from horde.scenarios import find_scenario
-from horde.server import Settings
 
-from .conftest import AGENT_AT, CHROMIUM, CHROMIUM_ARGS, ROOT, RunningServer, drawn_at, free_port, serve_in_thread
+from .conftest import (
+    AGENT_AT,
+    IN_BROWSER,
+    ROOT,
+    RunningServer,
+    browser_page,
+    drawn_at,
+)
 
-pytestmark = [
-    pytest.mark.e2e,
-    pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium at /usr/bin/chromium"),
-]
-
-
-@pytest.fixture
-def server(tmp_path: Path) -> Iterator[RunningServer]:
-    settings = Settings(data=tmp_path / "data", token=None, viser_port=free_port(), snapshot_every=3600.0)
-    with serve_in_thread(settings) as running:
-        yield running
+pytestmark = IN_BROWSER
 
 
-def test_a_run_stepped_over_rest_moves_the_agent_in_the_browser(server: RunningServer) -> None:
-    from playwright.sync_api import sync_playwright
-
+def test_a_run_stepped_over_rest_moves_the_agent_in_the_browser(browser: Browser, server: RunningServer) -> None:
     api = server.client
     run = api.post("/api/runs", json={"scenario": "experiment1", "seed": 3}).json()["id"]
     view = api.post("/api/view", json={"run": run}).json()
     world = find_scenario("experiment1").world
 
-    errors: list[str] = []
-    with sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
-        try:
-            page = browser.new_page(viewport={"width": 1280, "height": 800})
-            page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-            page.on("pageerror", lambda e: errors.append(str(e)))
-            page.goto(view["url"])
-            page.wait_for_function(
-                AGENT_AT, arg=drawn_at(world, 0.0, 0.0), timeout=30_000
-            )  # experiment1 starts at (0, 0)
+    with browser_page(browser, 1280, 800) as (page, errors):
+        page.goto(view["url"])
+        page.wait_for_function(AGENT_AT, arg=drawn_at(world, 0.0, 0.0), timeout=30_000)  # experiment1 starts at (0, 0)
 
-            # Step over REST until the agent has left its start (a bump into the wall leaves it there).
-            agent = {"x": 0.0, "y": 0.0}
-            for _ in range(50):
-                agent = api.post(f"/api/runs/{run}/step", json={"steps": 1}).json()["agent"]
-                if (agent["x"], agent["y"]) != (0.0, 0.0):
-                    break
-            assert (agent["x"], agent["y"]) != (0.0, 0.0)
-            page.wait_for_function(AGENT_AT, arg=drawn_at(world, agent["x"], agent["y"]), timeout=10_000)
+        # Step over REST until the agent has left its start (a bump into the wall leaves it there).
+        agent = {"x": 0.0, "y": 0.0}
+        for _ in range(50):
+            agent = api.post(f"/api/runs/{run}/step", json={"steps": 1}).json()["agent"]
+            if (agent["x"], agent["y"]) != (0.0, 0.0):
+                break
+        assert (agent["x"], agent["y"]) != (0.0, 0.0)
+        page.wait_for_function(AGENT_AT, arg=drawn_at(world, agent["x"], agent["y"]), timeout=10_000)
 
-            # A few hundred more steps: the agent follows again, and the picture has a value map.
-            agent = api.post(f"/api/runs/{run}/step", json={"steps": 300}).json()["agent"]
-            page.wait_for_function(AGENT_AT, arg=drawn_at(world, agent["x"], agent["y"]), timeout=10_000)
-            page.wait_for_timeout(1000)
-            artifacts = ROOT / "test-artifacts"
-            artifacts.mkdir(exist_ok=True)
-            page.screenshot(path=str(artifacts / "view-server.png"))
-        finally:
-            browser.close()
+        # A few hundred more steps: the agent follows again, and the picture has a value map.
+        agent = api.post(f"/api/runs/{run}/step", json={"steps": 300}).json()["agent"]
+        page.wait_for_function(AGENT_AT, arg=drawn_at(world, agent["x"], agent["y"]), timeout=10_000)
+        page.wait_for_timeout(1000)
+        artifacts = ROOT / "test-artifacts"
+        artifacts.mkdir(exist_ok=True)
+        page.screenshot(path=str(artifacts / "view-server.png"))
     assert errors == []

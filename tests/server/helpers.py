@@ -7,21 +7,11 @@ from __future__ import annotations
 
 from typing import Any
 
+from grids import GOAL, PIT, WALL, grid
 from polling import wait_until
 
 # A small thesis-like world: softmax control demon `base` and a prediction demon `steps` following it.
-WORLD: dict[str, Any] = {
-    "width": 500,
-    "height": 500,
-    "step": 100,
-    "start": [0, 0],
-    "max_steps": 100,
-    "regions": [
-        {"name": "goal", "kind": "terminal", "rect": [400, 400, 500, 500], "reward": 1},
-        {"name": "pit", "kind": "terminal", "rect": [400, 200, 500, 300], "reward": -1},
-        {"name": "wall", "kind": "obstacle", "rect": [100, 200, 200, 300]},
-    ],
-}
+WORLD: dict[str, Any] = grid(GOAL, PIT, WALL)
 BASE_DEMON: dict[str, Any] = {
     "name": "base",
     "policy": "softmax",

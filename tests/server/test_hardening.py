@@ -188,3 +188,40 @@ def test_the_slowest_and_fastest_speeds_keep_the_run_alive(client: TestClient, c
         body = client.post(f"/api/runs/{run}/pause").json()
         assert body["status"] == "paused", body
     wait_for(client, run, "paused")
+
+
+def test_at_most_a_few_requests_work_in_threads_at_once(client: TestClient, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A burst of large bodies is parsed by at most REQUEST_THREADS worker threads at once (with many
+    threads busy, the event loop waits behind each of them for the GIL), and every request is answered."""
+    import threading
+
+    from horde.server import guard
+
+    lock = threading.Lock()
+    running, most = 0, 0
+    check_json = guard._check_json
+
+    def slow_check(body: bytes, max_demons: int | None) -> Any:
+        nonlocal running, most
+        with lock:
+            running += 1
+            most = max(most, running)
+        time.sleep(0.2)
+        with lock:
+            running -= 1
+        return check_json(body, max_demons)
+
+    monkeypatch.setattr(guard, "_check_json", slow_check)
+    body = json.dumps({**make_spec(), "description": "x" * guard.THREAD_BYTES})  # large: parsed in a thread
+    statuses: list[int] = []
+
+    def post() -> None:
+        statuses.append(raw(client, "POST", "/api/runs", body).status_code)
+
+    threads = [threading.Thread(target=post) for _ in range(3 * guard.REQUEST_THREADS)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join(timeout=60)
+    assert len(statuses) == len(threads), "a request was not answered"
+    assert 2 <= most <= guard.REQUEST_THREADS, most

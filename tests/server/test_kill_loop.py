@@ -48,6 +48,8 @@ def restored_step(message: str) -> int:
 
 @pytest.mark.slow
 def test_server_killed_at_random_moments(tmp_path: Path) -> None:
+    """See the module. Why 70 lines: one loop of rounds whose state (the worlds, finished runs and jobs seen so
+    far, the running run and job) carries from one kill to the next; each round's checks read all of it."""
     data, log = tmp_path / "data", tmp_path / "server.log"
     rng = random.Random(10)
     worlds: set[str] = set()

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import os
 import signal
-import socket
 import sqlite3
 import subprocess
 import sys
@@ -20,15 +19,12 @@ from pathlib import Path
 
 import httpx
 
+from polling import wait_until
+from serving import free_port
+
 from .helpers import WORLD, make_spec, wait_for
 
 STARTUP_TIMEOUT = 120.0  # the first start may compile the learning kernels
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 @contextmanager
@@ -50,16 +46,15 @@ def server(
         )
     client = httpx.Client(base_url=f"http://127.0.0.1:{port}", timeout=30.0)
     try:
-        deadline = time.monotonic() + STARTUP_TIMEOUT
-        while True:
-            assert process.poll() is None, log.read_text()
+
+        def healthy() -> bool:
+            assert process.poll() is None, log.read_text()  # a dead server fails at once
             try:
-                if client.get("/api/health").status_code == 200:
-                    break
+                return client.get("/api/health").status_code == 200
             except httpx.TransportError:
-                pass
-            assert time.monotonic() < deadline, "the server did not start"
-            time.sleep(0.1)
+                return False
+
+        wait_until(healthy, "the server to answer /api/health", STARTUP_TIMEOUT, interval=0.1)
         yield process, client
     finally:
         client.close()

@@ -11,19 +11,11 @@ from fastapi.testclient import TestClient
 
 from horde.spec import RunSpec
 from horde.worlds.records import RecordLearner
-
-SENSORS = [{"name": "light", "low": 0, "high": 1}, {"name": "wheel", "low": -1, "high": 1}]
+from stream_specs import LIGHT_WHEEL, nexting, robot, tiled
 
 
 def spec() -> dict[str, Any]:
-    return {
-        "name": "robot",
-        "world": {"kind": "stream", "actions": 2, "sensors": SENSORS},
-        "features": {"kind": "sensors", "tilings": 2, "tiles": 4, "size": 64,
-                     "sensors": [{"sensor": s["name"], "low": s["low"], "high": s["high"]} for s in SENSORS]},
-        "demons": [{"name": "light_g0.5", "learner": "td", "cumulant": {"sensor": "light"}, "discount": 0.5},
-                   {"name": "wheel_g0", "learner": "td", "cumulant": {"sensor": "wheel"}, "discount": 0.0}],
-    }  # fmt: skip
+    return robot(tiled(LIGHT_WHEEL, tilings=2, tiles=4, size=64), nexting("light", 0.5), nexting("wheel", 0.0))
 
 
 def records(n: int, start: int = 0) -> list[dict[str, Any]]:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import socket
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
@@ -16,14 +15,9 @@ with warnings.catch_warnings():
 
 from horde.server import Settings, create_app
 from polling import wait_until
+from serving import free_port
 
 from .helpers import make_spec
-
-
-def free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        return int(sock.getsockname()[1])
 
 
 @pytest.fixture

@@ -10,23 +10,9 @@ import pytest
 from horde.cli import main
 from horde.studies.files import load_study_file, study_dir
 
-STUDY = """\
-name = "tiny"
-scenario = "classroom-offpolicy"
-runs = 3
+from .helpers import alpha_by_learner
 
-[measure]
-episodes = 40
-checkpoints = 2
-
-[[axes]]
-path = "learning.alpha"
-values = [0.03, 0.1]
-
-[[axes]]
-path = "demons.*.learner"
-values = ["td", "gtd"]
-"""
+STUDY = alpha_by_learner(runs=3, episodes=40, checkpoints=2, learners=("td", "gtd"), name="tiny")
 
 
 def test_study_prints_a_table_and_writes_json_and_plots(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

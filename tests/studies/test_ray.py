@@ -27,21 +27,11 @@ from horde.runs.store import Store
 from horde.studies.files import parse_study
 from horde.studies.runner import InProcess, create_study, run_study
 
+from .helpers import alpha_by_learner
+
 pytestmark = pytest.mark.slow
 
-STUDY = """\
-scenario = "classroom-offpolicy"
-runs = 2
-[measure]
-episodes = 150
-checkpoints = 3
-[[axes]]
-path = "learning.alpha"
-values = [0.03, 0.1]
-[[axes]]
-path = "demons.*.learner"
-values = ["td", "gq"]
-"""
+STUDY = alpha_by_learner(runs=2, episodes=150, checkpoints=3, learners=("td", "gq"))
 RAY = str(Path(sys.executable).with_name("ray"))
 
 

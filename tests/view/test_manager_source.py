@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import socket
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
@@ -15,6 +14,7 @@ from horde.scenarios import load_scenario, scenario_dir
 from horde.view.live import LiveView
 from horde.view.manager_source import ManagerSource
 from horde.view.source import CommandRefusedError, ViewSource
+from serving import free_port
 
 
 @pytest.fixture
@@ -97,12 +97,6 @@ class Client:
 class Click:
     client: Client
     client_id: int = 7
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 def test_a_refused_gui_command_is_told_to_the_client_who_clicked(source: ManagerSource) -> None:

@@ -11,8 +11,6 @@ import csv
 import json
 import subprocess
 import sys
-import threading
-import time
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
@@ -20,7 +18,6 @@ from typing import Any
 
 import numpy as np
 import pytest
-import uvicorn
 
 with warnings.catch_warnings():
     warnings.filterwarnings("ignore", message=".*install `httpx2`")
@@ -30,6 +27,8 @@ from horde.cli import main as horde_main
 from horde.server import Settings, create_app
 from horde.spec import RunSpec
 from horde.worlds.log_run import learn_log
+from serving import serve_in_thread
+from stream_specs import tiled
 
 ROOT = Path(__file__).resolve().parents[2]
 SENSORS = [{"name": "light", "low": 0, "high": 1}, {"name": "wheel", "low": -1, "high": 1},
@@ -39,8 +38,7 @@ SENSORS = [{"name": "light", "low": 0, "high": 1}, {"name": "wheel", "low": -1, 
 def stream_spec() -> dict[str, Any]:
     return {
         "world": {"kind": "stream", "actions": 3, "sensors": SENSORS},
-        "features": {"kind": "sensors", "tilings": 4, "tiles": 6, "size": 512,
-                     "sensors": [{"sensor": s["name"], "low": s["low"], "high": s["high"]} for s in SENSORS]},
+        "features": tiled(SENSORS, tilings=4, tiles=6, size=512),
         "families": [{"name": "{s}_g{gamma}", "over": {"s": ["light", "wheel", "heat"], "gamma": [0, 0.5, 0.9]},
                       "demon": {"learner": "td", "cumulant": {"sensor": "{s}"}, "discount": "{gamma}"}}],
         "demons": [{"name": "light_if_left", "learner": "gq", "cumulant": {"sensor": "light"}, "discount": 0.8,
@@ -156,28 +154,6 @@ def test_a_log_compares_each_prediction_with_its_realised_return(tmp_path: Path)
             assert demon.mean_prediction == pytest.approx(demon.mean_return, rel=0.05), demon
 
 
-def serve(tmp_path: Path) -> Iterator[str]:
-    import socket
-
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port = int(s.getsockname()[1])
-    app = create_app(Settings(data=tmp_path / "data", token=None, snapshot_every=3600.0))
-    server = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning", ws_max_size=2**24))
-    thread = threading.Thread(target=server.run, name="uvicorn-streams", daemon=True)
-    thread.start()
-    deadline = time.monotonic() + 30
-    while not server.started:
-        assert time.monotonic() < deadline, "the server did not start within 30 s"
-        assert thread.is_alive(), "the server thread died"
-        time.sleep(0.02)
-    try:
-        yield f"http://127.0.0.1:{port}"
-    finally:
-        server.should_exit = True
-        thread.join(timeout=20)
-
-
 @pytest.mark.slow
 def test_100k_records_over_the_websocket_from_another_process_equal_the_csv_log(tmp_path: Path) -> None:
     import httpx
@@ -187,7 +163,10 @@ def test_100k_records_over_the_websocket_from_another_process_equal_the_csv_log(
     spec = RunSpec.model_validate(stream_spec())
     expected = learn_log(spec, log)
     assert expected.learned == 100_000
-    for url in serve(tmp_path):
+    with serve_in_thread(
+        Settings(data=tmp_path / "data", token=None, snapshot_every=3600.0), ws_max_size=2**24
+    ) as server:
+        url = server.url
         run = httpx.post(f"{url}/api/streams", json=stream_spec(), timeout=60).json()
         out = tmp_path / "out.json"
         replay = subprocess.run(

@@ -27,10 +27,23 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from horde.core.scale import LEARNER_CODES
-from horde.core.scale_fast import B_COFF, B_HI, B_LEARNER, B_LO, B_NCLS, B_ROWS, B_TOFF, B_VOFF, B_WOFF
+from horde.core.scale_fast import (
+    ALIGN,
+    B_COFF,
+    B_HI,
+    B_LEARNER,
+    B_LO,
+    B_NCLS,
+    B_ROWS,
+    B_TOFF,
+    B_VOFF,
+    B_WOFF,
+    PARALLEL_MIN,
+    _at,
+)
 
 TOTD = LEARNER_CODES["true_online_td"]
 TOGTD = LEARNER_CODES["true_online_gtd"]
@@ -105,11 +118,16 @@ def _merge_trace(trace, support, toff, voff, ncls, nnz_b, x_t, decay, add, cut, 
 
 @njit(cache=True)
 def online_step(bi, b, lam_b, alpha, alpha_w, dcls, cut, theta, w, trace, support, rows, nnz, x_t, x_tp1, r, z,
-                gamma_tp1, rho_t, gamma, q, pred, delta, touched, values, o):  # fmt: skip
+                gamma_tp1, rho_t, gamma, q, pred, delta, touched, values, o, threads=1):  # fmt: skip
     """One transition for block b (a learner of this module), in place: the learners.py equations.
 
     `values[0, :Db]` must hold the block's values at s_{t+1} under the weights before this step
     (`scale_fast._read_values`); on return it holds them after, and q, pred are set for s_{t+1}.
+
+    The traces (nothing per demon) and the TD errors first, then `_columns` over the block's demons,
+    which touches only their columns: with `threads` > 1 and at least `PARALLEL_MIN` demons, the demons
+    are split into runs of columns learned by that many threads (`_columns_parallel`), each column by the
+    same operations in the same order as on one thread, so that the numbers do not depend on the count.
     """
     code = bi[b, B_LEARNER]
     lo, hi, woff, toff, voff = bi[b, B_LO], bi[b, B_HI], bi[b, B_WOFF], bi[b, B_TOFF], bi[b, B_VOFF]
@@ -132,9 +150,12 @@ def online_step(bi, b, lam_b, alpha, alpha_w, dcls, cut, theta, w, trace, suppor
     if code == TOGTD:
         _togtd_traces(o, voff, nrows, ncls, coff, lam_b, x_t, gamma, rho_t)
 
-    # The TD error of each demon, before any weight moves.
+    # The TD error of each demon, before any weight moves; the first demon of each class (bounds).
+    bounds = o.bounds
+    bounds[0] = 0
     for i in range(db):
         d = lo + i
+        bounds[dcls[d] - coff + 1] = i + 1  # the demons of a class are consecutive, classes in order
         g1 = gamma_tp1[dcls[d]]
         v_next = values[0, i]
         dl = r[d] + (1.0 - g1) * z[d] + g1 * v_next - q[d, 0]
@@ -161,32 +182,241 @@ def online_step(bi, b, lam_b, alpha, alpha_w, dcls, cut, theta, w, trace, suppor
     nnz[b] = kept
     touched[b] = kept
 
+    small = True  # every meta step size of the block within _exp_small's range (one choice for the block)
     if code in (TIDBD, AUTOSTEP):
-        _adaptive(o, code == AUTOSTEP, theta, w, trace, rows, kept, woff, voff, nrows, ncls, coff, lo, db, dcls, alpha,
-                  x_t, x_tp1, gamma_tp1, delta)  # fmt: skip
-    else:
-        for s in range(kept):
-            row = rows[s]
-            base = woff + row * db
-            for i in range(db):
-                theta[base + i] += coef[i] * trace[voff + row * ncls + dcls[lo + i] - coff]
-        if code in (TOTD, TOGTD):
-            for j in range(x_t.shape[0]):
-                base = woff + x_t[j] * db
-                for i in range(db):
-                    theta[base + i] -= fix[i]
+        rate, dlv = o.scratch[5], o.scratch[6]
+        for i in range(db):
+            d = lo + i
+            small = small and o.meta[d] <= SMALL_EXP
+            live = 1.0 if alpha[d] != 0.0 else 0.0
+            rate[i] = o.ascale[d] * live
+            dlv[i] = delta[d] * live if live > 0.0 else 0.0
 
-    # The new values at s_{t+1}.
-    for i in range(db):
-        total = 0.0
-        for j in range(x_tp1.shape[0]):
-            total += theta[woff + x_tp1[j] * db + i]
-        values[0, i] = total
-        q[lo + i, 0] = total
-        pred[lo + i] = total
+    if threads > 1 and db >= PARALLEL_MIN:
+        _columns_parallel(threads, code, small, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows,
+                          x_t, x_tp1, gamma_tp1, alpha, q, pred, values, bounds, o.scratch, o.step_a, o.step_v,
+                          o.ascale, o.meta, o.tau[0])  # fmt: skip
+    else:
+        _columns(code, small, 0, db, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows, x_t, x_tp1,
+                 gamma_tp1, alpha, q, pred, values, bounds, o.scratch, o.step_a, o.step_v, o.ascale, o.meta,
+                 o.tau[0])  # fmt: skip
     for c in range(ncls):
         gamma[coff + c] = gamma_tp1[coff + c]
         o.cls_rho_prev[coff + c] = rho_t[coff + c]
+
+
+@njit(cache=True, parallel=True)
+def _columns_parallel(threads, code, small, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows, x_t,
+                      x_tp1, gamma_tp1, alpha, q, pred, values, bounds, scratch, step_a, step_v, ascale, meta,
+                      tau):  # fmt: skip
+    """`_columns` of the block on `threads` threads, each over one run of its demons (runs start at
+    multiples of ALIGN numbers, a cache line, within a row)."""
+    runs = min(threads, (db + ALIGN - 1) // ALIGN)
+    width = ((db + runs - 1) // runs + ALIGN - 1) // ALIGN * ALIGN
+    for t in prange(runs):
+        i0 = min(t * width, db)
+        i1 = min(i0 + width, db)
+        _columns(code, small, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows, x_t, x_tp1,
+                 gamma_tp1, alpha, q, pred, values, bounds, scratch, step_a, step_v, ascale, meta, tau)  # fmt: skip
+
+
+@njit(cache=True)
+def _next_row(rows, kept, s, x, j):
+    """The smaller of rows[s] (s < kept) and x[j] (j < len(x)), or -1 when both are exhausted."""
+    if s < kept:
+        if j < x.shape[0] and x[j] < rows[s]:
+            return x[j]
+        return rows[s]
+    return x[j] if j < x.shape[0] else -1
+
+
+@njit(cache=True)
+def _columns(code, small, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows, x_t, x_tp1,
+             gamma_tp1, alpha, q, pred, values, bounds, scratch, step_a, step_v, ascale, meta, tau):  # fmt: skip
+    """The block's demons i0 <= i < i1 learn the transition, after the traces have moved: their columns of
+    the weights (and of the adaptive modes' step sizes, h and v) and of the per-demon scratch rows only.
+
+    One walk over the rows of the new support, x_t and x_tp1 in increasing order (all three sorted): each
+    weight row is read and written once, and the new values at s_{t+1} are summed from it right after
+    it has moved (in x_tp1's order, as a separate pass would). Within a row, class by class, each class's
+    demons in one contiguous run, offsets unsigned (`_at`) so that the runs load contiguous vectors.
+    """
+    acc = values[0]
+    for i in range(i0, i1):
+        acc[i] = 0.0
+    if code in (TIDBD, AUTOSTEP):
+        _adaptive_columns(code == AUTOSTEP, small, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace,
+                          rows, x_t, x_tp1, gamma_tp1, alpha, bounds, scratch, step_a, step_v, ascale, meta, tau,
+                          acc)  # fmt: skip
+    else:
+        _dutch_columns(code != ETD, i0, i1, db, woff, voff, ncls, kept, theta, trace, rows, x_t, x_tp1, bounds,
+                       scratch[2], scratch[3], acc)  # fmt: skip
+    for i in range(i0, i1):
+        q[lo + i, 0] = acc[i]
+        pred[lo + i] = acc[i]
+
+
+@njit(cache=True)
+def _dutch_columns(dutch, i0, i1, db, woff, voff, ncls, kept, theta, trace, rows, x_t, x_tp1, bounds, coef, fix, acc):
+    """theta += coef e over the support (true online: and -= fix on the rows of x_t; ETD: coef = alpha
+    delta), then acc = the new values at x_tp1, for columns i0 <= i < i1."""
+    s = 0
+    j = 0
+    m = 0
+    while True:
+        row = _next_row(rows, kept, s, x_t, j)
+        if m < x_tp1.shape[0] and (row < 0 or x_tp1[m] < row):
+            row = x_tp1[m]
+        if row < 0:
+            break
+        in_support = s < kept and rows[s] == row
+        on_x = j < x_t.shape[0] and x_t[j] == row
+        on_next = m < x_tp1.shape[0] and x_tp1[m] == row
+        s += 1 if in_support else 0
+        j += 1 if on_x else 0
+        m += 1 if on_next else 0
+        base = _at(woff + row * db)
+        if in_support:
+            tr = voff + row * ncls
+            for c in range(ncls):
+                c0 = max(bounds[c], i0)
+                c1 = min(bounds[c + 1], i1)
+                e = trace[tr + c]
+                if dutch and on_x:
+                    for i in range(c0, c1):
+                        u = _at(i)
+                        t = theta[base + u] + coef[u] * e
+                        theta[base + u] = t - fix[u]
+                else:
+                    for i in range(c0, c1):
+                        u = _at(i)
+                        theta[base + u] += coef[u] * e
+        elif dutch and on_x:  # a row of x_t whose trace was cut
+            for i in range(i0, i1):
+                u = _at(i)
+                theta[base + u] -= fix[u]
+        if on_next:
+            for i in range(i0, i1):
+                u = _at(i)
+                acc[u] += theta[base + u]
+
+
+@njit(cache=True)
+def _adaptive_columns(autostep, small, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, h, trace, rows, x_t,
+                      x_tp1, gamma_tp1, alpha, bounds, scratch, a, v, scale, meta, tau, acc):  # fmt: skip
+    """TIDBD / Autostep for TD(lambda) (reference.adaptive_td_step) for columns i0 <= i < i1; h lives in w.
+
+    Each class's demons in one contiguous, branch-free run (feature-major, as the other kernels): a
+    frozen demon enters with rate 0 and delta 0, which leaves its weights, h, v and step sizes as they
+    are. Three passes, each over few rows: the meta step on the rows of x_t (with the effective step
+    size's sum there), the effective step size's part at x_tp1, then the update over the support fused
+    with reading the new values at x_tp1. Per trace row this reads and writes three numbers per demon
+    (step size, theta, h) where TD moves one.
+    """
+    rate, dlv, effective, meta_x = scratch[5], scratch[6], scratch[7], scratch[4]
+    inv_tau = 1.0 / tau
+    for i in range(i0, i1):
+        effective[i] = 0.0
+    # The meta step on the rows of x_t (where phi_i = 1): alpha_i *= exp(meta delta h_i [/ v_i]); Autostep
+    # adds alpha_i e_i to the effective step size there (alpha_i of this row moved only by this row's step).
+    for j in range(x_t.shape[0]):
+        base = _at(woff + x_t[j] * db)
+        tr = voff + x_t[j] * ncls
+        for c in range(ncls):
+            c0 = max(bounds[c], i0)
+            c1 = min(bounds[c + 1], i1)
+            e = trace[tr + c]
+            if not autostep:
+                for i in range(c0, c1):
+                    u = _at(i)
+                    at = base + u
+                    a[at] *= math.exp(meta[lo + i] * dlv[u] * h[at])
+                continue
+            for i in range(c0, c1):  # v_i, then the argument of exp: |x| <= mu as |sample| <= v
+                u = _at(i)
+                at = base + u
+                sample = dlv[u] * h[at]
+                size = abs(sample)
+                vi = max(size, v[at] + a[at] * rate[u] * e * (size - v[at]) * inv_tau)
+                v[at] = vi
+                meta_x[u] = meta[lo + i] * (sample / vi if vi > 0.0 else 0.0)
+            if small:
+                for i in range(c0, c1):
+                    u = _at(i)
+                    at = base + u
+                    a[at] *= _exp_small(meta_x[u])
+                    effective[u] += a[at] * e
+            else:
+                for i in range(c0, c1):
+                    u = _at(i)
+                    at = base + u
+                    a[at] *= math.exp(meta_x[u])
+                    effective[u] += a[at] * e
+    if autostep:  # every step size divided by M = max(1, the effective step size alpha . e (x_t - gamma x_tp1))
+        for j in range(x_tp1.shape[0]):
+            base = _at(woff + x_tp1[j] * db)
+            for c in range(ncls):
+                e = trace[voff + x_tp1[j] * ncls + c]
+                if e == 0.0:
+                    continue
+                c0 = max(bounds[c], i0)
+                c1 = min(bounds[c + 1], i1)
+                for i in range(c0, c1):
+                    u = _at(i)
+                    effective[u] -= gamma_tp1[coff + c] * a[base + u] * e
+        for i in range(i0, i1):
+            m = effective[i] * rate[i]
+            if m > 1.0:
+                scale[lo + i] /= m
+                rate[i] /= m
+    for i in range(i0, i1):
+        if scale[lo + i] < SCALE_FLOOR:
+            _fold_scale(a, scale, woff, db, i, lo + i, woff + nrows * db)
+            rate[i] = 1.0 if alpha[lo + i] != 0.0 else 0.0
+    # theta += alpha delta e; h = h [1 - alpha phi e]^+ + alpha delta e, over the trace's rows; then the
+    # new values at x_tp1 from each row right after it moved.
+    s = 0
+    j = 0
+    m = 0
+    while True:
+        row = _next_row(rows, kept, s, x_tp1, m)
+        if row < 0:
+            break
+        in_support = s < kept and rows[s] == row
+        on_next = m < x_tp1.shape[0] and x_tp1[m] == row
+        s += 1 if in_support else 0
+        m += 1 if on_next else 0
+        base = _at(woff + row * db)
+        if in_support:
+            while j < x_t.shape[0] and x_t[j] < row:
+                j += 1
+            on_x = j < x_t.shape[0] and x_t[j] == row
+            tr = voff + row * ncls
+            for c in range(ncls):
+                e = trace[tr + c]
+                if e == 0.0:
+                    continue
+                c0 = max(bounds[c], i0)
+                c1 = min(bounds[c + 1], i1)
+                if on_x:
+                    for i in range(c0, c1):
+                        u = _at(i)
+                        at = base + u
+                        step = a[at] * rate[u] * e
+                        change = step * dlv[u]
+                        theta[at] += change
+                        h[at] = h[at] * max(1.0 - step, 0.0) + change
+                else:
+                    for i in range(c0, c1):
+                        u = _at(i)
+                        at = base + u
+                        change = a[at] * rate[u] * e * dlv[u]
+                        theta[at] += change
+                        h[at] += change
+        if on_next:
+            for i in range(i0, i1):
+                u = _at(i)
+                acc[u] += theta[base + u]
 
 
 @njit(cache=True)
@@ -236,107 +466,6 @@ def _togtd_weights(o, theta, w, woff, voff, nrows, ncls, coff, lo, db, dcls, alp
             w[woff + x_t[j] * db + i] -= alpha_w[d] * w_x
 
 
-@njit(cache=True)
-def _adaptive(o, autostep, theta, h, trace, rows, kept, woff, voff, nrows, ncls, coff, lo, db, dcls, alpha, x_t, x_tp1,
-              gamma_tp1, delta):  # fmt: skip
-    """TIDBD / Autostep for TD(lambda) (reference.adaptive_td_step) over the trace's rows; h lives in w.
-
-    Row by row, and within a row class by class, each class's demons in one contiguous, branch-free run
-    (feature-major, as the other kernels): a frozen demon enters with rate 0 and delta 0, which leaves its
-    weights, h, v and step sizes as they are. Per trace row this reads and writes three numbers per demon
-    (step size, theta, h) where TD moves one: a third of TD's speed is the floor of memory traffic.
-    """
-    a, v, scale = o.step_a, o.step_v, o.ascale
-    rate, dlv, effective, meta_x = o.scratch[5, :db], o.scratch[6, :db], o.scratch[7, :db], o.scratch[4, :db]
-    bounds = o.bounds
-    inv_tau = 1.0 / o.tau[0]
-    small = True  # every meta step size of the block within _exp_small's range
-    c_prev = -1
-    nb = 0
-    for i in range(db):
-        d = lo + i
-        small = small and o.meta[d] <= SMALL_EXP
-        live = 1.0 if alpha[d] != 0.0 else 0.0
-        rate[i] = scale[d] * live
-        dlv[i] = delta[d] * live if live > 0.0 else 0.0
-        if dcls[d] != c_prev:  # demons of a class are consecutive: bounds[c] is its first
-            bounds[nb] = i
-            nb += 1
-            c_prev = dcls[d]
-    bounds[nb] = db
-    # The meta step on the rows of x_t (where phi_i = 1): alpha_i *= exp(meta delta h_i [/ v_i]).
-    for j in range(x_t.shape[0]):
-        base = woff + x_t[j] * db
-        tr = voff + x_t[j] * ncls
-        for c in range(ncls):
-            e = trace[tr + c]
-            if not autostep:
-                for i in range(bounds[c], bounds[c + 1]):
-                    at = base + i
-                    a[at] *= math.exp(o.meta[lo + i] * dlv[i] * h[at])
-                continue
-            for i in range(bounds[c], bounds[c + 1]):  # v_i, then the argument of exp: |x| <= mu as |sample| <= v
-                at = base + i
-                sample = dlv[i] * h[at]
-                size = abs(sample)
-                vi = max(size, v[at] + a[at] * rate[i] * e * (size - v[at]) * inv_tau)
-                v[at] = vi
-                meta_x[i] = o.meta[lo + i] * (sample / vi if vi > 0.0 else 0.0)
-            if small:
-                for i in range(bounds[c], bounds[c + 1]):
-                    a[base + i] *= _exp_small(meta_x[i])
-            else:
-                for i in range(bounds[c], bounds[c + 1]):
-                    a[base + i] *= math.exp(meta_x[i])
-    if autostep:  # every step size divided by M = max(1, the effective step size alpha . e (x_t - gamma x_tp1))
-        effective[:] = 0.0
-        for j in range(x_t.shape[0]):
-            base = woff + x_t[j] * db
-            for c in range(ncls):
-                e = trace[voff + x_t[j] * ncls + c]
-                for i in range(bounds[c], bounds[c + 1]):
-                    effective[i] += a[base + i] * e
-        for j in range(x_tp1.shape[0]):
-            base = woff + x_tp1[j] * db
-            for c in range(ncls):
-                e = trace[voff + x_tp1[j] * ncls + c]
-                if e == 0.0:
-                    continue
-                for i in range(bounds[c], bounds[c + 1]):
-                    effective[i] -= gamma_tp1[coff + c] * a[base + i] * e
-        for i in range(db):
-            m = effective[i] * rate[i]
-            if m > 1.0:
-                scale[lo + i] /= m
-                rate[i] /= m
-    for i in range(db):
-        if scale[lo + i] < SCALE_FLOOR:
-            _fold_scale(o, woff, db, i, lo + i, woff + nrows * db)
-            rate[i] = 1.0 if alpha[lo + i] != 0.0 else 0.0
-    # theta += alpha delta e; h = h [1 - alpha phi e]^+ + alpha delta e, over the trace's rows.
-    for s in range(kept):
-        row = rows[s]
-        base = woff + row * db
-        on_x = _on(x_t, row) > 0.0
-        for c in range(ncls):
-            e = trace[voff + row * ncls + c]
-            if e == 0.0:
-                continue
-            if on_x:
-                for i in range(bounds[c], bounds[c + 1]):
-                    at = base + i
-                    step = a[at] * rate[i] * e
-                    change = step * dlv[i]
-                    theta[at] += change
-                    h[at] = h[at] * max(1.0 - step, 0.0) + change
-            else:
-                for i in range(bounds[c], bounds[c + 1]):
-                    at = base + i
-                    change = a[at] * rate[i] * e * dlv[i]
-                    theta[at] += change
-                    h[at] += change
-
-
 @njit(cache=True, inline="always")
 def _exp_small(x):
     """exp(x) for |x| <= SMALL_EXP: its Taylor polynomial of degree 9 (the remainder is below 3e-19 relative,
@@ -346,24 +475,11 @@ def _exp_small(x):
 
 
 @njit(cache=True)
-def _on(x, row):
-    """1.0 when row is one of the sorted active features x, else 0.0."""
-    lo, hi = 0, x.shape[0]
-    while lo < hi:
-        mid = (lo + hi) // 2
-        if x[mid] < row:
-            lo = mid + 1
-        else:
-            hi = mid
-    return 1.0 if lo < x.shape[0] and x[lo] == row else 0.0
-
-
-@njit(cache=True)
-def _fold_scale(o, woff, db, i, d, end):
+def _fold_scale(step_a, ascale, woff, db, i, d, end):
     """Multiply demon d's scale into its stored step sizes (column i of the block at woff..end), scale 1."""
     for at in range(woff + i, end, db):
-        o.step_a[at] *= o.ascale[d]
-    o.ascale[d] = 1.0
+        step_a[at] *= ascale[d]
+    ascale[d] = 1.0
 
 
 @njit(cache=True)

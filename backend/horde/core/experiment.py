@@ -93,24 +93,31 @@ def stopping_rule(
     return False, current
 
 
-def run_trial(spec: RunSpec, trial: int, progress: Callable[[int], None] | None = None) -> TrialResult:
-    """Learn from scratch, then evaluate at the start point and run the test runs."""
-    protocol = spec.protocol
+def learn(
+    spec: RunSpec, trial: int, progress: Callable[[int], None] | None = None
+) -> tuple[Simulation, np.random.Generator, int]:
+    """One trial's learning from scratch: (the simulation, its generator, episodes learned)."""
     rng = np.random.default_rng([spec.seed, trial])
     sim = Simulation(spec, rng)
     sim.with_metrics = False  # RUPEE / UDE are for watching; the protocol reports against the truth
-    horde = sim.horde
-    stop = protocol.stop
     reference = sim.thetas()
     episodes = 0
-    for episode in range(protocol.episodes):
+    for episode in range(spec.protocol.episodes):
         sim.run_episode()
         episodes = episode + 1
         if progress:
             progress(episodes)
-        stopped, reference = stopping_rule(stop, episodes, sim.thetas, reference)
+        stopped, reference = stopping_rule(spec.protocol.stop, episodes, sim.thetas, reference)
         if stopped:
             break
+    return sim, rng, episodes
+
+
+def run_trial(spec: RunSpec, trial: int, progress: Callable[[int], None] | None = None) -> TrialResult:
+    """Learn from scratch, then evaluate at the start point and run the test runs."""
+    protocol = spec.protocol
+    sim, rng, episodes = learn(spec, trial, progress)
+    horde = sim.horde
     start = start_point(spec)
     predictions = sim.predictions_at(*start)
     evaluation = protocol.evaluation

@@ -177,6 +177,22 @@ class Buffers(NamedTuple):
     result: np.ndarray  # [8] the R_* fields
 
 
+class Given(NamedTuple):
+    """Transitions observed outside the grid world (`external.py`), which `_run` learns from in order in
+    place of the world's moves: row t is s_t, a_t -> s_{t+1} with s_{t+1}'s sensors. `NO_GIVEN`: the world."""
+
+    sensors: np.ndarray  # [T, S] the sensors of s_{t+1}
+    actions: np.ndarray  # [T] a_t
+    b_probs: np.ndarray  # [T] b(a_t | s_t)
+    terminated: np.ndarray  # [T] bool: s_{t+1} is terminal (only the last row may be)
+    rules: np.ndarray  # [R, 5] the target policies of "sign" classes (`_apply_rules`)
+    pred_out: np.ndarray  # [T, D] the predictions (slot order) after each row, or [0, D] to keep none
+
+
+NO_GIVEN = Given(np.zeros((0, 1)), np.zeros(0, np.int64), np.zeros(0), np.zeros(0, np.bool_), np.zeros((0, 5)),
+                 np.zeros((0, 1)))  # fmt: skip
+
+
 # ----------------------------------------------------------------------------------------------
 # World
 
@@ -380,6 +396,20 @@ def _given_policies(gi, class_kind, class_of, class_fixed, pi, pi_given, g):
 
 
 @njit(cache=True)
+def _apply_rules(rules, sensors, class_fixed):
+    """Target policies of "sign" classes at a state: rules [R, 5] = (class, sensor column, action where
+    negative, action where >= 0, epsilon) write (1 - epsilon) on the chosen action plus epsilon / A."""
+    A = class_fixed.shape[1]
+    for j in range(rules.shape[0]):
+        c = int(rules[j, 0])
+        epsilon = rules[j, 4]
+        for a in range(A):
+            class_fixed[c, a] = epsilon / A
+        chosen = int(rules[j, 3]) if sensors[int(rules[j, 1])] >= 0.0 else int(rules[j, 2])
+        class_fixed[c, chosen] += 1.0 - epsilon
+
+
+@njit(cache=True)
 def _given_to_slots(gi, bi, dcls, pi, pi_given, g):
     """Slots of given-policy blocks take their class's policy (the block kernel sets GQ ones itself)."""
     A = pi.shape[1]
@@ -559,14 +589,21 @@ def _metrics(gi, bi, dcls, g, action, x_t, delta, h, u, hu, mscale, tau, dstats,
 
 
 @njit(cache=True, nogil=True)  # releases the GIL: the server's other threads go on while a run learns
-def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics, onl, threads=1):
-    """Run steps until `max_steps` steps or `max_episodes` episode ends, starting new episodes as they end.
+def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics, onl, threads, given):
+    """The one loop: run steps until `max_steps` steps or `max_episodes` episode ends. Each step takes a
+    transition from its source, then every demon learns from it (the one learning step of the engine).
+
+    The source is the grid world (`given` is NO_GIVEN: the behaviour acts, the world moves, and new
+    episodes start as they end) or the rows of `given` (`external.py`: row t's sensors, action and
+    b(a_t | s_t); the caller starts episodes), learned at position (0, 0).
     Blocks of many demons learn on `threads` threads (`scale_fast._step`; the same numbers whatever it is).
 
-    The learning step is written out here rather than in a function of `net` and `buf`: passing the two
-    named tuples of ~40 arrays to a function costs about a microsecond per call (every array's count is
-    taken and given back), which is a third of a thesis-scale step.
+    The learning step is written out here, inside the loop, rather than in a function of `net` and `buf`:
+    passing (or inlining) the two named tuples of ~40 arrays costs about a microsecond per step (every
+    array's count is taken and given back), which is a third of a thesis-scale step (measured: a
+    function inlined by numba made the thesis loop 1.3 times slower).
     """
+    from_world = given.sensors.shape[0] == 0
     wp, rects, is_obstacle, is_terminal = net.wp, net.rects, net.is_obstacle, net.is_terminal
     gi, bi, lam, dcls, cls_lo, cls_hi = net.gi, net.bi, net.lam, net.dcls, net.cls_lo, net.cls_hi
     temperature, epsilon, thresholds = net.temperature, net.epsilon, net.thresholds
@@ -601,59 +638,65 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
     steps = 0
     episodes = 0
     while steps < max_steps and episodes < max_episodes:
-        # The behaviour acts, the world moves.
-        _behaviour(beh_i, beh_f, beh_probs, q, b)
-        total = 0.0
-        for a in range(A):
-            total += b[a]
-            cdf[a] = total
-        draw = rng.random() * cdf[A - 1]
-        action = 0
-        for a in range(A):
-            if draw >= cdf[a]:
-                action += 1
-        action = min(action, A - 1)
-        moved = action
-        if wp[W_SLIP] > 0.0:
-            u2 = rng.random()
-            if u2 < wp[W_SLIP]:
-                moved = PERPENDICULAR_[action, 1 if u2 < wp[W_SLIP] / 2 else 0]
-        dx = DIRECTIONS_[moved, 0] * wp[W_STEP]
-        dy = DIRECTIONS_[moved, 1] * wp[W_STEP]
-        if wp[W_NOISE] > 0.0:
-            dx = dx + rng.normal(0.0, wp[W_NOISE])
-            dy = dy + rng.normal(0.0, wp[W_NOISE])
-        nx = pos[0] + dx
-        ny = pos[1] + dy
-        bump = 0.0
-        if _blocked(wp, rects, is_obstacle, nx, ny):
-            nx = pos[0]
-            ny = pos[1]
-            bump = 1.0
-        _inside(wp, rects, nx, ny, inside)
-        terminated = False
-        for r in range(num_regions):
-            if inside[r] and is_terminal[r]:
-                terminated = True
-        terminal = 0.0
-        if terminated:
-            terminal = _terminal_reward(is_terminal, inside, net.term_reward, net.term_ind, net.term_table, colors)
-        reward = wp[W_TRANSIENT] + terminal
-        buf.wsteps[0] += 1
-        truncated = buf.wsteps[0] >= wp[W_MAX_STEPS] and not terminated
-        pos[0] = nx
-        pos[1] = ny
-        sensors[0] = nx
-        sensors[1] = ny
-        sensors[2] = bump
-        sensors[3] = float(buf.wsteps[0])
-        sensors[4] = reward
-        for r in range(num_regions):
-            sensors[5 + r] = 1.0 if inside[r] else 0.0
-        for i in range(num_indicators):
-            sensors[5 + num_regions + i] = net.color_values[i, colors[i]] if inside[net.ind_region[i]] else 0.0
-        sensors[5 + num_regions + num_indicators] = 1.0 if terminated else 0.0
-        b_prob = b[action]
+        if not from_world:  # the next given transition
+            sensors[:] = given.sensors[steps]
+            _apply_rules(given.rules, sensors, class_fixed)
+            action, b_prob, terminated = given.actions[steps], given.b_probs[steps], given.terminated[steps]
+            nx = ny = reward = terminal = 0.0
+            truncated = False
+        else:  # the behaviour acts, the world moves
+            _behaviour(beh_i, beh_f, beh_probs, q, b)
+            total = 0.0
+            for a in range(A):
+                total += b[a]
+                cdf[a] = total
+            draw = rng.random() * cdf[A - 1]
+            action = 0
+            for a in range(A):
+                if draw >= cdf[a]:
+                    action += 1
+            action = min(action, A - 1)
+            moved = action
+            if wp[W_SLIP] > 0.0:
+                u2 = rng.random()
+                if u2 < wp[W_SLIP]:
+                    moved = PERPENDICULAR_[action, 1 if u2 < wp[W_SLIP] / 2 else 0]
+            dx = DIRECTIONS_[moved, 0] * wp[W_STEP]
+            dy = DIRECTIONS_[moved, 1] * wp[W_STEP]
+            if wp[W_NOISE] > 0.0:
+                dx = dx + rng.normal(0.0, wp[W_NOISE])
+                dy = dy + rng.normal(0.0, wp[W_NOISE])
+            nx = pos[0] + dx
+            ny = pos[1] + dy
+            bump = 0.0
+            if _blocked(wp, rects, is_obstacle, nx, ny):
+                nx = pos[0]
+                ny = pos[1]
+                bump = 1.0
+            _inside(wp, rects, nx, ny, inside)
+            terminated = False
+            for r in range(num_regions):
+                if inside[r] and is_terminal[r]:
+                    terminated = True
+            terminal = 0.0
+            if terminated:
+                terminal = _terminal_reward(is_terminal, inside, net.term_reward, net.term_ind, net.term_table, colors)
+            reward = wp[W_TRANSIENT] + terminal
+            buf.wsteps[0] += 1
+            truncated = buf.wsteps[0] >= wp[W_MAX_STEPS] and not terminated
+            pos[0] = nx
+            pos[1] = ny
+            sensors[0] = nx
+            sensors[1] = ny
+            sensors[2] = bump
+            sensors[3] = float(buf.wsteps[0])
+            sensors[4] = reward
+            for r in range(num_regions):
+                sensors[5 + r] = 1.0 if inside[r] else 0.0
+            for i in range(num_indicators):
+                sensors[5 + num_regions + i] = net.color_values[i, colors[i]] if inside[net.ind_region[i]] else 0.0
+            sensors[5 + num_regions + num_indicators] = 1.0 if terminated else 0.0
+            b_prob = b[action]
 
         # Every demon learns, stage by stage, group by group (the equations of scale.step).
         current_stage = -1
@@ -690,7 +733,7 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
                     _read_values(bi, ob, gi[g, G_NS], theta, idx[:k], values)
                     online_step(bi, ob, lam[ob], alpha_now, alpha_w_now, dcls, net.cut, theta, w, trace, support, rows_,
                                 nnz, feat[g, :k], idx[:k], r_s, z_s, gamma_tp1, rho, class_gamma, q, pred, delta,
-                                touched, values, onl)  # fmt: skip
+                                touched, values, onl, threads)  # fmt: skip
             _given_to_slots(gi, bi, dcls, pi, pi_given, g)
             for c in range(clo, chi):
                 for a in range(A):
@@ -707,6 +750,10 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
                 feat[g, j] = idx[j]
 
         steps += 1
+        if not from_world:
+            if given.pred_out.shape[0] > 0:
+                given.pred_out[steps - 1, :] = pred
+            continue
         returns[0] += reward
         result[R_ACTION] = action
         result[R_REWARD] = reward
@@ -1035,7 +1082,8 @@ class FastLoop:
         self.buf.alpha_now[:] = np.where(live, self.net.alpha, 0.0)
         self.buf.alpha_w_now[:] = np.where(live, self.net.alpha_w, 0.0)
         self.buf.result[:] = 0.0
-        _run(self.net, self.buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics, self.onl, threads)
+        _run(self.net, self.buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics, self.onl, threads,
+             NO_GIVEN)  # fmt: skip
         return self.buf.result
 
     # ------------------------------------------------------------------------------------------

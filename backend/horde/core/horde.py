@@ -186,18 +186,23 @@ class Horde:
 
     def _compile(self, spec: RunSpec, stage_of: dict[str, int]) -> tuple[Stage, ...]:
         sensor_index = {name: i for i, name in enumerate(spec.world.sensor_names())}
+        # One pass over the demons (a chain of 1,000 demons has 1,000 stages: a pass per stage held the
+        # GIL long enough to delay the server's other requests), and one coder per feature set.
+        features_of: dict[str, FeatureSpec] = {}
+        coders: dict[str, StateCoder] = {}
+        by_stage: list[dict[tuple[str, bool], list[int]]] = [{} for _ in range(max(stage_of.values(), default=-1) + 1)]
+        default_key = spec.features.model_dump_json()
+        for i, demon in enumerate(self.demon_specs):
+            key = demon.features.model_dump_json() if demon.features else default_key
+            features_of.setdefault(key, demon.features or spec.features)
+            by_stage[stage_of[demon.name]].setdefault((key, demon.learner == "gq"), []).append(i)
         stages = []
-        for stage in range(max(stage_of.values(), default=-1) + 1):
-            keys: dict[tuple[str, bool], list[int]] = {}
-            features_of: dict[str, FeatureSpec] = {}
-            for i, demon in enumerate(self.demon_specs):
-                if stage_of[demon.name] == stage:
-                    features = demon.features or spec.features
-                    key = features.model_dump_json()
-                    features_of[key] = features
-                    keys.setdefault((key, demon.learner == "gq"), []).append(i)
+        for stage, keys in enumerate(by_stage):
+            for key, _ in keys:
+                if key not in coders:
+                    coders[key] = StateCoder(features_of[key], *self._plane(spec), spec.world.sensor_names())
             groups = tuple(
-                self._compile_group(spec, stage, features_of[key], action_values, members)
+                self._compile_group(spec, stage, coders[key], action_values, members)
                 for (key, action_values), members in keys.items()
             )
             demons = np.concatenate([g.demons for g in groups])
@@ -210,14 +215,17 @@ class Horde:
             stages.append(Stage(groups, demons, program, np.array([d.discount for d in specs])))
         return tuple(stages)
 
-    def _compile_group(
-        self, spec: RunSpec, stage: int, features: FeatureSpec, action_values: bool, members: list[int]
-    ) -> Group:
+    @staticmethod
+    def _plane(spec: RunSpec) -> tuple[float, float]:
         world = spec.world
-        width, height = (world.width, world.height) if isinstance(world, WorldSpec) else (1.0, 1.0)  # no plane
-        coder = StateCoder(features, width, height, world.sensor_names())
+        return (world.width, world.height) if isinstance(world, WorldSpec) else (1.0, 1.0)  # no plane
+
+    def _compile_group(
+        self, spec: RunSpec, stage: int, coder: StateCoder, action_values: bool, members: list[int]
+    ) -> Group:
+        """The demons of one stage over one feature set: blocks of one learner, lambda, policy kind and
+        step-size mode, their demons ordered by trace class."""
         defaults = spec.learning
-        A = self.num_actions
         by_block: dict[tuple[scale.Learner, float, scale.BlockPolicy, str], list[int]] = {}
         for i in members:
             d = self.demon_specs[i]
@@ -229,57 +237,63 @@ class Horde:
         first_block, first_class = len(self._blocks), len(self._class_kind)
         blocks, slots = [], []
         for (learner, lam, own, step_size), block_members in by_block.items():
-            demons = [self.demon_specs[i] for i in block_members]
-            if own == "given":
-                keys = [(_policy_key(d), repr(d.continuation), float(d.discount), *_dutch_key(d, defaults))
-                        for d in demons]  # fmt: skip
-                order, classes = scale.trace_classes(keys)
-                block_members = [block_members[j] for j in order]
-                demons = [demons[j] for j in order]
-                firsts = np.flatnonzero(np.diff(classes, prepend=-1))
-                for j in firsts:
-                    policy = demons[j].policy
-                    kind = KIND_CODES[policy.kind]
-                    self._class_kind.append(kind if kind in (FIXED, OF) else UNIFORM)
-                    probs = policy.probabilities if kind == FIXED and policy.probabilities else [1.0 / A] * A
-                    self._class_fixed.append(np.asarray(probs, dtype=float))
-                    self._class_of.append(self.index[policy.demon] if kind == OF and policy.demon else -1)
-                    self._class_demon.append(block_members[j])
-                block_classes: np.ndarray | None = classes
-            else:
-                block_classes = None
-                for i in block_members:
-                    self._class_kind.append(KIND_CODES[str(own)])
-                    self._class_fixed.append(np.full(A, 1.0 / A))
-                    self._class_of.append(-1)
-                    self._class_demon.append(i)
-            block = scale.Block(
-                learner=learner,
-                alpha=np.array([d.alpha if d.alpha is not None else defaults.alpha for d in demons]) / coder.k,
-                alpha_w=np.array([d.alpha_w if d.alpha_w is not None else defaults.alpha_w for d in demons]) / coder.k,
-                lam=lam,
-                policy=own,
-                classes=block_classes,
-                temperature=np.array([d.policy.temperature for d in demons]),
-                epsilon=np.array([d.policy.epsilon for d in demons]),
-                step_size=step_size,
-                meta=np.array([demon_step_size(d, defaults)[1] for d in demons]),
+            ordered, block_classes = self._add_classes(block_members, own, defaults)
+            demons = [self.demon_specs[i] for i in ordered]
+            blocks.append(
+                scale.Block(
+                    learner=learner,
+                    alpha=np.array([d.alpha if d.alpha is not None else defaults.alpha for d in demons]) / coder.k,
+                    alpha_w=np.array([d.alpha_w if d.alpha_w is not None else defaults.alpha_w for d in demons])
+                    / coder.k,
+                    lam=lam,
+                    policy=own,
+                    classes=block_classes,
+                    temperature=np.array([d.policy.temperature for d in demons]),
+                    epsilon=np.array([d.policy.epsilon for d in demons]),
+                    step_size=step_size,
+                    meta=np.array([demon_step_size(d, defaults)[1] for d in demons]),
+                )
             )
-            blocks.append(block)
-            slots.extend(block_members)
+            slots.extend(ordered)
         self._blocks.extend(blocks)
-        layout = scale.Layout(tuple(blocks), coder.n, coder.k, cut=self.cut, num_actions=A)
-        condition = features.condition
+        condition = coder.spec.condition
         return Group(
             stage=stage,
             coder=coder,
             action_values=action_values,
             condition=self.index[condition.demon] if condition else -1,
-            layout=layout,
+            layout=scale.Layout(tuple(blocks), coder.n, coder.k, cut=self.cut, num_actions=self.num_actions),
             demons=np.array(slots, dtype=np.int64),
             blocks=range(first_block, len(self._blocks)),
             classes=range(first_class, len(self._class_kind)),
         )
+
+    def _add_classes(
+        self, members: list[int], own: scale.BlockPolicy, defaults: LearningSpec
+    ) -> tuple[list[int], np.ndarray | None]:
+        """Register the trace classes of one block's demons; returns the demons in class order and each
+        one's class within the block (None for own-value demons: each is its own class)."""
+        A = self.num_actions
+        if own != "given":
+            for i in members:
+                self._class_kind.append(KIND_CODES[str(own)])
+                self._class_fixed.append(np.full(A, 1.0 / A))
+                self._class_of.append(-1)
+                self._class_demon.append(i)
+            return members, None
+        demons = [self.demon_specs[i] for i in members]
+        keys = [(_policy_key(d), repr(d.continuation), float(d.discount), *_dutch_key(d, defaults)) for d in demons]
+        order, classes = scale.trace_classes(keys)
+        ordered = [members[j] for j in order]
+        for j in np.flatnonzero(np.diff(classes, prepend=-1)):
+            policy = self.demon_specs[ordered[j]].policy
+            kind = KIND_CODES[policy.kind]
+            self._class_kind.append(kind if kind in (FIXED, OF) else UNIFORM)
+            probs = policy.probabilities if kind == FIXED and policy.probabilities else [1.0 / A] * A
+            self._class_fixed.append(np.asarray(probs, dtype=float))
+            self._class_of.append(self.index[policy.demon] if kind == OF and policy.demon else -1)
+            self._class_demon.append(ordered[j])
+        return ordered, classes
 
     # ------------------------------------------------------------------------------------------
     # State

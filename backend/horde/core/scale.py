@@ -111,7 +111,7 @@ class Block:
         else:
             classes = np.zeros(len(alpha), np.int64) if self.classes is None else np.asarray(self.classes, np.int64)
             _check("classes", classes, alpha.shape)
-            if classes[0] != 0 or not np.isin(np.diff(classes), (0, 1)).all():
+            if classes[0] != 0 or not ((np.diff(classes) == 0) | (np.diff(classes) == 1)).all():
                 raise ValueError("trace classes must be numbered 0, 1, 2, ... with each class's demons consecutive")
         object.__setattr__(self, "classes", classes)
 

@@ -13,6 +13,7 @@ from typing import NamedTuple
 import numpy as np
 
 from horde.core import threads
+from horde.core.adaptive_kernels import OnlineArrays
 from horde.core.fast import (
     FOREVER,
     R_ACTION,
@@ -30,6 +31,28 @@ from horde.core.scale import TRACE_CUT
 from horde.core.scale_fast import PARALLEL_MIN
 from horde.core.world import World, WorldState
 from horde.spec import BehaviourSpec, RunSpec
+
+
+class AdaptiveState(NamedTuple):
+    """The state of `adaptive_kernels.OnlineArrays` that changes as demons learn (in the engine's layout)."""
+
+    v_old: np.ndarray  # [D] true online learners: theta_{t-1} . x_t
+    cls_f: np.ndarray  # [C] emphatic TD's followon trace per class
+    cls_rho_prev: np.ndarray  # [C] rho_{t-1} per class
+    trace2: np.ndarray  # true online GTD's second and third traces
+    step_a: np.ndarray  # per-weight step sizes of autostep / tidbd demons (before their scale)
+    step_v: np.ndarray  # autostep's normaliser v per weight
+    ascale: np.ndarray  # [D] the scale of each demon's step sizes
+
+    @classmethod
+    def copy_of(cls, onl: OnlineArrays) -> AdaptiveState:
+        """Copies of these arrays of a loop's `onl`."""
+        return cls(*(getattr(onl, name).copy() for name in cls._fields))
+
+    def load_into(self, onl: OnlineArrays) -> None:
+        """Copy these arrays back into a loop's `onl` (of a loop of the same spec)."""
+        for name, array in zip(self._fields, self, strict=True):
+            getattr(onl, name)[...] = array
 
 
 @dataclass(frozen=True)
@@ -92,6 +115,15 @@ class Simulation:
     @horde_state.setter
     def horde_state(self, state: HordeState) -> None:
         self._loop.load(state, self.world_state)
+
+    def learner_state(self) -> AdaptiveState:
+        """Copies of what the true online, emphatic and adaptive learners keep beyond `horde_state`: the per-weight
+        step sizes of autostep and tidbd demons among them (snapshots keep it, so a restored run goes on tuned)."""
+        return AdaptiveState.copy_of(self._loop.onl)
+
+    def load_learner_state(self, state: AdaptiveState) -> None:
+        """Copy a `learner_state()` of a simulation of the same spec back into the engine."""
+        state.load_into(self._loop.onl)
 
     def view_state(self) -> HordeState:
         """A copy for readers (value maps, policies, predictions): the state with the primary weights, and
@@ -166,6 +198,7 @@ class Simulation:
         new = Simulation(spec, self.rng, self.cut)  # draws a start: the generator is put back below
         self.rng.bit_generator.state = rng_state
         new._loop.load(new.horde.carry_over(self.horde, self.horde_state), self.world_state)
+        new._carry_step_sizes(self)
         new._loop.buf.sensors[:] = self._loop.buf.sensors  # what the sensors read here, for sensor-tiled features
         new._loop.observe()
         new.episode = self.episode
@@ -174,6 +207,29 @@ class Simulation:
         new._threads = self._threads
         new.set_returns(self.episode_return, self.last_return)
         return new
+
+    def _carry_step_sizes(self, old: Simulation) -> None:
+        """Adaptive demons that `old` also had, in the same mode and on as many weights, keep their per-weight
+        step sizes (and Autostep's normalisers), as `Horde.carry_over` keeps their weights."""
+        for name in self.horde.names:
+            if name not in old.horde.index:
+                continue
+            (b, col), (ob, ocol) = self.horde.locate(name), old.horde.locate(name)
+            mode = self.horde.blocks[b].step_size
+            if mode == "constant" or old.horde.blocks[ob].step_size != mode:
+                continue
+            if self.horde.block_rows[b] != old.horde.block_rows[ob]:
+                continue
+            slot, old_slot = (
+                int(self.horde.demon_slot[self.horde.index[name]]),
+                int(old.horde.demon_slot[old.horde.index[name]]),
+            )
+            new_onl, old_onl = self._loop.onl, old._loop.onl
+            self._loop._weights(new_onl.step_a, b)[:, col] = (
+                old._loop._weights(old_onl.step_a, ob)[:, ocol] * old_onl.ascale[old_slot]
+            )
+            self._loop._weights(new_onl.step_v, b)[:, col] = old._loop._weights(old_onl.step_v, ob)[:, ocol]
+            new_onl.ascale[slot] = 1.0
 
     # ------------------------------------------------------------------------------------------
     # Acting

@@ -21,7 +21,7 @@ from typing import Annotated, Any, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-from horde.core.simulation import Simulation
+from horde.core.simulation import AdaptiveState, Simulation
 from horde.core.world import WorldState
 from horde.runs.errors import SpecError
 from horde.runs.run_setup import Hz, new_simulation
@@ -77,6 +77,12 @@ class Snapshot(BaseModel):
     horde: dict[str, EncodedArray | Number]
     stop_reference: list[EncodedArray] | None = Field(
         default=None, description="weights at the stopping rule's last check, one array per demon group"
+    )
+    online: dict[str, EncodedArray] | None = Field(
+        default=None,
+        description="the true online, emphatic and adaptive learners' state beyond the weights and traces: per-weight "
+        "step sizes (autostep, tidbd) and their normalisers, v_old, followon traces; absent in older snapshots, "
+        "which restore these at their start values",
     )
 
 
@@ -204,6 +210,7 @@ class Frozen:
     world: Any
     horde: Any
     stop_reference: list[np.ndarray] | None
+    online: AdaptiveState | None = None
 
 
 def freeze(
@@ -229,6 +236,7 @@ def freeze(
         world=sim.world_state,
         horde=sim.horde_state,
         stop_reference=stop_reference,
+        online=sim.learner_state(),
     )
 
 
@@ -252,6 +260,9 @@ def encode_frozen(frozen: Frozen) -> Snapshot:
         world=_encode_tree(frozen.world),
         horde=_encode_tree(frozen.horde),
         stop_reference=[encode(a) for a in frozen.stop_reference] if frozen.stop_reference is not None else None,
+        online={name: encode(a) for name, a in zip(AdaptiveState._fields, frozen.online, strict=True)}
+        if frozen.online is not None
+        else None,
     )
 
 
@@ -281,6 +292,8 @@ def restore(snapshot: Snapshot) -> Restored:
             raise SpecError.at(("body", "world", "x"), f"the agent at ({x}, {y}) stands outside the world")
     sim.world_state = world_state
     sim.horde_state = _decode_tree(sim.horde_state, snapshot.horde, "horde")
+    if snapshot.online is not None:
+        sim.load_learner_state(_decode_tree(sim.learner_state(), snapshot.online, "online"))
     sim.rng.bit_generator.state = {
         "bit_generator": "PCG64",
         "state": {"state": int(snapshot.rng.state), "inc": int(snapshot.rng.inc)},

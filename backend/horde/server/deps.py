@@ -12,7 +12,7 @@ import hmac
 from collections.abc import Callable
 from typing import Annotated, Any
 
-from fastapi import Depends, HTTPException, Path, Security, status
+from fastapi import APIRouter, Depends, HTTPException, Path, Security, status
 from fastapi.requests import HTTPConnection
 from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
 
@@ -22,6 +22,7 @@ from horde.runs.protocols import ProtocolJobs
 from horde.runs.store import Store
 from horde.runs.stream_run import StreamRuns
 from horde.server.catalog import ScenarioCatalog
+from horde.server.responses import UNAUTHORIZED
 from horde.server.settings import Settings
 from horde.server.stream import StreamHub
 from horde.studies.jobs import StudyJobs
@@ -80,3 +81,9 @@ def require_token(
 
 
 WriteAccess = Depends(require_token)
+
+
+def write_router(router: APIRouter) -> APIRouter:
+    """The router for the routes beside `router`'s (same prefix and tags) that change something: every one
+    needs the token (`WriteAccess`) and documents its 401, written here once instead of on each route."""
+    return APIRouter(prefix=router.prefix, tags=router.tags, dependencies=[WriteAccess], responses=UNAUTHORIZED)

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import asyncio
 import json
+import weakref
 from collections.abc import Awaitable, Callable, MutableMapping
 from typing import Any
 
@@ -45,6 +46,7 @@ MAX_ERRORS = 20  # problems listed in one 422
 MAX_MSG_CHARS = 300  # characters of one problem's message
 THREAD_BYTES = 64 * 1024  # bodies larger than this are parsed in a worker thread
 IMPORT_PATH = "/api/runs/import"
+REQUEST_THREADS = 4  # requests with a body handled in worker threads at once (WorkLimiter)
 
 
 def _problem(loc: list[str | int], msg: str, kind: str) -> dict[str, Any]:
@@ -138,7 +140,7 @@ class BodyGuard:
         body = b"".join(chunks)
         if body and b"json" in headers.get(b"content-type", b""):
             if len(body) > THREAD_BYTES:
-                problem = await anyio.to_thread.run_sync(_check_json, body, self.max_demons)
+                problem = await anyio.to_thread.run_sync(_check_json, body, self.max_demons, limiter=REQUEST_WORK.get())
             else:
                 problem = _check_json(body, self.max_demons)
             if problem is not None:
@@ -179,6 +181,34 @@ async def validation_error(request: Request, exc: Exception) -> Response:
     return Response(body, status_code=422, media_type="application/json")
 
 
+class WorkLimiter:
+    """At most `total` requests parse, validate and answer in worker threads at once.
+
+    Why a bound: CPython hands the GIL to one waiting thread at a time. With many request threads busy
+    (a burst of large bodies), every time the event loop gives up the GIL for I/O it waits its turn
+    behind all of them, and `/api/health` took 150 to 300 ms. Requests past the bound wait (their
+    clients see them take longer); the loop competes with at most `total` threads. One limiter per
+    event loop, made on first use (anyio's limiters belong to the loop they are made in; tests start
+    several servers in one process).
+    """
+
+    def __init__(self, total: int) -> None:
+        self.total = total
+        self._limiters: weakref.WeakKeyDictionary[asyncio.AbstractEventLoop, anyio.CapacityLimiter] = (
+            weakref.WeakKeyDictionary()
+        )
+
+    def get(self) -> anyio.CapacityLimiter:
+        loop = asyncio.get_running_loop()
+        limiter = self._limiters.get(loop)
+        if limiter is None:
+            limiter = self._limiters[loop] = anyio.CapacityLimiter(self.total)
+        return limiter
+
+
+REQUEST_WORK = WorkLimiter(REQUEST_THREADS)
+
+
 def _off_loop(handler: Callable[[Request], Awaitable[Response]]) -> Callable[[Request], Awaitable[Response]]:
     """The route's handler, run in a worker thread with an event loop of its own once the body is read."""
 
@@ -187,7 +217,7 @@ def _off_loop(handler: Callable[[Request], Awaitable[Response]]) -> Callable[[Re
 
     async def handle(request: Request) -> Response:
         await request.body()  # read on the server's loop (the ASGI channel lives there), cached on the request
-        return await anyio.to_thread.run_sync(lambda: asyncio.run(in_thread(request)))
+        return await anyio.to_thread.run_sync(lambda: asyncio.run(in_thread(request)), limiter=REQUEST_WORK.get())
 
     return handle
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import ipaddress
 from collections.abc import Callable
 from pathlib import Path
@@ -83,15 +84,9 @@ class Settings(BaseSettings):
         return lambda: RayExecutor(self.ray_address, self.study_workers)
 
     def limits(self) -> Limits:
-        return Limits(
-            max_runs=self.max_runs,
-            max_demons=self.max_demons,
-            max_weights=self.max_weights,
-            history=self.history,
-            history_every=self.history_every,
-            history_interval=self.history_interval,
-            snapshot_every=self.snapshot_every,
-        )
+        """The run limits: every field of `Limits` that a setting of the same name sets (the rest keep defaults)."""
+        names = [f.name for f in dataclasses.fields(Limits) if f.name in type(self).model_fields]
+        return Limits(**{name: getattr(self, name) for name in names})
 
     def is_loopback(self) -> bool:
         """Whether `host` only listens on this machine."""

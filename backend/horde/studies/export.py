@@ -22,8 +22,19 @@ def _curve(band: Band) -> dict[str, list[float | None]]:
     }
 
 
+def _final(final: Band, auc: Band) -> dict[str, float | None]:
+    """The final error with its interval, and the mean error over the learning curve (`auc`)."""
+    return {
+        "error": finite_or_none(final.mean[0]),
+        "ci_low": finite_or_none(final.low[0]),
+        "ci_high": finite_or_none(final.high[0]),
+        "auc": finite_or_none(auc.mean[0]),
+    }
+
+
 def summary_json(summary: ConfigSummary) -> dict[str, Any]:
     """One configuration as a JSON-ready object."""
+    positive = summary.extra.get("positive")
     return {
         "index": summary.index,
         "axes": summary.axes,
@@ -31,24 +42,14 @@ def summary_json(summary: ConfigSummary) -> dict[str, Any]:
         "best": summary.best,
         "truth": summary.truth,
         "episodes": summary.episodes,
-        "error": finite_or_none(summary.final.mean[0]),
-        "ci_low": finite_or_none(summary.final.low[0]),
-        "ci_high": finite_or_none(summary.final.high[0]),
-        "auc": finite_or_none(summary.auc.mean[0]),
+        **_final(summary.final, summary.auc),
         "auc_low": finite_or_none(summary.auc.low[0]),
         "auc_high": finite_or_none(summary.auc.high[0]),
         "curve": _curve(summary.curve),
         "returns": _curve(summary.returns),
-        "positive": _curve(positive) if isinstance(positive := summary.extra.get("positive"), Band) else None,
+        "positive": _curve(positive) if isinstance(positive, Band) else None,
         "demons": {
-            name: {
-                "error": finite_or_none(d.final.mean[0]),
-                "ci_low": finite_or_none(d.final.low[0]),
-                "ci_high": finite_or_none(d.final.high[0]),
-                "auc": finite_or_none(d.auc.mean[0]),
-                "curve": _curve(d.curve),
-                "rupee": _curve(d.rupee),
-            }
+            name: {**_final(d.final, d.auc), "curve": _curve(d.curve), "rupee": _curve(d.rupee)}
             for name, d in summary.demons.items()
         },
     }

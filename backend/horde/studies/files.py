@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 import re
 import tomllib
 from pathlib import Path
@@ -10,18 +9,14 @@ from pathlib import Path
 from pydantic import ValidationError
 
 from horde.runs.errors import SpecError
-from horde.scenarios import ScenarioError, find_scenario, line_of
+from horde.scenarios import ScenarioError, file_dir, find_scenario, line_of
 from horde.spec import RunSpec
 from horde.studies.spec import Configuration, StudySpec, expand
 
 
 def study_dir() -> Path:
     """`HORDE_STUDIES`, else the repository's studies/ folder, else ./studies."""
-    env = os.environ.get("HORDE_STUDIES")
-    if env:
-        return Path(env)
-    repo = Path(__file__).resolve().parents[3] / "studies"
-    return repo if repo.is_dir() else Path.cwd() / "studies"
+    return file_dir("HORDE_STUDIES", "studies")
 
 
 def _axis_line(text: str, loc: tuple[str | int, ...], study: StudySpec | None) -> int | None:

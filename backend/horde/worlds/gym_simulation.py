@@ -18,7 +18,7 @@ from typing import NamedTuple
 import numpy as np
 
 from horde.core.horde import Horde, HordeState
-from horde.core.simulation import Readout, StepResult
+from horde.core.simulation import AdaptiveState, Readout, StepResult
 from horde.spec import BehaviourSpec, RunSpec
 from horde.worlds.gymnasium import GymAgent
 
@@ -111,6 +111,13 @@ class GymSimulation:
     def horde_state(self, state: HordeState) -> None:
         fast = self.agent.loop.fast
         fast.load(state, fast.world_state())
+
+    def learner_state(self) -> AdaptiveState:
+        """What the adaptive and online learners keep beyond `horde_state` (as `Simulation.learner_state`)."""
+        return AdaptiveState.copy_of(self.agent.loop.fast.onl)
+
+    def load_learner_state(self, state: AdaptiveState) -> None:
+        state.load_into(self.agent.loop.fast.onl)
 
     def view_state(self) -> HordeState:
         """A copy for readers: the primary weights only (as `Simulation.view_state`)."""

@@ -36,7 +36,8 @@ export interface paths {
         put?: never;
         /**
          * Run a scenario's protocol in the background
-         * @description The body is a RunSpec, or a template {scenario, seed, protocol: {trials, episodes}, ...}. One protocol runs at a time (429 while one runs). Poll GET /api/protocols/{id} for progress and results.
+         * @description The body is a RunSpec, or a template {scenario, seed, protocol: {trials, episodes}, ...}. One protocol runs at a
+         *     time (429 while one runs). Poll GET /api/protocols/{id} for progress and results.
          */
         post: operations["start_protocol_api_protocols_post"];
         delete?: never;
@@ -92,7 +93,9 @@ export interface paths {
         put?: never;
         /**
          * Create a run
-         * @description The body is a RunSpec, or a template: {scenario, world, seed, ...overrides} (a body with a `scenario` key, or whose `world` is a string naming a stored world). The run is the first trial of its protocol, seeded as `horde run` seeds it. 404: unknown scenario or world; 409: too many runs.
+         * @description The body is a RunSpec, or a template: {scenario, world, seed, ...overrides} (a body with a `scenario` key, or
+         *     whose `world` is a string naming a stored world). The run is the first trial of its protocol, seeded as `horde
+         *     run` seeds it. 404: unknown scenario or world; 409: too many runs.
          */
         post: operations["create_run_api_runs_post"];
         delete?: never;
@@ -112,7 +115,8 @@ export interface paths {
         put?: never;
         /**
          * Import a snapshot as a new run
-         * @description The new run continues exactly where the snapshot was taken (paused, or finished). 422 when the arrays do not fit the spec; 409 when the server holds as many runs as it allows.
+         * @description The new run continues exactly where the snapshot was taken (paused, or finished). 422 when the arrays do not fit
+         *     the spec; 409 when the server holds as many runs as it allows.
          */
         post: operations["import_snapshot_api_runs_import_post"];
         delete?: never;
@@ -155,7 +159,8 @@ export interface paths {
         put?: never;
         /**
          * Add a demon to a run (live runs too)
-         * @description The other demons keep their weights; traces restart. 409 when the name is taken or the run is finished or failed; 422 when the demon does not fit the run (unknown demon or sensor, a cycle).
+         * @description The other demons keep their weights; traces restart. 409 when the name is taken or the run is finished or
+         *     failed; 422 when the demon does not fit the run (unknown demon or sensor, a cycle).
          */
         post: operations["add_demon_api_runs__run_id__demons_post"];
         delete?: never;
@@ -233,7 +238,9 @@ export interface paths {
         put?: never;
         /**
          * Monte-Carlo truth of a demon's question vs its prediction
-         * @description Rolls the demon's target policy out from `from` with frozen weights (its own generator: the run is not disturbed). 422 when `from` lies outside the world or in an obstacle; 429 when two evaluations are running already.
+         * @description Rolls the demon's target policy out from `from` with frozen weights (its own generator: the run is not
+         *     disturbed). 422 when `from` lies outside the world or in an obstacle; 429 when two evaluations are running
+         *     already.
          */
         post: operations["evaluate_api_runs__run_id__evaluate_post"];
         delete?: never;
@@ -585,7 +592,10 @@ export interface paths {
         put?: never;
         /**
          * Start a parameter study in the background
-         * @description The body is a study, as in a study file: a `scenario` name (or a `base` run spec), `axes` (a field path and its values each), `sample`, `runs` per configuration and `measure`. Every axis is checked before any task starts: an unknown path, a value the field refuses, or a grid past the bounds is a 422 located at the axis. One study runs at a time (429 while one runs).
+         * @description The body is a study, as in a study file: a `scenario` name (or a `base` run spec), `axes` (a field path and its
+         *     values each), `sample`, `runs` per configuration and `measure`. Every axis is checked before any task starts: an
+         *     unknown path, a value the field refuses, or a grid past the bounds is a 422 located at the axis. One study runs
+         *     at a time (429 while one runs).
          */
         post: operations["start_study_api_studies_post"];
         delete?: never;
@@ -1936,6 +1946,13 @@ export interface components {
             hz?: number | null;
             /** Last Return */
             last_return: number;
+            /**
+             * Online
+             * @description the true online, emphatic and adaptive learners' state beyond the weights and traces: per-weight step sizes (autostep, tidbd) and their normalisers, v_old, followon traces; absent in older snapshots, which restore these at their start values
+             */
+            online?: {
+                [key: string]: components["schemas"]["EncodedArray"];
+            } | null;
             rng: components["schemas"]["RngState"];
             spec: components["schemas"]["RunSpec-Input"];
             /**
@@ -1978,6 +1995,13 @@ export interface components {
             hz?: number | null;
             /** Last Return */
             last_return: number;
+            /**
+             * Online
+             * @description the true online, emphatic and adaptive learners' state beyond the weights and traces: per-weight step sizes (autostep, tidbd) and their normalisers, v_old, followon traces; absent in older snapshots, which restore these at their start values
+             */
+            online?: {
+                [key: string]: components["schemas"]["EncodedArray"];
+            } | null;
             rng: components["schemas"]["RngState"];
             spec: components["schemas"]["RunSpec-Output"];
             /**

@@ -96,3 +96,23 @@ export function options(
     return h("option", { value, selected: value === selected }, label);
   });
 }
+
+/** What names a section: its class, its heading's id and text, and what stands beside the heading. */
+export interface Heading {
+  class: string;
+  /** The heading's id; the section is `aria-labelledby` it, so screen readers announce the title. */
+  id: string;
+  title: Child;
+  /** h2 for a dashboard panel (the default), h3 for a section inside one. */
+  level?: "h2" | "h3";
+  /** Controls in a `.panel-head` row beside the heading. */
+  beside?: Child[];
+  hidden?: boolean;
+}
+
+/** `<section class aria-labelledby=id><h2 id>title</h2>…children</section>`: a section named by its heading. */
+export function section(head: Heading, ...children: Child[]): HTMLElement {
+  const heading = h(head.level ?? "h2", { id: head.id }, head.title);
+  const top = head.beside ? h("div", { class: "panel-head" }, heading, ...head.beside) : heading;
+  return h("section", { class: head.class, "aria-labelledby": head.id, hidden: head.hidden }, top, ...children);
+}

@@ -14,7 +14,8 @@ import { api, unwrap } from "../api/client";
 import type { Evaluation, History } from "../api/types";
 import { formatNumber } from "../lib/format";
 import { alignHistories } from "../lib/series";
-import { h, replaceChildren, setText } from "../ui/dom";
+import { h, replaceChildren, section, setText } from "../ui/dom";
+import { lineLook, plotSize, remPx } from "./plots";
 
 const REFRESH_MS = 1000;
 const FALLBACK_COLOUR = "#0072B2";
@@ -32,10 +33,8 @@ interface Multiple {
 export function charts(store: AppStore): HTMLElement {
   const note = h("p", { class: "muted" });
   const grid = h("div", { class: "chart-grid" });
-  const element = h(
-    "section",
-    { class: "panel charts-panel", "aria-labelledby": "charts-title" },
-    h("h2", { id: "charts-title" }, "Predictions over time"),
+  const element = section(
+    { class: "panel charts-panel", id: "charts-title", title: "Predictions over time" },
     note,
     grid,
   );
@@ -133,19 +132,13 @@ export function charts(store: AppStore): HTMLElement {
   layout(store.state);
   // The grid decides each cell's width; the plots follow it (and never the other way round).
   new ResizeObserver(() => {
-    for (const multiple of multiples.values()) multiple.plot?.setSize(plotSize(multiple.box));
+    for (const multiple of multiples.values()) multiple.plot?.setSize(chartSize(multiple.box));
   }).observe(grid);
   return element;
 }
 
-function remPx(): number {
-  return parseFloat(getComputedStyle(document.documentElement).fontSize) || 16;
-}
-
-function plotSize(box: HTMLElement): { width: number; height: number } {
-  const width = Math.max(160, Math.floor(box.clientWidth));
-  return { width, height: Math.round(Math.min(14 * remPx(), Math.max(9 * remPx(), width * 0.55))) };
-}
+/** A chart cell's plot: as wide as its cell, 0.55 of that high, at least 9 rem. */
+const chartSize = (box: HTMLElement) => plotSize(box, 9, 0.55);
 
 /** The truth to draw: [value, low, high] (low = high = value when exact), or null before an evaluation. */
 export function truthLine(evaluation: Evaluation | undefined): [number, number, number] | null {
@@ -182,8 +175,6 @@ function draw(multiple: Multiple, history: History, state: Readonly<AppState>): 
   }
   multiple.plot?.destroy();
   multiple.key = key;
-  const axisFont = `${Math.round(0.8 * font)}px system-ui`;
-  const axis = { stroke: "#111827", grid: { stroke: "#e5e7eb" }, font: axisFont, labelFont: `bold ${axisFont}` };
   const series: uPlot.Series[] = [
     { label: "step" },
     { label: "prediction", stroke: colour, width: 2.5, spanGaps: false },
@@ -197,15 +188,9 @@ function draw(multiple: Multiple, history: History, state: Readonly<AppState>): 
   }
   multiple.plot = new uPlot(
     {
-      ...plotSize(multiple.box),
+      ...chartSize(multiple.box),
+      ...lineLook("step"),
       title: undefined,
-      legend: { show: false },
-      cursor: { show: false },
-      scales: { x: { time: false } },
-      axes: [
-        { ...axis, label: "step", size: Math.round(2.6 * font) },
-        { ...axis, size: Math.round(3.6 * font) },
-      ],
       series,
       bands: truth ? [{ series: [4, 3], fill: "rgba(17, 24, 39, 0.12)" }] : [],
     },

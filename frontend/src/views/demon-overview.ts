@@ -7,7 +7,7 @@ import { toggleCharted } from "../app/actions";
 import type { AppStore } from "../app/state";
 import { overviewLevels } from "../lib/demons";
 import { formatNumber } from "../lib/format";
-import { h, setText } from "../ui/dom";
+import { h, section, setText } from "../ui/dom";
 
 /** Shown once a run has more demons than this (fewer are all charted). */
 export const OVERVIEW_FROM = 12;
@@ -29,10 +29,8 @@ export function demonOverview(store: AppStore): HTMLElement {
     { class: "hint", "aria-live": "polite" },
     "Hover over a cell to see its demon; click to chart it.",
   );
-  const element = h(
-    "section",
-    { class: "panel overview", "aria-labelledby": "overview-title", hidden: true },
-    h("h2", { id: "overview-title" }, "All predictions"),
+  const element = section(
+    { class: "panel overview", id: "overview-title", title: "All predictions", hidden: true },
     readout,
     canvas,
   );

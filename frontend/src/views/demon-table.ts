@@ -20,7 +20,7 @@ import { type Term, tip } from "../lib/glossary";
 import { readNumber } from "../lib/parse";
 import { startPoint } from "../lib/world";
 import { type ConfirmButton, confirmButton } from "../ui/confirm";
-import { h, options, setText } from "../ui/dom";
+import { h, options, section, setText } from "../ui/dom";
 import { html, nothing, render as renderTemplate } from "lit-html";
 import { live } from "lit-html/directives/live.js";
 import { repeat } from "lit-html/directives/repeat.js";
@@ -326,20 +326,14 @@ export function demonTable(store: AppStore): HTMLElement {
   store.subscribe(render, ["run", "demons", "live", "evaluations", "charted"]);
   render(store.state);
 
-  return h(
-    "section",
-    { class: "panel demons-panel", "aria-labelledby": "demons-title" },
-    h(
-      "div",
-      { class: "panel-head" },
-      h("h2", { id: "demons-title" }, "Demons"),
-      h(
-        "div",
-        { class: "row tight" },
-        field("Rollouts per evaluation", rollouts, { class: "inline-field", term: "truth" }),
-        evaluateAll,
-      ),
-    ),
+  const rollout = field("Rollouts per evaluation", rollouts, { class: "inline-field", term: "truth" });
+  return section(
+    {
+      class: "panel demons-panel",
+      id: "demons-title",
+      title: "Demons",
+      beside: [h("div", { class: "row tight" }, rollout, evaluateAll)],
+    },
     tools,
     empty,
     scrollBox,

@@ -6,7 +6,7 @@ import type { AppState, AppStore } from "../app/state";
 import { formatEstimate, formatNumber } from "../lib/format";
 import { tip } from "../lib/glossary";
 import { type JobRow, type SortKey, jobRows, sortRows } from "../lib/protocol-jobs";
-import { h, replaceChildren, setText } from "../ui/dom";
+import { h, replaceChildren, section, setText } from "../ui/dom";
 
 const COLUMNS: [SortKey, string, string][] = [
   ["scenario", "scenario", ""],
@@ -55,10 +55,8 @@ export function jobsTable(store: AppStore): HTMLElement {
     ),
     body,
   );
-  const element = h(
-    "section",
-    { class: "protocol-jobs", "aria-labelledby": "jobs-title" },
-    h("h3", { id: "jobs-title" }, "Every job's results"),
+  const element = section(
+    { class: "protocol-jobs", id: "jobs-title", title: "Every job's results", level: "h3" },
     h(
       "div",
       { class: "row tight" },

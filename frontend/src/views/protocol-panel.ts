@@ -17,7 +17,7 @@ import { tip } from "../lib/glossary";
 import { jobsTable } from "./protocol-jobs";
 import { scenarioGroups } from "../lib/protocol-jobs";
 import { readOptionalNumber } from "../lib/parse";
-import { h, options, replaceChildren, setText } from "../ui/dom";
+import { h, options, replaceChildren, section, setText } from "../ui/dom";
 import { FormErrors, field, numberInput } from "../ui/form";
 
 const DEFAULT_SCENARIO = "experiment1";
@@ -247,10 +247,8 @@ export function protocolPanel(store: AppStore): HTMLElement {
   renderChoices();
   render(store.state);
 
-  return h(
-    "section",
-    { class: "panel protocol-panel", "aria-labelledby": "protocol-title" },
-    h("h2", { id: "protocol-title" }, "Protocol"),
+  return section(
+    { class: "panel protocol-panel", id: "protocol-title", title: "Protocol" },
     h(
       "p",
       { class: "hint intro" },

@@ -6,16 +6,11 @@
  */
 import type { AppState, AppStore } from "../app/state";
 import { formatCount, formatNumber, formatRelativeError, formatTruth, truthOf } from "../lib/format";
-import { h, replaceChildren } from "../ui/dom";
+import { h, replaceChildren, section } from "../ui/dom";
 
 export function runResults(store: AppStore): HTMLElement {
   const body = h("div", {});
-  const element = h(
-    "section",
-    { class: "panel results-panel", "aria-labelledby": "results-title", hidden: true },
-    h("h2", { id: "results-title" }, "Results"),
-    body,
-  );
+  const element = section({ class: "panel results-panel", id: "results-title", title: "Results", hidden: true }, body);
 
   const render = ({ run, evaluations }: Readonly<AppState>) => {
     const summary = run?.summary;

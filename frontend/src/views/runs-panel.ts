@@ -9,7 +9,7 @@ import type { RunBrief } from "../api/types";
 import { formatCount, formatHz, formatStatus, runLabel } from "../lib/format";
 import { FULL_SPEED, matchesFilter, speedChoice } from "../lib/runs";
 import { type ConfirmButton, confirmButton } from "../ui/confirm";
-import { h, options, replaceChildren, setText } from "../ui/dom";
+import { h, options, replaceChildren, section, setText } from "../ui/dom";
 
 const STEP_SIZES = ["1", "10", "100", "1000"];
 
@@ -167,15 +167,13 @@ export function runsPanel(store: AppStore): HTMLElement {
   store.subscribe(render, ["runs", "selectedRunId", "live"]);
   render();
 
-  return h(
-    "section",
-    { class: "panel runs-panel", "aria-labelledby": "runs-title" },
-    h(
-      "div",
-      { class: "panel-head" },
-      h("h2", { id: "runs-title" }, "Runs"),
-      h("label", { for: "step-size", class: "inline" }, "Steps per Step ", stepSize),
-    ),
+  return section(
+    {
+      class: "panel runs-panel",
+      id: "runs-title",
+      title: "Runs",
+      beside: [h("label", { for: "step-size", class: "inline" }, "Steps per Step ", stepSize)],
+    },
     h("div", { class: "run-filter" }, h("label", { for: "run-filter" }, "Filter runs"), filter, matching),
     h("div", { class: "actions" }, deleteFinished.button),
     empty,

@@ -15,7 +15,8 @@ import { ApiError, api, unwrap } from "../api/client";
 import type { Demon, StreamHistory, StreamRun } from "../api/types";
 import { formatCount, formatNumber } from "../lib/format";
 import { type Columns, demonColumns, pickNames, sensorColumns, stripError } from "../lib/stream-history";
-import { h, replaceChildren, setText } from "../ui/dom";
+import { h, replaceChildren, section, setText } from "../ui/dom";
+import { lineLook, plotSize } from "./plots";
 
 const LIST_MS = 2000;
 const HISTORY_MS = 1000;
@@ -57,10 +58,8 @@ export function streamRuns(store: AppStore): StreamViews {
     { class: "muted" },
     "No stream runs. A client starts one with POST /api/streams and pushes records to it (see the README).",
   );
-  const list = h(
-    "section",
-    { class: "panel stream-runs", "aria-labelledby": "stream-runs-title" },
-    h("h2", { id: "stream-runs-title" }, "Stream runs"),
+  const list = section(
+    { class: "panel stream-runs", id: "stream-runs-title", title: "Stream runs" },
     h(
       "p",
       { class: "hint" },
@@ -343,19 +342,13 @@ export function streamRuns(store: AppStore): StreamViews {
   }, ["tab"]);
 
   new ResizeObserver(() => {
-    for (const plot of plots.values()) plot.plot?.setSize(plotSize(plot.box));
+    for (const plot of plots.values()) plot.plot?.setSize(stripSize(plot.box));
   }).observe(grid);
   return { list, strip };
 }
 
-function remPx(): number {
-  return parseFloat(getComputedStyle(document.documentElement).fontSize) || 16;
-}
-
-function plotSize(box: HTMLElement): { width: number; height: number } {
-  const width = Math.max(160, Math.floor(box.clientWidth));
-  return { width, height: Math.round(Math.min(14 * remPx(), Math.max(10 * remPx(), width * 0.6))) };
-}
+/** A strip plot: as wide as its cell, 0.6 of that high, at least 10 rem. */
+const stripSize = (box: HTMLElement) => plotSize(box, 10, 0.6);
 
 function draw(plot: Plot, columns: Columns, series: uPlot.Series[]): void {
   const data = columns as unknown as uPlot.AlignedData;
@@ -364,19 +357,10 @@ function draw(plot: Plot, columns: Columns, series: uPlot.Series[]): void {
     plot.plot.setData(data);
     return;
   }
-  const font = remPx();
-  const axisFont = `${Math.round(0.8 * font)}px system-ui`;
-  const axis = { stroke: "#111827", grid: { stroke: "#e5e7eb" }, font: axisFont, labelFont: `bold ${axisFont}` };
   plot.plot = new uPlot(
     {
-      ...plotSize(plot.box),
-      legend: { show: false },
-      cursor: { show: false },
-      scales: { x: { time: false } },
-      axes: [
-        { ...axis, label: "record", size: Math.round(2.6 * font) },
-        { ...axis, size: Math.round(3.6 * font) },
-      ],
+      ...stripSize(plot.box),
+      ...lineLook("record"),
       series: [{ label: "record" }, ...series.map((s) => ({ ...s, spanGaps: false }))],
     },
     data,

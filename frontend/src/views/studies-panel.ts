@@ -11,7 +11,7 @@ import { keys, queryClient, watchQuery } from "../app/queries";
 import type { AppStore } from "../app/state";
 import { api, errorMessage, unwrap } from "../api/client";
 import { type Study, type StudyDetail, studyProgress } from "../lib/study";
-import { h, replaceChildren, setText } from "../ui/dom";
+import { h, replaceChildren, section, setText } from "../ui/dom";
 import { field } from "../ui/form";
 import { comparePanel } from "./compare-panel";
 import { studyForm } from "./study-form";
@@ -151,10 +151,8 @@ export function studiesPanel(store: AppStore): HTMLElement {
     results.show(detail);
   };
 
-  return h(
-    "section",
-    { class: "panel studies-panel", "aria-labelledby": "studies-title" },
-    h("h2", { id: "studies-title" }, "Studies"),
+  return section(
+    { class: "panel studies-panel", id: "studies-title", title: "Studies" },
     h(
       "p",
       { class: "hint intro" },

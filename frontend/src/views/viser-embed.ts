@@ -4,16 +4,11 @@
  * it (`enabled: false`; only `horde serve` starts one) a short note stands instead.
  */
 import type { AppState, AppStore, LiveView } from "../app/state";
-import { h, replaceChildren } from "../ui/dom";
+import { h, replaceChildren, section } from "../ui/dom";
 
 export function viserEmbed(store: AppStore): HTMLElement {
   const body = h("div", { class: "viser-body" });
-  const element = h(
-    "section",
-    { class: "panel viser-panel", "aria-labelledby": "viser-title" },
-    h("h2", { id: "viser-title" }, "Live view"),
-    body,
-  );
+  const element = section({ class: "panel viser-panel", id: "viser-title", title: "Live view" }, body);
 
   let shown: LiveView["state"] | null = null;
   const render = ({ liveView }: Readonly<AppState>) => {

@@ -17,19 +17,28 @@ from horde.server.routes import (
     worlds,
 )
 
+# Each resource's reads (`router`), then its writes (`writes`, which need the token: deps.write_router).
 ROUTERS: tuple[APIRouter, ...] = (
     health.router,
     scenarios.router,
     worlds.router,
+    worlds.writes,
     snapshots.router,  # before runs: POST /runs/import must not be taken for a run id
+    snapshots.writes,
     runs.router,
+    runs.writes,
     demons.router,
+    demons.writes,
     stream.router,
     view.router,
+    view.writes,
     protocols.router,
+    protocols.writes,
     studies.router,
+    studies.writes,
     exports.router,
     records.router,
+    records.writes,
 )
 
 __all__ = ["ROUTERS"]

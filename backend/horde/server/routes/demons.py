@@ -10,8 +10,8 @@ from horde.runs.errors import NotFoundError
 from horde.runs.readout import value_map
 from horde.runs.run_view import RunView
 from horde.server.convert import demons_out, evaluation_out, history_out, values_out
-from horde.server.deps import DemonName, ManagerDep, RunDep, WriteAccess
-from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND, NOT_SAVED, UNAUTHORIZED
+from horde.server.deps import DemonName, ManagerDep, RunDep, write_router
+from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND, NOT_SAVED
 from horde.server.schemas import (
     MAX_EVAL_CAP,
     MAX_RESOLUTION,
@@ -24,6 +24,7 @@ from horde.server.schemas import (
 from horde.spec import DemonSpec
 
 router = APIRouter(prefix="/runs/{run_id}", tags=["demons"])
+writes = write_router(router)
 
 
 def _demon(view: RunView, name: str) -> DemonOut:
@@ -38,18 +39,15 @@ def list_demons(run: RunDep) -> list[DemonOut]:
     return demons_out(run.view)
 
 
-@router.post(
+@writes.post(
     "/demons",
     summary="Add a demon to a run (live runs too)",
     status_code=status.HTTP_201_CREATED,
-    dependencies=[WriteAccess],
-    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **CONFLICT, **NOT_SAVED},
-    description=(
-        "The other demons keep their weights; traces restart. 409 when the name is taken or the run is "
-        "finished or failed; 422 when the demon does not fit the run (unknown demon or sensor, a cycle)."
-    ),
+    responses={**BAD_BODY, **NOT_FOUND, **CONFLICT, **NOT_SAVED},
 )
 def add_demon(run: RunDep, demon: DemonSpec) -> DemonOut:
+    """The other demons keep their weights; traces restart. 409 when the name is taken or the run is finished or
+    failed; 422 when the demon does not fit the run (unknown demon or sensor, a cycle)."""
     return _demon(run.add_demon(demon), demon.name)
 
 
@@ -58,29 +56,24 @@ def get_demon(run: RunDep, name: DemonName) -> DemonOut:
     return _demon(run.view, name)
 
 
-@router.delete(
+@writes.delete(
     "/demons/{name}",
     summary="Remove a demon from a run",
     status_code=status.HTTP_204_NO_CONTENT,
-    dependencies=[WriteAccess],
-    responses={**UNAUTHORIZED, **NOT_FOUND, **CONFLICT, **NOT_SAVED},
-    description="409 when other demons or the behaviour depend on it, or the run is finished or failed.",
+    responses={**NOT_FOUND, **CONFLICT, **NOT_SAVED},
 )
 def remove_demon(run: RunDep, name: DemonName) -> None:
+    """409 when other demons or the behaviour depend on it, or the run is finished or failed."""
     run.remove_demon(name)
 
 
-@router.get(
-    "/demons/{name}/values",
-    summary="A demon's prediction over the world",
-    responses={**NOT_FOUND},
-    description="The prediction at the centres of a resolution x resolution grid, with the current weights.",
-)
+@router.get("/demons/{name}/values", summary="A demon's prediction over the world", responses={**NOT_FOUND})
 def get_values(
     run: RunDep,
     name: DemonName,
     resolution: Annotated[int, Query(ge=2, le=MAX_RESOLUTION)] = 32,
 ) -> ValuesOut:
+    """The prediction at the centres of a resolution x resolution grid, with the current weights."""
     view = run.view
     return values_out(view, name, value_map(view, name, resolution))
 
@@ -103,18 +96,15 @@ def get_history(
     return history_out(name, series, history.every, history.rows)
 
 
-@router.post(
+@writes.post(
     "/evaluate",
     summary="Monte-Carlo truth of a demon's question vs its prediction",
-    dependencies=[WriteAccess],
-    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **BUSY},
-    description=(
-        "Rolls the demon's target policy out from `from` with frozen weights (its own generator: the run "
-        "is not disturbed). 422 when `from` lies outside the world or in an obstacle; 429 when two "
-        "evaluations are running already."
-    ),
+    responses={**BAD_BODY, **NOT_FOUND, **BUSY},
 )
 def evaluate(run: RunDep, evaluation: EvaluateIn, manager: ManagerDep) -> EvaluationOut:
+    """Rolls the demon's target policy out from `from` with frozen weights (its own generator: the run is not
+    disturbed). 422 when `from` lies outside the world or in an obstacle; 429 when two evaluations are running
+    already."""
     cap = evaluation.cap or min(run.view.spec.protocol.evaluation.cap, MAX_EVAL_CAP)
     start = (evaluation.from_[0], evaluation.from_[1])
     return evaluation_out(manager.evaluate(run.id, evaluation.demon, start, evaluation.episodes, cap, evaluation.seed))

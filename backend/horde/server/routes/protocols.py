@@ -13,12 +13,13 @@ from fastapi import APIRouter, Body, Path, status
 
 from horde.runs.protocols import ProtocolJob
 from horde.server.convert import timestamp
-from horde.server.deps import CatalogDep, ProtocolsDep, StoreDep, WriteAccess
-from horde.server.responses import BAD_BODY, BUSY, NOT_FOUND, UNAUTHORIZED
+from horde.server.deps import CatalogDep, ProtocolsDep, StoreDep, write_router
+from horde.server.responses import BAD_BODY, BUSY, NOT_FOUND
 from horde.server.schemas import CountsOut, DemonResultOut, ProtocolOut, RunCreate, RunTemplateIn
 from horde.server.spec_builder import build_spec
 
 router = APIRouter(prefix="/protocols", tags=["protocols"])
+writes = write_router(router)
 
 JobId = Annotated[str, Path(min_length=1, max_length=64, description="the protocol job's id")]
 
@@ -53,20 +54,17 @@ def list_protocols(jobs: ProtocolsDep) -> list[ProtocolOut]:
     return [_out(job) for job in jobs.list()]
 
 
-@router.post(
+@writes.post(
     "",
     summary="Run a scenario's protocol in the background",
     status_code=status.HTTP_202_ACCEPTED,
-    dependencies=[WriteAccess],
-    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **BUSY},
-    description=(
-        "The body is a RunSpec, or a template {scenario, seed, protocol: {trials, episodes}, ...}. One protocol "
-        "runs at a time (429 while one runs). Poll GET /api/protocols/{id} for progress and results."
-    ),
+    responses={**BAD_BODY, **NOT_FOUND, **BUSY},
 )
 def start_protocol(
     body: Annotated[RunCreate, Body()], jobs: ProtocolsDep, catalog: CatalogDep, store: StoreDep
 ) -> ProtocolOut:
+    """The body is a RunSpec, or a template {scenario, seed, protocol: {trials, episodes}, ...}. One protocol runs at a
+    time (429 while one runs). Poll GET /api/protocols/{id} for progress and results."""
     spec = build_spec(body, catalog, store) if isinstance(body, RunTemplateIn) else body
     return _out(jobs.start(spec))
 
@@ -76,11 +74,6 @@ def get_protocol(job_id: JobId, jobs: ProtocolsDep) -> ProtocolOut:
     return _out(jobs.get(job_id))
 
 
-@router.delete(
-    "/{job_id}",
-    summary="Cancel a running protocol job, or forget a finished one",
-    dependencies=[WriteAccess],
-    responses={**NOT_FOUND, **UNAUTHORIZED},
-)
+@writes.delete("/{job_id}", summary="Cancel a running protocol job, or forget a finished one", responses=NOT_FOUND)
 def cancel_protocol(job_id: JobId, jobs: ProtocolsDep) -> ProtocolOut:
     return _out(jobs.cancel(job_id))

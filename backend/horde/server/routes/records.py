@@ -29,9 +29,9 @@ from pydantic import Field
 from horde.runs.errors import FieldProblem, NotFoundError, SpecError
 from horde.runs.stream_run import HISTORY, MAX_RECORDS_PER_BATCH, PushResult, StreamRun
 from horde.runs.stream_snapshot import StreamSnapshot
-from horde.server.deps import SettingsDep, StreamsDep, WriteAccess
+from horde.server.deps import SettingsDep, StreamsDep, write_router
 from horde.server.origins import origin_allowed
-from horde.server.responses import BAD_BODY, BUSY, NOT_FOUND, UNAUTHORIZED
+from horde.server.responses import BAD_BODY, BUSY, NOT_FOUND
 from horde.server.schemas import DemonMetricsOut, DemonOut, In, Out
 from horde.server.settings import Settings
 from horde.server.stream_protocol import StreamClose
@@ -40,6 +40,7 @@ from horde.view.palette import demon_colour
 from horde.worlds.phase_plane import MAX_PHASE_RESOLUTION
 
 router = APIRouter(prefix="/streams", tags=["streams"])
+writes = write_router(router)
 QUEUE = 8  # WebSocket messages waiting to be learned, at most
 MAX_HISTORY_SERIES = 16  # sensors or demons one history request may name
 
@@ -85,12 +86,11 @@ def _out(run: StreamRun, result: PushResult) -> StreamOut:
     )
 
 
-@router.post(
+@writes.post(
     "",
     summary="Start a stream run (a run spec whose world is of kind 'stream')",
     status_code=status.HTTP_201_CREATED,
-    dependencies=[WriteAccess],
-    responses={**BAD_BODY, **UNAUTHORIZED, **BUSY},
+    responses={**BAD_BODY, **BUSY},
 )
 def create_stream(spec: RunSpec, streams: StreamsDep) -> StreamOut:
     run = streams.create(spec)
@@ -130,35 +130,29 @@ def get_stream_snapshot(stream_id: StreamId, streams: StreamsDep) -> StreamSnaps
     return streams.get(stream_id).snapshot()
 
 
-@router.post(
+@writes.post(
     "/import",
     summary="A new stream run from a snapshot: it learns the next record as the exported run would have",
     status_code=status.HTTP_201_CREATED,
-    dependencies=[WriteAccess],
-    responses={**BAD_BODY, **UNAUTHORIZED, **BUSY},
+    responses={**BAD_BODY, **BUSY},
 )
 def import_stream(snapshot: StreamSnapshot, streams: StreamsDep) -> StreamOut:
     run = streams.import_snapshot(snapshot)
     return _out(run, run.status())
 
 
-@router.delete(
-    "/{stream_id}",
-    summary="Stop and forget a stream run",
-    status_code=status.HTTP_204_NO_CONTENT,
-    dependencies=[WriteAccess],
-    responses={**NOT_FOUND, **UNAUTHORIZED},
+@writes.delete(
+    "/{stream_id}", summary="Stop and forget a stream run", status_code=status.HTTP_204_NO_CONTENT, responses=NOT_FOUND
 )
 def delete_stream(stream_id: StreamId, streams: StreamsDep) -> Response:
     streams.delete(stream_id)
     return Response(status_code=status.HTTP_204_NO_CONTENT)
 
 
-@router.post(
+@writes.post(
     "/{stream_id}/records",
     summary="Learn a batch of records, in order (all or nothing)",
-    dependencies=[WriteAccess],
-    responses={**NOT_FOUND, **BAD_BODY, **UNAUTHORIZED},
+    responses={**NOT_FOUND, **BAD_BODY},
 )
 def push_records(stream_id: StreamId, body: RecordsIn, streams: StreamsDep) -> StreamOut:
     run = streams.get(stream_id)
@@ -278,6 +272,27 @@ def _items(text: str) -> list[Any]:
     return [data]
 
 
+async def _learn(queue: asyncio.Queue[list[Any] | None], run: StreamRun, websocket: WebSocket) -> None:
+    """Learn the messages of `queue` (what waits, up to MAX_RECORDS_PER_BATCH records, in one go) until None;
+    answer each batch with its refusals and a `learned` message."""
+    while True:
+        items = await queue.get()
+        if items is None:
+            return
+        while not queue.empty() and len(items) < MAX_RECORDS_PER_BATCH:
+            more = queue.get_nowait()
+            if more is None:
+                await queue.put(None)
+                break
+            items = items + more
+        result = await asyncio.to_thread(run.push, items)
+        for refusal in result.refused:
+            await websocket.send_json({"type": "error", "index": refusal.index, "field": refusal.field,
+                                       "message": refusal.message})  # fmt: skip
+        await websocket.send_json({"type": "learned", "received": result.received, "learned": result.learned,
+                                   "predictions": result.predictions.tolist()})  # fmt: skip
+
+
 @router.websocket("/{stream_id}/records")
 async def stream_records(websocket: WebSocket, stream_id: str, settings: SettingsDep, streams: StreamsDep) -> None:
     """Push records, read predictions (see the module). Close codes (StreamClose): 4404 unknown stream run,
@@ -299,26 +314,7 @@ async def stream_records(websocket: WebSocket, stream_id: str, settings: Setting
     await websocket.send_json({"type": "hello", "sensors": run.spec.world.sensor_names(),
                                "actions": run.spec.world.num_actions(), "demons": run.names})  # fmt: skip
     queue: asyncio.Queue[list[Any] | None] = asyncio.Queue(maxsize=QUEUE)
-
-    async def learn() -> None:
-        while True:
-            items = await queue.get()
-            if items is None:
-                return
-            while not queue.empty() and len(items) < MAX_RECORDS_PER_BATCH:  # learn what waits in one go
-                more = queue.get_nowait()
-                if more is None:
-                    await queue.put(None)
-                    break
-                items = items + more
-            result = await asyncio.to_thread(run.push, items)
-            for refusal in result.refused:
-                await websocket.send_json({"type": "error", "index": refusal.index, "field": refusal.field,
-                                           "message": refusal.message})  # fmt: skip
-            await websocket.send_json({"type": "learned", "received": result.received, "learned": result.learned,
-                                       "predictions": result.predictions.tolist()})  # fmt: skip
-
-    learner = asyncio.create_task(learn())
+    learner = asyncio.create_task(_learn(queue, run, websocket))
     deleted = False
     try:
         while not learner.done():

@@ -8,8 +8,8 @@ from fastapi import APIRouter, Body, Query, Response, status
 
 from horde.runs.events import RECENT_EVENTS
 from horde.server.convert import run_brief, run_out, state_out
-from horde.server.deps import CatalogDep, ManagerDep, RunDep, RunId, StoreDep, WriteAccess
-from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND, NOT_SAVED, UNAUTHORIZED
+from horde.server.deps import CatalogDep, ManagerDep, RunDep, RunId, StoreDep, write_router
+from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND, NOT_SAVED
 from horde.server.schemas import (
     Hz,
     RunBriefOut,
@@ -23,6 +23,7 @@ from horde.server.schemas import (
 from horde.server.spec_builder import build_spec
 
 router = APIRouter(prefix="/runs", tags=["runs"])
+writes = write_router(router)
 
 
 @router.get("", summary="List the runs")
@@ -30,17 +31,11 @@ def list_runs(manager: ManagerDep) -> list[RunBriefOut]:
     return [run_brief(v) for v in sorted(manager.list(), key=lambda v: v.created_at)]
 
 
-@router.post(
+@writes.post(
     "",
     summary="Create a run",
     status_code=status.HTTP_201_CREATED,
-    dependencies=[WriteAccess],
-    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **CONFLICT, **NOT_SAVED},
-    description=(
-        "The body is a RunSpec, or a template: {scenario, world, seed, ...overrides} (a body with a "
-        "`scenario` key, or whose `world` is a string naming a stored world). The run is the first trial "
-        "of its protocol, seeded as `horde run` seeds it. 404: unknown scenario or world; 409: too many runs."
-    ),
+    responses={**BAD_BODY, **NOT_FOUND, **CONFLICT, **NOT_SAVED},
 )
 def create_run(
     body: Annotated[RunCreate, Body()],
@@ -50,6 +45,9 @@ def create_run(
     hz: Annotated[Hz | None, Query(description="steps per second; leave out for full speed")] = None,
     start: Annotated[bool, Query(description="start running at once")] = False,
 ) -> RunOut:
+    """The body is a RunSpec, or a template: {scenario, world, seed, ...overrides} (a body with a `scenario` key, or
+    whose `world` is a string naming a stored world). The run is the first trial of its protocol, seeded as `horde
+    run` seeds it. 404: unknown scenario or world; 409: too many runs."""
     spec = build_spec(body, catalog, store) if isinstance(body, RunTemplateIn) else body
     return run_out(manager.create(spec, hz=hz, start=start))
 
@@ -59,69 +57,46 @@ def get_run(run: RunDep) -> RunOut:
     return run_out(run.view)
 
 
-@router.delete(
-    "/{run_id}",
-    summary="Delete a run",
-    status_code=status.HTTP_204_NO_CONTENT,
-    dependencies=[WriteAccess],
-    responses={**UNAUTHORIZED, **NOT_FOUND, **BUSY},
+@writes.delete(
+    "/{run_id}", summary="Delete a run", status_code=status.HTTP_204_NO_CONTENT, responses={**NOT_FOUND, **BUSY}
 )
 def delete_run(run_id: RunId, manager: ManagerDep) -> None:
     manager.delete(run_id)
 
 
-@router.patch(
-    "/{run_id}",
-    summary="Change a run's speed or behaviour policy",
-    dependencies=[WriteAccess],
-    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **NOT_SAVED},
-    description="`hz: null` runs as fast as possible; a field left out is unchanged.",
+@writes.patch(
+    "/{run_id}", summary="Change a run's speed or behaviour policy", responses={**BAD_BODY, **NOT_FOUND, **NOT_SAVED}
 )
 def patch_run(run: RunDep, patch: RunPatchIn) -> RunOut:
+    """`hz: null` runs as fast as possible; a field left out is unchanged."""
     return run_out(run.patch(set_hz="hz" in patch.model_fields_set, hz=patch.hz, behaviour=patch.behaviour))
 
 
-@router.post(
-    "/{run_id}/start",
-    summary="Start (or resume) a run",
-    dependencies=[WriteAccess],
-    responses={**UNAUTHORIZED, **NOT_FOUND, **CONFLICT, **NOT_SAVED},
-    description="409 unless the run is created or paused.",
-)
+@writes.post("/{run_id}/start", summary="Start (or resume) a run", responses={**NOT_FOUND, **CONFLICT, **NOT_SAVED})
 def start_run(run: RunDep) -> RunOut:
+    """409 unless the run is created or paused."""
     return run_out(run.start())
 
 
-@router.post(
-    "/{run_id}/pause",
-    summary="Pause a running run",
-    dependencies=[WriteAccess],
-    responses={**UNAUTHORIZED, **NOT_FOUND, **CONFLICT, **NOT_SAVED},
-    description="Takes a snapshot. 409 unless the run is running.",
-)
+@writes.post("/{run_id}/pause", summary="Pause a running run", responses={**NOT_FOUND, **CONFLICT, **NOT_SAVED})
 def pause_run(run: RunDep) -> RunOut:
+    """Takes a snapshot. 409 unless the run is running."""
     return run_out(run.pause())
 
 
-@router.post(
-    "/{run_id}/reset",
-    summary="Reset a run to its first step",
-    dependencies=[WriteAccess],
-    responses={**UNAUTHORIZED, **NOT_FOUND, **NOT_SAVED},
-    description="Fresh weights and generator, the current demons; the status becomes created.",
-)
+@writes.post("/{run_id}/reset", summary="Reset a run to its first step", responses={**NOT_FOUND, **NOT_SAVED})
 def reset_run(run: RunDep) -> RunOut:
+    """Fresh weights and generator, the current demons; the status becomes created."""
     return run_out(run.reset())
 
 
-@router.post(
+@writes.post(
     "/{run_id}/step",
     summary="Take steps on a run that is not running",
-    dependencies=[WriteAccess],
-    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **CONFLICT, **NOT_SAVED},
-    description="Default 1 step. 409 when the run is running, finished or failed.",
+    responses={**BAD_BODY, **NOT_FOUND, **CONFLICT, **NOT_SAVED},
 )
 def step_run(run: RunDep, step: Annotated[StepIn | None, Body()] = None) -> StateOut:
+    """Default 1 step. 409 when the run is running, finished or failed."""
     view = run.step((step or StepIn()).steps)
     return state_out(view, run.events.recent(RECENT_EVENTS))
 

@@ -6,11 +6,12 @@ from fastapi import APIRouter, status
 
 from horde.runs.snapshot import Snapshot
 from horde.server.convert import run_out
-from horde.server.deps import ManagerDep, RunDep, WriteAccess
-from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND, NOT_SAVED, UNAUTHORIZED
+from horde.server.deps import ManagerDep, RunDep, write_router
+from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND, NOT_SAVED
 from horde.server.schemas import RunOut
 
 router = APIRouter(prefix="/runs", tags=["snapshots"])
+writes = write_router(router)
 
 
 @router.get(
@@ -22,16 +23,13 @@ def export_snapshot(run: RunDep) -> Snapshot:
     return run.snapshot()
 
 
-@router.post(
+@writes.post(
     "/import",
     summary="Import a snapshot as a new run",
     status_code=status.HTTP_201_CREATED,
-    dependencies=[WriteAccess],
-    responses={**BAD_BODY, **UNAUTHORIZED, **CONFLICT, **NOT_SAVED},
-    description=(
-        "The new run continues exactly where the snapshot was taken (paused, or finished). 422 when the "
-        "arrays do not fit the spec; 409 when the server holds as many runs as it allows."
-    ),
+    responses={**BAD_BODY, **CONFLICT, **NOT_SAVED},
 )
 def import_snapshot(snapshot: Snapshot, manager: ManagerDep) -> RunOut:
+    """The new run continues exactly where the snapshot was taken (paused, or finished). 422 when the arrays do not fit
+    the spec; 409 when the server holds as many runs as it allows."""
     return run_out(manager.import_snapshot(snapshot))

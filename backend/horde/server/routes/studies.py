@@ -16,8 +16,8 @@ from fastapi.responses import PlainTextResponse, Response
 from horde.runs.errors import NotFoundError, SpecError
 from horde.runs.store import StudyRecord
 from horde.server.convert import timestamp
-from horde.server.deps import CatalogDep, StudiesDep, WriteAccess
-from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND, UNAUTHORIZED
+from horde.server.deps import CatalogDep, StudiesDep, write_router
+from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND
 from horde.server.routes.exports import FILE_RESPONSES
 from horde.server.stream_protocol import StreamClose
 from horde.server.study_schemas import StudyConfigOut, StudyOut, StudyResultsOut
@@ -26,6 +26,7 @@ from horde.studies.jobs import StudyJobs
 from horde.studies.spec import StudySpec
 
 router = APIRouter(prefix="/studies", tags=["studies"])
+writes = write_router(router)
 
 StudyId = Annotated[str, Path(min_length=1, max_length=64, description="the study's id")]
 STREAM_INTERVAL = 0.5  # seconds between progress messages
@@ -59,20 +60,17 @@ def list_studies(jobs: StudiesDep) -> list[StudyOut]:
     return [_out(jobs, r) for r in jobs.records()]
 
 
-@router.post(
+@writes.post(
     "",
     summary="Start a parameter study in the background",
     status_code=status.HTTP_202_ACCEPTED,
-    dependencies=[WriteAccess],
-    responses={**BAD_BODY, **UNAUTHORIZED, **NOT_FOUND, **BUSY},
-    description=(
-        "The body is a study, as in a study file: a `scenario` name (or a `base` run spec), `axes` (a field path "
-        "and its values each), `sample`, `runs` per configuration and `measure`. Every axis is checked before any "
-        "task starts: an unknown path, a value the field refuses, or a grid past the bounds is a 422 located at "
-        "the axis. One study runs at a time (429 while one runs)."
-    ),
+    responses={**BAD_BODY, **NOT_FOUND, **BUSY},
 )
 def start_study(body: Annotated[StudySpec, Body()], jobs: StudiesDep, catalog: CatalogDep) -> StudyOut:
+    """The body is a study, as in a study file: a `scenario` name (or a `base` run spec), `axes` (a field path and its
+    values each), `sample`, `runs` per configuration and `measure`. Every axis is checked before any task starts: an
+    unknown path, a value the field refuses, or a grid past the bounds is a 422 located at the axis. One study runs
+    at a time (429 while one runs)."""
     base = body.base if body.base is not None else catalog.get(body.scenario or "")
     try:
         record = jobs.start(body, base)
@@ -89,22 +87,20 @@ def get_study(study_id: StudyId, jobs: StudiesDep) -> StudyResultsOut:
     return StudyResultsOut(**dict(out), results=results)
 
 
-@router.delete(
+@writes.delete(
     "/{study_id}",
     summary="Cancel a running study (finished tasks are kept), or delete a study that is not running",
-    dependencies=[WriteAccess],
-    responses={**NOT_FOUND, **UNAUTHORIZED},
+    responses=NOT_FOUND,
 )
 def cancel_study(study_id: StudyId, jobs: StudiesDep) -> StudyOut:
     return _out(jobs, jobs.cancel(study_id))
 
 
-@router.post(
+@writes.post(
     "/{study_id}/resume",
     summary="Run the unfinished tasks of a cancelled, failed or interrupted study",
     status_code=status.HTTP_202_ACCEPTED,
-    dependencies=[WriteAccess],
-    responses={**NOT_FOUND, **UNAUTHORIZED, **CONFLICT, **BUSY},
+    responses={**NOT_FOUND, **CONFLICT, **BUSY},
 )
 def resume_study(study_id: StudyId, jobs: StudiesDep) -> StudyOut:
     return _out(jobs, jobs.resume(study_id))

@@ -9,11 +9,12 @@ from __future__ import annotations
 from fastapi import APIRouter
 
 from horde.runs.errors import ConflictError, NotFoundError
-from horde.server.deps import LiveViewDep, WriteAccess
-from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND, UNAUTHORIZED
+from horde.server.deps import LiveViewDep, write_router
+from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND
 from horde.server.schemas import ViewIn, ViewOut
 
 router = APIRouter(prefix="/view", tags=["view"])
+writes = write_router(router)
 
 
 @router.get("", summary="Whether and where the live view listens")
@@ -23,11 +24,8 @@ def get_view(view: LiveViewDep) -> ViewOut:
     return ViewOut(enabled=True, url=view.url, run=view.shown_run)
 
 
-@router.post(
-    "",
-    summary="Show a run in the live view (every connected browser)",
-    dependencies=[WriteAccess],
-    responses={**NOT_FOUND, **CONFLICT, **UNAUTHORIZED, **BAD_BODY},
+@writes.post(
+    "", summary="Show a run in the live view (every connected browser)", responses={**NOT_FOUND, **CONFLICT, **BAD_BODY}
 )
 def show_run(view: LiveViewDep, body: ViewIn) -> ViewOut:
     if view is None:

@@ -13,12 +13,13 @@ from fastapi import APIRouter, Path, Response, status
 from horde.runs.errors import ConflictError, NotFoundError, SpecError
 from horde.runs.store import WorldRecord
 from horde.server.convert import timestamp
-from horde.server.deps import SettingsDep, StoreDep, WriteAccess
-from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND, UNAUTHORIZED
+from horde.server.deps import SettingsDep, StoreDep, write_router
+from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND
 from horde.server.schemas import WorldCreate, WorldOut
 from horde.spec import WorldSpec
 
 router = APIRouter(prefix="/worlds", tags=["worlds"])
+writes = write_router(router)
 
 WorldName = Annotated[
     str,
@@ -47,15 +48,9 @@ def list_worlds(store: StoreDep) -> list[WorldOut]:
     return [_out(r) for r in store.list_worlds()]
 
 
-@router.post(
-    "",
-    summary="Store a new world",
-    status_code=status.HTTP_201_CREATED,
-    dependencies=[WriteAccess],
-    responses={**BAD_BODY, **UNAUTHORIZED, **CONFLICT},
-    description="409 when a world of that name exists already, or the store holds as many worlds as allowed.",
-)
+@writes.post("", summary="Store a new world", status_code=status.HTTP_201_CREATED, responses={**BAD_BODY, **CONFLICT})
 def create_world(world: WorldCreate, store: StoreDep, settings: SettingsDep) -> WorldOut:
+    """409 when a world of that name exists already, or the store holds as many worlds as allowed."""
     if store.get_world(world.name) is not None:
         raise ConflictError(f"a world named {world.name!r} exists already; PUT /api/worlds/{world.name} replaces it")
     if store.count_worlds() >= settings.max_worlds:
@@ -69,16 +64,15 @@ def get_world(name: WorldName, store: StoreDep) -> WorldOut:
     return _out(_get(store, name))
 
 
-@router.put(
+@writes.put(
     "/{name}",
     summary="Create or replace a stored world",
-    dependencies=[WriteAccess],
-    responses={**BAD_BODY, **UNAUTHORIZED, **CONFLICT, 201: {"model": WorldOut, "description": "Created"}},
-    description="200 when it replaced a world, 201 when it created one. The body's name, if given, must match.",
+    responses={**BAD_BODY, **CONFLICT, 201: {"model": WorldOut, "description": "Created"}},
 )
 def put_world(
     name: WorldName, world: WorldSpec, store: StoreDep, settings: SettingsDep, response: Response
 ) -> WorldOut:
+    """200 when it replaced a world, 201 when it created one. The body's name, if given, must match."""
     if world.name is not None and world.name != name:
         raise SpecError.at(("body", "name"), f"the body names {world.name!r} but the path names {name!r}")
     exists = store.get_world(name) is not None
@@ -90,13 +84,7 @@ def put_world(
     return _out(_get(store, name))
 
 
-@router.delete(
-    "/{name}",
-    summary="Delete a stored world",
-    status_code=status.HTTP_204_NO_CONTENT,
-    dependencies=[WriteAccess],
-    responses={**UNAUTHORIZED, **NOT_FOUND},
-)
+@writes.delete("/{name}", summary="Delete a stored world", status_code=status.HTTP_204_NO_CONTENT, responses=NOT_FOUND)
 def delete_world(name: WorldName, store: StoreDep) -> None:
     if not store.delete_world(name):
         raise NotFoundError(f"no world {name!r}")
