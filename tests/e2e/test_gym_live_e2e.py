@@ -9,6 +9,7 @@ import re
 import time
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 from playwright.sync_api import expect
@@ -30,6 +31,20 @@ pytestmark = [
     pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium at /usr/bin/chromium"),
     pytest.mark.skipif(not (DIST / "index.html").exists(), reason="frontend/dist is not built: run `make frontend`"),
 ]
+
+
+def see_the_prediction_move(page: Any, demon: str) -> None:
+    """The demon table lists the demon, and its prediction takes three different values as the car drives."""
+    row = page.locator(f'table.demon-table tr[data-demon="{demon}"]')
+    row.wait_for()
+    now = row.locator("td").first
+    expect(now, f"{demon} has a prediction").to_have_text(NUMBER)
+    seen = {now.inner_text().strip()}
+    for _ in range(2):
+        pattern = re.compile("^(" + "|".join(re.escape(t) for t in sorted(seen | {"–"})) + ")$")
+        expect(now, f"the prediction moves on from {seen}").not_to_have_text(pattern)
+        seen.add(now.inner_text().strip())
+    assert len(seen) == 3 and all(NUMBER.match(v) for v in seen), seen
 
 
 @pytest.fixture
@@ -65,17 +80,7 @@ def test_mountaincar_launched_from_the_dashboard_shows_its_demons_and_phase_plan
             assert run, "the launched run is selected"
             assert api.get(f"/api/runs/{run}").json()["status"] == "running"
 
-            # The demon table lists the run's demons, and a prediction moves as the car drives and learns.
-            row = page.locator('table.demon-table tr[data-demon="position_g0.9_on"]')
-            row.wait_for()
-            now = row.locator("td").first
-            expect(now, "position_g0.9_on has a prediction").to_have_text(NUMBER)
-            seen = {now.inner_text().strip()}
-            for _ in range(2):
-                pattern = re.compile("^(" + "|".join(re.escape(t) for t in sorted(seen | {"–"})) + ")$")
-                expect(now, f"the prediction moves on from {seen}").not_to_have_text(pattern)
-                seen.add(now.inner_text().strip())
-            assert len(seen) == 3 and all(NUMBER.match(v) for v in seen), seen
+            see_the_prediction_move(page, "position_g0.9_on")
             demons = api.get(f"/api/runs/{run}/demons").json()
             assert len(demons) == 131 and all(d["metrics"]["rupee"] is not None for d in demons)
 

@@ -64,6 +64,15 @@ def test_pushed_records_draw_the_strip_chart_and_the_phase_plane(server: Running
         page.locator(sensor_canvas).wait_for(timeout=15_000)
         caption = page.locator('figure[data-demon="light_g0.8"] figcaption')
         caption.filter(has_text="mean |prediction − return|").wait_for(timeout=15_000)
+        # The stream's demon table: each demon's prediction at the last record, as the REST table says.
+        table = page.locator('[data-testid="stream-demons"]')
+        table.locator('tr[data-demon="light_g0.8"]').wait_for(timeout=15_000)
+        rest = {d["name"]: d for d in api.get(f"/api/streams/{stream}/demons").json()}
+        shown = table.locator('tr[data-demon="light_g0.8"] td').nth(1).inner_text()
+        assert abs(float(shown) - rest["light_g0.8"]["prediction"]) < 1e-3, (shown, rest["light_g0.8"])
+        link = page.get_by_test_id("stream-snapshot").get_attribute("href")
+        assert link == f"/api/streams/{stream}/snapshot"
+        assert api.get(link).json()["learned"] == 300
         # More records arrive: the list and the chart follow.
         assert api.post(f"/api/streams/{stream}/records", json={"records": records(300, 200)}).status_code == 200
         page.locator('[data-testid="stream-strip"] p.hint', has_text="500 records learned").wait_for(timeout=15_000)

@@ -269,3 +269,46 @@ def test_a_file_that_is_no_parquet_is_named(tmp_path: Path) -> None:
     fake.write_text("light,wheel,heat,action\n0.5,0,30,1\n")
     with pytest.raises(ValueError, match=r"log\.parquet: not a Parquet file"):
         learn_log(spec, fake)
+
+
+def test_a_stream_run_has_a_demon_table_equal_to_its_learner(client: TestClient) -> None:
+    run = client.post("/api/streams", json=stream_spec()).json()["id"]
+    rng = np.random.default_rng(3)
+    records = [{"observation": [rng.random(), rng.uniform(-1, 1), 30.0], "action": int(rng.integers(3))}
+               for _ in range(300)]  # fmt: skip
+    pushed = client.post(f"/api/streams/{run}/records", json={"records": records}).json()
+    table = client.get(f"/api/streams/{run}/demons").json()
+    assert [d["name"] for d in table] == pushed["demons"]
+    # The table's predictions are the learner's after the last record; every demon has its error measures.
+    assert {d["name"]: d["prediction"] for d in table} == pushed["predictions"]
+    assert all(d["metrics"]["rupee"] is not None and d["metrics"]["ude"] is not None for d in table)
+    assert all(not d["metrics"]["diverged"] and d["metrics"]["step_size"] > 0 for d in table)
+    assert next(d for d in table if d["name"] == "light_if_left")["spec"]["learner"] == "gq"
+    assert client.get("/api/streams/nope/demons").status_code == 404
+
+
+def test_a_stream_run_exported_and_imported_learns_the_next_records_exactly_alike(client: TestClient) -> None:
+    run = client.post("/api/streams", json=stream_spec()).json()["id"]
+    rng = np.random.default_rng(4)
+
+    def records(n: int) -> list[dict[str, Any]]:
+        return [{"observation": [rng.random(), rng.uniform(-1, 1), 30.0], "action": int(rng.integers(3)),
+                 "behaviour_probabilities": [0.5, 0.25, 0.25]} for _ in range(n)]  # fmt: skip
+
+    client.post(f"/api/streams/{run}/records", json={"records": records(250)})
+    snapshot = client.get(f"/api/streams/{run}/snapshot").json()
+    assert snapshot["received"] == snapshot["learned"] == 250 and snapshot["pending_action"] in (0, 1, 2)
+    twin = client.post("/api/streams/import", json=snapshot)
+    assert twin.status_code == 201, twin.text
+    assert twin.json()["predictions"] == client.get(f"/api/streams/{run}").json()["predictions"]
+    more = records(120)
+    a = client.post(f"/api/streams/{run}/records", json={"records": more}).json()
+    b = client.post(f"/api/streams/{twin.json()['id']}/records", json={"records": more}).json()
+    assert a["learned"] == b["learned"] == 370
+    assert a["predictions"] == b["predictions"]  # the pending transition and the traces came along
+    # A fresh run fed only the 120 records differs: the import carried the learning over.
+    fresh = client.post("/api/streams", json=stream_spec()).json()["id"]
+    c = client.post(f"/api/streams/{fresh}/records", json={"records": more}).json()
+    assert c["predictions"] != a["predictions"]
+    bad = {**snapshot, "pending_action": 7}
+    assert client.post("/api/streams/import", json=bad).json()["detail"][0]["loc"] == ["body", "pending_action"]

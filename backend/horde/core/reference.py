@@ -11,7 +11,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from horde.core.world import NUM_ACTIONS
 from horde.spec import (
     AddExpr,
     DemonSpec,
@@ -329,7 +328,7 @@ def state_features(
 
 
 def value_policy(kind: str, q: np.ndarray, temperature: float, epsilon: float) -> np.ndarray:
-    """Plain greedy / softmax / epsilon-greedy probabilities over 4 action values."""
+    """Plain greedy / softmax / epsilon-greedy probabilities over the A action values q [A]."""
     best = [a for a in range(len(q)) if q[a] >= max(q) - 1e-12]
     greedy = np.array([1.0 / len(best) if a in best else 0.0 for a in range(len(q))])
     if kind == "greedy":
@@ -367,7 +366,7 @@ class ReferenceDemon:
     rho_prev: float = 0.0  # rho_{t-1}
     followon: float = 0.0  # ETD's F
     phi_state_t: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    pi_t: np.ndarray = field(default_factory=lambda: np.full(NUM_ACTIONS, 0.25))
+    pi_t: np.ndarray = field(default_factory=lambda: np.zeros(0))  # pi(. | s_t) [A], set by `observe`
     prediction: float = 0.0
     delta: float = 0.0
 
@@ -376,18 +375,22 @@ class ReferenceHorde:
     """The plain Horde: fed the engine's transitions, it learns each demon separately.
 
     `observe` starts an episode at a state; `learn` takes one transition (the action taken, its
-    behaviour probability, the next position and the sensors there).
+    behaviour probability, the next position and the sensors there). Any world kind: the grid's four
+    actions or a Gymnasium / stream world's A (`spec.world.num_actions()`); outside the grid there is no
+    position (features are tiled over sensors, and x, y go unused).
     """
 
     def __init__(self, spec: RunSpec) -> None:
         self.spec = spec
-        self.width, self.height = spec.grid.width, spec.grid.height
+        self.num_actions = spec.world.num_actions()
+        grid = spec.world.kind == "grid"
+        self.width, self.height = (spec.grid.width, spec.grid.height) if grid else (1.0, 1.0)
         self.order = check_demon_graph(spec)
         self._sensors: dict[str, float] | None = None
         self.demons: dict[str, ReferenceDemon] = {}
         for d in spec.demons:
             features = d.features or spec.features
-            n = features.state_size() * (NUM_ACTIONS if d.learner == "gq" else 1)
+            n = features.state_size() * (self.num_actions if d.learner == "gq" else 1)
             k = features.active_count()
             lam = d.lambda_ if d.lambda_ is not None else spec.learning.lambda_
             alpha = (d.alpha if d.alpha is not None else spec.learning.alpha) / k
@@ -404,21 +407,27 @@ class ReferenceHorde:
         cond_value = self.demons[condition.demon].prediction if condition else 0.0
         return state_features(demon.features, x, y, self.width, self.height, cond_value, self._sensors)
 
-    @staticmethod
-    def _phi_sa(phi_state: np.ndarray, action: int) -> np.ndarray:
-        phi = np.zeros(NUM_ACTIONS * len(phi_state))
+    def _phi_sa(self, phi_state: np.ndarray, action: int) -> np.ndarray:
+        phi = np.zeros(self.num_actions * len(phi_state))
         phi[action * len(phi_state) : (action + 1) * len(phi_state)] = phi_state
         return phi
 
     def q_values(self, demon: ReferenceDemon, phi_state: np.ndarray) -> np.ndarray:
-        return np.array([demon.theta @ self._phi_sa(phi_state, a) for a in range(NUM_ACTIONS)])
+        return np.array([demon.theta @ self._phi_sa(phi_state, a) for a in range(self.num_actions)])
 
     def _policy(self, demon: ReferenceDemon, phi_state: np.ndarray) -> np.ndarray:
         policy = demon.spec.policy
+        A = self.num_actions
         if policy.kind == "uniform":
-            return np.full(NUM_ACTIONS, 1.0 / NUM_ACTIONS)
+            return np.full(A, 1.0 / A)
         if policy.kind == "fixed":
             return np.array(policy.probabilities, dtype=float)
+        if policy.kind == "sign":  # (1 - epsilon) on actions[1] where the sensor reads >= 0, else on actions[0]
+            assert policy.sensor is not None and policy.actions is not None and self._sensors is not None
+            chosen = policy.actions[1] if self._sensors[policy.sensor] >= 0.0 else policy.actions[0]
+            probs = np.full(A, policy.epsilon / A)
+            probs[chosen] += 1.0 - policy.epsilon
+            return probs
         if policy.kind == "of":
             assert policy.demon is not None
             return self.demons[policy.demon].pi_t.copy()
@@ -426,7 +435,7 @@ class ReferenceHorde:
 
     def _prediction(self, demon: ReferenceDemon, phi_state: np.ndarray, pi: np.ndarray) -> float:
         if demon.spec.learner == "gq":
-            return float(sum(pi[a] * (demon.theta @ self._phi_sa(phi_state, a)) for a in range(NUM_ACTIONS)))
+            return float(sum(pi[a] * (demon.theta @ self._phi_sa(phi_state, a)) for a in range(self.num_actions)))
         return float(demon.theta @ phi_state)
 
     def observe(self, x: float, y: float, sensors: dict[str, float] | None = None) -> None:
@@ -467,7 +476,7 @@ class ReferenceHorde:
             rho = demon.pi_t[action] / b_prob
             if spec.learner == "gq":
                 phi_t = self._phi_sa(demon.phi_state_t, action)
-                phi_next = sum(pi_tp1[a] * self._phi_sa(phi_state_tp1, a) for a in range(NUM_ACTIONS))
+                phi_next = sum(pi_tp1[a] * self._phi_sa(phi_state_tp1, a) for a in range(self.num_actions))
             else:
                 phi_t, phi_next = demon.phi_state_t, phi_state_tp1
             self._step(demon, phi_t, np.asarray(phi_next), r, z, gamma_tp1, rho)

@@ -16,7 +16,9 @@ from typing import Any
 
 import numpy as np
 
+from horde.core.simulation import Readout
 from horde.runs.errors import BusyError, FieldProblem, NotFoundError, SpecError
+from horde.runs.stream_snapshot import StreamSnapshot, capture_stream, restore_stream
 from horde.spec import RunSpec
 from horde.worlds.phase_plane import Axis, axis_of, phase_plane
 from horde.worlds.records import RecordLearner, Records, Refusal
@@ -85,12 +87,13 @@ class StreamRun:
     Args:
         run_id: the id the routes name it by.
         spec: a run spec whose world is of kind "stream".
+        learner: the learner to go on with (an imported snapshot's; default a fresh one).
     """
 
-    def __init__(self, run_id: str, spec: RunSpec) -> None:
+    def __init__(self, run_id: str, spec: RunSpec, learner: RecordLearner | None = None) -> None:
         self.id = run_id
         self.spec = spec
-        self.learner = RecordLearner(spec)
+        self.learner = learner if learner is not None else RecordLearner(spec)
         self.names = self.learner.loop.horde.names
         self.created = time.time()
         self._lock = threading.Lock()
@@ -188,6 +191,21 @@ class StreamRun:
             returns={d: returns.get(d) for d in demons},
         )
 
+    def readout(self) -> tuple[Readout, np.ndarray]:
+        """Every demon's numbers at the last observation (the demon table's), and [D] their step sizes now."""
+        with self._lock:
+            fast = self.learner.loop.fast
+            buf = fast.buf
+            out = Readout(prediction=fast.prediction(), cumulant=fast._per_demon(buf.cumulant),
+                          delta=fast._per_demon(buf.delta), rupee=fast.rupee(), ude=fast.ude(),
+                          diverged=fast._per_demon(buf.diverged).astype(bool))  # fmt: skip
+            return out, fast.effective_step_sizes()
+
+    def snapshot(self) -> StreamSnapshot:
+        """The learner's state now, between two batches (`stream_snapshot`)."""
+        with self._lock:
+            return capture_stream(self.learner)
+
     def status(self) -> PushResult:
         with self._lock:
             return PushResult(self.learner.received, self.learner.learned, [], self.learner.predictions(), 0.0)
@@ -200,17 +218,29 @@ class StreamRuns:
         self._runs: dict[str, StreamRun] = {}
         self._lock = threading.Lock()
 
-    def create(self, spec: RunSpec) -> StreamRun:
-        """A new stream run. Raises SpecError (422 at world.kind) for another world kind, BusyError when full."""
+    def create(self, spec: RunSpec, learner: RecordLearner | None = None) -> StreamRun:
+        """A new stream run (going on with `learner` if given). Raises SpecError (422 at world.kind) for another
+        world kind, BusyError when full."""
         if spec.world.kind != "stream":
             message = f"a stream run needs world.kind = 'stream', not {spec.world.kind!r}"
             raise SpecError([FieldProblem(("body", "world", "kind"), message)])
         with self._lock:
             if len(self._runs) >= MAX_STREAM_RUNS:
                 raise BusyError(f"{MAX_STREAM_RUNS} stream runs exist already; delete one first")
-            run = StreamRun(uuid.uuid4().hex[:12], spec)
+            run = StreamRun(uuid.uuid4().hex[:12], spec, learner)
             self._runs[run.id] = run
             return run
+
+    def import_snapshot(self, snapshot: StreamSnapshot) -> StreamRun:
+        """A new stream run that learns the next record exactly as the snapshot's run would have.
+
+        Raises:
+            SpecError: a snapshot of another world kind (422 at spec.world.kind), or arrays that do not fit.
+        """
+        if snapshot.spec.world.kind != "stream":
+            message = f"a stream run needs world.kind = 'stream', not {snapshot.spec.world.kind!r}"
+            raise SpecError([FieldProblem(("body", "spec", "world", "kind"), message)])
+        return self.create(snapshot.spec, restore_stream(snapshot))
 
     def get(self, run_id: str) -> StreamRun:
         with self._lock:

@@ -7,7 +7,8 @@ learning each transition through `ExternalLoop`). What the grid keeps in a `Worl
 position), a Gymnasium world keeps in a `GymWorldState`: the environment's internal state, the steps of
 the episode under way, the sensors there, and the environment's own generator, so that a restored run
 goes on bit for bit. Snapshots need an environment that keeps its state in `unwrapped.state` (every
-classic-control one does); others run, but cannot be saved (`GymStateError`).
+classic-control one does); others run, but cannot be restored (`GymStateError`: such a run comes back failed,
+saying why).
 """
 
 from __future__ import annotations
@@ -124,12 +125,11 @@ class GymSimulation:
 
     @property
     def world_state(self) -> GymWorldState:
-        """The environment's state (raises GymStateError for one that keeps none in `unwrapped.state`)."""
+        """The environment's state (env_state empty for one that keeps none in `unwrapped.state`: restoring
+        that raises GymStateError)."""
         env = self.agent.world.env
         state = getattr(env.unwrapped, "state", None)
-        if state is None:
-            raise GymStateError(f"{self.spec.world.kind} world {getattr(self.spec.world, 'id', '')!r} keeps no "
-                                "state that a snapshot could hold")  # fmt: skip
+        state = np.zeros(0) if state is None else state
         steps = env.get_wrapper_attr("_elapsed_steps") if hasattr(env, "get_wrapper_attr") else 0
         return GymWorldState(
             env_state=np.array(state, dtype=float).reshape(-1),
@@ -140,7 +140,15 @@ class GymSimulation:
 
     @world_state.setter
     def world_state(self, state: GymWorldState) -> None:
+        """Put the environment back at a saved state.
+
+        Raises:
+            GymStateError: the environment keeps no `unwrapped.state`, so none was saved.
+        """
         env = self.agent.world.env
+        if len(state.env_state) == 0:
+            raise GymStateError(f"{getattr(self.spec.world, 'id', '')!r} keeps no state that a snapshot could hold; "
+                                "the run cannot go on from one")  # fmt: skip
         env.unwrapped.state = np.array(state.env_state, dtype=float)
         env.unwrapped.np_random.bit_generator.state = _rng_state(state.env_rng)
         if hasattr(env, "set_wrapper_attr"):

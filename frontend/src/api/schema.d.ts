@@ -452,6 +452,23 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/streams/import": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** A new stream run from a snapshot: it learns the next record as the exported run would have */
+        post: operations["import_stream_api_streams_import_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/streams/{stream_id}": {
         parameters: {
             query?: never;
@@ -465,6 +482,26 @@ export interface paths {
         post?: never;
         /** Stop and forget a stream run */
         delete: operations["delete_stream_api_streams__stream_id__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/streams/{stream_id}/demons": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * A stream run's demon table
+         * @description Each demon's prediction at the last observation and its error measures (null where it diverged).
+         */
+        get: operations["get_stream_demons_api_streams__stream_id__demons_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
         options?: never;
         head?: never;
         patch?: never;
@@ -520,6 +557,23 @@ export interface paths {
         put?: never;
         /** Learn a batch of records, in order (all or nothing) */
         post: operations["push_records_api_streams__stream_id__records_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/streams/{stream_id}/snapshot": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** A stream run's learner, to import elsewhere */
+        get: operations["get_stream_snapshot_api_streams__stream_id__snapshot_get"];
+        put?: never;
+        post?: never;
         delete?: never;
         options?: never;
         head?: never;
@@ -2122,6 +2176,76 @@ export interface components {
             received: number;
             /** Sensors */
             sensors: string[];
+        };
+        /**
+         * StreamSnapshot
+         * @description A stream run's learner at one record, complete enough to go on exactly.
+         */
+        "StreamSnapshot-Input": {
+            /**
+             * Format
+             * @default horde-stream-snapshot/1
+             * @constant
+             */
+            format: "horde-stream-snapshot/1";
+            /** Horde */
+            horde: {
+                [key: string]: components["schemas"]["EncodedArray"] | number;
+            };
+            /** Learned */
+            learned: number;
+            /**
+             * Pending Action
+             * @description a_t of the last good record (null: none)
+             */
+            pending_action?: number | null;
+            /**
+             * Pending Probability
+             * @description b(a_t | s_t) there
+             */
+            pending_probability?: number | null;
+            /** Received */
+            received: number;
+            /** Refused */
+            refused: number;
+            /** @description [S] the sensors of the last observation */
+            sensors: components["schemas"]["EncodedArray"];
+            spec: components["schemas"]["RunSpec-Input"];
+        };
+        /**
+         * StreamSnapshot
+         * @description A stream run's learner at one record, complete enough to go on exactly.
+         */
+        "StreamSnapshot-Output": {
+            /**
+             * Format
+             * @default horde-stream-snapshot/1
+             * @constant
+             */
+            format: "horde-stream-snapshot/1";
+            /** Horde */
+            horde: {
+                [key: string]: components["schemas"]["EncodedArray"] | number;
+            };
+            /** Learned */
+            learned: number;
+            /**
+             * Pending Action
+             * @description a_t of the last good record (null: none)
+             */
+            pending_action?: number | null;
+            /**
+             * Pending Probability
+             * @description b(a_t | s_t) there
+             */
+            pending_probability?: number | null;
+            /** Received */
+            received: number;
+            /** Refused */
+            refused: number;
+            /** @description [S] the sensors of the last observation */
+            sensors: components["schemas"]["EncodedArray"];
+            spec: components["schemas"]["RunSpec-Output"];
         };
         /**
          * StreamWorldSpec
@@ -4300,6 +4424,75 @@ export interface operations {
             };
         };
     };
+    import_stream_api_streams_import_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["StreamSnapshot-Input"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["StreamOut"];
+                };
+            };
+            /** @description The body cannot be parsed (not JSON, not UTF-8) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+            /** @description Too many evaluations or protocols at once, or the run is busy */
+            429: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+        };
+    };
     get_stream_api_streams__stream_id__get: {
         parameters: {
             query?: never;
@@ -4367,6 +4560,47 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    get_stream_demons_api_streams__stream_id__demons_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the stream run's id */
+                stream_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DemonOut"][];
                 };
             };
             /** @description Unknown run, demon, world or scenario */
@@ -4539,6 +4773,47 @@ export interface operations {
             };
             /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
             413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    get_stream_snapshot_api_streams__stream_id__snapshot_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the stream run's id */
+                stream_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["StreamSnapshot-Output"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
                 headers: {
                     [name: string]: unknown;
                 };

@@ -12,7 +12,7 @@ import { attempt, selectRun } from "../app/actions";
 import { queryClient, watchQuery } from "../app/queries";
 import type { AppStore } from "../app/state";
 import { ApiError, api, unwrap } from "../api/client";
-import type { StreamHistory, StreamRun } from "../api/types";
+import type { Demon, StreamHistory, StreamRun } from "../api/types";
 import { formatCount, formatNumber } from "../lib/format";
 import { type Columns, demonColumns, pickNames, sensorColumns, stripError } from "../lib/stream-history";
 import { h, replaceChildren, section, setText } from "../ui/dom";
@@ -24,6 +24,8 @@ const RECORDS = 1000; // the strip's window
 const SHOWN = 4; // sensors and demons ticked at first
 const MAX_SHOWN = 8;
 const MAX_BOXES = 40; // demons offered as boxes (a Horde of thousands: the first ones)
+const DEMONS_MS = 1000;
+const TABLE_ROWS = 40; // rows of the stream's demon table (a Horde of thousands: the first ones)
 const PREDICTION = "#0072B2";
 const RETURN = "#111827";
 const SENSOR = "#009E73";
@@ -105,6 +107,8 @@ export function streamRuns(store: AppStore): StreamViews {
     renderStrip();
     history.update(historyWatch());
     void history.refetch();
+    demonRows.update(demonsWatch());
+    void demonRows.refetch();
     if (store.state.liveView.state === "on") {
       try {
         await unwrap(api.POST("/api/view", { body: { run: id } }));
@@ -146,6 +150,43 @@ export function streamRuns(store: AppStore): StreamViews {
   const sensorBoxes = h("fieldset", { class: "stream-pick" }, h("legend", {}, "Sensors"));
   const demonBoxes = h("fieldset", { class: "stream-pick" }, h("legend", {}, "Demons"));
   const grid = h("div", { class: "chart-grid" });
+  const tableBody = h("tbody");
+  const demonTable = h(
+    "table",
+    { class: "stream-demons", dataset: { testid: "stream-demons" } },
+    h(
+      "caption",
+      {},
+      "Demons at the last record: prediction, RUPEE (how far it still is from its fixed point) and UDE (how surprised it is).",
+    ),
+    h(
+      "thead",
+      {},
+      h("tr", {}, h("th", {}, "demon"), h("th", {}, "prediction"), h("th", {}, "RUPEE"), h("th", {}, "UDE")),
+    ),
+    tableBody,
+  );
+  const snapshotLink = h(
+    "a",
+    { class: "hint", download: "stream-snapshot.json", dataset: { testid: "stream-snapshot" } },
+    "Download a snapshot (POST it to /api/streams/import to go on from here)",
+  );
+  const renderDemons = (rows: Demon[]) =>
+    replaceChildren(
+      tableBody,
+      rows
+        .slice(0, TABLE_ROWS)
+        .map((d) =>
+          h(
+            "tr",
+            { dataset: { demon: d.name } },
+            h("td", {}, d.metrics.diverged ? `${d.name} (diverged)` : d.name),
+            h("td", {}, formatNumber(d.prediction)),
+            h("td", {}, formatNumber(d.metrics.rupee)),
+            h("td", {}, formatNumber(d.metrics.ude)),
+          ),
+        ),
+    );
   const strip = h(
     "section",
     { class: "panel stream-strip", "aria-labelledby": "stream-strip-title", dataset: { testid: "stream-strip" } },
@@ -162,6 +203,8 @@ export function streamRuns(store: AppStore): StreamViews {
     sensorBoxes,
     demonBoxes,
     grid,
+    demonTable,
+    snapshotLink,
   );
   strip.hidden = true;
   const plots = new Map<string, Plot>();
@@ -199,6 +242,7 @@ export function streamRuns(store: AppStore): StreamViews {
       return;
     }
     setText(title, `Stream run ${run.name || run.id.slice(0, 6)}: predictions beside realised returns`);
+    snapshotLink.setAttribute("href", `/api/streams/${encodeURIComponent(run.id)}/snapshot`);
     renderCounts();
     replaceChildren(
       sensorBoxes,
@@ -284,7 +328,18 @@ export function streamRuns(store: AppStore): StreamViews {
       ]);
     }
   });
-  store.subscribe(() => history.update(historyWatch()), ["tab"]);
+  const demonsWatch = () => ({
+    queryKey: ["stream-demons", selected ?? ""],
+    queryFn: (): Promise<Demon[]> =>
+      unwrap(api.GET("/api/streams/{stream_id}/demons", { params: { path: { stream_id: selected ?? "" } } })),
+    every: DEMONS_MS,
+    enabled: selected !== null && store.state.tab === "live",
+  });
+  const demonRows = watchQuery(queryClient, demonsWatch(), renderDemons);
+  store.subscribe(() => {
+    history.update(historyWatch());
+    demonRows.update(demonsWatch());
+  }, ["tab"]);
 
   new ResizeObserver(() => {
     for (const plot of plots.values()) plot.plot?.setSize(stripSize(plot.box));

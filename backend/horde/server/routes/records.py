@@ -28,13 +28,15 @@ from pydantic import Field
 
 from horde.runs.errors import FieldProblem, NotFoundError, SpecError
 from horde.runs.stream_run import HISTORY, MAX_RECORDS_PER_BATCH, PushResult, StreamRun
+from horde.runs.stream_snapshot import StreamSnapshot
 from horde.server.deps import SettingsDep, StreamsDep, write_router
 from horde.server.origins import origin_allowed
 from horde.server.responses import BAD_BODY, BUSY, NOT_FOUND
-from horde.server.schemas import In, Out
+from horde.server.schemas import DemonMetricsOut, DemonOut, In, Out
 from horde.server.settings import Settings
 from horde.server.stream_protocol import StreamClose
 from horde.spec import RunSpec
+from horde.view.palette import demon_colour
 from horde.worlds.phase_plane import MAX_PHASE_RESOLUTION
 
 router = APIRouter(prefix="/streams", tags=["streams"])
@@ -103,6 +105,39 @@ def list_streams(streams: StreamsDep) -> list[StreamOut]:
 @router.get("/{stream_id}", summary="A stream run's counters and predictions", responses=NOT_FOUND)
 def get_stream(stream_id: StreamId, streams: StreamsDep) -> StreamOut:
     run = streams.get(stream_id)
+    return _out(run, run.status())
+
+
+@router.get("/{stream_id}/demons", summary="A stream run's demon table", responses=NOT_FOUND)
+def get_stream_demons(stream_id: StreamId, streams: StreamsDep) -> list[DemonOut]:
+    """Each demon's prediction at the last observation and its error measures (null where it diverged)."""
+    run = streams.get(stream_id)
+    out, step_size = run.readout()
+    horde = run.learner.loop.horde
+    prediction = np.where(out.diverged, np.nan, out.prediction)  # [D]
+    return [
+        DemonOut(name=spec.name, spec=spec, control=horde.is_control(spec.name), prediction=prediction[i],
+                 metrics=DemonMetricsOut(rupee=out.rupee[i], ude=out.ude[i], delta=out.delta[i],
+                                         cumulant=out.cumulant[i], diverged=bool(out.diverged[i]),
+                                         step_size=step_size[i]),
+                 colour=demon_colour(i))
+        for i, spec in enumerate(horde.demon_specs)
+    ]  # fmt: skip
+
+
+@router.get("/{stream_id}/snapshot", summary="A stream run's learner, to import elsewhere", responses=NOT_FOUND)
+def get_stream_snapshot(stream_id: StreamId, streams: StreamsDep) -> StreamSnapshot:
+    return streams.get(stream_id).snapshot()
+
+
+@writes.post(
+    "/import",
+    summary="A new stream run from a snapshot: it learns the next record as the exported run would have",
+    status_code=status.HTTP_201_CREATED,
+    responses={**BAD_BODY, **BUSY},
+)
+def import_stream(snapshot: StreamSnapshot, streams: StreamsDep) -> StreamOut:
+    run = streams.import_snapshot(snapshot)
     return _out(run, run.status())
 
 
