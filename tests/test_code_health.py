@@ -28,18 +28,6 @@ WHY = re.compile(r"\bWhy\b[^.:]*")  # the reason's first clause: "Why one module
 NAMES_LENGTH = re.compile(r"\d[\d,]* lines|\blong\b|\bone (?:module|function)\b", re.IGNORECASE)
 LINES = re.compile(r"(\d[\d,]*) lines")
 
-# TEMPORARY (issue 15): places that other branches rewrite now (issue-9, issue-13, issue-14: core/ and the
-# live-run layer). The lead removes these entries after merging them; every entry must still be too long
-# without a reason (test_the_allow_list_holds_only_what_is_still_too_long), so a fixed one cannot linger.
-ALLOWED: dict[str, str] = {
-    "backend/horde/core/fast.py": "issue-9 splits the compiled loop",
-    "backend/horde/core/fast.py::FastLoop.__init__": "issue-9",
-    "backend/horde/core/horde.py": "issue-9 / issue-10 (Horde._compile)",
-    "backend/horde/core/horde.py::Horde.forward": "issue-9",
-    "backend/horde/core/reference.py": "issue-13 (the oracle of the new learners)",
-    "backend/horde/core/scale_fast.py": "issue-9 / issue-13s",
-}
-
 
 @dataclass(frozen=True)
 class Place:
@@ -99,14 +87,8 @@ def all_places() -> list[Place]:
 
 
 def test_no_function_or_module_is_too_long_without_a_reason() -> None:
-    problems = [p for place in all_places() if (p := place.problem()) and place.key not in ALLOWED]
+    problems = [p for place in all_places() if (p := place.problem())]
     assert problems == [], "\n".join(problems)
-
-
-def test_the_allow_list_holds_only_what_is_still_too_long() -> None:
-    too_long = {place.key for place in all_places() if place.problem()}
-    stale = sorted(set(ALLOWED) - too_long)
-    assert stale == [], f"these keep their bound now: remove them from ALLOWED: {stale}"
 
 
 @pytest.mark.parametrize(

@@ -20,6 +20,9 @@
 
 A demon whose alpha is 0 (frozen: diverged, or not learning in a test run) stays exactly as it is.
 
+Why one module of about 520 lines: the kernels of the four learners share the trace walk, the column
+split and the unsigned offsets, and numba inlines and specialises calls best within one module.
+
 As `scale_fast._step`, a step is split into what is shared (each class's trace, merged and cut once per
 step: nothing per demon) and `_columns`, every demon's numbers over its own columns of the feature-major
 weights, which a block of at least `PARALLEL_MIN` demons learns on the run's threads, a run of columns

@@ -913,6 +913,11 @@ class FastLoop:
     """
 
     def __init__(self, horde: Horde, world: World) -> None:
+        """Pack a compiled Horde and its world into the loop's arrays.
+
+        Why about 120 lines: it builds the two named tuples the kernels take, `Net` and `Buffers`, field by
+        field (one array per line, its shape read where it is made).
+        """
         self.horde = horde
         self.world = world
         groups, blocks = horde.groups, horde.blocks

@@ -19,6 +19,10 @@ Blocks and classes are numbered across groups; the engine's "slots" are the demo
 the block kernels of `scale_fast.py`); `learners.py` writes its equations as readable numpy and
 `reference.py` as the plain oracle. This module also evaluates a frozen Horde at a batch of positions
 (`forward`), for value maps and Monte-Carlo truth.
+
+Why one module of about 520 lines: compiling a spec into stages, groups, blocks and trace classes,
+the state they make and reading it out (forward, behaviour) share the layout's private lists; split, each
+part would have to reach into the others'.
 """
 
 from __future__ import annotations
@@ -401,10 +405,7 @@ class Horde:
         batch, A = len(x), self.num_actions
         wanted = self.needs(demons) if demons is not None else np.ones(self.num_demons, dtype=bool)
         if sensors is None and any(g.coder.spec.kind == "sensors" for g in self.groups):
-            world = World(self.spec.grid)
-            colors = np.zeros((batch, world.num_indicators), dtype=np.int64)
-            sensors = world.start_sensors(WorldState(np.asarray(x, float), np.asarray(y, float),
-                                                     np.zeros(batch, np.int64), colors))  # fmt: skip
+            sensors = self._start_sensors(np.asarray(x, float), np.asarray(y, float))
         prediction = np.zeros((batch, self.num_demons))
         pi = np.full((batch, self.num_demons, A), 1.0 / A)
         q = np.full((batch, self.num_demons, A), np.nan)
@@ -426,8 +427,7 @@ class Horde:
                 if not keep.any():
                     continue
                 members, classes = members[keep], classes[keep]
-                theta = state.theta[b] if keep.all() else state.theta[b][:, keep]
-                values = self._block_values(group, b, theta, idx)
+                values = self._block_values(group, b, state.theta[b] if keep.all() else state.theta[b][:, keep], idx)
                 if block.policy != "given":
                     kinds = np.full(len(members), scale.POLICY_CODES[block.policy])
                     temperature, epsilon = np.asarray(block.temperature)[keep], np.asarray(block.epsilon)[keep]
@@ -444,6 +444,12 @@ class Horde:
                 else:
                     prediction[:, members] = values
         return Forward(prediction, pi, q, tuple(features))
+
+    def _start_sensors(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """[B, S] what the sensors read at an episode's first state at each position (no colour shown)."""
+        world = World(self.spec.grid)
+        colors = np.zeros((len(x), world.num_indicators), dtype=np.int64)
+        return world.start_sensors(WorldState(x, y, np.zeros(len(x), np.int64), colors))
 
     # ------------------------------------------------------------------------------------------
     # Behaviour
@@ -492,6 +498,12 @@ class Horde:
         slot = int(self.demon_slot[self.index[name]])
         trace = int(self.slot_class[slot] - self.slot_class[self.block_lo[b]])
         return state.theta[b][:, col], state.w[b][:, col], state.e[b][:, trace]
+
+    @property
+    def keeps_learner_state(self) -> bool:
+        """Whether any demon learns with true online TD / GTD, emphatic TD or an adaptive step size (the
+        others keep nothing beyond `HordeState`)."""
+        return any(b.learner in scale.ONLINE_LEARNERS or b.step_size != "constant" for b in self.blocks)
 
     def is_control(self, name: str) -> bool:
         demon = self.demon_specs[self.index[name]]

@@ -2,6 +2,9 @@
 
 Nothing here is vectorized or clever: dense feature vectors, a recursive expression interpreter,
 per-demon loops. The engine (`simulation.py`, with the trace cut at 0) must equal this to 1e-9.
+
+Why one module of about 530 lines: the oracle reads as one paper per function, and the tests trust one
+file for every learner (the new learners' functions share their long parameter lists on purpose).
 """
 
 from __future__ import annotations

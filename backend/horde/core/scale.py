@@ -49,6 +49,7 @@ Learner = Literal["td", "gtd", "gq", "true_online_td", "true_online_gtd", "etd"]
 BlockPolicy = Literal["given", "greedy", "softmax", "epsilon_greedy"]
 # Codes of the compiled loop; codes from 3 on are the learners of adaptive_kernels.py ("td+tidbd": TD(lambda)
 # with TIDBD step sizes, "td+autostep": with Autostep's).
+ONLINE_LEARNERS = ("true_online_td", "true_online_gtd", "etd")  # learned by adaptive_kernels.py
 LEARNER_CODES = {"td": 0, "gtd": 1, "gq": 2, "true_online_td": 3, "true_online_gtd": 4, "etd": 5, "td+tidbd": 6,
                  "td+autostep": 7}  # fmt: skip
 POLICY_CODES = {"given": FIXED, "greedy": GREEDY, "softmax": SOFTMAX, "epsilon_greedy": EPSILON_GREEDY}

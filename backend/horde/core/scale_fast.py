@@ -26,6 +26,9 @@ function (an atomic add each, 40 to 60 arrays a call here) buys nothing; it was 
 step (perf), and dropping it made the thesis loop 2.1 times faster. A kernel compiled so cannot
 allocate (numba refuses to compile it) and passes the setting down to what it calls, unless the callee
 sets `_nrt=True` (`_columns_parallel`, which allocates its scratch).
+
+Why one module of about 610 lines: the kernels call one another in the hot loop, and numba specialises
+and inlines calls best within one module (its cache is keyed per module as well).
 """
 
 from __future__ import annotations

@@ -32,8 +32,6 @@ from horde.core.scale_fast import PARALLEL_MIN
 from horde.core.world import World, WorldState
 from horde.spec import BehaviourSpec, RunSpec
 
-ONLINE_LEARNERS = ("true_online_td", "true_online_gtd", "etd")
-
 
 class AdaptiveState(NamedTuple):
     """The state of `adaptive_kernels.OnlineArrays` that changes as demons learn (in the engine's layout)."""
@@ -122,12 +120,6 @@ class Simulation:
         """Copies of what the true online, emphatic and adaptive learners keep beyond `horde_state`: the per-weight
         step sizes of autostep and tidbd demons among them (snapshots keep it, so a restored run goes on tuned)."""
         return AdaptiveState.copy_of(self._loop.onl)
-
-    @property
-    def has_learner_state(self) -> bool:
-        """Whether any demon learns with true online TD / GTD, emphatic TD or an adaptive step size (the others
-        keep nothing in `learner_state`)."""
-        return any(b.learner in ONLINE_LEARNERS or b.step_size != "constant" for b in self.horde.blocks)
 
     def load_learner_state(self, state: AdaptiveState) -> None:
         """Copy a `learner_state()` of a simulation of the same spec back into the engine."""

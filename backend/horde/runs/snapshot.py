@@ -236,7 +236,7 @@ def freeze(
         world=sim.world_state,
         horde=sim.horde_state,
         stop_reference=stop_reference,
-        online=sim.learner_state() if sim.has_learner_state else None,
+        online=sim.learner_state() if sim.horde.keeps_learner_state else None,
     )
 
 
