@@ -23,6 +23,7 @@ from horde.spec import RunSpec
 
 from .test_engine_vs_reference import run_spec
 from .test_fast import assert_same
+from .test_threads import run_with
 
 D = PARALLEL_MIN + 13  # demons per block: over the threshold, not a multiple of the column alignment
 DISCOUNTS = (0, 0.5, 0.8, 0.9, 0.95)
@@ -58,13 +59,6 @@ def online_spec(demons: int = D) -> RunSpec:
 @pytest.fixture(scope="module")
 def spec() -> RunSpec:
     return online_spec()
-
-
-def run_with(spec: RunSpec, count: int, steps: int = 300) -> Simulation:
-    sim = Simulation(spec, np.random.default_rng(11))
-    sim.threads = count
-    sim.run(steps)
-    return sim
 
 
 @pytest.mark.slow
