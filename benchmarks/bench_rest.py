@@ -56,17 +56,30 @@ def spec() -> dict[str, Any]:
     families: list[dict[str, Any]] = []
     for learner in ("td", "gtd"):
         for target, policy in TARGETS.items():
-            families.append({
-                "name": f"{learner}_{target}_{{s}}_g{{gamma}}",
-                "over": {"s": SENSORS, "gamma": GAMMAS},
-                "demon": {"learner": learner, "policy": policy, "cumulant": {"sensor": "{s}"}, "discount": "{gamma}"},
-            })  # fmt: skip
-    families.append({
-        "name": "gq_{s}_g{gamma}_t{t}",
-        "over": {"s": SENSORS, "gamma": GAMMAS, "t": GQ_TEMPERATURES},
-        "demon": {"learner": "gq", "policy": {"kind": "softmax", "temperature": "{t}"}, "cumulant": {"sensor": "{s}"},
-                  "discount": "{gamma}"},
-    })  # fmt: skip
+            families.append(
+                {
+                    "name": f"{learner}_{target}_{{s}}_g{{gamma}}",
+                    "over": {"s": SENSORS, "gamma": GAMMAS},
+                    "demon": {
+                        "learner": learner,
+                        "policy": policy,
+                        "cumulant": {"sensor": "{s}"},
+                        "discount": "{gamma}",
+                    },
+                }
+            )
+    families.append(
+        {
+            "name": "gq_{s}_g{gamma}_t{t}",
+            "over": {"s": SENSORS, "gamma": GAMMAS, "t": GQ_TEMPERATURES},
+            "demon": {
+                "learner": "gq",
+                "policy": {"kind": "softmax", "temperature": "{t}"},
+                "cumulant": {"sensor": "{s}"},
+                "discount": "{gamma}",
+            },
+        }
+    )
     return {
         "name": "rest-1000-mixed",
         "seed": 1,
@@ -79,7 +92,7 @@ def spec() -> dict[str, Any]:
             "transient_reward": 0,
             "max_steps": 1000,
             "regions": zones(),
-        },  # fmt: skip
+        },
         "features": {"kind": "tiles", "tilings": 8, "tiles": 9},
         "learning": {"lambda": 0.9, "alpha": 0.1, "alpha_w": 0.001},
         "behaviour": {"kind": "uniform"},
@@ -136,16 +149,20 @@ def main() -> None:
                 answer = client.post("/api/runs", params={"start": "true"}, json=spec())
                 answer.raise_for_status()
                 run = answer.json()["id"]
-                print(f"created and started in {time.perf_counter() - created:.2f} s: "
-                      f"{len(client.get(f'/api/runs/{run}/demons').json())} demons")  # fmt: skip
+                print(
+                    f"created and started in {time.perf_counter() - created:.2f} s: "
+                    f"{len(client.get(f'/api/runs/{run}/demons').json())} demons"
+                )
                 time.sleep(args.warmup)
                 windows = [measure(client, run, server.pid, args.seconds) for _ in range(args.repeat)]
         finally:
             server.terminate()
             server.wait(timeout=30)
     for w in windows:
-        print(f"{w.steps_per_second:8.1f} steps/s wall  {w.steps_per_cpu_second:8.1f} steps per CPU s  "
-              f"({w.steps} steps in {w.seconds:.1f} s, {w.cpu_seconds:.1f} CPU s, load {w.load:.2f})")  # fmt: skip
+        print(
+            f"{w.steps_per_second:8.1f} steps/s wall  {w.steps_per_cpu_second:8.1f} steps per CPU s  "
+            f"({w.steps} steps in {w.seconds:.1f} s, {w.cpu_seconds:.1f} CPU s, load {w.load:.2f})"
+        )
     if args.json:
         with open(args.json, "w") as f:
             json.dump([asdict(w) for w in windows], f, indent=2)
