@@ -20,7 +20,7 @@ from horde.core.horde import Horde
 from horde.core.reference import ReferenceHorde, state_features
 from horde.scenarios import load_scenario, scenario_dir
 from horde.spec import RunSpec
-from horde.worlds.baird import BairdEnv
+from horde.worlds.baird_env import BairdEnv
 from horde.worlds.gymnasium import GymAgent
 
 TABLE = [[i, i, 7] for i in range(6)] + [[6, 7, 7]]

@@ -31,6 +31,7 @@ from horde.view.apply import SceneApplier
 from horde.view.gui import ControlPanel
 from horde.view.phase_plane import phase_camera, phase_plane_nodes
 from horde.view.source import ViewSnapshot, ViewSource
+from horde.view.star import star_nodes
 
 log = logging.getLogger(__name__)
 
@@ -285,6 +286,12 @@ class LiveView:
         if key == self._map_key:
             return
         if self._map_key is not None and key[:4] == self._map_key[:4] and now - self._map_time < 1.0 / self.map_hz:
+            return
+        star = getattr(self.source, "star", lambda run, demon: None)(run_id, panel.value_demon)
+        if star is not None:  # Baird's star: its seven states and the agent's, in place of a phase plane
+            with self.server.atomic():
+                self.applier.apply(star_nodes(*star), "phase")
+            self._map_key, self._map_time = key, now
             return
         phase = self.source.phase_snapshot(run_id, panel.value_demon, panel.phase_x, panel.phase_y,  # type: ignore[attr-defined]
                                            self.resolution)  # fmt: skip

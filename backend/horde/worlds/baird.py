@@ -1,4 +1,4 @@
-"""Baird's counterexample (Baird 1995; Sutton & Barto, 2nd ed., section 11.2) as a Gymnasium environment.
+"""Baird's counterexample (Baird 1995; Sutton & Barto, 2nd ed., section 11.2): the star's names and registration.
 
 Seven states: six upper ones (0 to 5) and a lower one (6). Two actions: `dashed` (0) moves to one of the
 six upper states, uniformly; `solid` (1) moves to the lower state. The reward is 0 on every transition and
@@ -6,54 +6,23 @@ nothing terminates: the task is continuing (a run's `world.max_steps` may cut it
 restarts the traces). The observation is the state's number (`Discrete(7)`); the environment keeps it in
 `unwrapped.state`, so that snapshots and Monte-Carlo rollouts can put it back.
 
-Importing this module registers it as `horde/Baird-v0`, the id a scenario's `world.id` names
-(`scenarios/baird.toml`: its classic features and weights, the 6/7 dashed behaviour and the always-solid
-target policy that make off-policy TD(lambda) diverge).
+`register()` (called wherever Gymnasium environments are made) registers it as `horde/Baird-v0`, the id a
+scenario's `world.id` names (`scenarios/baird.toml`: its classic features and weights, the 6/7 dashed
+behaviour and the always-solid target policy that make off-policy TD(lambda) diverge). The environment's
+class is in `horde.worlds.baird_env`.
 """
 
 from __future__ import annotations
-
-from typing import Any
-
-import gymnasium as gym
-import numpy as np
-from gymnasium import spaces
 
 BAIRD_ID = "horde/Baird-v0"
 UPPER = 6  # states 0..5; state 6 is the lower one
 DASHED, SOLID = 0, 1
 
 
-class BairdEnv(gym.Env[np.int64, np.int64]):
-    """The seven-state star of Baird's counterexample: dashed to a uniform upper state, solid to the lower one."""
-
-    def __init__(self) -> None:
-        self.metadata = {"render_modes": []}
-        self.observation_space = spaces.Discrete(UPPER + 1)
-        self.action_space = spaces.Discrete(2)
-        self.state = np.zeros(1)  # [1] the state's number, as a float (the snapshot format's leaves)
-
-    def reset(
-        self, *, seed: int | None = None, options: dict[str, Any] | None = None
-    ) -> tuple[np.int64, dict[str, Any]]:
-        """Start in one of the seven states, uniformly (the behaviour's own distribution over them)."""
-        super().reset(seed=seed)
-        state = np.int64(self.np_random.integers(UPPER + 1))
-        self.state = np.array([float(state)])
-        return state, {}
-
-    def step(self, action: np.int64) -> tuple[np.int64, float, bool, bool, dict[str, Any]]:
-        if int(action) not in (DASHED, SOLID):
-            raise ValueError(f"action {action!r} is not 0 (dashed) or 1 (solid)")
-        state = np.int64(UPPER if int(action) == SOLID else self.np_random.integers(UPPER))
-        self.state = np.array([float(state)])
-        return state, 0.0, False, False, {}
-
-
 def register() -> None:
-    """Register `horde/Baird-v0` with Gymnasium (once; later calls do nothing)."""
+    """Register `horde/Baird-v0` with Gymnasium (once; later calls do nothing). The environment's class lives in
+    `horde.worlds.baird_env`, so that reading these names imports no Gymnasium."""
+    import gymnasium as gym
+
     if BAIRD_ID not in gym.registry:
-        gym.register(id=BAIRD_ID, entry_point=f"{__name__}:BairdEnv")
-
-
-register()
+        gym.register(id=BAIRD_ID, entry_point="horde.worlds.baird_env:BairdEnv")

@@ -59,7 +59,9 @@ def _describe(env_id: str) -> tuple[tuple[SensorRange, ...], int]:
     import gymnasium as gym
     from gymnasium import spaces
 
-    import horde.worlds.baird  # noqa: F401 (registers horde/Baird-v0)
+    from horde.worlds.baird import register
+
+    register()  # horde/Baird-v0
 
     try:
         env = gym.make(env_id)

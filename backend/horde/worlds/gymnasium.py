@@ -36,7 +36,9 @@ class GymWorld:
     def __init__(self, spec: GymnasiumWorldSpec, time_limit: bool = True) -> None:
         import gymnasium as gym
 
-        import horde.worlds.baird  # noqa: F401 (registers horde/Baird-v0)
+        from horde.worlds.baird import register
+
+        register()  # horde/Baird-v0
 
         self.spec = spec
         if not time_limit:
