@@ -1,6 +1,6 @@
 import { describe, expect, it } from "vitest";
 import type { History } from "../src/api/types";
-import { alignHistories, strideIndices } from "../src/lib/series";
+import { alignHistories, spansDecades, strideIndices } from "../src/lib/series";
 
 function history(demon: string, steps: number[], prediction: (number | null)[]): History {
   const zeros = steps.map(() => 0);
@@ -59,5 +59,18 @@ describe("alignHistories", () => {
   });
   it("is empty without histories", () => {
     expect(alignHistories([], "rupee")).toEqual([[]]);
+  });
+});
+
+describe("spansDecades", () => {
+  it("asks for a log axis where the values blow up, as off-policy TD's on Baird's star", () => {
+    expect(spansDecades([3, 12, 300, 4e4, 5e11])).toBe(true);
+    expect(spansDecades([-3, 12, null, -2e6])).toBe(true);
+  });
+  it("keeps a linear axis for values within three powers of ten, or far from zero throughout", () => {
+    expect(spansDecades([3, 6.2, 6.6, null])).toBe(false);
+    expect(spansDecades([0.001, 0.5, 0.9])).toBe(false);
+    expect(spansDecades([2000, 2100, 1900])).toBe(false);
+    expect(spansDecades([null, Number.NaN])).toBe(false);
   });
 });

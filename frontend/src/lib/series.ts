@@ -27,3 +27,16 @@ export function strideIndices(length: number, maxPoints: number): number[] {
   const stride = (length - 1) / (maxPoints - 1);
   return Array.from({ length: maxPoints }, (_, k) => Math.round(k * stride));
 }
+
+/**
+ * Whether a chart of these values wants a logarithmic axis: the largest magnitude is at least a thousand and
+ * a thousand times the smallest (or 1, whichever is larger), as a diverging demon's predictions are (Baird's
+ * counterexample: 3 to 10^11). The chart then uses uPlot's asinh scale: linear within ±1, logarithmic beyond,
+ * so that signs and zero survive.
+ */
+export function spansDecades(values: readonly (number | null)[]): boolean {
+  const sizes = values.filter((v): v is number => v !== null && Number.isFinite(v)).map(Math.abs);
+  if (sizes.length === 0) return false;
+  const largest = Math.max(...sizes);
+  return largest >= 1e3 && largest >= 1e3 * Math.max(1, Math.min(...sizes));
+}
