@@ -152,11 +152,15 @@ def run_scenario(seed: int, steps: int) -> tuple[list[str], np.ndarray, np.ndarr
 @pytest.mark.slow
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_off_policy_td_diverges_while_gtd_gq_and_etd_stay_bounded(seed: int) -> None:
-    names, sizes, diverged = run_scenario(seed, 6000)
+    """The shipped scenario, 12,000 steps: TD's weights grow about tenfold every 1000 steps until the engine
+    freezes it (its prediction past 1e12, near step 10,000; measured 9,700 to 10,100 over five seeds); GTD, GQ
+    and ETD stay below 100 (measured at most 7.3, 9.9 and 25 over 20,000 steps, five seeds)."""
+    names, sizes, diverged = run_scenario(seed, 12000)
     column = {name: i for i, name in enumerate(names)}
-    td = sizes[:, column["td"]]
-    assert td[1] > 100 and td[-1] > 1e5, td  # from 10 at the start: a factor of ten about every 1000 steps
+    td = sizes[:16, column["td"]]  # the first 8000 steps, before the freeze
+    assert td[1] > 100 and td[-1] > 1e7, td  # from 10 at the start
     assert (np.diff(np.log(td[1:])) > 0).mean() > 0.8, td  # and still growing
+    assert diverged[column["td"]] and sizes[-1, column["td"]] == 0.0  # frozen, its weights set to 0
     for name in ("gtd", "gq", "etd"):
         assert sizes[:, column[name]].max() < 100, (name, sizes[:, column[name]])
-    assert not diverged.any()
+        assert not diverged[column[name]]
