@@ -29,6 +29,7 @@ def test_the_baird_scenario_runs_live_and_the_table_marks_td_diverged(client: Te
     assert any("'td' diverged" in event["message"] for event in events), events
     history = client.get(f"/api/runs/{run}/demons/td/history").json()
     assert max(abs(p) for p in history["prediction"] if p is not None) > 1e6  # the chart shows the blow-up
+    assert history["prediction"][-1] is None  # and then stops: the frozen demon's zero weights answer nothing
 
 
 def test_a_reset_starts_the_demons_from_their_initial_weights_again(client: TestClient) -> None:

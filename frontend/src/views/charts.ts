@@ -15,7 +15,7 @@ import { type AppState, type AppStore, chartedDemons } from "../app/state";
 import { api, unwrap } from "../api/client";
 import type { Evaluation, History } from "../api/types";
 import { formatNumber } from "../lib/format";
-import { alignHistories, spansDecades } from "../lib/series";
+import { alignHistories, decadeTicks, powerLabel, spansDecades } from "../lib/series";
 import { h, replaceChildren, section, setText } from "../ui/dom";
 import { lineLook, plotSize, remPx } from "./plots";
 
@@ -190,7 +190,19 @@ function draw(multiple: Multiple, history: History, state: Readonly<AppState>): 
     );
   }
   const look = lineLook("step");
-  if (log) look.scales = { ...look.scales, y: { distr: 4, asinh: 1 } }; // linear within ±1, log beyond
+  if (log) {
+    look.scales = { ...look.scales, y: { distr: 4, asinh: 1 } }; // linear within ±1, log beyond
+    const [xAxis, yAxis] = look.axes ?? [];
+    look.axes = [
+      xAxis ?? {},
+      {
+        ...yAxis,
+        space: 16, // a few powers of ten, each label a line apart
+        splits: (_u, _a, min, max) => decadeTicks(min, max),
+        values: (_u, ticks) => ticks.map(powerLabel),
+      },
+    ];
+  }
   multiple.plot = new uPlot(
     {
       ...chartSize(multiple.box),
