@@ -15,13 +15,17 @@ from typing import Any
 import numpy as np
 import pytest
 
+from grids import CRIT, GOAL, PIT, WALL, grid
 from horde.core.external import ExternalLoop
 from horde.core.horde import Horde
 from horde.core.reference import ReferenceHorde, state_features
+from horde.core.simulation import Simulation
 from horde.scenarios import load_scenario, scenario_dir
 from horde.spec import RunSpec
 from horde.worlds.baird_env import BairdEnv
 from horde.worlds.gymnasium import GymAgent
+
+from .test_engine_vs_reference import compare
 
 TABLE = [[i, i, 7] for i in range(6)] + [[6, 7, 7]]
 THETA0 = [1.0, 1, 1, 1, 1, 1, 10, 1]
@@ -135,6 +139,41 @@ def test_features_of_value_2_are_not_binary_ones() -> None:
     expected[7] += 0.01 * 7 * 8.88
     np.testing.assert_allclose(theta, expected, rtol=1e-12)
     assert loop.prediction()[0] == pytest.approx(expected[6] + 2 * expected[7], rel=1e-12)
+
+
+def test_table_features_of_value_2_in_the_grid_loop_equal_the_reference() -> None:
+    """The grid world's own loop (not the input path above) with a table over the `in:crit` sensor that lists
+    indices twice: a softmax control demon (GQ over its own action values, so state-action rows repeat too),
+    GTD following it, TD from initial weights, and a conditioned copy; 400 steps with episode ends, cut 0."""
+    table = {"kind": "table", "sensor": "in:crit", "table": [[0, 0, 2], [1, 2, 2]]}
+    demons = [
+        {"name": "base", "policy": {"kind": "softmax", "temperature": 0.5}, "cumulant": {"sensor": "reward"},
+         "lambda": 0.8, "alpha": 0.2, "alpha_w": 0.01},
+        {"name": "steps", "learner": "gtd", "policy": {"of": "base"}, "cumulant": 1, "lambda": 0.9, "alpha": 0.05},
+        {"name": "crit_td", "learner": "td", "policy": "uniform", "outcome": {"sensor": "in:crit"}, "discount": 0.9,
+         "initial_weights": [0.5, -1.0, 2.0]},
+        {"name": "crit_etd", "learner": "etd", "policy": {"of": "base"}, "cumulant": {"sensor": "bump"},
+         "discount": 0.9, "features": {**table, "condition": {"demon": "crit_td", "thresholds": [0.5]}}},
+    ]  # fmt: skip
+    spec = RunSpec.model_validate({"world": grid(GOAL, PIT, WALL, CRIT, slip=0.1, max_steps=40), "features": table,
+                                   "learning": {"lambda": 0.5, "alpha": 0.1, "alpha_w": 0.01}, "behaviour": "uniform",
+                                   "demons": demons, "seed": 4})  # fmt: skip
+    sim = Simulation(spec, cut=0.0)
+    ref = ReferenceHorde(spec)
+    names = sim.world.sensor_names
+    ref.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
+    ends = in_crit = 0
+    for step in range(1, 401):
+        result = sim.step()
+        in_crit += int(sim.sensors[names.index("in:crit")])  # row [1, 2, 2]: feature 2 is 2 there
+        ref.learn(result.action, sim.behaviour_probability, *sim.position,
+                  dict(zip(names, sim.sensors.tolist(), strict=True)), result.terminated)  # fmt: skip
+        if result.done:
+            ends += 1
+            ref.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
+        compare(sim, ref, step)
+    assert ends >= 5 and in_crit >= 20, (ends, in_crit)
+    assert np.abs(sim.horde.weights(sim.horde_state, "crit_td") - [0.5, -1.0, 2.0]).max() > 0.01
 
 
 def run_scenario(seed: int, steps: int) -> tuple[list[str], np.ndarray, np.ndarray]:

@@ -49,3 +49,14 @@ def test_bad_initial_weights_or_an_adaptive_step_size_on_bairds_features_are_422
     demons = [{"name": "td", "learner": "td", "step_size": "autostep"}]
     response = client.post("/api/runs", json={"scenario": "baird", "demons": demons})
     assert ["body", "demons", 0, "step_size"] in locs(response) and "features of value 2" in messages(response)
+
+
+def test_a_baird_run_imported_from_its_snapshot_goes_on_bit_for_bit(client: TestClient) -> None:
+    run = client.post("/api/runs", json={"scenario": "baird"}).json()["id"]
+    client.post(f"/api/runs/{run}/step", json={"steps": 700})
+    twin = client.post("/api/runs/import", json=client.get(f"/api/runs/{run}/snapshot").json()).json()["id"]
+    first = client.post(f"/api/runs/{run}/step", json={"steps": 500}).json()
+    second = client.post(f"/api/runs/{twin}/step", json={"steps": 500}).json()
+    assert first["step"] == second["step"] == 1200 and first["predictions"] == second["predictions"]
+    assert client.get(f"/api/runs/{run}/state").json()["sensors"] == client.get(f"/api/runs/{twin}/state").json()[
+        "sensors"]  # fmt: skip
