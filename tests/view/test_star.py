@@ -39,6 +39,7 @@ def test_a_baird_run_is_drawn_as_the_star_in_the_live_view() -> None:
         view.refresh()
         drawn = view.applier.drawn
         assert {f"/star/state{s}" for s in range(7)} <= set(drawn) and "/phase/map" not in drawn
+        assert view.panel.phase_x is None, "no phase-plane axes to choose for the star"
         assert drawn["/star/title"][0].text.startswith("gtd: the value of each state, 3 to 12")
         demon, values, state, diverged = source.star(run, "gtd")  # type: ignore[misc]
         assert demon == "gtd" and not diverged

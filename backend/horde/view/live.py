@@ -272,7 +272,8 @@ class LiveView:
                 self.applier.clear()
             self._shown_run, self._demon_names, self._map_key, self._spec = run_id, demons, None, None
             panel.set_demons(demons, with_shown=not is_stream)
-            panel.set_sensors(sensors)
+            if getattr(self.source, "star", lambda run, demon: None)(run_id, None) is None:  # the star has no axes
+                panel.set_sensors(sensors)
             self._point_camera(phase_camera())
         if is_stream:
             panel.show_phase_state(received, learned)
