@@ -60,7 +60,7 @@ test: lint typecheck vitest pytest
 # The browser tests write their screenshots to test-artifacts/screenshots; this refreshes the ones the
 # README and docs/ show, on purpose (make test never touches docs/).
 DOC_SHOTS := dashboard-live.png dashboard.png demon-editor.png protocol.png world-editor.png view.png \
-	classroom-1024.png classroom-1440.png classroom-1920.png world-drawn.png protocol-group.png
+	classroom-1024.png classroom-1440.png classroom-1920.png world-drawn.png protocol-group.png baird.png
 screenshots: $(INSTALLED) $(DIST)
 	$(BIN)/python -m pytest -q -m e2e tests/e2e
 	cd test-artifacts/screenshots && cp $(DOC_SHOTS) ../../docs/

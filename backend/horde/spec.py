@@ -433,7 +433,7 @@ class StreamWorldSpec(Model):
 
 
 class GymnasiumWorldSpec(Model):
-    """An installed Gymnasium environment with a `Box` observation and a `Discrete` action space.
+    """An installed Gymnasium environment with a `Box` (or `Discrete`) observation and a `Discrete` action space.
 
     Its sensors are the observation's components (named and ranged by `horde.worlds.gym_spaces`), then
     `reward`, `terminated` and `truncated`, read after every step (0 at an episode's first state).
@@ -445,7 +445,7 @@ class GymnasiumWorldSpec(Model):
         min_length=1,
         max_length=120,
         pattern=r"^[A-Za-z0-9_./-]+$",  # no "module:Env" form: an id never makes the server import a module
-        description="a registered environment id, e.g. MountainCar-v0",
+        description="a registered environment id, e.g. MountainCar-v0 (or horde/Baird-v0, Baird's counterexample)",
     )
     max_steps: int | None = Field(
         default=None, ge=1, le=MAX_STEPS, description="truncate episodes here (default: the environment's own limit)"
@@ -541,10 +541,14 @@ class TiledSensor(Model):
 
 
 MAX_TILED_SENSORS = 256
+MAX_TABLE_VALUES = 4096  # readings of a table's discrete sensor
+MAX_TABLE_ACTIVE = 64  # indices listed per reading
+FeatureIndex = Annotated[int, Field(ge=0, lt=MAX_FEATURES)]
+TableRow = Annotated[list[FeatureIndex], Field(min_length=1, max_length=MAX_TABLE_ACTIVE)]
 
 
 class FeatureSpec(Model):
-    kind: Literal["stripes", "tiles", "grid", "constant", "sensors"] = "stripes"
+    kind: Literal["stripes", "tiles", "grid", "constant", "sensors", "table"] = "stripes"
     parts: int = Field(default=5, ge=1, le=1000, description="stripes: columns, rows, diagonals")
     tilings: int = Field(default=8, ge=1, le=64, description="tiles, sensors: number of offset tilings")
     tiles: int = Field(default=8, ge=1, le=1000, description="tiles, grid, sensors: tiles per dimension")
@@ -556,6 +560,15 @@ class FeatureSpec(Model):
         ge=1,
         le=MAX_FEATURES - 1,
         description="sensors: the hash table's size (features besides the bias)",
+    )
+    sensor: SensorName | None = Field(
+        default=None, description="table: the discrete sensor whose reading (0, 1, 2, ...) picks a row of the table"
+    )
+    table: list[TableRow] | None = Field(
+        default=None,
+        max_length=MAX_TABLE_VALUES,
+        description="table: per reading of the sensor, its active feature indices (all rows of one length); an "
+        "index listed twice is a feature of value 2 there (Baird's counterexample)",
     )
     condition: Condition | None = None
 
@@ -579,6 +592,14 @@ class FeatureSpec(Model):
                 raise ValueError("sensors features need a hash table size")
         elif self.sensors is not None or self.size is not None:
             raise ValueError("sensors and size belong to kind = 'sensors' features")
+        if self.kind == "table":
+            if self.sensor is None or not self.table:
+                raise ValueError("table features need a sensor and a table: one row of active indices per reading")
+            lengths = sorted({len(row) for row in self.table})
+            if len(lengths) > 1:
+                raise ValueError(f"every row of the table lists the same number of indices (found {lengths})")
+        elif self.sensor is not None or self.table is not None:
+            raise ValueError("sensor and table belong to kind = 'table' features")
         if self.state_size() > MAX_FEATURES:
             raise ValueError(f"at most {MAX_FEATURES} state features (this spec has {self.state_size()})")
         return self
@@ -593,12 +614,20 @@ class FeatureSpec(Model):
             return self.tiles**2
         if self.kind == "sensors":
             return (self.size or 0) + 1
+        if self.kind == "table":
+            return 1 + max(max(row) for row in self.table or [[0]])
         return 1
 
+    def has_repeats(self) -> bool:
+        """Whether a row of a table lists an index more than once (a feature value above 1)."""
+        return any(len(set(row)) < len(row) for row in self.table or [])
+
     def active_count(self) -> int:
-        """Number of active state features, the same in every state."""
+        """Number of active state features (indices listed, for a table), the same in every state."""
         if self.kind == "sensors":
             return self.tilings * len(self.sensors or []) + 1
+        if self.kind == "table":
+            return len((self.table or [[0]])[0])
         return {"stripes": 5, "tiles": self.tilings + 1, "grid": 1, "constant": 1}[self.kind]
 
     def state_size(self) -> int:
@@ -765,6 +794,12 @@ class DemonSpec(Model):
     meta_step: MetaStep | None = Field(
         default=None, description="meta step size of autostep (mu) or tidbd (theta); defaults to [learning]"
     )
+    initial_weights: list[Finite] | None = Field(
+        default=None,
+        max_length=MAX_FEATURES,
+        description="the weights the demon starts from (and a run reset restores), one per feature (gq: per "
+        "feature of every action's block, action by action); default all 0",
+    )
 
     @field_validator("cumulant", "outcome", "continuation", mode="before")
     @classmethod
@@ -785,6 +820,9 @@ class DemonSpec(Model):
             )
         if self.step_size is not None and (problem := step_size_problem(self.learner, self.step_size)):
             raise ValueError(problem)
+        if self.initial_weights is not None and self.reset == "episode":
+            raise ValueError("initial_weights and reset = 'episode' do not go together: a demon that forgets its "
+                             "weights at every episode start starts each episode from 0")  # fmt: skip
         return self
 
 
@@ -1011,6 +1049,7 @@ class RunSpec(Model):
             object.__setattr__(self, "demons", [*self.demons, *expanded])
             object.__setattr__(self, "families", [])
         check_demon_graph(self)
+        _check_demon_features(self)
         return self
 
 
@@ -1108,9 +1147,60 @@ def _check_world_fit(spec: RunSpec, by_name: dict[str, DemonSpec]) -> None:
     if isinstance(spec.world, WorldSpec):
         return
     for where, features in [("features", spec.features)] + [(d.name, d.features) for d in spec.demons]:
-        if features is not None and features.kind not in ("sensors", "constant"):
+        if features is not None and features.kind not in ("sensors", "constant", "table"):
             raise ValueError(f"{where}: kind {features.kind!r} codes grid positions; a {spec.world.kind} world "
-                             "needs kind = 'sensors' (or 'constant')")  # fmt: skip
+                             "needs kind = 'sensors' (or 'table', 'constant')")  # fmt: skip
+
+
+def _field_error(loc: tuple[str | int, ...], kind: str, message: str, value: Any) -> ValidationError:
+    """A ValidationError at `loc`, so that the 422 names the field (a model validator's would name the run)."""
+    detail = InitErrorDetails(type=PydanticCustomError(kind, message), loc=loc, input=value)
+    return ValidationError.from_exception_data("RunSpec", [detail])
+
+
+def weight_count(demon: DemonSpec, spec: RunSpec) -> int:
+    """How many primary weights a demon has: its state features, times the actions for GQ's action values."""
+    features = demon.features or spec.features
+    return features.state_size() * (spec.world.num_actions() if demon.learner == "gq" else 1)
+
+
+def _check_demon_features(spec: RunSpec) -> None:
+    """Table features read a known discrete sensor within the table; initial weights fit the demon; no
+    adaptive step size on features of value 2 (repeated table indices).
+
+    Raises:
+        ValidationError: naming the field (demons.<i>.initial_weights, demons.<i>.step_size, features.table).
+    """
+    sensors = spec.world.sensor_names()
+    bounds = spec.world.sensor_bounds()
+    for where, features in [(("features",), spec.features)] + [
+        (("demons", i, "features"), d.features) for i, d in enumerate(spec.demons)
+    ]:
+        if features is None or features.kind != "table":
+            continue
+        if features.sensor not in sensors:
+            raise _field_error((*where, "sensor"), "table_sensor", f"table features read unknown sensor "
+                               f"{features.sensor!r} (known: {', '.join(sensors)})", features.sensor)  # fmt: skip
+        low, high = bounds.get(features.sensor or "", (-math.inf, math.inf))
+        rows = len(features.table or [])
+        if (math.isfinite(low) and round(low) < 0) or (math.isfinite(high) and round(high) > rows - 1):
+            raise _field_error((*where, "table"), "table_rows", f"sensor {features.sensor!r} reads {low:g} to "
+                               f"{high:g}; the table has a row for each of 0 to {rows - 1} only", rows)  # fmt: skip
+    for i, demon in enumerate(spec.demons):
+        features = demon.features or spec.features
+        if features.has_repeats():
+            mode, _ = demon_step_size(demon, spec.learning)
+            if mode != "constant":
+                why = (f"demon {demon.name!r}: step size {mode!r} is not defined on features of value 2 (a table row "
+                       "lists an index twice): Autostep's normaliser and TIDBD's h decay take each feature's value "
+                       "squared, which a repeated index does not give; use 'constant'")  # fmt: skip
+                raise _field_error(("demons", i, "step_size"), "repeated_indices", why, mode)
+        if demon.initial_weights is not None:
+            n = weight_count(demon, spec)
+            if len(demon.initial_weights) != n:
+                raise _field_error(("demons", i, "initial_weights"), "initial_weights", f"demon {demon.name!r} has "
+                                   f"{n} weights; initial_weights lists {len(demon.initial_weights)}",
+                                   len(demon.initial_weights))  # fmt: skip
 
 
 def topological_order(deps: dict[str, set[str]]) -> list[str]:

@@ -1,6 +1,6 @@
 import { describe, expect, it } from "vitest";
 import type { History } from "../src/api/types";
-import { alignHistories, strideIndices } from "../src/lib/series";
+import { alignHistories, decadeTicks, powerLabel, spansDecades, strideIndices } from "../src/lib/series";
 
 function history(demon: string, steps: number[], prediction: (number | null)[]): History {
   const zeros = steps.map(() => 0);
@@ -59,5 +59,32 @@ describe("alignHistories", () => {
   });
   it("is empty without histories", () => {
     expect(alignHistories([], "rupee")).toEqual([[]]);
+  });
+});
+
+describe("spansDecades", () => {
+  it("asks for a log axis where the values blow up, as off-policy TD's on Baird's star", () => {
+    expect(spansDecades([3, 12, 300, 4e4, 5e11])).toBe(true);
+    expect(spansDecades([-3, 12, null, -2e6])).toBe(true);
+  });
+  it("keeps a linear axis for values within three powers of ten, or far from zero throughout", () => {
+    expect(spansDecades([3, 6.2, 6.6, null])).toBe(false);
+    expect(spansDecades([0.001, 0.5, 0.9])).toBe(false);
+    expect(spansDecades([2000, 2100, 1900])).toBe(false);
+    expect(spansDecades([null, Number.NaN])).toBe(false);
+  });
+});
+
+describe("decadeTicks and powerLabel", () => {
+  it("label a log axis from 0 to 10^12 with two powers of ten", () => {
+    const ticks = decadeTicks(0, 1e12);
+    expect(ticks).toEqual([0, 1e6, 1e12]);
+    expect(ticks.map(powerLabel)).toEqual(["0", "1e6", "1e12"]);
+  });
+  it("mirror negative ranges, every power where there are few, no label for a tick left out", () => {
+    expect(decadeTicks(-15, 20)).toEqual([-100, -10, -1, 0, 1, 10, 100].filter((t) => t >= -15 && t <= 20));
+    expect(decadeTicks(-2e4, 0)).toEqual([-1e3, 0]);
+    expect(powerLabel(-1e5)).toBe("-1e5");
+    expect(powerLabel(null)).toBe("");
   });
 });

@@ -118,11 +118,15 @@ def _merge_trace(trace, support, toff, voff, ncls, nnz_b, x_t, decay, add, cut, 
             if i_old < nnz_b and support[toff + i_old] == row:
                 i_old += 1
             j_new += 1
+        times = 1.0  # x_t's value on the row: an index listed again (a table's repeat) is a feature of value 2
+        while on_x and j_new < k and x_t[j_new] == row:
+            j_new += 1
+            times += 1.0
         left = False
         for c in range(ncls):
             v = trace[voff + row * ncls + c] * decay[c]
             if on_x:
-                v += add[c]
+                v += add[c] * times
             v = v if abs(v) >= cut else 0.0
             trace[voff + row * ncls + c] = v
             left = left or v != 0.0
@@ -288,11 +292,15 @@ def _dutch_columns(dutch, i0, i1, db, woff, voff, ncls, kept, theta, trace, rows
         if row < 0:
             break
         in_support = s < kept and rows[s] == row
-        on_x = j < x_t.shape[0] and x_t[j] == row
-        on_next = m < x_tp1.shape[0] and x_tp1[m] == row
         s += 1 if in_support else 0
-        j += 1 if on_x else 0
-        m += 1 if on_next else 0
+        on_x = 0.0  # x_t's and x_tp1's values on the row: how often each lists it (a table's repeat: 2)
+        while j < x_t.shape[0] and x_t[j] == row:
+            j += 1
+            on_x += 1.0
+        on_next = 0.0
+        while m < x_tp1.shape[0] and x_tp1[m] == row:
+            m += 1
+            on_next += 1.0
         base = _at(woff + row * db)
         if in_support:
             tr = voff + row * ncls
@@ -300,23 +308,32 @@ def _dutch_columns(dutch, i0, i1, db, woff, voff, ncls, kept, theta, trace, rows
                 c0 = max(bounds[c], i0)
                 c1 = min(bounds[c + 1], i1)
                 e = trace[tr + c]
-                if dutch and on_x:
+                if dutch and on_x == 1.0:
                     for i in range(c0, c1):
                         u = _at(i)
                         t = theta[base + u] + coef[u] * e
                         theta[base + u] = t - fix[u]
+                elif dutch and on_x > 0.0:
+                    for i in range(c0, c1):
+                        u = _at(i)
+                        t = theta[base + u] + coef[u] * e
+                        theta[base + u] = t - on_x * fix[u]
                 else:
                     for i in range(c0, c1):
                         u = _at(i)
                         theta[base + u] += coef[u] * e
-        elif dutch and on_x:  # a row of x_t whose trace was cut
+        elif dutch and on_x > 0.0:  # a row of x_t whose trace was cut
             for i in range(i0, i1):
                 u = _at(i)
-                theta[base + u] -= fix[u]
-        if on_next:
+                theta[base + u] -= on_x * fix[u]
+        if on_next == 1.0:
             for i in range(i0, i1):
                 u = _at(i)
                 acc[u] += theta[base + u]
+        elif on_next > 0.0:
+            for i in range(i0, i1):
+                u = _at(i)
+                acc[u] += on_next * theta[base + u]
 
 
 @njit(cache=True)

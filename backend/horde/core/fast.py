@@ -72,12 +72,14 @@ from horde.core.world import (
 from horde.spec import IMPOSSIBLE_START, BehaviourSpec
 
 A = NUM_ACTIONS
-FEATURE_KINDS = {"stripes": 0, "tiles": 1, "grid": 2, "constant": 3, "sensors": 4}
+FEATURE_KINDS = {"stripes": 0, "tiles": 1, "grid": 2, "constant": 3, "sensors": 4, "table": 5}
 FOREVER = 2**62  # "no limit" for step and episode counts
 
 # Columns of the per-group integer table.
 G_STAGE, G_ACTION_VALUES, G_NS, G_K, G_KIND, G_PARTS, G_TILINGS, G_TILES, G_BASE_N, G_COND = range(10)
 G_THR_LO, G_THR_HI, G_BLO, G_BHI, G_CLO, G_CHI, G_SLO, G_SHI, G_SEN_LO, G_SEN_HI = range(10, 20)
+G_TABLE, G_TABLE_ROWS, G_TABLE_COL = range(20, 23)  # kind "table": its rows' offset in Net.table, count, sensor
+GI_COLUMNS = 23
 # World parameters.
 W_WIDTH, W_HEIGHT, W_STEP, W_SLIP, W_NOISE, W_TRANSIENT, W_MAX_STEPS, W_START_RECT = range(8)
 W_SX0, W_SY0, W_SX1, W_SY1 = range(8, 12)
@@ -107,6 +109,7 @@ class Net(NamedTuple):
     tiled_col: np.ndarray  # tiled sensors (kind "sensors"), group g's at G_SEN_LO..G_SEN_HI: sensor column
     tiled_low: np.ndarray  # and range
     tiled_high: np.ndarray
+    table: np.ndarray  # kind "table": every table's rows of k indices, flat, group g's from G_TABLE
     bi: np.ndarray  # [B, 10] the scale_fast B_* columns (slots and classes global)
     lam: np.ndarray  # [B]
     cut: float
@@ -279,13 +282,20 @@ def _cell(u, parts):
 
 
 @njit(**NO_NRT)
-def _features(gi, thresholds, tiled_col, tiled_low, tiled_high, tiled_values, g, x, y, sensors, condition, wp, out):
-    """Active state features of group g at (x, y) (and its sensors, for kind "sensors") into out[:k]."""
+def _features(gi, thresholds, tiled_col, tiled_low, tiled_high, tiled_values, table, g, x, y, sensors, condition, wp,
+              out):  # fmt: skip
+    """Active state features of group g at (x, y) (and its sensors, for kinds "sensors" and "table") into out[:k]."""
     kind = gi[g, G_KIND]
     u = x / wp[W_WIDTH]
     v = y / wp[W_HEIGHT]
     base_n = gi[g, G_BASE_N]
-    if kind == 4:
+    if kind == 5:  # the row of the sensor's reading (rounded, clipped), as StateCoder.table_row
+        k = gi[g, G_K]
+        row = min(max(int(np.rint(sensors[gi[g, G_TABLE_COL]])), 0), gi[g, G_TABLE_ROWS] - 1)
+        start = gi[g, G_TABLE] + row * k
+        for j in range(k):
+            out[j] = table[start + j]
+    elif kind == 4:
         lo, hi = gi[g, G_SEN_LO], gi[g, G_SEN_HI]
         for j in range(lo, hi):
             tiled_values[j - lo] = sensors[tiled_col[j]]
@@ -467,8 +477,8 @@ def _observe(net, buf):
     for g in range(net.gi.shape[0]):
         k = net.gi[g, G_K]
         cond = buf.pred[net.gi[g, G_COND]] if net.gi[g, G_COND] >= 0 else 0.0
-        _features(net.gi, net.thresholds, net.tiled_col, net.tiled_low, net.tiled_high, buf.tiled_values, g,
-                  buf.pos[0], buf.pos[1], buf.start_sensors, cond, net.wp, buf.feat[g])  # fmt: skip
+        _features(net.gi, net.thresholds, net.tiled_col, net.tiled_low, net.tiled_high, buf.tiled_values, net.table,
+                  g, buf.pos[0], buf.pos[1], buf.start_sensors, cond, net.wp, buf.feat[g])  # fmt: skip
         _sort(buf.feat[g], k)
         _given_policies(net.gi, net.class_kind, net.class_of, net.class_fixed, buf.pi, buf.pi_given, g)
         blo, bhi = net.gi[g, G_BLO], net.gi[g, G_BHI]
@@ -718,7 +728,8 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
                           sensors, pred, node_values)  # fmt: skip
             k = gi[g, G_K]
             cond = pred[gi[g, G_COND]] if gi[g, G_COND] >= 0 else 0.0
-            _features(gi, thresholds, tiled_col, tiled_low, tiled_high, tiled_values, g, nx, ny, sensors, cond, wp, idx)
+            _features(gi, thresholds, tiled_col, tiled_low, tiled_high, tiled_values, net.table, g, nx, ny, sensors,
+                      cond, wp, idx)  # fmt: skip
             _sort(idx, k)
             clo, chi = gi[g, G_CLO], gi[g, G_CHI]
             for c in range(clo, chi):
@@ -934,6 +945,8 @@ class FastLoop:
         bi = np.stack([np.asarray(c, dtype=np.int64) for c in columns], axis=1).reshape(-1, 10)
         thresholds: list[float] = []
         tiled: list[tuple[int, float, float]] = []
+        tables: list[np.ndarray] = []
+        table_at = 0
         gi = []
         for group in groups:
             spec = group.coder.spec
@@ -949,18 +962,23 @@ class FastLoop:
                 int(horde.demon_slot[group.condition]) if group.condition >= 0 else -1, lo, len(thresholds),
                 group.blocks.start, group.blocks.stop, group.classes.start, group.classes.stop,
                 slo, slo + len(group.demons), sen_lo, len(tiled),
+                table_at, len(group.coder.table), group.coder.table_column,
             ])  # fmt: skip
+            if spec.kind == "table":
+                tables.append(group.coder.table.ravel())
+                table_at += group.coder.table.size
         starts = [np.searchsorted(np.asarray(b.classes), np.arange(b.num_classes)) for b in blocks]
         ends = [np.searchsorted(np.asarray(b.classes), np.arange(b.num_classes), side="right") for b in blocks]
         slot = horde.slot_demon
         specs = horde.demon_specs
         self.net = Net(
             **_pack_world(world),
-            gi=np.array(gi, dtype=np.int64).reshape(-1, 20),
+            gi=np.array(gi, dtype=np.int64).reshape(-1, GI_COLUMNS),
             thresholds=np.array(thresholds, dtype=float),
             tiled_col=np.array([t[0] for t in tiled], dtype=np.int64),
             tiled_low=np.array([t[1] for t in tiled], dtype=float),
             tiled_high=np.array([t[2] for t in tiled], dtype=float),
+            table=np.concatenate(tables) if tables else np.zeros(1, np.int64),
             bi=bi,
             lam=np.array([b.lam for b in blocks], dtype=float),
             cut=float(horde.cut),
@@ -1032,6 +1050,8 @@ class FastLoop:
             result=np.zeros(8),
         )
         self._woff, self._voff, self._toff = woff, voff, toff
+        for b, theta in enumerate(horde.initial_theta()):  # demons with initial_weights start from them
+            self._weights(self.buf.theta, b)[:] = theta
         self.onl = _online_arrays(horde, self.net, int(woff[-1]), int(voff[-1]), dmax)
 
     # ------------------------------------------------------------------------------------------

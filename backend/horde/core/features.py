@@ -68,6 +68,9 @@ class StateCoder:
         self.tiled_columns = np.array([self.sensor_index[t.sensor] for t in tiled], dtype=np.int64)
         self.tiled_low = np.array([t.low for t in tiled], dtype=float)
         self.tiled_high = np.array([t.high for t in tiled], dtype=float)
+        # kind "table": row v lists the active indices where the sensor reads v (sorted; an index twice is value 2)
+        self.table = np.sort(np.array(spec.table or [[0]], dtype=np.int64), axis=1)  # [V, k]
+        self.table_column = self.sensor_index.get(spec.sensor or "", -1)
         # tiles3-style asymmetric offsets: tiling t is shifted by t * (1, 3) / tilings of a tile.
         t = np.arange(spec.tilings)
         self._tile_offsets = np.stack([(t * 1 / spec.tilings) % 1.0, (t * 3 / spec.tilings) % 1.0], axis=1)
@@ -84,15 +87,18 @@ class StateCoder:
         Args:
             x, y: [B] positions.
             condition: [B] the condition demon's prediction, required when the spec has a condition.
-            sensors: [B, S] the sensor vectors (named by `sensor_index`), required by kind "sensors".
+            sensors: [B, S] the sensor vectors (named by `sensor_index`), required by kinds "sensors" and "table".
 
         Returns:
-            [B, k] int64 indices in [0, n), distinct within each row (sorted for kind "sensors").
+            [B, k] int64 indices in [0, n), distinct within each row (sorted for kind "sensors"); kind "table"
+            lists its rows sorted, where an index repeated is a feature of value 2.
         """
+        if self.spec.kind in ("sensors", "table") and sensors is None:
+            raise ValueError(f"{self.spec.kind} features need the sensor vectors")
         if self.spec.kind == "sensors":
-            if sensors is None:
-                raise ValueError("features tiled over sensors need the sensor vectors")
             idx = self._sensor_active(np.asarray(sensors, dtype=float))
+        elif self.spec.kind == "table":
+            idx = self.table[self.table_row(np.asarray(sensors, dtype=float)[:, self.table_column])]
         else:
             idx = self._base_active(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
         if len(self.thresholds):
@@ -101,6 +107,10 @@ class StateCoder:
             block = np.searchsorted(self.thresholds, np.asarray(condition, dtype=float), side="right")  # [B]
             idx = idx + (block * self.base_n)[:, None]
         return idx
+
+    def table_row(self, reading: np.ndarray) -> np.ndarray:
+        """[B] the table's row of each reading: rounded to the nearest integer, clipped to the table."""
+        return np.clip(np.rint(reading), 0, len(self.table) - 1).astype(np.int64)
 
     def block_of(self, condition: np.ndarray) -> np.ndarray:
         """[B] which condition block a prediction selects (0 below the first threshold)."""

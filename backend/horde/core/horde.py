@@ -302,10 +302,20 @@ class Horde:
     # ------------------------------------------------------------------------------------------
     # State
 
-    def init_state(self) -> HordeState:
-        """All weights and traces zero, nothing observed yet."""
-        d, c, A = self.num_demons, self.num_classes, self.num_actions
+    def initial_theta(self) -> tuple[np.ndarray, ...]:
+        """Per block [n_b, Db] the primary weights demons start from: their `initial_weights`, else 0."""
         weights = tuple(np.zeros((int(r), b.size)) for r, b in zip(self.block_rows, self.blocks, strict=True))
+        for demon in self.demon_specs:
+            if demon.initial_weights is not None:
+                b, col = self.locate(demon.name)
+                weights[b][:, col] = demon.initial_weights  # row a * n + i of GQ's blocks: action a, feature i
+        return weights
+
+    def init_state(self) -> HordeState:
+        """Weights at their initial values (`initial_theta`: 0 unless a demon sets them), traces zero, nothing
+        observed yet."""
+        d, c, A = self.num_demons, self.num_classes, self.num_actions
+        weights = self.initial_theta()
         return HordeState(
             theta=weights,
             w=tuple(np.zeros_like(a) for a in weights),
@@ -404,7 +414,7 @@ class Horde:
         """
         batch, A = len(x), self.num_actions
         wanted = self.needs(demons) if demons is not None else np.ones(self.num_demons, dtype=bool)
-        if sensors is None and any(g.coder.spec.kind == "sensors" for g in self.groups):
+        if sensors is None and any(g.coder.spec.kind in ("sensors", "table") for g in self.groups):
             sensors = self._start_sensors(np.asarray(x, float), np.asarray(y, float))
         prediction = np.zeros((batch, self.num_demons))
         pi = np.full((batch, self.num_demons, A), 1.0 / A)

@@ -291,7 +291,8 @@ def state_features(
     condition: float,
     sensors: dict[str, float] | None = None,
 ) -> np.ndarray:
-    """The dense binary state feature vector of one point (and its sensors, for kind "sensors")."""
+    """The dense state feature vector of one point (and its sensors, for kinds "sensors" and "table"): binary,
+    but for a table row that lists an index twice (that feature is 2 there)."""
 
     def cell(u: float, parts: int) -> int:
         return min(max(math.floor(u * parts), 0), parts - 1)
@@ -302,6 +303,11 @@ def state_features(
         assert sensors is not None, "features tiled over sensors need the sensors"
         phi[hashed_sensor_tiles(spec, sensors)] = 1
         phi[-1] = 1
+    elif spec.kind == "table":
+        assert sensors is not None and spec.sensor is not None and spec.table, "table features need the sensors"
+        row = min(max(round(sensors[spec.sensor]), 0), len(spec.table) - 1)
+        for index in spec.table[row]:
+            phi[index] += 1
     elif spec.kind == "constant":
         phi[0] = 1
     elif spec.kind == "grid":
@@ -399,8 +405,9 @@ class ReferenceHorde:
             alpha = (d.alpha if d.alpha is not None else spec.learning.alpha) / k
             alpha_w = (d.alpha_w if d.alpha_w is not None else spec.learning.alpha_w) / k
             mode, meta = demon_step_size(d, spec.learning)
+            theta = np.zeros(n) if d.initial_weights is None else np.array(d.initial_weights, dtype=float)
             self.demons[d.name] = ReferenceDemon(
-                d, features, lam, alpha, alpha_w, np.zeros(n), np.zeros(n), np.zeros(n),
+                d, features, lam, alpha, alpha_w, theta, np.zeros(n), np.zeros(n),
                 mode=mode, meta=meta, tau=spec.learning.autostep_tau, alphas=np.full(n, alpha), h=np.zeros(n),
                 v=np.zeros(n), e_grad=np.zeros(n), e_w=np.zeros(n),
             )  # fmt: skip

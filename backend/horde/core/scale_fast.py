@@ -248,14 +248,15 @@ def _update_each_pair(th0, w0, ev0, f0, th1, w1, ev1, f1, td, ad, awd, step_x, w
 
 
 @njit(**NO_NRT)
-def _decay_classes(tr, on_x, decay, add, cut):
-    """New trace values of one row, one per class, in place; entries below the cut become 0.
+def _decay_classes(tr, on_x, decay, add, cut, times):
+    """New trace values of one row, one per class, in place (x_t's value on the row: `times`); entries below the
+    cut become 0.
 
     Branch-free, so that it vectorizes. Returns whether any entry is left."""
     left = 0
     if on_x:
         for c in range(tr.shape[0]):
-            v = tr[c] * decay[c] + add[c]
+            v = tr[c] * decay[c] + add[c] * times
             v = v if abs(v) >= cut else 0.0
             tr[c] = v
             left += 1 if v != 0.0 else 0
@@ -352,8 +353,11 @@ def _merge(bi, b, lam_b, cut, n_s, trace, support, rows, rows_e, rows_f, nnz, to
     decayed and cut. Nothing per demon is touched, so the block's columns can be learned apart.
 
     Returns (kept, dropped): the rows left with a trace, in rows[:kept] in increasing order (the new
-    support; rows_f 1 on the rows of x_t, rows_e the value of a one-class trace); and, for GTD / GQ,
+    support; rows_f x_t's value on the row, rows_e the value of a one-class trace); and, for GTD / GQ,
     the rows of x_t left with none (their w still loses alpha_w (w . x_t) x_t), at the end of `rows`.
+
+    An index listed twice in x_t (a table feature of value 2; sorted, so the repeats are adjacent) is one
+    row whose trace gains twice what x_t adds, rows_f 2, and, if dropped, is listed twice among the dropped.
     """
     learner, kind = bi[b, B_LEARNER], bi[b, B_POLICY]
     lo, toff, voff, ncls, coff = bi[b, B_LO], bi[b, B_TOFF], bi[b, B_VOFF], bi[b, B_NCLS], bi[b, B_COFF]
@@ -372,6 +376,7 @@ def _merge(bi, b, lam_b, cut, n_s, trace, support, rows, rows_e, rows_f, nnz, to
     j_new = 0
     out = 0
     dropped = 0
+    times = 1.0  # x_t's value on the row: how often its index is listed (1 but for a table's repeats)
     while i_old < old or j_new < k:
         if j_new >= k or (i_old < old and support[toff + i_old] < shift + x_t[j_new]):
             row = support[toff + i_old]
@@ -383,22 +388,28 @@ def _merge(bi, b, lam_b, cut, n_s, trace, support, rows, rows_e, rows_f, nnz, to
             if i_old < old and support[toff + i_old] == row:
                 i_old += 1
             j_new += 1
+            while j_new < k and shift + x_t[j_new] == row:  # an index listed again: feature value 2, 3, ...
+                j_new += 1
+                times += 1.0
         if ncls == 1:
             v = trace[voff + row] * decay[0]
             if on_x:
-                v += add[0]
+                v += add[0] * times
             trace[voff + row] = v if abs(v) >= cut else 0.0
             left = trace[voff + row] != 0.0
             rows_e[out] = trace[voff + row]  # the stored value (in the layout's dtype)
         else:
-            left = _decay_classes(trace[voff + row * ncls : voff + (row + 1) * ncls], on_x, decay, add, cut)
+            left = _decay_classes(trace[voff + row * ncls : voff + (row + 1) * ncls], on_x, decay, add, cut, times)
         if not left:
             if on_x and not td:
-                rows[end - dropped] = row
-                dropped += 1
+                for _ in range(int(times)):  # w loses alpha_w (w . x_t) x_t: once per unit of the feature's value
+                    rows[end - dropped] = row
+                    dropped += 1
+            times = 1.0
             continue
         rows[out] = row
-        rows_f[out] = 1.0 if on_x else 0.0
+        rows_f[out] = times if on_x else 0.0  # x_t's value on this row (the w update's factor)
+        times = 1.0
         out += 1
     for s in range(out):  # element by element: a slice copy may allocate (kernels run without NRT)
         support[toff + s] = rows[s]
@@ -586,6 +597,11 @@ def _correct_and_read(theta, start, x, db, correction, weight, mode, acc):
     width = acc.shape[0]
     for i in range(width):
         acc[i] = 0.0
+    if mode != 0:
+        for j in range(1, k):
+            if x[j] == x[j - 1]:  # an index listed twice (sorted: adjacent): correct every row before reading
+                _correct_then_read(theta, start, x, db, correction, weight, mode, acc)
+                return
     j = 0
     while j < k:
         pair = j + 1 < k
@@ -610,3 +626,20 @@ def _correct_and_read(theta, start, x, db, correction, weight, mode, acc):
             for i in range(width):
                 acc[i] += theta[u0 + _at(i)]
             j += 1
+
+
+@njit(**NO_NRT)
+def _correct_then_read(theta, start, x, db, correction, weight, mode, acc):
+    """`_correct_and_read` where x lists an index more than once (a table feature of value 2): every row is
+    corrected once per listing first, then the rows are summed once per listing, so that a repeated row is
+    read after all of its corrections (the fused pass reads a pair's rows before the next pair corrects)."""
+    k = x.shape[0]
+    width = acc.shape[0]
+    for j in range(k):
+        u0 = _at(start + x[j] * db)
+        for i in range(width):
+            theta[u0 + _at(i)] -= correction[i] * weight[i] if mode == 2 else correction[i]
+    for j in range(k):
+        u0 = _at(start + x[j] * db)
+        for i in range(width):
+            acc[i] += theta[u0 + _at(i)]

@@ -89,7 +89,8 @@ class Recorder:
     def record(self, session: RunSession) -> None:
         sim = session.sim
         out = sim.readout()  # O(D): no weights are copied
-        self.history.record(sim.total_steps, out.prediction, out.cumulant, out.delta, out.rupee, out.ude)
+        prediction = np.where(out.diverged, np.nan, out.prediction)  # [D] a frozen demon's 0s are no answer: null
+        self.history.record(sim.total_steps, prediction, out.cumulant, out.delta, out.rupee, out.ude)
         self._last_row = sim.total_steps
         self._next_row = time.monotonic() + self.limits.history_interval
 

@@ -31,6 +31,7 @@ from horde.view.apply import SceneApplier
 from horde.view.gui import ControlPanel
 from horde.view.phase_plane import phase_camera, phase_plane_nodes
 from horde.view.source import ViewSnapshot, ViewSource
+from horde.view.star import star_nodes
 
 log = logging.getLogger(__name__)
 
@@ -271,7 +272,8 @@ class LiveView:
                 self.applier.clear()
             self._shown_run, self._demon_names, self._map_key, self._spec = run_id, demons, None, None
             panel.set_demons(demons, with_shown=not is_stream)
-            panel.set_sensors(sensors)
+            if getattr(self.source, "star", lambda run, demon: None)(run_id, None) is None:  # the star has no axes
+                panel.set_sensors(sensors)
             self._point_camera(phase_camera())
         if is_stream:
             panel.show_phase_state(received, learned)
@@ -285,6 +287,12 @@ class LiveView:
         if key == self._map_key:
             return
         if self._map_key is not None and key[:4] == self._map_key[:4] and now - self._map_time < 1.0 / self.map_hz:
+            return
+        star = getattr(self.source, "star", lambda run, demon: None)(run_id, panel.value_demon)
+        if star is not None:  # Baird's star: its seven states and the agent's, in place of a phase plane
+            with self.server.atomic():
+                self.applier.apply(star_nodes(*star), "phase")
+            self._map_key, self._map_time = key, now
             return
         phase = self.source.phase_snapshot(run_id, panel.value_demon, panel.phase_x, panel.phase_y,  # type: ignore[attr-defined]
                                            self.resolution)  # fmt: skip

@@ -8,7 +8,8 @@ takes (about 30 a second), which is every step when watching and a sample at ful
 Runs of a world without a plane are drawn as a phase plane of two sensors (`phase_snapshot`): live runs
 of a Gymnasium environment (played, paused and stepped as grid runs are; their trail is sampled from the
 views as the grid's is), and stream runs (`StreamRuns`, given as `streams`, listed after the live runs and
-labelled "stream"), whose commands are refused: a stream run learns what its clients push.
+labelled "stream"), whose commands are refused: a stream run learns what its clients push. A run on
+Baird's star is drawn as the star instead (`star`, `horde.view.star`).
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from horde.runs.readout import cell_centres, value_map
 from horde.runs.run_view import RunView
 from horde.runs.stream_run import StreamRun, StreamRuns
 from horde.view.source import CommandRefusedError, History, PhaseSnapshot, ViewSnapshot
+from horde.worlds.baird import BAIRD_ID, UPPER
 from horde.worlds.phase_plane import axis_of, phase_plane
 
 TRAIL_POINTS = 500  # most positions kept of one episode's trail
@@ -118,6 +120,26 @@ class ManagerSource:
                              received=view.total_steps, learned=view.total_steps, demon=demon, x=ax, y=ay,
                              values=values, trail=trail[:, columns] if len(trail) else np.zeros((0, 2)),
                              predictions=dict(zip(view.horde.names, prediction.tolist(), strict=True)))  # fmt: skip
+
+    def star(self, run_id: str, demon: str | None) -> tuple[str, np.ndarray, int, bool] | None:
+        """A live run on Baird's star (`horde/Baird-v0`): (the demon shown, its values at the seven states [7],
+        the agent's state, whether the demon diverged); None for any other run. Raises KeyError for an unknown
+        run or demon."""
+        if self.is_stream(run_id):
+            return None
+        view = self._view(run_id)
+        if getattr(view.spec.world, "id", None) != BAIRD_ID:
+            return None
+        demon = demon or view.horde.names[0]
+        if demon not in view.horde.index:
+            raise KeyError(demon)
+        sensors = np.zeros((UPPER + 1, len(view.spec.world.sensor_names())))  # [7, S]
+        sensors[:, 0] = np.arange(UPPER + 1)  # the `state` sensor
+        zeros = np.zeros(UPPER + 1)
+        values = view.horde.forward(view.horde_state, zeros, zeros, sensors, [demon]).prediction  # [7, D]
+        state = int(view.sensors[0]) if view.sensors is not None else 0
+        i = view.horde.index[demon]
+        return demon, values[:, i], state, bool(view.horde_state.diverged[i])
 
     def _stream(self, run_id: str) -> StreamRun:
         if self.streams is None:

@@ -1,7 +1,8 @@
 """What a Gymnasium environment's spaces mean as Horde sensors and actions.
 
 `describe(id)` makes the environment once (cached), checks that its observation space is a flat `Box`
-and its action space a `Discrete` starting at 0, and names the observation's components. The
+(or a `Discrete`: one sensor, `state`, the state's number) and its action space a `Discrete` starting at
+0, and names the observation's components. The
 classic-control environments (which ship with `gymnasium`) get the names and ranges of their
 documentation; where a bound is infinite the range given is the documented typical range (the tile
 coder clips beyond it). Any other environment's components are `obs0`, `obs1`, ... with the space's
@@ -32,6 +33,7 @@ _DOCUMENTED: dict[str, tuple[list[tuple[str, float, float]], tuple[float, float]
         ],
         (-1.0, 0.0),
     ),
+    "Baird": ([("state", 0.0, 6.0)], (-1.0, 1.0)),  # horde.worlds.baird: every reward is 0
     "CartPole": (
         [
             ("cart_position", -4.8, 4.8),
@@ -57,6 +59,10 @@ def _describe(env_id: str) -> tuple[tuple[SensorRange, ...], int]:
     import gymnasium as gym
     from gymnasium import spaces
 
+    from horde.worlds.baird import register
+
+    register()  # horde/Baird-v0
+
     try:
         env = gym.make(env_id)
     except Exception as exc:  # gymnasium raises several kinds: unknown name, version, missing dependency
@@ -71,8 +77,14 @@ def _describe(env_id: str) -> tuple[tuple[SensorRange, ...], int]:
         raise GymSpaceError(f"{env_id!r} numbers its actions from {int(act.start)}; Horde Lab needs 0")
     if int(act.n) > 64:
         raise GymSpaceError(f"{env_id!r} has {int(act.n)} actions, more than 64")
+    if isinstance(obs, spaces.Discrete):  # one sensor: the state's number
+        if int(obs.n) > 4096:
+            raise GymSpaceError(f"{env_id!r} has {int(obs.n)} discrete states, more than 4096")
+        first = int(obs.start)
+        state = SensorRange(name="state", low=first, high=first + max(int(obs.n) - 1, 1))
+        return (state, *_endings(_DOCUMENTED.get(_family(env_id), ([], (-math.inf, math.inf)))[1])), int(act.n)
     if not isinstance(obs, spaces.Box) or len(obs.shape) != 1:
-        raise GymSpaceError(f"{env_id!r} has observation space {obs}; Horde Lab needs a flat Box")
+        raise GymSpaceError(f"{env_id!r} has observation space {obs}; Horde Lab needs a flat Box or a Discrete")
     if obs.shape[0] > 1000:
         raise GymSpaceError(f"{env_id!r} observes {obs.shape[0]} components, more than 1000")
     documented, rewards = _DOCUMENTED.get(_family(env_id), ([], (-math.inf, math.inf)))
@@ -87,13 +99,17 @@ def _describe(env_id: str) -> tuple[tuple[SensorRange, ...], int]:
             high = high if math.isfinite(high) else documented[i][2]
         sensors.append(SensorRange(name=name, low=low if math.isfinite(low) else None,
                                    high=high if math.isfinite(high) else None))  # fmt: skip
-    sensors.append(
+    return (*sensors, *_endings(rewards)), int(act.n)
+
+
+def _endings(rewards: tuple[float, float]) -> tuple[SensorRange, ...]:
+    """The sensors after the observation's: reward (in its range, where known), terminated, truncated."""
+    return (
         SensorRange(name="reward", low=rewards[0] if math.isfinite(rewards[0]) else None,
-                    high=rewards[1] if math.isfinite(rewards[1]) else None)
+                    high=rewards[1] if math.isfinite(rewards[1]) else None),
+        SensorRange(name="terminated", low=0.0, high=1.0),
+        SensorRange(name="truncated", low=0.0, high=1.0),
     )  # fmt: skip
-    sensors.append(SensorRange(name="terminated", low=0.0, high=1.0))
-    sensors.append(SensorRange(name="truncated", low=0.0, high=1.0))
-    return tuple(sensors), int(act.n)
 
 
 def describe(env_id: str) -> tuple[list[SensorRange], int]:

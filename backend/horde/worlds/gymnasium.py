@@ -36,6 +36,10 @@ class GymWorld:
     def __init__(self, spec: GymnasiumWorldSpec, time_limit: bool = True) -> None:
         import gymnasium as gym
 
+        from horde.worlds.baird import register
+
+        register()  # horde/Baird-v0
+
         self.spec = spec
         if not time_limit:
             self.env: Any = gym.make(spec.id).unwrapped

@@ -45,6 +45,7 @@ class GymDemonResult:
     error: float | None  # prediction - truth
     rmse: float | None  # over the test states
     scale: float | None  # RMS of the realised returns: the error's yardstick for questions whose mean is near 0
+    diverged: bool = False  # frozen by the engine (its weights set to 0): not compared with the returns
 
     @property
     def relative(self) -> float | None:
@@ -57,7 +58,7 @@ class GymDemonResult:
     def as_dict(self) -> dict[str, object]:
         return {"name": self.name, "prediction": self.prediction, "truth": self.truth,
                 "truth_stderr": self.truth_stderr, "error": self.error, "rmse": self.rmse, "scale": self.scale,
-                "relative_error": self.relative}  # fmt: skip
+                "relative_error": self.relative, "diverged": self.diverged}  # fmt: skip
 
 
 @dataclass
@@ -159,10 +160,11 @@ def run_gym_protocol(spec: RunSpec, progress: Progress | None = None) -> GymProt
             progress(protocol.episodes + s + 1, protocol.episodes + evaluation.states)
     world.close()
     rows = []
+    diverged = agent.loop.horde_state().diverged  # [D]
     for j, name in enumerate(wanted):
         prediction = float(predictions[:, j].mean())
-        if np.isnan(truths[:, j]).any():
-            rows.append(GymDemonResult(name, prediction, None, None, None, None, None))
+        if diverged[index[j]] or np.isnan(truths[:, j]).any():  # diverged: frozen at 0 weights, nothing to compare
+            rows.append(GymDemonResult(name, prediction, None, None, None, None, None, bool(diverged[index[j]])))
             continue
         truth = float(truths[:, j].mean())
         stderr = float(math.sqrt(variances[:, j].sum()) / len(states))
@@ -183,8 +185,8 @@ def format_gym_results(spec: RunSpec, result: GymProtocolResult) -> str:
     def percent(value: float | None) -> str:
         return number(None if value is None else 100 * value, 1)
 
-    rows = [(d.name, number(d.prediction), number(d.truth), number(d.truth_stderr), number(d.error),
-             percent(d.relative), number(d.rmse)) for d in result.demons]  # fmt: skip
+    rows = [(d.name, "diverged" if d.diverged else number(d.prediction), number(d.truth), number(d.truth_stderr),
+             number(d.error), percent(d.relative), number(d.rmse)) for d in result.demons]  # fmt: skip
     widths = [max(len(r[i]) for r in [header, *rows]) for i in range(len(header))]
     lines = ["  ".join(cell.rjust(w) if i else cell.ljust(w) for i, (cell, w) in enumerate(zip(r, widths, strict=True)))
              for r in [header, *rows]]  # fmt: skip

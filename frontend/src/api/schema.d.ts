@@ -975,6 +975,11 @@ export interface components {
             discount: number;
             /** @description defaults to the run's features */
             features?: components["schemas"]["FeatureSpec"] | null;
+            /**
+             * Initial Weights
+             * @description the weights the demon starts from (and a run reset restores), one per feature (gq: per feature of every action's block, action by action); default all 0
+             */
+            initial_weights?: number[] | null;
             /** Lambda */
             lambda?: number | null;
             /**
@@ -1041,6 +1046,11 @@ export interface components {
             discount: number;
             /** @description defaults to the run's features */
             features?: components["schemas"]["FeatureSpec"] | null;
+            /**
+             * Initial Weights
+             * @description the weights the demon starts from (and a run reset restores), one per feature (gq: per feature of every action's block, action by action); default all 0
+             */
+            initial_weights?: number[] | null;
             /** Lambda */
             lambda?: number | null;
             /**
@@ -1215,13 +1225,18 @@ export interface components {
              * @default stripes
              * @enum {string}
              */
-            kind: "stripes" | "tiles" | "grid" | "constant" | "sensors";
+            kind: "stripes" | "tiles" | "grid" | "constant" | "sensors" | "table";
             /**
              * Parts
              * @description stripes: columns, rows, diagonals
              * @default 5
              */
             parts: number;
+            /**
+             * Sensor
+             * @description table: the discrete sensor whose reading (0, 1, 2, ...) picks a row of the table
+             */
+            sensor?: string | null;
             /**
              * Sensors
              * @description sensors: each tiled on its own, with its range
@@ -1232,6 +1247,11 @@ export interface components {
              * @description sensors: the hash table's size (features besides the bias)
              */
             size?: number | null;
+            /**
+             * Table
+             * @description table: per reading of the sensor, its active feature indices (all rows of one length); an index listed twice is a feature of value 2 there (Baird's counterexample)
+             */
+            table?: number[][] | null;
             /**
              * Tiles
              * @description tiles, grid, sensors: tiles per dimension
@@ -1247,7 +1267,7 @@ export interface components {
         };
         /**
          * GymnasiumWorldSpec
-         * @description An installed Gymnasium environment with a `Box` observation and a `Discrete` action space.
+         * @description An installed Gymnasium environment with a `Box` (or `Discrete`) observation and a `Discrete` action space.
          *
          *     Its sensors are the observation's components (named and ranged by `horde.worlds.gym_spaces`), then
          *     `reward`, `terminated` and `truncated`, read after every step (0 at an episode's first state).
@@ -1255,7 +1275,7 @@ export interface components {
         GymnasiumWorldSpec: {
             /**
              * Id
-             * @description a registered environment id, e.g. MountainCar-v0
+             * @description a registered environment id, e.g. MountainCar-v0 (or horde/Baird-v0, Baird's counterexample)
              */
             id: string;
             /**

@@ -99,7 +99,7 @@ export const GLOSSARY = {
   },
   diverged: {
     term: "Diverged",
-    text: "The demon's weights became infinite or not a number; it is frozen while the others go on.",
+    text: "The demon's numbers (TD error, prediction or action values) went past 10^12 or became infinite or not a number: the engine sets its weights to 0 and freezes it while the others go on. Off-policy TD does this on Baird's counterexample.",
   },
   episode: {
     term: "Episode",

@@ -27,3 +27,38 @@ export function strideIndices(length: number, maxPoints: number): number[] {
   const stride = (length - 1) / (maxPoints - 1);
   return Array.from({ length: maxPoints }, (_, k) => Math.round(k * stride));
 }
+
+/**
+ * Whether a chart of these values wants a logarithmic axis: the largest magnitude is at least a thousand and
+ * a thousand times the smallest (or 1, whichever is larger), as a diverging demon's predictions are (Baird's
+ * counterexample: 3 to 10^11). The chart then uses uPlot's asinh scale: linear within ±1, logarithmic beyond,
+ * so that signs and zero survive.
+ */
+export function spansDecades(values: readonly (number | null)[]): boolean {
+  const sizes = values.filter((v): v is number => v !== null && Number.isFinite(v)).map(Math.abs);
+  if (sizes.length === 0) return false;
+  const largest = Math.max(...sizes);
+  return largest >= 1e3 && largest >= 1e3 * Math.max(1, Math.min(...sizes));
+}
+
+/** A log axis's ticks within [min, max]: 0 and two or three powers of ten on each side (a small chart has
+ * room for few labels; uPlot leaves out, as null, those that would overlap). */
+export function decadeTicks(min: number, max: number): number[] {
+  const top = Math.ceil(Math.log10(Math.max(Math.abs(min), Math.abs(max), 1)));
+  const stride = Math.max(1, Math.ceil(top / 2));
+  const ticks = min <= 0 && max >= 0 ? [0] : [];
+  for (let k = top > 2 ? stride : 0; k <= top; k += stride) {
+    if (10 ** k <= max && 10 ** k >= min) ticks.push(10 ** k);
+    if (-(10 ** k) >= min && -(10 ** k) <= max) ticks.unshift(-(10 ** k));
+  }
+  return ticks;
+}
+
+/** A log axis's label: 0, 1, 10, 100, 1000, then 1e4, 1e5, ... (and their negatives); none for a tick left out. */
+export function powerLabel(value: number | null): string {
+  if (value === null) return "";
+  if (value === 0) return "0";
+  const size = Math.abs(value);
+  const text = size < 1e4 ? String(size) : `1e${Math.round(Math.log10(size))}`;
+  return value < 0 ? `-${text}` : text;
+}

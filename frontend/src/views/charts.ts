@@ -4,7 +4,9 @@
  * as a dashed line (exact on a small lattice world, else the Monte-Carlo mean with its 95 % band) with
  * the prediction there named beside it. Classroom mode charts every demon (up to
  * MAX_MULTIPLES); otherwise the demons ticked in the table. Each chart is sized by its grid cell, never
- * by its content, so the page cannot grow sideways; the fonts follow "Large text".
+ * by its content, so the page cannot grow sideways; the fonts follow "Large text". A demon whose values
+ * span many powers of ten (`spansDecades`: a diverging one, as TD on Baird's star) is charted on a log
+ * (asinh) scale, and its caption says so.
  */
 import uPlot from "uplot";
 import "uplot/dist/uPlot.min.css";
@@ -13,7 +15,7 @@ import { type AppState, type AppStore, chartedDemons } from "../app/state";
 import { api, unwrap } from "../api/client";
 import type { Evaluation, History } from "../api/types";
 import { formatNumber } from "../lib/format";
-import { alignHistories } from "../lib/series";
+import { alignHistories, decadeTicks, powerLabel, spansDecades } from "../lib/series";
 import { h, replaceChildren, section, setText } from "../ui/dom";
 import { lineLook, plotSize, remPx } from "./plots";
 
@@ -160,15 +162,16 @@ function draw(multiple: Multiple, history: History, state: Readonly<AppState>): 
   const data: uPlot.AlignedData = truth
     ? [steps, values, steps.map(() => truth[0]), steps.map(() => truth[1]), steps.map(() => truth[2])]
     : [steps, values];
+  const log = spansDecades(values);
   setText(
     multiple.caption,
-    truth && evaluation
+    (truth && evaluation
       ? `${multiple.demon} · at the start: truth ${formatNumber(truth[0])}${evaluation.exact != null ? " (exact)" : ` ± ${formatNumber(truth[2] - truth[0])}`}, prediction ${formatNumber(evaluation.prediction)}`
-      : multiple.demon,
+      : multiple.demon) + (log ? " · log scale: the values span many powers of ten" : ""),
   );
   multiple.caption.style.borderLeftColor = colour;
   const font = remPx();
-  const key = `${colour}|${truth?.join(",") ?? ""}|${font}`;
+  const key = `${colour}|${truth?.join(",") ?? ""}|${font}|${log}`;
   if (multiple.plot && multiple.key === key) {
     multiple.plot.setData(data);
     return;
@@ -186,10 +189,24 @@ function draw(multiple: Multiple, history: History, state: Readonly<AppState>): 
       { label: "high", stroke: "transparent", width: 0, show: true },
     );
   }
+  const look = lineLook("step");
+  if (log) {
+    look.scales = { ...look.scales, y: { distr: 4, asinh: 1 } }; // linear within ±1, log beyond
+    const [xAxis, yAxis] = look.axes ?? [];
+    look.axes = [
+      xAxis ?? {},
+      {
+        ...yAxis,
+        space: 16, // a few powers of ten, each label a line apart
+        splits: (_u, _a, min, max) => decadeTicks(min, max),
+        values: (_u, ticks) => ticks.map(powerLabel),
+      },
+    ];
+  }
   multiple.plot = new uPlot(
     {
       ...chartSize(multiple.box),
-      ...lineLook("step"),
+      ...look,
       title: undefined,
       series,
       bands: truth ? [{ series: [4, 3], fill: "rgba(17, 24, 39, 0.12)" }] : [],

@@ -109,8 +109,13 @@ export function launcher(store: AppStore): HTMLElement {
       seed.value = String(spec.seed);
       episodes.value = String(spec.protocol?.episodes ?? "");
       ({ maxSteps, fullSpeed } = worldPace(spec.world));
-      if (spec.world && "kind" in spec.world && spec.world.kind === "gymnasium")
-        description.textContent = `${description.textContent ?? ""} Gymnasium ${spec.world.id}: the live view draws a phase plane of two sensors.`;
+      if (spec.world && "kind" in spec.world && spec.world.kind === "gymnasium") {
+        const drawn =
+          spec.world.id === "horde/Baird-v0"
+            ? "the star's seven states, coloured by a demon's values"
+            : "a phase plane of two sensors";
+        description.textContent = `${description.textContent ?? ""} Gymnasium ${spec.world.id}: the live view draws ${drawn}.`;
+      }
       // A protocol too long to watch starts at full speed (the run card's speed control slows it down).
       if (!hzTouched) {
         const long = runDuration(spec.protocol?.episodes ?? 0, maxSteps, WATCH_HZ, fullSpeed) > WATCHABLE_SECONDS;
