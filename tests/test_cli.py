@@ -64,3 +64,9 @@ def test_bad_scenario_is_a_clear_error(tmp_path: Path, capsys: pytest.CaptureFix
 def test_bad_override_is_a_clear_error(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["run", str(scenario_dir() / "experiment1.toml"), "--trials", "0"]) == 2
     assert "trials" in capsys.readouterr().err
+
+
+def test_negative_workers_is_a_clear_error(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["run", str(scenario_dir() / "experiment1.toml"), "--workers", "-2"]) == 2
+    err = capsys.readouterr().err
+    assert "--workers" in err and "Traceback" not in err

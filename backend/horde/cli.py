@@ -102,6 +102,9 @@ def _override(spec: RunSpec, trials: int | None, episodes: int | None, seed: int
 
 
 def cmd_run(args: argparse.Namespace) -> int:
+    if args.workers is not None and args.workers < 0:
+        print(f"error: --workers: {args.workers} is below 0 (0 or none: one per core)", file=sys.stderr)
+        return 2
     try:
         spec = load_scenario(args.scenario)
         spec = _override(spec, args.trials, args.episodes, args.seed)
