@@ -29,11 +29,13 @@ class ProgressBar:
         self.width = width
         self.began = time.perf_counter()
         self.last_draw = 0.0
+        self.finished = False
 
     def __call__(self, done: int, total: int) -> None:
         now = time.perf_counter()
-        if done < total and now - self.last_draw < 0.1:
+        if (done < total and now - self.last_draw < 0.1) or (done >= total and self.finished):
             return
+        self.finished = done >= total  # the full bar is drawn once, however often the end is reported
         self.last_draw = now
         fraction = done / total if total else 1.0
         filled = int(self.width * fraction)
