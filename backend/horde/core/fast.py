@@ -638,6 +638,18 @@ def _metrics_columns(bi, b, i0, i1, cls_lo, cls_hi, shift, x_t, delta, h, u, hu,
 
 @njit(cache=True, nogil=True)  # releases the GIL: the server's other threads go on while a run learns
 def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics, onl, threads, given):
+    """`_loop` with its scratch allocated (here, with reference counting: the loop itself counts none)."""
+    hx = np.zeros(2 * max(1, buf.work.shape[1]))  # h . x_t and delta of a block, for the metrics
+    inside = np.zeros(net.rects.shape[0], dtype=np.bool_)
+    b = np.zeros(A)
+    cdf = np.zeros(A)
+    _loop(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics, onl, threads, given, hx,
+          inside, b, cdf)  # fmt: skip
+
+
+@njit(**NO_NRT, nogil=True)
+def _loop(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics, onl, threads, given, hx,
+          inside, b, cdf):  # fmt: skip
     """The one loop: run steps until `max_steps` steps or `max_episodes` episode ends. Each step takes a
     transition from its source, then every demon learns from it (the one learning step of the engine).
 
@@ -650,6 +662,11 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
     passing (or inlining) the two named tuples of ~40 arrays costs about a microsecond per step (every
     array's count is taken and given back), which is a third of a thesis-scale step (measured: a
     function inlined by numba made the thesis loop 1.3 times slower).
+
+    Compiled without reference counting (its scratch comes from `_run`): with counting, every array
+    read from `net` and `buf` or sliced (a group's blocks, its active features, the work rows: about 15
+    a group and step) took and gave back a count; without, the thesis loop takes 1.5 to 1.65 times
+    fewer CPU seconds (docs/performance.md). So no slice is copied here (an element loop instead).
     """
     from_world = given.sensors.shape[0] == 0
     wp, rects, is_obstacle, is_terminal = net.wp, net.rects, net.is_obstacle, net.is_terminal
@@ -674,21 +691,18 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
         buf.pi, buf.q, buf.pred, buf.gamma, buf.delta, buf.cumulant, buf.diverged
     )  # fmt: skip
     h, u, hu, mscale, tau, dstats = buf.h, buf.u, buf.hu, buf.mscale, buf.tau, buf.dstats
-    hx = np.zeros(2 * max(1, buf.work.shape[1]))  # h . x_t and delta of a block, for the metrics
     rows_, rows_e, rows_f, values, pi_next, work, ev, scratch = (
         buf.rows, buf.rows_e, buf.rows_f, buf.values, buf.pi_next, buf.work, buf.ev, buf.scratch
     )  # fmt: skip
     num_actions = class_pi.shape[1]
     num_regions = rects.shape[0]
     num_indicators = net.ind_region.shape[0]
-    inside = np.zeros(num_regions, dtype=np.bool_)
-    b = np.zeros(A)
-    cdf = np.zeros(A)
     steps = 0
     episodes = 0
     while steps < max_steps and episodes < max_episodes:
         if not from_world:  # the next given transition
-            sensors[:] = given.sensors[steps]
+            for j in range(sensors.shape[0]):
+                sensors[j] = given.sensors[steps, j]
             _apply_rules(given.rules, sensors, class_fixed)
             action, b_prob, terminated = given.actions[steps], given.b_probs[steps], given.terminated[steps]
             nx = ny = reward = terminal = 0.0
@@ -801,7 +815,8 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
         steps += 1
         if not from_world:
             if given.pred_out.shape[0] > 0:
-                given.pred_out[steps - 1, :] = pred
+                for j in range(pred.shape[0]):
+                    given.pred_out[steps - 1, j] = pred[j]
             continue
         returns[0] += reward
         result[R_ACTION] = action
