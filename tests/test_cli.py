@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import io
 import json
 from pathlib import Path
 
 import pytest
 
-from horde.cli import main
+from horde.cli import ProgressBar, main
 from horde.scenarios import scenario_dir
 
 
@@ -64,3 +65,19 @@ def test_bad_scenario_is_a_clear_error(tmp_path: Path, capsys: pytest.CaptureFix
 def test_bad_override_is_a_clear_error(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["run", str(scenario_dir() / "experiment1.toml"), "--trials", "0"]) == 2
     assert "trials" in capsys.readouterr().err
+
+
+def test_negative_workers_is_a_clear_error(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["run", str(scenario_dir() / "experiment1.toml"), "--workers", "-2"]) == 2
+    err = capsys.readouterr().err
+    assert "--workers" in err and "Traceback" not in err
+
+
+def test_the_progress_bar_draws_its_end_once() -> None:
+    """The trials report their last episode and then their end: one finished bar, one line break."""
+    stream = io.StringIO()
+    bar = ProgressBar("x", stream=stream)
+    for done in (0, 50, 100, 100):
+        bar(done, 100)
+    text = stream.getvalue()
+    assert text.count("100/100") == 1 and text.count("\n") == 1, text

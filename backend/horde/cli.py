@@ -13,7 +13,7 @@ from typing import TextIO
 
 from horde.bench import add_bench_parser
 from horde.core.batch import run_protocol_batched
-from horde.core.experiment import ProtocolResult, run_protocol
+from horde.core.experiment import ProtocolResult
 from horde.scenarios import ScenarioError, list_scenarios, load_scenario
 from horde.spec import RunSpec
 from horde.studies.cli import add_study_parser
@@ -29,11 +29,13 @@ class ProgressBar:
         self.width = width
         self.began = time.perf_counter()
         self.last_draw = 0.0
+        self.finished = False
 
     def __call__(self, done: int, total: int) -> None:
         now = time.perf_counter()
-        if done < total and now - self.last_draw < 0.1:
+        if (done < total and now - self.last_draw < 0.1) or (done >= total and self.finished):
             return
+        self.finished = done >= total  # the full bar is drawn once, however often the end is reported
         self.last_draw = now
         fraction = done / total if total else 1.0
         filled = int(self.width * fraction)
@@ -102,6 +104,9 @@ def _override(spec: RunSpec, trials: int | None, episodes: int | None, seed: int
 
 
 def cmd_run(args: argparse.Namespace) -> int:
+    if args.workers is not None and args.workers < 0:
+        print(f"error: --workers: {args.workers} is below 0 (0 or none: one per core)", file=sys.stderr)
+        return 2
     try:
         spec = load_scenario(args.scenario)
         spec = _override(spec, args.trials, args.episodes, args.seed)
@@ -116,10 +121,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         return _run_log(spec, args)
     if spec.world.kind == "gymnasium":
         return _run_gymnasium(spec, args, progress)
-    if args.workers != 1:  # 0: every usable core
-        result = run_protocol_batched(spec, args.workers or None, progress)
-    else:
-        result = run_protocol(spec, progress)
+    # None or 0: one process per core this process may use (threads.share: HORDE_THREADS caps it)
+    result = run_protocol_batched(spec, args.workers or None, progress)
     print(format_results(spec, result))
     if args.json:
         Path(args.json).write_text(json.dumps([d.as_dict() for d in result.demons], indent=2) + "\n")
@@ -200,8 +203,9 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--strip-sensors", metavar="A,B", help="the sensors to draw (default: the first three)")
     run.add_argument("--strip-demons", metavar="A,B", help="the demons to draw (default: the first three)")
     run.add_argument(
-        "--workers", type=int, default=1, metavar="N",
-        help="run the trials in N processes at once (0: one per core); results are the same",
+        "--workers", type=int, default=None, metavar="N",
+        help="run the trials in N processes at once (default, or 0: one per core this process may use; "
+        "HORDE_THREADS caps it); the results are the same whatever N",
     )  # fmt: skip
     run.set_defaults(func=cmd_run)
 

@@ -109,6 +109,8 @@ def test_compiled_metrics_equal_the_numpy_form() -> None:
 
     demons: list[dict[str, Any]] = [
         {"name": "a", "learner": "td", "policy": "uniform", "cumulant": {"sensor": "bump"}, "discount": 0.9},
+        # a second trace class in the TD block, written between the first's demons (columns go class by class)
+        {"name": "a2", "learner": "td", "policy": "uniform", "cumulant": {"sensor": "y"}, "discount": 0.5},
         {"name": "b", "learner": "td", "policy": "uniform", "cumulant": {"sensor": "x"}, "discount": 0.9},
         {"name": "c", "learner": "gtd", "policy": {"kind": "fixed", "probabilities": [0.7, 0.1, 0.1, 0.1]},
          "cumulant": {"sensor": "y"}, "discount": 0.5},
@@ -143,6 +145,7 @@ def test_compiled_metrics_equal_the_numpy_form() -> None:
             blocks[b] = metrics.update(blocks[b], after.delta[demons], e, x_t, group.coder.k)
     state = sim.horde_state
     assert np.abs(state.delta).max() > 0
+    assert max(block.num_classes for block in horde.blocks) == 2
     for b, block in enumerate(horde.blocks):
         slots = np.arange(horde.block_lo[b], horde.block_lo[b] + block.size)
         np.testing.assert_allclose(state.h[b], blocks[b].h, rtol=0, atol=1e-9)

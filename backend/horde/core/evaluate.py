@@ -11,12 +11,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from horde.core.fast import FastLoop
 from horde.core.horde import Horde, HordeState
-from horde.core.policies import sample
 from horde.core.questions import Program
+from horde.core.rollouts import run_rollouts
 from horde.core.world import NUM_ACTIONS, PERPENDICULAR, Transition, World, WorldState
 
-# A rollout whose remaining continuation weight falls below this has finished.
+# A rollout whose remaining continuation weight falls to this or below has finished.
 WEIGHT_FLOOR = 1e-12
 
 
@@ -48,42 +49,21 @@ def monte_carlo(
 ) -> Truth:
     """Average realised return of demon `name`'s question from `start`, following its target policy.
 
-    All rollouts run at once as one batch. The return is accumulated in expectation over the
-    continuation: G = sum_t (prod_{j<=t} gamma_j) (r_{t+1} + (1 - gamma_{t+1}) z_{t+1}), which equals the
-    return of a random stopping time with P(continue) = gamma and has lower variance.
+    The rollouts run one after the other in compiled code (`rollouts.py`), the Horde frozen at `state`
+    (its primary weights). The return is accumulated in expectation over the continuation:
+    G = sum_t (prod_{j<=t} gamma_j) (r_{t+1} + (1 - gamma_{t+1}) z_{t+1}), which equals the return of a
+    random stopping time with P(continue) = gamma and has lower variance.
     """
-    world = World(horde.spec.grid)
-    demon = horde.index[name]
-    discount = horde.demon_specs[demon].discount
-    program = _question_program(horde, name)
-    ws = world.reset(rng, rollouts)
-    ws = ws._replace(x=np.full(rollouts, start[0]), y=np.full(rollouts, start[1]))
-    total = np.zeros(rollouts)
-    weight = np.ones(rollouts)
-    alive = np.arange(rollouts)
-    forward = horde.forward(state, ws.x, ws.y, demons=[name])
-    for _ in range(cap):
-        pi = forward.pi[:, demon]  # [B, A]
-        actions = sample(pi, rng)
-        ws, transition = world.step(ws, actions, rng)
-        sensors = world.sensors(ws, transition)
-        forward = horde.forward(state, ws.x, ws.y, sensors, demons=[name])
-        r, z, gamma = program.evaluate(sensors, forward.prediction).T  # [B] each
-        gamma = np.where(transition.terminated, 0.0, np.clip(gamma, 0.0, 1.0) * discount)
-        total[alive] += weight * (r + (1.0 - gamma) * z)
-        weight = weight * gamma
-        running = weight > WEIGHT_FLOOR
-        if not running.all():
-            alive, weight = alive[running], weight[running]
-            ws = WorldState(*(a[running] for a in ws))
-            forward = type(forward)(
-                forward.prediction[running], forward.pi[running], forward.q[running],
-                tuple(f[running] for f in forward.features),
-            )  # fmt: skip
-        if len(alive) == 0:
-            break
-    stderr = float(total.std(ddof=1) / np.sqrt(rollouts)) if rollouts > 1 else float("nan")
-    return Truth(float(total.mean()), stderr, rollouts, cap, len(alive))
+    loop = FastLoop(horde, World(horde.spec.grid))
+    for b in range(len(horde.blocks)):
+        loop._weights(loop.buf.theta, b)[:] = state.theta[b]
+    slot = int(horde.demon_slot[horde.index[name]])
+    group = next(g for g, grp in enumerate(horde.groups) if horde.index[name] in grp.demons)
+    needed = horde.needs([name])
+    wanted = np.array([bool(needed[g.demons].any()) for g in horde.groups], dtype=np.bool_)
+    totals, capped = run_rollouts(loop.net, loop.buf, rng, slot, group, wanted, start, rollouts, cap, WEIGHT_FLOOR)
+    stderr = float(totals.std(ddof=1) / np.sqrt(rollouts)) if rollouts > 1 else float("nan")
+    return Truth(float(totals.mean()), stderr, rollouts, cap, capped)
 
 
 @dataclass(frozen=True)

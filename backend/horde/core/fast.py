@@ -31,7 +31,7 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from horde.core import metrics
 from horde.core.adaptive_kernels import OnlineArrays, online_reset, online_step
@@ -41,6 +41,7 @@ from horde.core.metrics import RUPEE_ALPHA_H, RUPEE_BETA, UDE_BETA
 from horde.core.policies import FIXED, KIND_CODES, OF, UNIFORM
 from horde.core.scale import POLICY_CODES
 from horde.core.scale_fast import (
+    ALIGN,
     B_COFF,
     B_HI,
     B_LEARNER,
@@ -54,6 +55,8 @@ from horde.core.scale_fast import (
     GQ,
     NO_NRT,
     ONLINE,
+    PARALLEL_MIN,
+    WITH_NRT,
     _at,
     _observe_block,
     _read_values,
@@ -544,10 +547,14 @@ def _freeze_diverged(net, buf, g):
 
 
 @njit(**NO_NRT)
-def _metrics(gi, bi, dcls, g, action, x_t, delta, h, u, hu, mscale, tau, dstats, trace, support, nnz, hx):
+def _metrics(gi, bi, cls_lo, cls_hi, g, action, x_t, delta, h, u, hu, mscale, tau, dstats, trace, support, nnz, hx,
+             threads):  # fmt: skip
     """RUPEE and UDE of group g after its step (metrics.update, with the average of delta e scaled lazily).
 
     hu[s] keeps sum_rows h * u of each slot up to date as rows change, so that RUPEE is read in O(D).
+    Each demon's numbers touch only its own column of h and u (`_metrics_columns`), so a block of at
+    least PARALLEL_MIN demons splits its demons over `threads` threads (`_metrics_parallel`), the same
+    numbers to the last bit whatever the count.
     """
     k = gi[g, G_K]
     n_s = gi[g, G_NS]
@@ -569,46 +576,90 @@ def _metrics(gi, bi, dcls, g, action, x_t, delta, h, u, hu, mscale, tau, dstats,
     alpha_h = RUPEE_ALPHA_H / k
     b_ude = UDE_BETA / tau[g, 1]
     for b in range(blo, bhi):
-        lo, hi, woff, toff = bi[b, B_LO], bi[b, B_HI], bi[b, B_WOFF], bi[b, B_TOFF]
-        voff, ncls, coff = bi[b, B_VOFF], bi[b, B_NCLS], bi[b, B_COFF]
-        db = hi - lo
+        db = bi[b, B_HI] - bi[b, B_LO]
         shift = action * n_s if bi[b, B_LEARNER] == GQ else 0
-        for i in range(db):
-            hx[i] = 0.0
-        for j in range(k):
-            start = _at(woff + (shift + x_t[j]) * db)
-            for i in range(db):
-                hx[i] += h[start + _at(i)]
-        for i in range(db):
-            d = delta[lo + i]
-            if not math.isfinite(d):
-                d = 0.0
-            dstats[lo + i, 0] = (1 - b_ude) * dstats[lo + i, 0] + b_ude * d
-            dstats[lo + i, 1] = (1 - b_ude) * dstats[lo + i, 1] + b_ude * d * d
-            dstats[lo + i, 2] = (1 - b_ude) * dstats[lo + i, 2] + b_ude * abs(d)
-            hx[db + i] = d  # delta, 0 where not finite
-        for s in range(nnz[b]):
-            row = support[toff + s]
-            start = _at(woff + row * db)
-            for i in range(db):
-                ev = trace[voff + row * ncls] if ncls == 1 else trace[voff + row * ncls + dcls[lo + i] - coff]
+        if threads > 1 and db >= PARALLEL_MIN:
+            _metrics_parallel(threads, bi, b, cls_lo, cls_hi, shift, x_t, delta, h, u, hu, dstats, trace, support, nnz,
+                              hx, alpha_h, gain, b_ude)  # fmt: skip
+        else:
+            _metrics_columns(bi, b, 0, db, cls_lo, cls_hi, shift, x_t, delta, h, u, hu, dstats, trace, support, nnz, hx,
+                             alpha_h, gain, b_ude)  # fmt: skip
+
+
+@njit(cache=True, parallel=True, **WITH_NRT)  # prange allocates: NRT on (a caller without it would pass its flag down)
+def _metrics_parallel(threads, bi, b, cls_lo, cls_hi, shift, x_t, delta, h, u, hu, dstats, trace, support, nnz, hx,
+                      alpha_h, gain, b_ude):  # fmt: skip
+    """`_metrics_columns` of block b on `threads` threads, each over one run of the block's demons (runs
+    aligned as `scale_fast._columns_parallel` aligns them)."""
+    db = bi[b, B_HI] - bi[b, B_LO]
+    runs = min(threads, (db + ALIGN - 1) // ALIGN)
+    width = ((db + runs - 1) // runs + ALIGN - 1) // ALIGN * ALIGN
+    for t in prange(runs):
+        i0 = min(t * width, db)
+        i1 = min(i0 + width, db)
+        _metrics_columns(bi, b, i0, i1, cls_lo, cls_hi, shift, x_t, delta, h, u, hu, dstats, trace, support, nnz, hx,
+                         alpha_h, gain, b_ude)  # fmt: skip
+
+
+@njit(**NO_NRT)
+def _metrics_columns(bi, b, i0, i1, cls_lo, cls_hi, shift, x_t, delta, h, u, hu, dstats, trace, support, nnz, hx,
+                     alpha_h, gain, b_ude):  # fmt: skip
+    """RUPEE's h, u and h . u and UDE's averages of block b's demons i0 <= i < i1: only their columns of h, u
+    and of hx (h . x_t at [i], delta at [db + i]) are touched."""
+    lo, hi, woff, toff = bi[b, B_LO], bi[b, B_HI], bi[b, B_WOFF], bi[b, B_TOFF]
+    voff, ncls, coff = bi[b, B_VOFF], bi[b, B_NCLS], bi[b, B_COFF]
+    db = hi - lo
+    for i in range(i0, i1):
+        hx[i] = 0.0
+    for j in range(x_t.shape[0]):
+        start = _at(woff + (shift + x_t[j]) * db)
+        for i in range(i0, i1):
+            hx[i] += h[start + _at(i)]
+    for i in range(i0, i1):
+        d = delta[lo + i]
+        if not math.isfinite(d):
+            d = 0.0
+        dstats[lo + i, 0] = (1 - b_ude) * dstats[lo + i, 0] + b_ude * d
+        dstats[lo + i, 1] = (1 - b_ude) * dstats[lo + i, 1] + b_ude * d * d
+        dstats[lo + i, 2] = (1 - b_ude) * dstats[lo + i, 2] + b_ude * abs(d)
+        hx[db + i] = d  # delta, 0 where not finite
+    for s in range(nnz[b]):  # the trace's support: a class's demons are a run of columns sharing its entry
+        row = support[toff + s]
+        start = _at(woff + row * db)
+        for c in range(ncls):
+            ev = trace[voff + row * ncls + c]
+            if ev == 0.0:  # (h and u would not change)
+                continue
+            for i in range(max(i0, cls_lo[coff + c]), min(i1, cls_hi[coff + c])):
                 d = hx[db + i]
                 at = start + _at(i)
                 h0, u0 = h[at], u[at]
                 h1, u1 = h0 + alpha_h * d * ev, u0 + gain * d * ev
                 h[at], u[at] = h1, u1
                 hu[lo + i] += h1 * u1 - h0 * u0
-        for j in range(k):
-            start = _at(woff + (shift + x_t[j]) * db)
-            for i in range(db):
-                h0 = h[start + _at(i)]
-                h1 = h0 - alpha_h * hx[i]
-                h[start + _at(i)] = h1
-                hu[lo + i] += (h1 - h0) * u[start + _at(i)]
+    for j in range(x_t.shape[0]):
+        start = _at(woff + (shift + x_t[j]) * db)
+        for i in range(i0, i1):
+            h0 = h[start + _at(i)]
+            h1 = h0 - alpha_h * hx[i]
+            h[start + _at(i)] = h1
+            hu[lo + i] += (h1 - h0) * u[start + _at(i)]
 
 
 @njit(cache=True, nogil=True)  # releases the GIL: the server's other threads go on while a run learns
 def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics, onl, threads, given):
+    """`_loop` with its scratch allocated (here, with reference counting: the loop itself counts none)."""
+    hx = np.zeros(2 * max(1, buf.work.shape[1]))  # h . x_t and delta of a block, for the metrics
+    inside = np.zeros(net.rects.shape[0], dtype=np.bool_)
+    b = np.zeros(A)
+    cdf = np.zeros(A)
+    _loop(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics, onl, threads, given, hx,
+          inside, b, cdf)  # fmt: skip
+
+
+@njit(**NO_NRT, nogil=True)
+def _loop(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_metrics, onl, threads, given, hx,
+          inside, b, cdf):  # fmt: skip
     """The one loop: run steps until `max_steps` steps or `max_episodes` episode ends. Each step takes a
     transition from its source, then every demon learns from it (the one learning step of the engine).
 
@@ -621,6 +672,11 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
     passing (or inlining) the two named tuples of ~40 arrays costs about a microsecond per step (every
     array's count is taken and given back), which is a third of a thesis-scale step (measured: a
     function inlined by numba made the thesis loop 1.3 times slower).
+
+    Compiled without reference counting (its scratch comes from `_run`): with counting, every array
+    read from `net` and `buf` or sliced (a group's blocks, its active features, the work rows: about 15
+    a group and step) took and gave back a count; without, the thesis loop takes 1.5 to 1.65 times
+    fewer CPU seconds (docs/performance.md). So no slice is copied here (an element loop instead).
     """
     from_world = given.sensors.shape[0] == 0
     wp, rects, is_obstacle, is_terminal = net.wp, net.rects, net.is_obstacle, net.is_terminal
@@ -645,21 +701,18 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
         buf.pi, buf.q, buf.pred, buf.gamma, buf.delta, buf.cumulant, buf.diverged
     )  # fmt: skip
     h, u, hu, mscale, tau, dstats = buf.h, buf.u, buf.hu, buf.mscale, buf.tau, buf.dstats
-    hx = np.zeros(2 * max(1, buf.work.shape[1]))  # h . x_t and delta of a block, for the metrics
     rows_, rows_e, rows_f, values, pi_next, work, ev, scratch = (
         buf.rows, buf.rows_e, buf.rows_f, buf.values, buf.pi_next, buf.work, buf.ev, buf.scratch
     )  # fmt: skip
     num_actions = class_pi.shape[1]
     num_regions = rects.shape[0]
     num_indicators = net.ind_region.shape[0]
-    inside = np.zeros(num_regions, dtype=np.bool_)
-    b = np.zeros(A)
-    cdf = np.zeros(A)
     steps = 0
     episodes = 0
     while steps < max_steps and episodes < max_episodes:
         if not from_world:  # the next given transition
-            sensors[:] = given.sensors[steps]
+            for j in range(sensors.shape[0]):
+                sensors[j] = given.sensors[steps, j]
             _apply_rules(given.rules, sensors, class_fixed)
             action, b_prob, terminated = given.actions[steps], given.b_probs[steps], given.terminated[steps]
             nx = ny = reward = terminal = 0.0
@@ -765,15 +818,16 @@ def _run(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_m
             if _any_diverged(gi, bi, g, delta, pred, q, diverged):
                 _freeze_diverged(net, buf, g)
             if with_metrics:
-                _metrics(gi, bi, dcls, g, action, feat[g, :k], delta, h, u, hu, mscale, tau, dstats, trace, support,
-                         nnz, hx)  # fmt: skip
+                _metrics(gi, bi, cls_lo, cls_hi, g, action, feat[g, :k], delta, h, u, hu, mscale, tau, dstats, trace,
+                         support, nnz, hx, threads)  # fmt: skip
             for j in range(k):
                 feat[g, j] = idx[j]
 
         steps += 1
         if not from_world:
             if given.pred_out.shape[0] > 0:
-                given.pred_out[steps - 1, :] = pred
+                for j in range(pred.shape[0]):
+                    given.pred_out[steps - 1, j] = pred[j]
             continue
         returns[0] += reward
         result[R_ACTION] = action
