@@ -21,9 +21,8 @@ from horde.core.scale_fast import PARALLEL_MIN
 from horde.core.simulation import Simulation
 from horde.spec import RunSpec
 
-from .test_engine_vs_reference import run_spec
 from .test_fast import assert_same
-from .test_threads import run_with
+from .test_threads import run_with, tiles_spec
 
 D = PARALLEL_MIN + 13  # demons per block: over the threshold, not a multiple of the column alignment
 DISCOUNTS = (0, 0.5, 0.8, 0.9, 0.95)
@@ -51,9 +50,7 @@ def online_spec(demons: int = D) -> RunSpec:
             {"name": f"tidbd{i}", "learner": "td", "step_size": "tidbd", "lambda": 0.5, "discount": 0.8,
              "policy": fixed, "meta_step": 0.01, "cumulant": {"sensor": SENSORS[i % 7]}},
         ]  # fmt: skip
-    data = run_spec("uniform").model_dump(by_alias=True)
-    data.update(demons=out, features={"kind": "tiles", "tilings": 4, "tiles": 4})
-    return RunSpec.model_validate(data)
+    return tiles_spec(out)
 
 
 @pytest.fixture(scope="module")

@@ -46,6 +46,11 @@ def wide_spec() -> RunSpec:
         demons.append({"name": f"gq{i}", "learner": "gq", "discount": 0.8,
                        "policy": {"kind": "softmax", "temperature": 0.5 + i % 4},
                        "cumulant": {"sensor": sensors[i % len(sensors)]}})  # fmt: skip
+    return tiles_spec(demons)
+
+
+def tiles_spec(demons: list[dict[str, Any]]) -> RunSpec:
+    """The engine tests' world under a uniform behaviour with these demons over 4 x 4 tiles, 4 tilings."""
     data = run_spec("uniform").model_dump(by_alias=True)
     data.update(demons=demons, features={"kind": "tiles", "tilings": 4, "tiles": 4})
     return RunSpec.model_validate(data)
