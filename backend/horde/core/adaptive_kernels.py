@@ -20,7 +20,7 @@
 
 A demon whose alpha is 0 (frozen: diverged, or not learning in a test run) stays exactly as it is.
 
-Why one module of about 520 lines: the kernels of the four learners share the trace walk, the column
+Why one module of about 600 lines: the kernels of the four learners share the trace walk, the column
 split and the unsigned offsets, and numba inlines and specialises calls best within one module.
 
 As `scale_fast._step`, a step is split into what is shared (each class's trace, merged and cut once per
@@ -31,12 +31,19 @@ each (`_columns_parallel`), to the same bits whatever the count. What each step 
 * true online TD / ETD: one walk over the rows of the trace's support, x_t and x_tp1 (theta read and
   written once per row, the values at s_{t+1} summed from each row as it moves): the support's rows, as
   TD, plus the rows of x_t that the cut dropped.
-* Autostep / TIDBD: the meta step touches the rows of x_t only (phi_i = 0 elsewhere: the papers' update
-  leaves alpha_i and v_i of other weights as they are), the effective step size reads the step sizes at
-  x_t and x_tp1, and theta and h move on the support's rows (every weight with a nonzero trace, as the
-  papers' updates). Per support row that is three numbers per demon (step size, theta, h) where TD moves
-  one, and on x_t five (v and the step size written); the meta step's exp and division make that pass
-  compute-bound.
+* Autostep / TIDBD: three passes over few rows. The values at x_tp1 under the weights before the step
+  (read on the threads, then the TD errors: `fast.py` leaves this read to `online_step`); the meta step
+  on the rows of x_t only (phi_i = 0 elsewhere: the papers' update leaves alpha_i and v_i of other weights
+  as they are); theta and h on the support's rows (every weight with a nonzero trace, as the papers'
+  updates), fused with reading the new values at x_tp1. Autostep's effective step size
+  alpha . e (x_t - gamma x_tp1) is summed within the first two passes (on a row of x_tp1 alone in the
+  first, whose step sizes do not move; on a row of x_t after its step sizes moved), not in a pass of its
+  own. Per x_t row that is ten numbers per demon read or written (h, v, alpha in the meta step: v and
+  alpha written; alpha, theta, h in the update: theta and h written), per other support row five, where
+  TD moves two (theta) plus the read at x_tp1: about 3.5 times TD's bytes, and both are bound by memory.
+  The meta step cannot be fused with the update: every step size is divided by M, a sum over all the
+  rows of x_t, before theta moves. Its exp is a polynomial when the block's meta step sizes allow
+  (`_exp_tiny`, `_exp_small`), chosen once per block (`_autostep_meta` compiles the loop once per kind).
 """
 
 from __future__ import annotations
