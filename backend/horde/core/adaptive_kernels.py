@@ -41,9 +41,12 @@ each (`_columns_parallel`), to the same bits whatever the count. What each step 
   own. Per x_t row that is ten numbers per demon read or written (h, v, alpha in the meta step: v and
   alpha written; alpha, theta, h in the update: theta and h written), per other support row five, where
   TD moves two (theta) plus the read at x_tp1: about 3.5 times TD's bytes, and both are bound by memory.
-  The meta step cannot be fused with the update: every step size is divided by M, a sum over all the
-  rows of x_t, before theta moves. Its exp is a polynomial when the block's meta step sizes allow
-  (`_exp_tiny`, `_exp_small`), chosen once per block (`_autostep_meta` compiles the loop once per kind).
+  The paper's order divides every step size by M, a sum over all the rows of x_t, before theta moves;
+  for a run of demons whose M provably stays 1 (an upper bound from the step sizes before the meta step,
+  read in the first pass, as |the meta step's argument| <= mu) the meta step and the update go in one
+  walk (`fused_columns`, the same operations in the same order: the same numbers), each row of x_t
+  visited once. Autostep's exp is a polynomial when the block's meta step sizes allow (`_exp_tiny`,
+  `_exp_small`), chosen once per block; `_adaptive_kernel` compiles the kernel once per kind of exp.
 """
 
 from __future__ import annotations
@@ -281,8 +284,14 @@ def _columns(code, exp_kind, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept
     """
     acc = values[0]
     if code in (TIDBD, AUTOSTEP):
-        _adaptive_columns(code, exp_kind, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows,
-                          x_t, x_tp1, dcls, alpha, r, z, gamma_tp1, rho_t, q, delta, o, acc)  # fmt: skip
+        args = (code, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows, x_t, x_tp1, dcls,
+                alpha, r, z, gamma_tp1, rho_t, q, delta, o, acc)  # fmt: skip
+        if exp_kind == EXP_TINY:
+            _adaptive_tiny(*args)
+        elif exp_kind == EXP_SMALL:
+            _adaptive_small(*args)
+        else:
+            _adaptive_any(*args)
     else:
         for i in range(i0, i1):
             acc[i] = 0.0
@@ -338,127 +347,212 @@ def _dutch_columns(dutch, i0, i1, db, woff, voff, ncls, kept, theta, trace, rows
                 acc[u] += theta[base + u]
 
 
-@njit(cache=True)
-def _adaptive_columns(code, exp_kind, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, h, trace, rows, x_t,
-                      x_tp1, dcls, alpha, r, z, gamma_tp1, rho_t, q, delta, o, acc):  # fmt: skip
-    """TIDBD / Autostep for TD(lambda) (reference.adaptive_td_step) for columns i0 <= i < i1; h lives in w.
+def _adaptive_kernel(exp):
+    """TIDBD / Autostep for TD(lambda) (reference.adaptive_td_step), compiled once per kind of exp for
+    Autostep's meta step (`exp`: `_exp_tiny`, `_exp_small` or `_exp`; chosen once per block by `_columns`),
+    so that the source is written once and each hot loop has one kind of exp."""
 
-    Each class's demons in one contiguous, branch-free run (feature-major, as the other kernels): a
-    frozen demon enters with rate 0 and delta 0, which leaves its weights, h, v and step sizes as they
-    are. Three passes, each over few rows: the values at x_tp1 under the weights before the step (then
-    the TD errors), the meta step on the rows of x_t, then the update over the support fused with
-    reading the new values at x_tp1. Autostep's effective step size alpha . e (x_t - gamma x_tp1) is
-    summed within the first two: on a row of x_t (and x_tp1) after its step sizes moved, on a row of
-    x_tp1 alone (whose step sizes this step leaves as they are) in the first pass. Per trace row this
-    reads and writes three numbers per demon (step size, theta, h) where TD moves one.
-    """
-    autostep = code == AUTOSTEP
-    a, v, scale, meta, bounds = o.step_a, o.step_v, o.ascale, o.meta, o.bounds
-    rate, dlv, effective = o.scratch[5], o.scratch[6], o.scratch[7]
-    inv_tau = 1.0 / o.tau[0]
-    for i in range(i0, i1):
-        acc[i] = 0.0
-        effective[i] = 0.0
-    j = 0
-    for m in range(x_tp1.shape[0]):
-        base = _at(woff + x_tp1[m] * db)
-        for i in range(i0, i1):
-            u = _at(i)
-            acc[u] += theta[base + u]
-        while j < x_t.shape[0] and x_t[j] < x_tp1[m]:
-            j += 1
-        if autostep and not (j < x_t.shape[0] and x_t[j] == x_tp1[m]):
-            for c in range(ncls):
-                e = trace[voff + x_tp1[m] * ncls + c]
-                if e != 0.0:
-                    _effective_run(max(bounds[c], i0), min(bounds[c + 1], i1), base, e * -gamma_tp1[coff + c], a,
-                                   effective)  # fmt: skip
-    _errors(code, i0, i1, lo, dcls, alpha, r, z, gamma_tp1, rho_t, q, acc, delta, o)
-    for i in range(i0, i1):
-        acc[i] = 0.0  # the new values at x_tp1, summed in the last pass
-    # The meta step on the rows of x_t (where phi_i = 1): alpha_i *= exp(meta delta h_i [/ v_i]); Autostep
-    # adds alpha_i e_i (1 - gamma_tp1 [phi'_i]) to the effective step size there (alpha_i of this row moved
-    # only by this row's step).
-    m = 0
-    for j in range(x_t.shape[0]):
-        row = x_t[j]
-        base = _at(woff + row * db)
-        tr = voff + row * ncls
-        while m < x_tp1.shape[0] and x_tp1[m] < row:
-            m += 1
-        on_next = 1.0 if m < x_tp1.shape[0] and x_tp1[m] == row else 0.0
-        for c in range(ncls):
-            c0 = max(bounds[c], i0)
-            c1 = min(bounds[c + 1], i1)
-            e = trace[tr + c]
-            if not autostep:
-                for i in range(c0, c1):
-                    u = _at(i)
-                    at = base + u
-                    a[at] *= math.exp(meta[_at(lo + i)] * dlv[u] * h[at])
-                continue
-            # |the argument of exp| <= mu (|sample| <= v): one kind of exp per loop, chosen per block
-            coeff = e * (1.0 - gamma_tp1[coff + c] * on_next)
-            if exp_kind == EXP_TINY:
-                _autostep_tiny(c0, c1, lo, base, e, coeff, inv_tau, a, v, h, rate, dlv, meta, effective)
-            elif exp_kind == EXP_SMALL:
-                _autostep_small(c0, c1, lo, base, e, coeff, inv_tau, a, v, h, rate, dlv, meta, effective)
-            else:
-                _autostep_exp(c0, c1, lo, base, e, coeff, inv_tau, a, v, h, rate, dlv, meta, effective)
-    if autostep:  # every step size divided by M = max(1, the effective step size)
-        for i in range(i0, i1):
-            m_i = effective[i] * rate[i]
-            if m_i > 1.0:
-                scale[lo + i] /= m_i
-                rate[i] /= m_i
-    for i in range(i0, i1):
-        if scale[lo + i] < SCALE_FLOOR:
-            _fold_scale(a, scale, woff, db, i, lo + i, woff + nrows * db)
-            rate[i] = 1.0 if alpha[lo + i] != 0.0 else 0.0
-    # theta += alpha delta e; h = h [1 - alpha phi e]^+ + alpha delta e, over the trace's rows; then the
-    # new values at x_tp1 from each row right after it moved.
-    s = 0
-    j = 0
-    m = 0
-    while True:
-        row = _next_row(rows, kept, s, x_tp1, m)
-        if row < 0:
-            break
-        in_support = s < kept and rows[s] == row
-        on_next = m < x_tp1.shape[0] and x_tp1[m] == row
-        s += 1 if in_support else 0
-        m += 1 if on_next else 0
-        base = _at(woff + row * db)
-        if in_support:
-            while j < x_t.shape[0] and x_t[j] < row:
-                j += 1
+    @njit(cache=True, inline="always")
+    def meta_step(at, u, mu, e, inv_tau, a, v, h, rate, dlv):
+        """Autostep's meta step of one weight from h_i as it was: v_i, then the argument of exp (|sample| <=
+        v_i), then alpha_i; returns the new alpha_i."""
+        sample = dlv[u] * h[at]
+        size = abs(sample)
+        vi = max(size, v[at] + a[at] * rate[u] * e * (size - v[at]) * inv_tau)
+        v[at] = vi
+        a[at] *= exp(mu * (sample / vi if vi > 0.0 else 0.0))
+        return a[at]
+
+    @njit(cache=True)
+    def fused_columns(i0, i1, lo, db, woff, voff, ncls, coff, kept, theta, h, trace, rows, x_t, x_tp1, gamma_tp1,
+               bounds, inv_tau, a, v, meta, rate, dlv, acc):  # fmt: skip
+        """Autostep's meta step and update in one walk over the rows of the support, x_t and x_tp1, for a run of
+        demons none of which has M > 1: on a row of x_t each weight's meta step, then at once its theta and h
+        (theta += alpha delta e; h = h [1 - alpha e]^+ + alpha delta e, from h as the meta step read it), the
+        same operations in the same order as the two passes, so the same numbers; eight numbers per weight of
+        x_t read or written instead of ten."""
+        s = 0
+        j = 0
+        m = 0
+        while True:
+            row = _next_row(rows, kept, s, x_t, j)
+            if m < x_tp1.shape[0] and (row < 0 or x_tp1[m] < row):
+                row = x_tp1[m]
+            if row < 0:
+                break
+            in_support = s < kept and rows[s] == row
             on_x = j < x_t.shape[0] and x_t[j] == row
+            on_next = m < x_tp1.shape[0] and x_tp1[m] == row
+            s += 1 if in_support else 0
+            j += 1 if on_x else 0
+            m += 1 if on_next else 0
+            base = _at(woff + row * db)
             tr = voff + row * ncls
-            for c in range(ncls):
+            for c in range(ncls if on_x or in_support else 0):
+                c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
                 e = trace[tr + c]
-                if e == 0.0:
-                    continue
-                c0 = max(bounds[c], i0)
-                c1 = min(bounds[c + 1], i1)
-                if on_x:
+                if on_x and e != 0.0:
                     for i in range(c0, c1):
                         u = _at(i)
                         at = base + u
-                        step = a[at] * rate[u] * e
+                        h_i = h[at]
+                        step = meta_step(at, u, meta[_at(lo + i)], e, inv_tau, a, v, h, rate, dlv) * rate[u] * e
                         change = step * dlv[u]
                         theta[at] += change
-                        h[at] = h[at] * max(1.0 - step, 0.0) + change
-                else:
+                        h[at] = h_i * max(1.0 - step, 0.0) + change
+                elif on_x:  # a row of x_t whose trace was cut: the meta step only
+                    for i in range(c0, c1):
+                        u = _at(i)
+                        meta_step(base + u, u, meta[_at(lo + i)], e, inv_tau, a, v, h, rate, dlv)
+                elif e != 0.0:
                     for i in range(c0, c1):
                         u = _at(i)
                         at = base + u
                         change = a[at] * rate[u] * e * dlv[u]
                         theta[at] += change
                         h[at] += change
-        if on_next:
+            if on_next:
+                for i in range(i0, i1):
+                    u = _at(i)
+                    acc[u] += theta[base + u]
+
+    @njit(cache=True)
+    def adaptive_columns(code, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, h, trace, rows, x_t, x_tp1,
+                         dcls, alpha, r, z, gamma_tp1, rho_t, q, delta, o, acc):  # fmt: skip
+        """Columns i0 <= i < i1 of a TIDBD / Autostep block; h lives in w.
+
+        Each class's demons in one contiguous, branch-free run (feature-major, as the other kernels): a
+        frozen demon enters with rate 0 and delta 0, which leaves its weights, h, v and step sizes as they
+        are. First the values at x_tp1 under the weights before the step (then the TD errors); then either
+        the meta step on the rows of x_t and the update over the support fused with reading the new values
+        at x_tp1, or, when no demon of the run can have M > 1, both in one walk (`fused_columns`). Autostep's
+        effective step size alpha . e (x_t - gamma x_tp1) is summed on a row of x_tp1 alone (whose step
+        sizes do not move) in the first pass, on a row of x_t after its step sizes moved.
+        """
+        autostep = code == AUTOSTEP
+        a, v, scale, meta, bounds = o.step_a, o.step_v, o.ascale, o.meta, o.bounds
+        upper, rate, dlv, effective = o.scratch[4], o.scratch[5], o.scratch[6], o.scratch[7]
+        inv_tau = 1.0 / o.tau[0]
+        for i in range(i0, i1):
+            acc[i] = 0.0
+            effective[i] = 0.0
+            upper[i] = 0.0
+        # The values at x_tp1; Autostep: the effective step size on rows of x_tp1 alone, and on the rows of x_t
+        # sum alpha_i |e (1 - gamma [on x_tp1])| with the step sizes before the meta step (`upper`).
+        j = 0
+        m = 0
+        while j < x_t.shape[0] or m < x_tp1.shape[0]:
+            row = _next_row(x_t, x_t.shape[0], j, x_tp1, m)
+            on_x = j < x_t.shape[0] and x_t[j] == row
+            on_next = m < x_tp1.shape[0] and x_tp1[m] == row
+            j += 1 if on_x else 0
+            m += 1 if on_next else 0
+            base = _at(woff + row * db)
+            if on_next:
+                for i in range(i0, i1):
+                    u = _at(i)
+                    acc[u] += theta[base + u]
+            for c in range(ncls if autostep else 0):
+                e = trace[voff + row * ncls + c]
+                if e != 0.0:
+                    g = gamma_tp1[coff + c]
+                    c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
+                    if on_x:
+                        _effective_run(c0, c1, base, abs(e * (1.0 - g * (1.0 if on_next else 0.0))), a, upper)
+                    else:
+                        _effective_run(c0, c1, base, e * -g, a, effective)
+        _errors(code, i0, i1, lo, dcls, alpha, r, z, gamma_tp1, rho_t, q, acc, delta, o)
+        for i in range(i0, i1):
+            acc[i] = 0.0  # the new values at x_tp1, summed in the last pass
+        # M_i = rate_i alpha . e (x_t - gamma x_tp1) <= rate_i exp(mu_i) upper_i, as |the meta step's argument|
+        # <= mu_i; with a margin for the rounding of the sums, no step size of such a demon is divided by M.
+        fused = autostep
+        for i in range(i0, i1):
+            bound = rate[i] * (math.exp(meta[lo + i]) * upper[i] * (1.0 + 1e-9) + abs(effective[i]) * 1e-9)
+            fused = fused and bound <= 1.0
+        if fused:
+            fused_columns(i0, i1, lo, db, woff, voff, ncls, coff, kept, theta, h, trace, rows, x_t, x_tp1,
+                   gamma_tp1, bounds, inv_tau, a, v, meta, rate, dlv, acc)  # fmt: skip
+            return
+        # The meta step on the rows of x_t (where phi_i = 1): alpha_i *= exp(meta delta h_i [/ v_i]); Autostep
+        # adds alpha_i e_i (1 - gamma_tp1 [phi'_i]) to the effective step size there.
+        m = 0
+        for j in range(x_t.shape[0]):
+            row = x_t[j]
+            base = _at(woff + row * db)
+            tr = voff + row * ncls
+            while m < x_tp1.shape[0] and x_tp1[m] < row:
+                m += 1
+            on_next = 1.0 if m < x_tp1.shape[0] and x_tp1[m] == row else 0.0
+            for c in range(ncls):
+                c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
+                e = trace[tr + c]
+                if not autostep:
+                    for i in range(c0, c1):
+                        u = _at(i)
+                        at = base + u
+                        a[at] *= math.exp(meta[_at(lo + i)] * dlv[u] * h[at])
+                    continue
+                coeff = e * (1.0 - gamma_tp1[coff + c] * on_next)
+                for i in range(c0, c1):
+                    u = _at(i)
+                    effective[u] += meta_step(base + u, u, meta[_at(lo + i)], e, inv_tau, a, v, h, rate, dlv) * coeff
+        if autostep:  # every step size divided by M = max(1, the effective step size)
             for i in range(i0, i1):
-                u = _at(i)
-                acc[u] += theta[base + u]
+                m_i = effective[i] * rate[i]
+                if m_i > 1.0:
+                    scale[lo + i] /= m_i
+                    rate[i] /= m_i
+        for i in range(i0, i1):
+            if scale[lo + i] < SCALE_FLOOR:
+                _fold_scale(a, scale, woff, db, i, lo + i, woff + nrows * db)
+                rate[i] = 1.0 if alpha[lo + i] != 0.0 else 0.0
+        # theta += alpha delta e; h = h [1 - alpha phi e]^+ + alpha delta e, over the trace's rows; then the
+        # new values at x_tp1 from each row right after it moved.
+        s = 0
+        j = 0
+        m = 0
+        while True:
+            row = _next_row(rows, kept, s, x_tp1, m)
+            if row < 0:
+                break
+            in_support = s < kept and rows[s] == row
+            on_next = m < x_tp1.shape[0] and x_tp1[m] == row
+            s += 1 if in_support else 0
+            m += 1 if on_next else 0
+            base = _at(woff + row * db)
+            if in_support:
+                while j < x_t.shape[0] and x_t[j] < row:
+                    j += 1
+                on_x = j < x_t.shape[0] and x_t[j] == row
+                tr = voff + row * ncls
+                for c in range(ncls):
+                    e = trace[tr + c]
+                    if e == 0.0:
+                        continue
+                    c0 = max(bounds[c], i0)
+                    c1 = min(bounds[c + 1], i1)
+                    if on_x:
+                        for i in range(c0, c1):
+                            u = _at(i)
+                            at = base + u
+                            step = a[at] * rate[u] * e
+                            change = step * dlv[u]
+                            theta[at] += change
+                            h[at] = h[at] * max(1.0 - step, 0.0) + change
+                    else:
+                        for i in range(c0, c1):
+                            u = _at(i)
+                            at = base + u
+                            change = a[at] * rate[u] * e * dlv[u]
+                            theta[at] += change
+                            h[at] += change
+            if on_next:
+                for i in range(i0, i1):
+                    u = _at(i)
+                    acc[u] += theta[base + u]
+
+    return adaptive_columns
 
 
 @njit(cache=True, inline="always")
@@ -467,27 +561,6 @@ def _effective_run(c0, c1, base, coeff, a, effective):
     for i in range(c0, c1):
         u = _at(i)
         effective[u] += a[base + u] * coeff
-
-
-def _autostep_meta(exp):
-    """Autostep's meta step over one class's run of demons c0 <= i < c1 at the row of x_t at `base`, with the
-    exponential `exp` fixed when it compiles (`_exp_tiny`, `_exp_small` or `_exp`): the loop is written once, and each
-    compiled copy of it has one kind of exp, so that the bounded one vectorizes. v_i, then the argument of
-    exp (|sample| <= v_i), then alpha_i, and alpha_i coeff added to the effective step size."""
-
-    @njit(cache=True, inline="always")
-    def meta_run(c0, c1, lo, base, e, coeff, inv_tau, a, v, h, rate, dlv, meta, effective):
-        for i in range(c0, c1):
-            u = _at(i)
-            at = base + u
-            sample = dlv[u] * h[at]
-            size = abs(sample)
-            vi = max(size, v[at] + a[at] * rate[u] * e * (size - v[at]) * inv_tau)
-            v[at] = vi
-            a[at] *= exp(meta[_at(lo + i)] * (sample / vi if vi > 0.0 else 0.0))
-            effective[u] += a[at] * coeff
-
-    return meta_run
 
 
 @njit(cache=True)
@@ -558,9 +631,9 @@ def _exp(x):
     return math.exp(x)
 
 
-_autostep_tiny = _autostep_meta(_exp_tiny)
-_autostep_small = _autostep_meta(_exp_small)
-_autostep_exp = _autostep_meta(_exp)
+_adaptive_tiny = _adaptive_kernel(_exp_tiny)
+_adaptive_small = _adaptive_kernel(_exp_small)
+_adaptive_any = _adaptive_kernel(_exp)
 
 
 @njit(cache=True)
