@@ -271,6 +271,19 @@ def _next_row(rows, kept, s, x, j):
     return x[j] if j < x.shape[0] else -1
 
 
+@njit(cache=True, inline="always")
+def _walk(rows, kept, s, x_t, j, x_tp1, m):
+    """The next row of a walk over the support (rows[:kept]), x_t and x_tp1, all sorted, from positions s, j
+    and m: (the row, or -1 at the end; whether it is in each; the three positions past it)."""
+    row = _next_row(rows, kept, s, x_t, j)
+    if m < x_tp1.shape[0] and (row < 0 or x_tp1[m] < row):
+        row = x_tp1[m]
+    in_support = s < kept and rows[s] == row
+    on_x = j < x_t.shape[0] and x_t[j] == row
+    on_next = m < x_tp1.shape[0] and x_tp1[m] == row
+    return row, in_support, on_x, on_next, s + in_support, j + on_x, m + on_next
+
+
 @njit(cache=True)
 def _columns(code, exp_kind, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows, x_t, x_tp1,
              dcls, alpha, r, z, gamma_tp1, rho_t, q, pred, delta, values, o):  # fmt: skip
@@ -310,17 +323,9 @@ def _dutch_columns(dutch, i0, i1, db, woff, voff, ncls, kept, theta, trace, rows
     j = 0
     m = 0
     while True:
-        row = _next_row(rows, kept, s, x_t, j)
-        if m < x_tp1.shape[0] and (row < 0 or x_tp1[m] < row):
-            row = x_tp1[m]
+        row, in_support, on_x, on_next, s, j, m = _walk(rows, kept, s, x_t, j, x_tp1, m)
         if row < 0:
             break
-        in_support = s < kept and rows[s] == row
-        on_x = j < x_t.shape[0] and x_t[j] == row
-        on_next = m < x_tp1.shape[0] and x_tp1[m] == row
-        s += 1 if in_support else 0
-        j += 1 if on_x else 0
-        m += 1 if on_next else 0
         base = _at(woff + row * db)
         if in_support:
             tr = voff + row * ncls
@@ -342,9 +347,7 @@ def _dutch_columns(dutch, i0, i1, db, woff, voff, ncls, kept, theta, trace, rows
                 u = _at(i)
                 theta[base + u] -= fix[u]
         if on_next:
-            for i in range(i0, i1):
-                u = _at(i)
-                acc[u] += theta[base + u]
+            _add_row(i0, i1, base, theta, acc)
 
 
 def _adaptive_kernel(exp):
@@ -371,21 +374,11 @@ def _adaptive_kernel(exp):
         (theta += alpha delta e; h = h [1 - alpha e]^+ + alpha delta e, from h as the meta step read it), the
         same operations in the same order as the two passes, so the same numbers; eight numbers per weight of
         x_t read or written instead of ten."""
-        s = 0
-        j = 0
-        m = 0
+        s = j = m = 0  # positions in the support, x_t and x_tp1
         while True:
-            row = _next_row(rows, kept, s, x_t, j)
-            if m < x_tp1.shape[0] and (row < 0 or x_tp1[m] < row):
-                row = x_tp1[m]
+            row, in_support, on_x, on_next, s, j, m = _walk(rows, kept, s, x_t, j, x_tp1, m)
             if row < 0:
                 break
-            in_support = s < kept and rows[s] == row
-            on_x = j < x_t.shape[0] and x_t[j] == row
-            on_next = m < x_tp1.shape[0] and x_tp1[m] == row
-            s += 1 if in_support else 0
-            j += 1 if on_x else 0
-            m += 1 if on_next else 0
             base = _at(woff + row * db)
             tr = voff + row * ncls
             for c in range(ncls if on_x or in_support else 0):
@@ -405,16 +398,9 @@ def _adaptive_kernel(exp):
                         u = _at(i)
                         meta_step(base + u, u, meta[_at(lo + i)], e, inv_tau, a, v, h, rate, dlv)
                 elif e != 0.0:
-                    for i in range(c0, c1):
-                        u = _at(i)
-                        at = base + u
-                        change = a[at] * rate[u] * e * dlv[u]
-                        theta[at] += change
-                        h[at] += change
+                    _trace_update(c0, c1, base, e, a, rate, dlv, theta, h)
             if on_next:
-                for i in range(i0, i1):
-                    u = _at(i)
-                    acc[u] += theta[base + u]
+                _add_row(i0, i1, base, theta, acc)
 
     @njit(cache=True)
     def adaptive_columns(code, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, h, trace, rows, x_t, x_tp1,
@@ -449,9 +435,7 @@ def _adaptive_kernel(exp):
             m += 1 if on_next else 0
             base = _at(woff + row * db)
             if on_next:
-                for i in range(i0, i1):
-                    u = _at(i)
-                    acc[u] += theta[base + u]
+                _add_row(i0, i1, base, theta, acc)
             for c in range(ncls if autostep else 0):
                 e = trace[voff + row * ncls + c]
                 if e != 0.0:
@@ -541,18 +525,30 @@ def _adaptive_kernel(exp):
                             theta[at] += change
                             h[at] = h[at] * max(1.0 - step, 0.0) + change
                     else:
-                        for i in range(c0, c1):
-                            u = _at(i)
-                            at = base + u
-                            change = a[at] * rate[u] * e * dlv[u]
-                            theta[at] += change
-                            h[at] += change
+                        _trace_update(c0, c1, base, e, a, rate, dlv, theta, h)
             if on_next:
-                for i in range(i0, i1):
-                    u = _at(i)
-                    acc[u] += theta[base + u]
+                _add_row(i0, i1, base, theta, acc)
 
     return adaptive_columns
+
+
+@njit(cache=True, inline="always")
+def _trace_update(c0, c1, base, e, a, rate, dlv, theta, h):
+    """theta += alpha delta e and h += alpha delta e over one class's run of demons at a row outside x_t."""
+    for i in range(c0, c1):
+        u = _at(i)
+        at = base + u
+        change = a[at] * rate[u] * e * dlv[u]
+        theta[at] += change
+        h[at] += change
+
+
+@njit(cache=True, inline="always")
+def _add_row(i0, i1, base, theta, acc):
+    """acc += the weight row at base, columns i0 <= i < i1 (the values at x_tp1, row by row)."""
+    for i in range(i0, i1):
+        u = _at(i)
+        acc[u] += theta[base + u]
 
 
 @njit(cache=True, inline="always")
