@@ -355,7 +355,7 @@ def _adaptive_kernel(exp):
     Autostep's meta step (`exp`: `_exp_tiny`, `_exp_small` or `_exp`; chosen once per block by `_columns`),
     so that the source is written once and each hot loop has one kind of exp."""
 
-    @njit(cache=True, inline="always")
+    @njit(inline="always")
     def meta_step(at, u, mu, e, inv_tau, a, v, h, rate, dlv):
         """Autostep's meta step of one weight from h_i as it was: v_i, then the argument of exp (|sample| <=
         v_i), then alpha_i; returns the new alpha_i."""
@@ -366,7 +366,7 @@ def _adaptive_kernel(exp):
         a[at] *= exp(mu * (sample / vi if vi > 0.0 else 0.0))
         return a[at]
 
-    @njit(cache=True)
+    @njit
     def fused_columns(i0, i1, lo, db, woff, voff, ncls, coff, kept, theta, h, trace, rows, x_t, x_tp1, gamma_tp1,
                bounds, inv_tau, a, v, meta, rate, dlv, acc):  # fmt: skip
         """Autostep's meta step and update in one walk over the rows of the support, x_t and x_tp1, for a run of
@@ -402,7 +402,7 @@ def _adaptive_kernel(exp):
             if on_next:
                 _add_row(i0, i1, base, theta, acc)
 
-    @njit(cache=True)
+    @njit
     def adaptive_columns(code, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, h, trace, rows, x_t, x_tp1,
                          dcls, alpha, r, z, gamma_tp1, rho_t, q, delta, o, acc):  # fmt: skip
         """Columns i0 <= i < i1 of a TIDBD / Autostep block; h lives in w.
