@@ -104,7 +104,8 @@ def state_value_run(steps: int, alpha: float, alpha_w: float, seed: int = 0):
             np.full(2, rho),
         )
         for kind, step in (("td", reference.td_step), ("gtd", reference.gtd_step)):
-            theta, w, e, _ = step(*plain[kind], PHI[s], PHI[s_next], 0.0, 0.0, GAMMA, GAMMA, rho, 0.0, alpha, alpha_w)
+            transition = reference.Transition(PHI[s], PHI[s_next], 0.0, 0.0, GAMMA, GAMMA, rho, 0.0)
+            theta, w, e, _ = step(*plain[kind], transition, alpha, alpha_w)
             plain[kind] = (theta, w, e)
         if t % 500 == 0:
             out.append((t, state.theta.copy(), plain["td"][0].copy(), plain["gtd"][0].copy()))
@@ -161,7 +162,8 @@ def action_value_run(steps: int, alpha: float, alpha_w: float, seed: int = 1) ->
             gamma,
             np.full(1, rho),
         )
-        plain = reference.gq_step(*plain, phi_sa(s, a), phi_bar, 0.0, 0.0, GAMMA, GAMMA, rho, 0.0, alpha, alpha_w)[:3]
+        transition = reference.Transition(phi_sa(s, a), phi_bar, 0.0, 0.0, GAMMA, GAMMA, rho, 0.0)
+        plain = reference.gq_step(*plain, transition, alpha, alpha_w)[:3]
         if t % 1000 == 0:
             np.testing.assert_allclose(state.theta[0], plain[0], rtol=1e-9)
             out.append((float(np.abs(state.theta).max()), mspbe_q(state.theta[0])))

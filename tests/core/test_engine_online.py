@@ -14,6 +14,16 @@ import numpy as np
 import pytest
 
 from grids import CRIT, GOAL, PIT, WALL, grid
+from horde.core.adaptive_kernels import (
+    EXP_ANY,
+    EXP_SMALL,
+    EXP_TINY,
+    SMALL_EXP,
+    TINY_EXP,
+    _exp_kind,
+    _exp_small,
+    _exp_tiny,
+)
 from horde.core.reference import ReferenceHorde
 from horde.core.scale import TRACE_CUT
 from horde.core.simulation import Simulation
@@ -82,18 +92,16 @@ def compare(sim: Simulation, ref: ReferenceHorde, step: int, tolerance: float) -
     return largest
 
 
-@pytest.mark.slow
-@pytest.mark.parametrize("cut", [0.0, TRACE_CUT], ids=["cut=0", "default cut"])
-@pytest.mark.parametrize("behaviour", ["uniform", {"kind": "epsilon_greedy", "demon": "base", "epsilon": 0.5}])
-def test_engine_equals_reference_at_every_step(behaviour: Any, cut: float) -> None:
-    run = spec(behaviour)
+def replay(run: RunSpec, cut: float, steps: int) -> tuple[Simulation, ReferenceHorde, int]:
+    """The engine's own transitions replayed into ReferenceHorde, compared at every step (1e-9 with the cut
+    at 0, 1e-5 with the default cut); returns the simulation, the oracle and the number of episodes."""
     sim = Simulation(run, cut=cut)
     ref = ReferenceHorde(run)
     names = sim.world.sensor_names
     ref.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
     tolerance = 1e-9 if cut == 0.0 else 1e-5
     episodes = 0
-    for step in range(1, 801):
+    for step in range(1, steps + 1):
         result = sim.step()
         sensors = sim.sensors
         ref.learn(result.action, sim.behaviour_probability, float(sensors[0]), float(sensors[1]),
@@ -102,6 +110,14 @@ def test_engine_equals_reference_at_every_step(behaviour: Any, cut: float) -> No
             episodes += 1
             ref.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
         compare(sim, ref, step, tolerance)
+    return sim, ref, episodes
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("cut", [0.0, TRACE_CUT], ids=["cut=0", "default cut"])
+@pytest.mark.parametrize("behaviour", ["uniform", {"kind": "epsilon_greedy", "demon": "base", "epsilon": 0.5}])
+def test_engine_equals_reference_at_every_step(behaviour: Any, cut: float) -> None:
+    sim, ref, episodes = replay(spec(behaviour), cut, 800)
     assert episodes >= 10
     horde = sim.horde
     slot_class = {n: horde.slot_class[horde.demon_slot[horde.index[n]]] for n in horde.names}
@@ -115,10 +131,25 @@ def test_engine_equals_reference_at_every_step(behaviour: Any, cut: float) -> No
     assert not sim.horde_state.diverged.any()
 
 
-def test_the_small_exp_of_the_autostep_kernel_is_exp_to_rounding() -> None:
-    """Autostep's meta step evaluates exp on [-mu, mu] as a polynomial when mu <= 1/16 (adaptive_kernels)."""
-    from horde.core.adaptive_kernels import SMALL_EXP, _exp_small
+@pytest.mark.slow
+@pytest.mark.parametrize(("meta_step", "kind"), [(0.01, EXP_TINY), (0.05, EXP_SMALL), (0.2, EXP_ANY)])
+def test_autostep_equals_the_reference_with_each_kind_of_exp(meta_step: float, kind: int) -> None:
+    """A block of Autostep demons whose meta step sizes are at most 0.01, 1/16 or above: its meta steps take
+    `_exp_tiny`, `_exp_small` or math.exp, and each equals the oracle (np.exp) to 1e-9 with the cut at 0."""
+    assert _exp_kind(meta_step) == kind
+    data = spec().model_dump(by_alias=True)
+    auto = [d["name"] for d in data["demons"] if d["step_size"] == "autostep"]
+    data["demons"] = [{**d, "meta_step": meta_step} if d["name"] in auto else d
+                      for d in data["demons"] if d["name"] in [*auto, "base"]]  # fmt: skip
+    sim, ref, episodes = replay(RunSpec.model_validate(data), 0.0, 300)
+    assert len(auto) == 3 and episodes >= 3
+    moved = [float(np.abs(sim.step_sizes(n) - ref.demons[n].alpha).max()) for n in auto]
+    assert min(moved) > 1e-6, moved  # the step sizes did adapt
 
-    xs = np.linspace(-SMALL_EXP, SMALL_EXP, 20001)
-    relative = np.array([abs(_exp_small(x) - np.exp(x)) for x in xs]) / np.exp(xs)
+
+@pytest.mark.parametrize(("exp", "bound"), [(_exp_tiny, TINY_EXP), (_exp_small, SMALL_EXP)])
+def test_the_polynomial_exps_of_the_autostep_kernel_are_exp_to_rounding(exp: Any, bound: float) -> None:
+    """Autostep's meta step evaluates exp on [-mu, mu] as a polynomial when mu <= 1/16 (adaptive_kernels)."""
+    xs = np.linspace(-bound, bound, 20001)
+    relative = np.array([abs(exp(x) - np.exp(x)) for x in xs]) / np.exp(xs)
     assert relative.max() < 5e-16

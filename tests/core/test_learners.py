@@ -150,19 +150,8 @@ def test_update_equals_the_reference_equations(kind, seed):
         phi_t = dense(idx, val, n)
         for i in range(d):
             phi_bar = dense(bar_idx, bar_val[i] if action_values else bar_val, n)
-            theta, w, e, di = step(
-                *plain[i],
-                phi_t,
-                phi_bar,
-                r[i],
-                z[i],
-                gamma_t[i],
-                gamma_tp1[i],
-                rho[i],
-                lam[i],
-                alpha[i],
-                alpha_w[i],
-            )
+            transition = reference.Transition(phi_t, phi_bar, r[i], z[i], gamma_t[i], gamma_tp1[i], rho[i], lam[i])
+            theta, w, e, di = step(*plain[i], transition, alpha[i], alpha_w[i])
             plain[i] = (theta, w, e)
             assert delta[i] == pytest.approx(di, rel=1e-9, abs=1e-9)
         gamma_t = gamma_tp1

@@ -41,23 +41,23 @@ class OracleDemon:
         self.v_old = self.rho_prev = self.followon = 0.0
 
     def step(self, x_t, x_tp1, r, z, g_t, g_tp1, rho) -> float:
-        common = (x_t, x_tp1, r, z, g_t, g_tp1, rho, self.lam)
+        t = reference.Transition(x_t, x_tp1, r, z, g_t, g_tp1, rho, self.lam)
         if self.kind == "true_online_td":
             self.theta, self.e, self.v_old, delta = reference.true_online_td_step(
-                self.theta, self.e, self.v_old, *common, self.alpha
+                self.theta, self.e, self.v_old, t, self.alpha
             )
         elif self.kind == "true_online_gtd":
             self.theta, self.w, self.e, self.e_grad, self.e_w, self.v_old, delta = reference.true_online_gtd_step(
-                self.theta, self.w, self.e, self.e_grad, self.e_w, self.v_old, self.rho_prev, *common, self.alpha,
+                self.theta, self.w, self.e, self.e_grad, self.e_w, self.v_old, self.rho_prev, t, self.alpha,
                 self.alpha_w,
             )  # fmt: skip
         elif self.kind == "etd":
             self.theta, self.e, self.followon, delta = reference.etd_step(
-                self.theta, self.e, self.followon, self.rho_prev, *common, self.alpha
+                self.theta, self.e, self.followon, self.rho_prev, t, self.alpha
             )
         else:
             self.theta, self.e, self.alphas, self.h, self.v, delta = reference.adaptive_td_step(
-                self.theta, self.e, self.alphas, self.h, self.v, *common, self.kind, self.meta, self.tau
+                self.theta, self.e, self.alphas, self.h, self.v, t, self.kind, self.meta, self.tau
             )
         self.rho_prev = rho
         return delta
@@ -231,8 +231,8 @@ def test_true_online_td_equals_the_online_lambda_return() -> None:
     g_t = 0.0
     for t in range(steps):
         g_tp1 = 0.0 if t + 1 == steps else gamma
-        theta, _, e, _ = reference.td_step(theta, theta, e, features[t], features[t + 1], rewards[t], 0.0, g_t,
-                                           g_tp1, 1.0, lam, alpha, 0.0)  # fmt: skip
+        transition = reference.Transition(features[t], features[t + 1], rewards[t], 0.0, g_t, g_tp1, 1.0, lam)
+        theta, _, e, _ = reference.td_step(theta, theta, e, transition, alpha, 0.0)
         g_t = g_tp1
     assert np.abs(theta - expected[-1]).max() > 1e-3
 
@@ -327,8 +327,8 @@ def test_emphatic_td_is_stable_on_bairds_counterexample_where_td_diverges() -> N
                 zero, one, gamma, ratio = np.zeros(1), np.ones(1), np.array([GAMMA]), np.array([rho])
                 new = learners.etd_update(state, lam, step, PHI[s], PHI[6], zero, zero, one, gamma, ratio)[0].theta[0]
             else:
-                new = reference.td_step(theta, theta, np.zeros(8), PHI[s], PHI[6], 0.0, 0.0, 0.0, GAMMA, rho, 0.0,
-                                        alpha, 0.0)[0]  # fmt: skip
+                transition = reference.Transition(PHI[s], PHI[6], 0.0, 0.0, 0.0, GAMMA, rho, 0.0)
+                new = reference.td_step(theta, theta, np.zeros(8), transition, alpha, 0.0)[0]
             total += B[SOLID] / 7 * (new - theta)  # d(s) b(solid | s)
         return theta + total
 

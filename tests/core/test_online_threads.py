@@ -21,9 +21,7 @@ from horde.core.scale_fast import PARALLEL_MIN
 from horde.core.simulation import Simulation
 from horde.spec import RunSpec
 
-from .test_engine_vs_reference import run_spec
-from .test_fast import assert_same
-from .test_threads import run_with
+from .test_threads import on_1_2_3_threads, tiles_spec
 
 D = PARALLEL_MIN + 13  # demons per block: over the threshold, not a multiple of the column alignment
 DISCOUNTS = (0, 0.5, 0.8, 0.9, 0.95)
@@ -51,9 +49,7 @@ def online_spec(demons: int = D) -> RunSpec:
             {"name": f"tidbd{i}", "learner": "td", "step_size": "tidbd", "lambda": 0.5, "discount": 0.8,
              "policy": fixed, "meta_step": 0.01, "cumulant": {"sensor": SENSORS[i % 7]}},
         ]  # fmt: skip
-    data = run_spec("uniform").model_dump(by_alias=True)
-    data.update(demons=out, features={"kind": "tiles", "tilings": 4, "tiles": 4})
-    return RunSpec.model_validate(data)
+    return tiles_spec(out)
 
 
 @pytest.fixture(scope="module")
@@ -63,20 +59,13 @@ def spec() -> RunSpec:
 
 @pytest.mark.slow
 def test_thread_count_does_not_change_a_single_bit(spec: RunSpec) -> None:
-    one = run_with(spec, 1)
-    assert one.threads == 1
-    assert {b.size for b in one.horde.blocks} == {D}, "every block is past the threshold"
-    assert one.episode >= 3, "episodes ended (traces cleared, adaptive demons reset)"
+    one, others = on_1_2_3_threads(spec)  # and adaptive demons reset at the episodes' ends
     scales = one._loop.onl.ascale
     assert scales.min() < 1.0, "Autostep's bound divided some step sizes (the effective step size passed 1)"
-    for count in (2, 3):
-        other = run_with(spec, count)
-        assert other.threads == count
-        assert_same(one.horde_state, other.horde_state)
+    for other in others:
         for field in ("v_old", "cls_f", "step_a", "step_v", "ascale"):
             np.testing.assert_array_equal(getattr(one._loop.onl, field), getattr(other._loop.onl, field), field)
         np.testing.assert_array_equal(one.effective_step_sizes(), other.effective_step_sizes())
-        assert one.position == other.position
     assert numba.threading_layer() in ("tbb", "omp", "workqueue"), "a threading layer ran the blocks"
 
 
@@ -105,3 +94,20 @@ def test_threaded_blocks_equal_the_oracle(spec: RunSpec) -> None:
         live = np.isfinite(theirs)  # a demon the oracle lets diverge, the engine freezes (README)
         np.testing.assert_allclose(ours[live], theirs[live], rtol=1e-9, atol=1e-9, err_msg=f"step {step}")
     assert live.sum() >= 10, "most of the picked demons stayed finite: the comparison covered them"
+
+
+@pytest.mark.slow
+def test_autostep_walks_alike_fused_or_not() -> None:
+    """An Autostep block whose demons' effective step sizes stay well below 1 (alpha 0.1, mu 0.01): the runs
+    of columns whose M provably stays 1 take the fused walk (meta step and update together), the others the
+    two passes (on this spec: the fused walk on most steps, measured by marking it); the numbers are the same
+    bits on 1, 2 and 3 threads whichever each run took, and the step sizes did adapt."""
+    demons = [{"name": f"auto{i}", "learner": "td", "step_size": "autostep", "lambda": 0.8, "policy": "uniform",
+               "discount": DISCOUNTS[i % 5], "meta_step": 0.01, "alpha": 0.1 if i % 4 else 0.4,
+               "cumulant": {"mul": [{"sensor": SENSORS[i % 7]}, 1 + i // 35]}} for i in range(D)]  # fmt: skip
+    one, others = on_1_2_3_threads(tiles_spec(demons))
+    for other in others:
+        for field in ("step_a", "step_v", "ascale"):
+            np.testing.assert_array_equal(getattr(one._loop.onl, field), getattr(other._loop.onl, field), field)
+    moved = np.abs(one.effective_step_sizes() - np.where(np.arange(D) % 4, 0.1, 0.4))
+    assert moved.max() > 1e-6, "the step sizes adapted"

@@ -46,6 +46,11 @@ def wide_spec() -> RunSpec:
         demons.append({"name": f"gq{i}", "learner": "gq", "discount": 0.8,
                        "policy": {"kind": "softmax", "temperature": 0.5 + i % 4},
                        "cumulant": {"sensor": sensors[i % len(sensors)]}})  # fmt: skip
+    return tiles_spec(demons)
+
+
+def tiles_spec(demons: list[dict[str, Any]]) -> RunSpec:
+    """The engine tests' world under a uniform behaviour with these demons over 4 x 4 tiles, 4 tilings."""
     data = run_spec("uniform").model_dump(by_alias=True)
     data.update(demons=demons, features={"kind": "tiles", "tilings": 4, "tiles": 4})
     return RunSpec.model_validate(data)
@@ -63,19 +68,27 @@ def run_with(spec: RunSpec, count: int, steps: int = 300) -> Simulation:
     return sim
 
 
-@pytest.mark.slow
-def test_thread_count_does_not_change_a_single_bit(spec: RunSpec) -> None:
+def on_1_2_3_threads(spec: RunSpec) -> tuple[Simulation, list[Simulation]]:
+    """The spec run on one thread and on 2 and 3, every block past the threshold, episodes ended: the run
+    on one thread and the others, whose weights, traces and predictions are its to the last bit."""
     one = run_with(spec, 1)
     assert one.threads == 1
     assert {b.size for b in one.horde.blocks} == {D}, "every block is past the threshold"
     assert one.episode >= 3, "episodes ended (traces cleared, a new start observed)"
-    for count in (2, 3):
-        other = run_with(spec, count)
+    others = [run_with(spec, count) for count in (2, 3)]
+    for count, other in zip((2, 3), others, strict=True):
         assert other.threads == count
         assert_same(one.horde_state, other.horde_state)
+        assert one.position == other.position
+    return one, others
+
+
+@pytest.mark.slow
+def test_thread_count_does_not_change_a_single_bit(spec: RunSpec) -> None:
+    one, others = on_1_2_3_threads(spec)
+    for other in others:
         np.testing.assert_array_equal(one.readout().rupee, other.readout().rupee)
         np.testing.assert_array_equal(one.readout().ude, other.readout().ude)
-        assert one.position == other.position
     # a threading layer started: the blocks were split over threads (it raises if none ever ran)
     assert numba.threading_layer() in ("tbb", "omp", "workqueue")
 

@@ -20,7 +20,7 @@
 
 A demon whose alpha is 0 (frozen: diverged, or not learning in a test run) stays exactly as it is.
 
-Why one module of about 520 lines: the kernels of the four learners share the trace walk, the column
+Why one module of about 600 lines: the kernels of the four learners share the trace walk, the column
 split and the unsigned offsets, and numba inlines and specialises calls best within one module.
 
 As `scale_fast._step`, a step is split into what is shared (each class's trace, merged and cut once per
@@ -31,12 +31,22 @@ each (`_columns_parallel`), to the same bits whatever the count. What each step 
 * true online TD / ETD: one walk over the rows of the trace's support, x_t and x_tp1 (theta read and
   written once per row, the values at s_{t+1} summed from each row as it moves): the support's rows, as
   TD, plus the rows of x_t that the cut dropped.
-* Autostep / TIDBD: the meta step touches the rows of x_t only (phi_i = 0 elsewhere: the papers' update
-  leaves alpha_i and v_i of other weights as they are), the effective step size reads the step sizes at
-  x_t and x_tp1, and theta and h move on the support's rows (every weight with a nonzero trace, as the
-  papers' updates). Per support row that is three numbers per demon (step size, theta, h) where TD moves
-  one, and on x_t five (v and the step size written); the meta step's exp and division make that pass
-  compute-bound.
+* Autostep / TIDBD: three passes over few rows. The values at x_tp1 under the weights before the step
+  (read on the threads, then the TD errors: `fast.py` leaves this read to `online_step`); the meta step
+  on the rows of x_t only (phi_i = 0 elsewhere: the papers' update leaves alpha_i and v_i of other weights
+  as they are); theta and h on the support's rows (every weight with a nonzero trace, as the papers'
+  updates), fused with reading the new values at x_tp1. Autostep's effective step size
+  alpha . e (x_t - gamma x_tp1) is summed within the first two passes (on a row of x_tp1 alone in the
+  first, whose step sizes do not move; on a row of x_t after its step sizes moved), not in a pass of its
+  own. Per x_t row that is ten numbers per demon read or written (h, v, alpha in the meta step: v and
+  alpha written; alpha, theta, h in the update: theta and h written), per other support row five, where
+  TD moves two (theta) plus the read at x_tp1: about 3.5 times TD's bytes, and both are bound by memory.
+  The paper's order divides every step size by M, a sum over all the rows of x_t, before theta moves;
+  for a run of demons whose M provably stays 1 (an upper bound from the step sizes before the meta step,
+  read in the first pass, as |the meta step's argument| <= mu) the meta step and the update go in one
+  walk (`fused_columns`, the same operations in the same order: the same numbers), each row of x_t
+  visited once. Autostep's exp is a polynomial when the block's meta step sizes allow (`_exp_tiny`,
+  `_exp_small`), chosen once per block; `_adaptive_kernel` compiles the kernel once per kind of exp.
 """
 
 from __future__ import annotations
@@ -61,6 +71,7 @@ from horde.core.scale_fast import (
     B_WOFF,
     PARALLEL_MIN,
     _at,
+    _read_range,
 )
 
 TOTD = LEARNER_CODES["true_online_td"]
@@ -68,7 +79,9 @@ TOGTD = LEARNER_CODES["true_online_gtd"]
 ETD = LEARNER_CODES["etd"]
 TIDBD = LEARNER_CODES["td+tidbd"]
 AUTOSTEP = LEARNER_CODES["td+autostep"]
-SMALL_EXP = 1.0 / 16  # Autostep's meta steps with mu at most this use _exp_small (|argument| <= mu)
+TINY_EXP = 0.01  # Autostep's meta steps with mu at most this use _exp_tiny (|argument| <= mu), the default mu
+SMALL_EXP = 1.0 / 16  # ... with mu at most this _exp_small, above it math.exp
+EXP_ANY, EXP_SMALL, EXP_TINY = 0, 1, 2  # which exp a block's meta steps take (`online_step`)
 SCALE_FLOOR = 1e-150  # a demon's lazily kept step-size scale is folded back into its step sizes below this
 
 
@@ -143,19 +156,20 @@ def online_step(bi, b, lam_b, alpha, alpha_w, dcls, cut, theta, w, trace, suppor
                 gamma_tp1, rho_t, gamma, q, pred, delta, touched, values, o, threads=1):  # fmt: skip
     """One transition for block b (a learner of this module), in place: the learners.py equations.
 
-    `values[0, :Db]` must hold the block's values at s_{t+1} under the weights before this step
-    (`scale_fast._read_values`); on return it holds them after, and q, pred are set for s_{t+1}.
+    On return `values[0, :Db]` holds the block's values at s_{t+1} under the new weights, and q, pred
+    are set for s_{t+1}; the values there under the weights before the step (for the TD errors) are read
+    here: by the threads for the adaptive modes, before the columns for the others.
 
-    The traces (nothing per demon) and the TD errors first, then `_columns` over the block's demons,
-    which touches only their columns: with `threads` > 1 and at least `PARALLEL_MIN` demons, the demons
-    are split into runs of columns learned by that many threads (`_columns_parallel`), each column by the
-    same operations in the same order as on one thread, so that the numbers do not depend on the count.
+    The traces (nothing per demon) first, then `_columns` over the block's demons, which touches only
+    their columns: with `threads` > 1 and at least `PARALLEL_MIN` demons, the demons are split into runs
+    of columns learned by that many threads (`_columns_parallel`), each column by the same operations in
+    the same order as on one thread, so that the numbers do not depend on the count.
     """
     code = bi[b, B_LEARNER]
     lo, hi, woff, toff, voff = bi[b, B_LO], bi[b, B_HI], bi[b, B_WOFF], bi[b, B_TOFF], bi[b, B_VOFF]
     ncls, coff, nrows = bi[b, B_NCLS], bi[b, B_COFF], bi[b, B_ROWS]
     db = hi - lo
-    decay, add, coef, fix = o.scratch[0], o.scratch[1], o.scratch[2], o.scratch[3]
+    decay, add = o.scratch[0], o.scratch[1]
 
     # Each class's new trace: decay gamma_t lambda rho_t, and what x_t adds.
     for c in range(ncls):
@@ -169,22 +183,62 @@ def online_step(bi, b, lam_b, alpha, alpha_w, dcls, cut, theta, w, trace, suppor
             add[c] = rho * (lam_b + (1.0 - lam_b) * f)
         else:
             add[c] = rho
-    if code == TOGTD:
-        _togtd_traces(o, voff, nrows, ncls, coff, lam_b, x_t, gamma, rho_t)
-
-    # The TD error of each demon, before any weight moves; the first demon of each class (bounds).
+    # The first demon of each class (bounds; the demons of a class are consecutive, classes in order).
     bounds = o.bounds
     bounds[0] = 0
     for i in range(db):
+        bounds[dcls[lo + i] - coff + 1] = i + 1
+    adaptive = code in (TIDBD, AUTOSTEP)
+    if not adaptive:  # the values at s_{t+1} and the TD errors, before any weight moves (TOGTD's w pass reads them)
+        _read_range(bi, b, 0, theta, x_tp1, 0, db, values)
+        _errors(code, 0, db, lo, dcls, alpha, r, z, gamma_tp1, rho_t, q, values[0], delta, o)
+    if code == TOGTD:  # the correction and w's update read w before it moves; theta's pass follows
+        _togtd_traces(o, voff, nrows, ncls, coff, lam_b, x_t, gamma, rho_t)
+        _togtd_weights(o, theta, w, woff, voff, nrows, ncls, coff, lo, db, dcls, alpha, alpha_w, lam_b, x_t, x_tp1,
+                       gamma_tp1, rho_t, delta)  # fmt: skip
+
+    kept = _merge_trace(trace, support, toff, voff, ncls, nnz[b], x_t, decay, add, cut, rows)
+    nnz[b] = kept
+    touched[b] = kept
+
+    bound = 0.0  # the largest meta step size of the block: which exp its meta steps take (one kind for the block)
+    for i in range(db if code == AUTOSTEP else 0):
+        bound = max(bound, o.meta[lo + i])
+    exp_kind = _exp_kind(bound)
+    if threads > 1 and db >= PARALLEL_MIN:
+        _columns_parallel(threads, code, exp_kind, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows,
+                          x_t, x_tp1, dcls, alpha, r, z, gamma_tp1, rho_t, q, pred, delta, values, o)  # fmt: skip
+    else:
+        _columns(code, exp_kind, 0, db, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows, x_t, x_tp1,
+                 dcls, alpha, r, z, gamma_tp1, rho_t, q, pred, delta, values, o)  # fmt: skip
+    for c in range(ncls):
+        gamma[coff + c] = gamma_tp1[coff + c]
+        o.cls_rho_prev[coff + c] = rho_t[coff + c]
+
+
+@njit(cache=True)
+def _exp_kind(bound):
+    """Which exp Autostep's meta steps take when no meta step size of the block is above `bound` (|the
+    argument| <= mu, as |delta phi h| <= v)."""
+    return EXP_TINY if bound <= TINY_EXP else (EXP_SMALL if bound <= SMALL_EXP else EXP_ANY)
+
+
+@njit(cache=True)
+def _errors(code, i0, i1, lo, dcls, alpha, r, z, gamma_tp1, rho_t, q, v_next, delta, o):
+    """The TD errors of the block's demons i0 <= i < i1 from their values v_next[i] at s_{t+1} under the
+    weights before the step, and what each learner's weight pass takes of them (scratch rows 2, 3, 5, 6)."""
+    coef, fix, rate, dlv = o.scratch[2], o.scratch[3], o.scratch[5], o.scratch[6]
+    for i in range(i0, i1):
         d = lo + i
-        bounds[dcls[d] - coff + 1] = i + 1  # the demons of a class are consecutive, classes in order
         g1 = gamma_tp1[dcls[d]]
-        v_next = values[0, i]
-        dl = r[d] + (1.0 - g1) * z[d] + g1 * v_next - q[d, 0]
+        dl = r[d] + (1.0 - g1) * z[d] + g1 * v_next[i] - q[d, 0]
         delta[d] = dl
         coef[i] = 0.0
         fix[i] = 0.0
-        if alpha[d] == 0.0:  # frozen
+        live = alpha[d] != 0.0
+        rate[i] = o.ascale[d] if live else 0.0  # adaptive modes: a frozen demon moves nothing (rate and delta 0)
+        dlv[i] = dl if live else 0.0
+        if not live:  # frozen
             continue
         if code in (TOTD, TOGTD):
             change = q[d, 0] - o.v_old[d]  # (theta_t - theta_{t-1}) . x_t
@@ -194,43 +248,12 @@ def online_step(bi, b, lam_b, alpha, alpha_w, dcls, cut, theta, w, trace, suppor
             coef[i] = alpha[d] * dl
         else:
             coef[i] = dl
-        o.v_old[d] = v_next
-
-    if code == TOGTD:  # the correction and w's update read w before it moves; theta's pass follows
-        _togtd_weights(o, theta, w, woff, voff, nrows, ncls, coff, lo, db, dcls, alpha, alpha_w, lam_b, x_t, x_tp1,
-                       gamma_tp1, rho_t, delta)  # fmt: skip
-
-    kept = _merge_trace(trace, support, toff, voff, ncls, nnz[b], x_t, decay, add, cut, rows)
-    nnz[b] = kept
-    touched[b] = kept
-
-    small = True  # every meta step size of the block within _exp_small's range (one choice for the block)
-    if code in (TIDBD, AUTOSTEP):
-        rate, dlv = o.scratch[5], o.scratch[6]
-        for i in range(db):
-            d = lo + i
-            small = small and o.meta[d] <= SMALL_EXP
-            live = 1.0 if alpha[d] != 0.0 else 0.0
-            rate[i] = o.ascale[d] * live
-            dlv[i] = delta[d] * live if live > 0.0 else 0.0
-
-    if threads > 1 and db >= PARALLEL_MIN:
-        _columns_parallel(threads, code, small, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows,
-                          x_t, x_tp1, gamma_tp1, alpha, q, pred, values, bounds, o.scratch, o.step_a, o.step_v,
-                          o.ascale, o.meta, o.tau[0])  # fmt: skip
-    else:
-        _columns(code, small, 0, db, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows, x_t, x_tp1,
-                 gamma_tp1, alpha, q, pred, values, bounds, o.scratch, o.step_a, o.step_v, o.ascale, o.meta,
-                 o.tau[0])  # fmt: skip
-    for c in range(ncls):
-        gamma[coff + c] = gamma_tp1[coff + c]
-        o.cls_rho_prev[coff + c] = rho_t[coff + c]
+        o.v_old[d] = v_next[i]
 
 
 @njit(cache=True, parallel=True)
-def _columns_parallel(threads, code, small, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows, x_t,
-                      x_tp1, gamma_tp1, alpha, q, pred, values, bounds, scratch, step_a, step_v, ascale, meta,
-                      tau):  # fmt: skip
+def _columns_parallel(threads, code, exp_kind, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows, x_t,
+                      x_tp1, dcls, alpha, r, z, gamma_tp1, rho_t, q, pred, delta, values, o):  # fmt: skip
     """`_columns` of the block on `threads` threads, each over one run of its demons (runs start at
     multiples of ALIGN numbers, a cache line, within a row)."""
     runs = min(threads, (db + ALIGN - 1) // ALIGN)
@@ -238,8 +261,8 @@ def _columns_parallel(threads, code, small, lo, db, woff, voff, ncls, coff, nrow
     for t in prange(runs):
         i0 = min(t * width, db)
         i1 = min(i0 + width, db)
-        _columns(code, small, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows, x_t, x_tp1,
-                 gamma_tp1, alpha, q, pred, values, bounds, scratch, step_a, step_v, ascale, meta, tau)  # fmt: skip
+        _columns(code, exp_kind, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows, x_t, x_tp1,
+                 dcls, alpha, r, z, gamma_tp1, rho_t, q, pred, delta, values, o)  # fmt: skip
 
 
 @njit(cache=True)
@@ -252,9 +275,29 @@ def _next_row(rows, kept, s, x, j):
     return x[j] if j < x.shape[0] else -1
 
 
+@njit(cache=True, inline="always")
+def _walk(rows, kept, s, x_t, j, x_tp1, m):
+    """The next row of a walk over the support (rows[:kept]), x_t and x_tp1, all sorted, from positions s, j
+    and m: (the row, or -1 at the end; whether it is in the support; x_t's and x_tp1's values on it, how
+    often each lists it: 0, 1, or 2 for a table's repeat; the three positions past it)."""
+    row = _next_row(rows, kept, s, x_t, j)
+    if m < x_tp1.shape[0] and (row < 0 or x_tp1[m] < row):
+        row = x_tp1[m]
+    in_support = s < kept and rows[s] == row
+    on_x = 0.0
+    while j < x_t.shape[0] and x_t[j] == row:
+        j += 1
+        on_x += 1.0
+    on_next = 0.0
+    while m < x_tp1.shape[0] and x_tp1[m] == row:
+        m += 1
+        on_next += 1.0
+    return row, in_support, on_x, on_next, s + in_support, j, m
+
+
 @njit(cache=True)
-def _columns(code, small, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows, x_t, x_tp1,
-             gamma_tp1, alpha, q, pred, values, bounds, scratch, step_a, step_v, ascale, meta, tau):  # fmt: skip
+def _columns(code, exp_kind, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows, x_t, x_tp1,
+             dcls, alpha, r, z, gamma_tp1, rho_t, q, pred, delta, values, o):  # fmt: skip
     """The block's demons i0 <= i < i1 learn the transition, after the traces have moved: their columns of
     the weights (and of the adaptive modes' step sizes, h and v) and of the per-demon scratch rows only.
 
@@ -264,15 +307,20 @@ def _columns(code, small, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, t
     demons in one contiguous run, offsets unsigned (`_at`) so that the runs load contiguous vectors.
     """
     acc = values[0]
-    for i in range(i0, i1):
-        acc[i] = 0.0
     if code in (TIDBD, AUTOSTEP):
-        _adaptive_columns(code == AUTOSTEP, small, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace,
-                          rows, x_t, x_tp1, gamma_tp1, alpha, bounds, scratch, step_a, step_v, ascale, meta, tau,
-                          acc)  # fmt: skip
+        args = (code, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, w, trace, rows, x_t, x_tp1, dcls,
+                alpha, r, z, gamma_tp1, rho_t, q, delta, o, acc)  # fmt: skip
+        if exp_kind == EXP_TINY:
+            _adaptive_tiny(*args)
+        elif exp_kind == EXP_SMALL:
+            _adaptive_small(*args)
+        else:
+            _adaptive_any(*args)
     else:
-        _dutch_columns(code != ETD, i0, i1, db, woff, voff, ncls, kept, theta, trace, rows, x_t, x_tp1, bounds,
-                       scratch[2], scratch[3], acc)  # fmt: skip
+        for i in range(i0, i1):
+            acc[i] = 0.0
+        _dutch_columns(code != ETD, i0, i1, db, woff, voff, ncls, kept, theta, trace, rows, x_t, x_tp1, o.bounds,
+                       o.scratch[2], o.scratch[3], acc)  # fmt: skip
     for i in range(i0, i1):
         q[lo + i, 0] = acc[i]
         pred[lo + i] = acc[i]
@@ -286,21 +334,9 @@ def _dutch_columns(dutch, i0, i1, db, woff, voff, ncls, kept, theta, trace, rows
     j = 0
     m = 0
     while True:
-        row = _next_row(rows, kept, s, x_t, j)
-        if m < x_tp1.shape[0] and (row < 0 or x_tp1[m] < row):
-            row = x_tp1[m]
+        row, in_support, on_x, on_next, s, j, m = _walk(rows, kept, s, x_t, j, x_tp1, m)
         if row < 0:
             break
-        in_support = s < kept and rows[s] == row
-        s += 1 if in_support else 0
-        on_x = 0.0  # x_t's and x_tp1's values on the row: how often each lists it (a table's repeat: 2)
-        while j < x_t.shape[0] and x_t[j] == row:
-            j += 1
-            on_x += 1.0
-        on_next = 0.0
-        while m < x_tp1.shape[0] and x_tp1[m] == row:
-            m += 1
-            on_next += 1.0
         base = _at(woff + row * db)
         if in_support:
             tr = voff + row * ncls
@@ -327,131 +363,220 @@ def _dutch_columns(dutch, i0, i1, db, woff, voff, ncls, kept, theta, trace, rows
                 u = _at(i)
                 theta[base + u] -= on_x * fix[u]
         if on_next == 1.0:
-            for i in range(i0, i1):
-                u = _at(i)
-                acc[u] += theta[base + u]
+            _add_row(i0, i1, base, theta, acc)
         elif on_next > 0.0:
             for i in range(i0, i1):
                 u = _at(i)
                 acc[u] += on_next * theta[base + u]
 
 
-@njit(cache=True)
-def _adaptive_columns(autostep, small, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, h, trace, rows, x_t,
-                      x_tp1, gamma_tp1, alpha, bounds, scratch, a, v, scale, meta, tau, acc):  # fmt: skip
-    """TIDBD / Autostep for TD(lambda) (reference.adaptive_td_step) for columns i0 <= i < i1; h lives in w.
+def _adaptive_kernel(exp):
+    """TIDBD / Autostep for TD(lambda) (reference.adaptive_td_step), compiled once per kind of exp for
+    Autostep's meta step (`exp`: `_exp_tiny`, `_exp_small` or `_exp`; chosen once per block by `_columns`),
+    so that the source is written once and each hot loop has one kind of exp."""
 
-    Each class's demons in one contiguous, branch-free run (feature-major, as the other kernels): a
-    frozen demon enters with rate 0 and delta 0, which leaves its weights, h, v and step sizes as they
-    are. Three passes, each over few rows: the meta step on the rows of x_t (with the effective step
-    size's sum there), the effective step size's part at x_tp1, then the update over the support fused
-    with reading the new values at x_tp1. Per trace row this reads and writes three numbers per demon
-    (step size, theta, h) where TD moves one.
-    """
-    rate, dlv, effective = scratch[5], scratch[6], scratch[7]
-    inv_tau = 1.0 / tau
-    for i in range(i0, i1):
-        effective[i] = 0.0
-    # The meta step on the rows of x_t (where phi_i = 1): alpha_i *= exp(meta delta h_i [/ v_i]); Autostep
-    # adds alpha_i e_i to the effective step size there (alpha_i of this row moved only by this row's step).
-    for j in range(x_t.shape[0]):
-        base = _at(woff + x_t[j] * db)
-        tr = voff + x_t[j] * ncls
-        for c in range(ncls):
-            c0 = max(bounds[c], i0)
-            c1 = min(bounds[c + 1], i1)
-            e = trace[tr + c]
-            if not autostep:
-                for i in range(c0, c1):
-                    u = _at(i)
-                    at = base + u
-                    a[at] *= math.exp(meta[_at(lo + i)] * dlv[u] * h[at])
-                continue
-            if small:  # v_i, then the argument of exp: |x| <= mu as |sample| <= v
-                for i in range(c0, c1):
-                    u = _at(i)
-                    at = base + u
-                    sample = dlv[u] * h[at]
-                    size = abs(sample)
-                    vi = max(size, v[at] + a[at] * rate[u] * e * (size - v[at]) * inv_tau)
-                    v[at] = vi
-                    a[at] *= _exp_small(meta[_at(lo + i)] * (sample / vi if vi > 0.0 else 0.0))
-                    effective[u] += a[at] * e
-            else:
-                for i in range(c0, c1):
-                    u = _at(i)
-                    at = base + u
-                    sample = dlv[u] * h[at]
-                    size = abs(sample)
-                    vi = max(size, v[at] + a[at] * rate[u] * e * (size - v[at]) * inv_tau)
-                    v[at] = vi
-                    a[at] *= math.exp(meta[_at(lo + i)] * (sample / vi if vi > 0.0 else 0.0))
-                    effective[u] += a[at] * e
-    if autostep:  # every step size divided by M = max(1, the effective step size alpha . e (x_t - gamma x_tp1))
-        for j in range(x_tp1.shape[0]):
-            base = _at(woff + x_tp1[j] * db)
-            for c in range(ncls):
-                e = trace[voff + x_tp1[j] * ncls + c]
-                if e == 0.0:
-                    continue
-                c0 = max(bounds[c], i0)
-                c1 = min(bounds[c + 1], i1)
-                for i in range(c0, c1):
-                    u = _at(i)
-                    effective[u] -= gamma_tp1[coff + c] * a[base + u] * e
-        for i in range(i0, i1):
-            m = effective[i] * rate[i]
-            if m > 1.0:
-                scale[lo + i] /= m
-                rate[i] /= m
-    for i in range(i0, i1):
-        if scale[lo + i] < SCALE_FLOOR:
-            _fold_scale(a, scale, woff, db, i, lo + i, woff + nrows * db)
-            rate[i] = 1.0 if alpha[lo + i] != 0.0 else 0.0
-    # theta += alpha delta e; h = h [1 - alpha phi e]^+ + alpha delta e, over the trace's rows; then the
-    # new values at x_tp1 from each row right after it moved.
-    s = 0
-    j = 0
-    m = 0
-    while True:
-        row = _next_row(rows, kept, s, x_tp1, m)
-        if row < 0:
-            break
-        in_support = s < kept and rows[s] == row
-        on_next = m < x_tp1.shape[0] and x_tp1[m] == row
-        s += 1 if in_support else 0
-        m += 1 if on_next else 0
-        base = _at(woff + row * db)
-        if in_support:
-            while j < x_t.shape[0] and x_t[j] < row:
-                j += 1
-            on_x = j < x_t.shape[0] and x_t[j] == row
+    @njit(inline="always")
+    def meta_step(at, u, mu, e, inv_tau, a, v, h, rate, dlv):
+        """Autostep's meta step of one weight from h_i as it was: v_i, then the argument of exp (|sample| <=
+        v_i), then alpha_i; returns the new alpha_i."""
+        sample = dlv[u] * h[at]
+        size = abs(sample)
+        vi = max(size, v[at] + a[at] * rate[u] * e * (size - v[at]) * inv_tau)
+        v[at] = vi
+        a[at] *= exp(mu * (sample / vi if vi > 0.0 else 0.0))
+        return a[at]
+
+    @njit
+    def fused_columns(i0, i1, lo, db, woff, voff, ncls, coff, kept, theta, h, trace, rows, x_t, x_tp1, gamma_tp1,
+               bounds, inv_tau, a, v, meta, rate, dlv, acc):  # fmt: skip
+        """Autostep's meta step and update in one walk over the rows of the support, x_t and x_tp1, for a run of
+        demons none of which has M > 1: on a row of x_t each weight's meta step, then at once its theta and h
+        (theta += alpha delta e; h = h [1 - alpha e]^+ + alpha delta e, from h as the meta step read it), the
+        same operations in the same order as the two passes, so the same numbers; eight numbers per weight of
+        x_t read or written instead of ten."""
+        s = j = m = 0  # positions in the support, x_t and x_tp1
+        while True:
+            row, in_support, on_x, on_next, s, j, m = _walk(rows, kept, s, x_t, j, x_tp1, m)
+            if row < 0:
+                break
+            base = _at(woff + row * db)
             tr = voff + row * ncls
-            for c in range(ncls):
+            for c in range(ncls if on_x or in_support else 0):
+                c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
                 e = trace[tr + c]
-                if e == 0.0:
-                    continue
-                c0 = max(bounds[c], i0)
-                c1 = min(bounds[c + 1], i1)
-                if on_x:
+                if on_x and e != 0.0:
                     for i in range(c0, c1):
                         u = _at(i)
                         at = base + u
-                        step = a[at] * rate[u] * e
+                        h_i = h[at]
+                        step = meta_step(at, u, meta[_at(lo + i)], e, inv_tau, a, v, h, rate, dlv) * rate[u] * e
                         change = step * dlv[u]
                         theta[at] += change
-                        h[at] = h[at] * max(1.0 - step, 0.0) + change
-                else:
+                        h[at] = h_i * max(1.0 - step, 0.0) + change
+                elif on_x:  # a row of x_t whose trace was cut: the meta step only
+                    for i in range(c0, c1):
+                        u = _at(i)
+                        meta_step(base + u, u, meta[_at(lo + i)], e, inv_tau, a, v, h, rate, dlv)
+                elif e != 0.0:
+                    _trace_update(c0, c1, base, e, a, rate, dlv, theta, h)
+            if on_next:
+                _add_row(i0, i1, base, theta, acc)
+
+    @njit
+    def adaptive_columns(code, i0, i1, lo, db, woff, voff, ncls, coff, nrows, kept, theta, h, trace, rows, x_t, x_tp1,
+                         dcls, alpha, r, z, gamma_tp1, rho_t, q, delta, o, acc):  # fmt: skip
+        """Columns i0 <= i < i1 of a TIDBD / Autostep block; h lives in w.
+
+        Each class's demons in one contiguous, branch-free run (feature-major, as the other kernels): a
+        frozen demon enters with rate 0 and delta 0, which leaves its weights, h, v and step sizes as they
+        are. First the values at x_tp1 under the weights before the step (then the TD errors); then either
+        the meta step on the rows of x_t and the update over the support fused with reading the new values
+        at x_tp1, or, when no demon of the run can have M > 1, both in one walk (`fused_columns`). Autostep's
+        effective step size alpha . e (x_t - gamma x_tp1) is summed on a row of x_tp1 alone (whose step
+        sizes do not move) in the first pass, on a row of x_t after its step sizes moved.
+        """
+        autostep = code == AUTOSTEP
+        a, v, scale, meta, bounds = o.step_a, o.step_v, o.ascale, o.meta, o.bounds
+        upper, rate, dlv, effective = o.scratch[4], o.scratch[5], o.scratch[6], o.scratch[7]
+        inv_tau = 1.0 / o.tau[0]
+        for i in range(i0, i1):
+            acc[i] = 0.0
+            effective[i] = 0.0
+            upper[i] = 0.0
+        # The values at x_tp1; Autostep: the effective step size on rows of x_tp1 alone, and on the rows of x_t
+        # sum alpha_i |e (1 - gamma [on x_tp1])| with the step sizes before the meta step (`upper`).
+        j = 0
+        m = 0
+        while j < x_t.shape[0] or m < x_tp1.shape[0]:
+            row = _next_row(x_t, x_t.shape[0], j, x_tp1, m)
+            on_x = j < x_t.shape[0] and x_t[j] == row
+            on_next = m < x_tp1.shape[0] and x_tp1[m] == row
+            j += 1 if on_x else 0
+            m += 1 if on_next else 0
+            base = _at(woff + row * db)
+            if on_next:
+                _add_row(i0, i1, base, theta, acc)
+            for c in range(ncls if autostep else 0):
+                e = trace[voff + row * ncls + c]
+                if e != 0.0:
+                    g = gamma_tp1[coff + c]
+                    c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
+                    if on_x:
+                        _effective_run(c0, c1, base, abs(e * (1.0 - g * (1.0 if on_next else 0.0))), a, upper)
+                    else:
+                        _effective_run(c0, c1, base, e * -g, a, effective)
+        _errors(code, i0, i1, lo, dcls, alpha, r, z, gamma_tp1, rho_t, q, acc, delta, o)
+        for i in range(i0, i1):
+            acc[i] = 0.0  # the new values at x_tp1, summed in the last pass
+        # M_i = rate_i alpha . e (x_t - gamma x_tp1) <= rate_i exp(mu_i) upper_i, as |the meta step's argument|
+        # <= mu_i; with a margin for the rounding of the sums, no step size of such a demon is divided by M.
+        fused = autostep
+        for i in range(i0, i1):
+            bound = rate[i] * (math.exp(meta[lo + i]) * upper[i] * (1.0 + 1e-9) + abs(effective[i]) * 1e-9)
+            fused = fused and bound <= 1.0
+        if fused:
+            fused_columns(i0, i1, lo, db, woff, voff, ncls, coff, kept, theta, h, trace, rows, x_t, x_tp1,
+                   gamma_tp1, bounds, inv_tau, a, v, meta, rate, dlv, acc)  # fmt: skip
+            return
+        # The meta step on the rows of x_t (where phi_i = 1): alpha_i *= exp(meta delta h_i [/ v_i]); Autostep
+        # adds alpha_i e_i (1 - gamma_tp1 [phi'_i]) to the effective step size there.
+        m = 0
+        for j in range(x_t.shape[0]):
+            row = x_t[j]
+            base = _at(woff + row * db)
+            tr = voff + row * ncls
+            while m < x_tp1.shape[0] and x_tp1[m] < row:
+                m += 1
+            on_next = 1.0 if m < x_tp1.shape[0] and x_tp1[m] == row else 0.0
+            for c in range(ncls):
+                c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
+                e = trace[tr + c]
+                if not autostep:
                     for i in range(c0, c1):
                         u = _at(i)
                         at = base + u
-                        change = a[at] * rate[u] * e * dlv[u]
-                        theta[at] += change
-                        h[at] += change
-        if on_next:
+                        a[at] *= math.exp(meta[_at(lo + i)] * dlv[u] * h[at])
+                    continue
+                coeff = e * (1.0 - gamma_tp1[coff + c] * on_next)
+                for i in range(c0, c1):
+                    u = _at(i)
+                    effective[u] += meta_step(base + u, u, meta[_at(lo + i)], e, inv_tau, a, v, h, rate, dlv) * coeff
+        if autostep:  # every step size divided by M = max(1, the effective step size)
             for i in range(i0, i1):
-                u = _at(i)
-                acc[u] += theta[base + u]
+                m_i = effective[i] * rate[i]
+                if m_i > 1.0:
+                    scale[lo + i] /= m_i
+                    rate[i] /= m_i
+        for i in range(i0, i1):
+            if scale[lo + i] < SCALE_FLOOR:
+                _fold_scale(a, scale, woff, db, i, lo + i, woff + nrows * db)
+                rate[i] = 1.0 if alpha[lo + i] != 0.0 else 0.0
+        # theta += alpha delta e; h = h [1 - alpha phi e]^+ + alpha delta e, over the trace's rows; then the
+        # new values at x_tp1 from each row right after it moved.
+        s = 0
+        j = 0
+        m = 0
+        while True:
+            row = _next_row(rows, kept, s, x_tp1, m)
+            if row < 0:
+                break
+            in_support = s < kept and rows[s] == row
+            on_next = m < x_tp1.shape[0] and x_tp1[m] == row
+            s += 1 if in_support else 0
+            m += 1 if on_next else 0
+            base = _at(woff + row * db)
+            if in_support:
+                while j < x_t.shape[0] and x_t[j] < row:
+                    j += 1
+                on_x = j < x_t.shape[0] and x_t[j] == row
+                tr = voff + row * ncls
+                for c in range(ncls):
+                    e = trace[tr + c]
+                    if e == 0.0:
+                        continue
+                    c0 = max(bounds[c], i0)
+                    c1 = min(bounds[c + 1], i1)
+                    if on_x:
+                        for i in range(c0, c1):
+                            u = _at(i)
+                            at = base + u
+                            step = a[at] * rate[u] * e
+                            change = step * dlv[u]
+                            theta[at] += change
+                            h[at] = h[at] * max(1.0 - step, 0.0) + change
+                    else:
+                        _trace_update(c0, c1, base, e, a, rate, dlv, theta, h)
+            if on_next:
+                _add_row(i0, i1, base, theta, acc)
+
+    return adaptive_columns
+
+
+@njit(cache=True, inline="always")
+def _trace_update(c0, c1, base, e, a, rate, dlv, theta, h):
+    """theta += alpha delta e and h += alpha delta e over one class's run of demons at a row outside x_t."""
+    for i in range(c0, c1):
+        u = _at(i)
+        at = base + u
+        change = a[at] * rate[u] * e * dlv[u]
+        theta[at] += change
+        h[at] += change
+
+
+@njit(cache=True, inline="always")
+def _add_row(i0, i1, base, theta, acc):
+    """acc += the weight row at base, columns i0 <= i < i1 (the values at x_tp1, row by row)."""
+    for i in range(i0, i1):
+        u = _at(i)
+        acc[u] += theta[base + u]
+
+
+@njit(cache=True, inline="always")
+def _effective_run(c0, c1, base, coeff, a, effective):
+    """effective += alpha coeff over one class's run of demons at one row (coeff: e (phi - gamma_tp1 phi'))."""
+    for i in range(c0, c1):
+        u = _at(i)
+        effective[u] += a[base + u] * coeff
 
 
 @njit(cache=True)
@@ -507,6 +632,24 @@ def _exp_small(x):
     far under the double's rounding), in multiply-adds that vectorize where math.exp is a call per number."""
     return 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6 + x * (1.0 / 24 + x * (1.0 / 120 + x * (
         1.0 / 720 + x * (1.0 / 5040 + x * (1.0 / 40320 + x * (1.0 / 362880)))))))))  # fmt: skip
+
+
+@njit(cache=True, inline="always")
+def _exp_tiny(x):
+    """exp(x) for |x| <= TINY_EXP: its Taylor polynomial of degree 6 (the remainder is below 2e-18 relative, under
+    the double's rounding), three multiply-adds fewer than `_exp_small`."""
+    return 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6 + x * (1.0 / 24 + x * (1.0 / 120 + x * (1.0 / 720))))))
+
+
+@njit(cache=True, inline="always")
+def _exp(x):
+    """math.exp, as a jitted function that `_autostep_meta` can take."""
+    return math.exp(x)
+
+
+_adaptive_tiny = _adaptive_kernel(_exp_tiny)
+_adaptive_small = _adaptive_kernel(_exp_small)
+_adaptive_any = _adaptive_kernel(_exp)
 
 
 @njit(cache=True)

@@ -803,8 +803,7 @@ def _loop(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_
                 scratch[0], scratch[1], threads,
             )  # fmt: skip
             for ob in range(blo, bhi):  # the learners of adaptive_kernels.py, which _step skips
-                if bi[ob, B_LEARNER] >= ONLINE:
-                    _read_values(bi, ob, gi[g, G_NS], theta, idx[:k], values)
+                if bi[ob, B_LEARNER] >= ONLINE:  # it reads the values at x_{t+1} itself (on the threads)
                     online_step(bi, ob, lam[ob], alpha_now, alpha_w_now, dcls, net.cut, theta, w, trace, support, rows_,
                                 nnz, feat[g, :k], idx[:k], r_s, z_s, gamma_tp1, rho, class_gamma, q, pred, delta,
                                 touched, values, onl, threads)  # fmt: skip

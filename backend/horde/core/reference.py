@@ -3,8 +3,8 @@
 Nothing here is vectorized or clever: dense feature vectors, a recursive expression interpreter,
 per-demon loops. The engine (`simulation.py`, with the trace cut at 0) must equal this to 1e-9.
 
-Why one module of about 530 lines: the oracle reads as one paper per function, and the tests trust one
-file for every learner (the new learners' functions share their long parameter lists on purpose).
+Why one module of about 500 lines: the oracle reads as one paper per function, and the tests trust one
+file for every learner. The learners' step functions take one `Transition` each, so they are interchangeable.
 """
 
 from __future__ import annotations
@@ -30,127 +30,90 @@ from horde.spec import (
     demon_step_size,
 )
 
-
-def gq_step(
-    theta: np.ndarray,
-    w: np.ndarray,
-    e: np.ndarray,
-    phi_t: np.ndarray,
-    phi_bar_tp1: np.ndarray,
-    r_tp1: float,
-    z_tp1: float,
-    gamma_t: float,
-    gamma_tp1: float,
-    rho_t: float,
-    lam: float,
-    alpha: float,
-    alpha_w: float,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-    """GQ(lambda) on dense vectors (Maei & Sutton, 2010). Returns (theta, w, e, delta)."""
-    delta = r_tp1 + (1 - gamma_tp1) * z_tp1 + gamma_tp1 * theta @ phi_bar_tp1 - theta @ phi_t
-    e = phi_t + gamma_t * lam * rho_t * e
-    new_theta = theta + alpha * (delta * e - gamma_tp1 * (1 - lam) * (w @ e) * phi_bar_tp1)
-    new_w = w + alpha_w * (delta * e - (w @ phi_t) * phi_t)
-    return new_theta, new_w, e, float(delta)
+Vector = np.ndarray
+Weights = tuple[Vector, Vector, Vector, float]  # (theta, w, e, delta)
+Carried = tuple[Vector, Vector, float, float]  # (theta, e, the number the learner carries to the next step, delta)
 
 
-def gtd_step(
-    theta: np.ndarray,
-    w: np.ndarray,
-    e: np.ndarray,
-    phi_t: np.ndarray,
-    phi_tp1: np.ndarray,
-    r_tp1: float,
-    z_tp1: float,
-    gamma_t: float,
-    gamma_tp1: float,
-    rho_t: float,
-    lam: float,
-    alpha: float,
-    alpha_w: float,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-    """GTD(lambda) on dense state features. Returns (theta, w, e, delta)."""
-    delta = r_tp1 + (1 - gamma_tp1) * z_tp1 + gamma_tp1 * theta @ phi_tp1 - theta @ phi_t
-    e = rho_t * (phi_t + gamma_t * lam * e)
-    new_theta = theta + alpha * (delta * e - gamma_tp1 * (1 - lam) * (w @ e) * phi_tp1)
-    new_w = w + alpha_w * (delta * e - (w @ phi_t) * phi_t)
-    return new_theta, new_w, e, float(delta)
+@dataclass(frozen=True)
+class Transition:
+    """What a learner's step reads of one transition, for one demon (DESIGN section 5's symbols).
+
+    Every step function below takes the demon's own weights and traces, one `Transition` and its step
+    sizes, so the learners are interchangeable: the same transition can be given to any of them.
+    """
+
+    phi_t: Vector  # x_t, the features of s_t (GQ: of s_t and a_t)
+    phi_tp1: Vector  # x_{t+1} (GQ: phi-bar_{t+1}, the expected features at s_{t+1} under the target policy)
+    r_tp1: float  # the cumulant
+    z_tp1: float  # the outcome
+    gamma_t: float  # the continuation at s_t (times the discount)
+    gamma_tp1: float  # the continuation at s_{t+1}
+    rho_t: float  # pi(a_t | s_t) / b(a_t | s_t)
+    lam: float  # lambda
+
+    def delta(self, theta: Vector) -> float:
+        """The TD error of the weights theta on this transition."""
+        r, z, g = self.r_tp1, self.z_tp1, self.gamma_tp1
+        return float(r + (1 - g) * z + g * theta @ self.phi_tp1 - theta @ self.phi_t)
 
 
-def td_step(
-    theta: np.ndarray,
-    w: np.ndarray,
-    e: np.ndarray,
-    phi_t: np.ndarray,
-    phi_tp1: np.ndarray,
-    r_tp1: float,
-    z_tp1: float,
-    gamma_t: float,
-    gamma_tp1: float,
-    rho_t: float,
-    lam: float,
-    alpha: float,
-    alpha_w: float,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-    """Off-policy semi-gradient TD(lambda): no correction, w unused. Returns (theta, w, e, delta)."""
-    delta = r_tp1 + (1 - gamma_tp1) * z_tp1 + gamma_tp1 * theta @ phi_tp1 - theta @ phi_t
-    e = rho_t * (phi_t + gamma_t * lam * e)
-    return theta + alpha * delta * e, w, e, float(delta)
+def gradient_td(theta: Vector, w: Vector, e: Vector, t: Transition, alpha: float, alpha_w: float) -> Weights:
+    """The update GQ(lambda) and GTD(lambda) share, given the new trace e (DESIGN section 5):
+    theta += alpha (delta e - gamma_{t+1} (1 - lambda) (w . e) x_{t+1}), w += alpha_w (delta e - (w . x_t) x_t).
+    Returns (theta, w, e, delta)."""
+    delta = t.delta(theta)
+    new_theta = theta + alpha * (delta * e - t.gamma_tp1 * (1 - t.lam) * (w @ e) * t.phi_tp1)
+    new_w = w + alpha_w * (delta * e - (w @ t.phi_t) * t.phi_t)
+    return new_theta, new_w, e, delta
+
+
+def gq_step(theta: Vector, w: Vector, e: Vector, t: Transition, alpha: float, alpha_w: float) -> Weights:
+    """GQ(lambda) on dense vectors (Maei & Sutton, 2010): the trace e = x_t + gamma_t lambda rho_t e (rho_t
+    weighs the past only: x_t is of the action taken). Returns (theta, w, e, delta)."""
+    return gradient_td(theta, w, t.phi_t + t.gamma_t * t.lam * t.rho_t * e, t, alpha, alpha_w)
+
+
+def gtd_step(theta: Vector, w: Vector, e: Vector, t: Transition, alpha: float, alpha_w: float) -> Weights:
+    """GTD(lambda) on dense state features: the trace e = rho_t (x_t + gamma_t lambda e). Returns (theta, w, e,
+    delta)."""
+    return gradient_td(theta, w, t.rho_t * (t.phi_t + t.gamma_t * t.lam * e), t, alpha, alpha_w)
+
+
+def td_step(theta: Vector, w: Vector, e: Vector, t: Transition, alpha: float, alpha_w: float) -> Weights:
+    """Off-policy semi-gradient TD(lambda): no correction, w and alpha_w unused. Returns (theta, w, e, delta)."""
+    delta = t.delta(theta)
+    e = t.rho_t * (t.phi_t + t.gamma_t * t.lam * e)
+    return theta + alpha * delta * e, w, e, delta
 
 
 STEPS = {"gq": gq_step, "gtd": gtd_step, "td": td_step}
 
 
-def true_online_td_step(
-    theta: np.ndarray,
-    e: np.ndarray,
-    v_old: float,
-    phi_t: np.ndarray,
-    phi_tp1: np.ndarray,
-    r_tp1: float,
-    z_tp1: float,
-    gamma_t: float,
-    gamma_tp1: float,
-    rho_t: float,
-    lam: float,
-    alpha: float,
-) -> tuple[np.ndarray, np.ndarray, float, float]:
+def true_online_td_step(theta: Vector, e: Vector, v_old: float, t: Transition, alpha: float) -> Carried:
     """True online TD(lambda) with a dutch trace, off-policy form (van Hasselt, Mahmood & Sutton 2014;
     van Seijen, Mahmood, Pilarski, Machado & Sutton 2016, JMLR 17(145)); rho = 1 gives van Seijen &
     Sutton 2014. v_old is theta_{t-1} . phi_t. Returns (theta, e, v_old for the next step, delta)."""
-    v_t, v_tp1 = theta @ phi_t, theta @ phi_tp1
-    delta = r_tp1 + (1 - gamma_tp1) * z_tp1 + gamma_tp1 * v_tp1 - v_t
+    phi_t, gamma_t, rho_t, lam = t.phi_t, t.gamma_t, t.rho_t, t.lam
+    v_t, v_tp1 = theta @ phi_t, theta @ t.phi_tp1
+    delta = t.r_tp1 + (1 - t.gamma_tp1) * t.z_tp1 + t.gamma_tp1 * v_tp1 - v_t
     e = rho_t * (gamma_t * lam * e + alpha * (1 - rho_t * gamma_t * lam * (e @ phi_t)) * phi_t)
     theta = theta + delta * e + (v_t - v_old) * (e - alpha * rho_t * phi_t)
     return theta, e, float(v_tp1), float(delta)
 
 
 def true_online_gtd_step(
-    theta: np.ndarray,
-    w: np.ndarray,
-    e: np.ndarray,
-    e_grad: np.ndarray,
-    e_w: np.ndarray,
-    v_old: float,
-    rho_prev: float,
-    phi_t: np.ndarray,
-    phi_tp1: np.ndarray,
-    r_tp1: float,
-    z_tp1: float,
-    gamma_t: float,
-    gamma_tp1: float,
-    rho_t: float,
-    lam: float,
-    alpha: float,
-    alpha_w: float,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, float, float]:
+    theta: Vector, w: Vector, e: Vector, e_grad: Vector, e_w: Vector, v_old: float, rho_prev: float, t: Transition,
+    alpha: float, alpha_w: float,
+) -> tuple[Vector, Vector, Vector, Vector, Vector, float, float]:  # fmt: skip
     """True online GTD(lambda) (van Hasselt, Mahmood & Sutton 2014, Algorithm 2), constant lambda.
 
     Three traces: the dutch trace e of theta, the accumulating trace e_grad of the correction term, and
     the dutch trace e_w of w (decayed with rho_{t-1}). Returns (theta, w, e, e_grad, e_w, v_old, delta).
     """
+    phi_t, phi_tp1, gamma_t, gamma_tp1, rho_t, lam = t.phi_t, t.phi_tp1, t.gamma_t, t.gamma_tp1, t.rho_t, t.lam
     v_t, v_tp1 = theta @ phi_t, theta @ phi_tp1
-    delta = r_tp1 + (1 - gamma_tp1) * z_tp1 + gamma_tp1 * v_tp1 - v_t
+    delta = t.r_tp1 + (1 - gamma_tp1) * t.z_tp1 + gamma_tp1 * v_tp1 - v_t
     e = rho_t * (gamma_t * lam * e + alpha * (1 - rho_t * gamma_t * lam * (e @ phi_t)) * phi_t)
     e_grad = rho_t * (gamma_t * lam * e_grad + phi_t)
     e_w = rho_prev * gamma_t * lam * e_w + alpha_w * (1 - rho_prev * gamma_t * lam * (e_w @ phi_t)) * phi_t
@@ -164,53 +127,25 @@ def true_online_gtd_step(
     return new_theta, new_w, e, e_grad, e_w, float(v_tp1), float(delta)
 
 
-def etd_step(
-    theta: np.ndarray,
-    e: np.ndarray,
-    followon: float,
-    rho_prev: float,
-    phi_t: np.ndarray,
-    phi_tp1: np.ndarray,
-    r_tp1: float,
-    z_tp1: float,
-    gamma_t: float,
-    gamma_tp1: float,
-    rho_t: float,
-    lam: float,
-    alpha: float,
-    interest: float = 1.0,
-) -> tuple[np.ndarray, np.ndarray, float, float]:
-    """Emphatic TD(lambda) (Sutton, Mahmood & White 2016, JMLR 17(73), equations 21-23), constant lambda.
+def etd_step(theta: Vector, e: Vector, followon: float, rho_prev: float, t: Transition, alpha: float) -> Carried:
+    """Emphatic TD(lambda) (Sutton, Mahmood & White 2016, JMLR 17(73), equations 21-23), constant lambda,
+    interest i_t = 1 in every state (as the engine).
 
     F_t = rho_{t-1} gamma_t F_{t-1} + i_t (the followon trace), M_t = lambda i_t + (1 - lambda) F_t (the
     emphasis), e_t = rho_t (gamma_t lambda e_{t-1} + M_t phi_t), theta += alpha delta_t e_t.
     Returns (theta, e, F_t, delta).
     """
-    followon = rho_prev * gamma_t * followon + interest
-    emphasis = lam * interest + (1 - lam) * followon
-    e = rho_t * (gamma_t * lam * e + emphasis * phi_t)
-    delta = r_tp1 + (1 - gamma_tp1) * z_tp1 + gamma_tp1 * theta @ phi_tp1 - theta @ phi_t
-    return theta + alpha * delta * e, e, float(followon), float(delta)
+    interest = 1.0
+    followon = rho_prev * t.gamma_t * followon + interest
+    emphasis = t.lam * interest + (1 - t.lam) * followon
+    e = t.rho_t * (t.gamma_t * t.lam * e + emphasis * t.phi_t)
+    delta = t.delta(theta)
+    return theta + alpha * delta * e, e, float(followon), delta
 
 
 def adaptive_td_step(
-    theta: np.ndarray,
-    e: np.ndarray,
-    alphas: np.ndarray,
-    h: np.ndarray,
-    v: np.ndarray,
-    phi_t: np.ndarray,
-    phi_tp1: np.ndarray,
-    r_tp1: float,
-    z_tp1: float,
-    gamma_t: float,
-    gamma_tp1: float,
-    rho_t: float,
-    lam: float,
-    mode: str,
-    meta: float,
-    tau: float,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, float]:
+    theta: Vector, e: Vector, alphas: Vector, h: Vector, v: Vector, t: Transition, mode: str, meta: float, tau: float
+) -> tuple[Vector, Vector, Vector, Vector, Vector, float]:
     """TD(lambda) with a step size per weight, adapted online (mode "tidbd" or "autostep").
 
     TIDBD(lambda), semi-gradient (Kearney, Veeriah, Travnik, Pilarski & Sutton 2019, Algorithm 2), with
@@ -223,19 +158,20 @@ def adaptive_td_step(
     fraction of delta that this step removes, so that no step overshoots. Returns (theta, e, alphas, h, v,
     delta).
     """
-    delta = r_tp1 + (1 - gamma_tp1) * z_tp1 + gamma_tp1 * theta @ phi_tp1 - theta @ phi_t
-    e = rho_t * (phi_t + gamma_t * lam * e)
+    phi_t = t.phi_t
+    delta = t.delta(theta)
+    e = t.rho_t * (phi_t + t.gamma_t * t.lam * e)
     sample = delta * phi_t * h  # the meta-gradient sample of each weight's log step size
     if mode == "autostep":
         v = np.maximum(np.abs(sample), v + alphas * phi_t * e * (np.abs(sample) - v) / tau)
         ratio = np.divide(sample, v, out=np.zeros_like(v), where=v != 0)
         alphas = alphas * np.exp(meta * ratio)
-        alphas = alphas / max(float(alphas @ (e * (phi_t - gamma_tp1 * phi_tp1))), 1.0)
+        alphas = alphas / max(float(alphas @ (e * (phi_t - t.gamma_tp1 * t.phi_tp1))), 1.0)
     else:
         alphas = alphas * np.exp(meta * sample)
     theta = theta + alphas * delta * e
     h = h * np.maximum(1 - alphas * phi_t * e, 0.0) + alphas * delta * e
-    return theta, e, alphas, h, v, float(delta)
+    return theta, e, alphas, h, v, delta
 
 
 # ----------------------------------------------------------------------------------------------
@@ -489,7 +425,7 @@ class ReferenceHorde:
                 phi_next = sum(pi_tp1[a] * self._phi_sa(phi_state_tp1, a) for a in range(self.num_actions))
             else:
                 phi_t, phi_next = demon.phi_state_t, phi_state_tp1
-            self._step(demon, phi_t, np.asarray(phi_next), r, z, gamma_tp1, rho)
+            self._step(demon, Transition(phi_t, np.asarray(phi_next), r, z, demon.gamma_t, gamma_tp1, rho, demon.lam))
             demon.gamma_t = gamma_tp1
             demon.phi_state_t = phi_state_tp1
             demon.pi_t = self._policy(demon, phi_state_tp1)
@@ -497,34 +433,24 @@ class ReferenceHorde:
             predictions[name] = demon.prediction
 
     @staticmethod
-    def _step(
-        demon: ReferenceDemon,
-        phi_t: np.ndarray,
-        phi_next: np.ndarray,
-        r: float,
-        z: float,
-        gamma_tp1: float,
-        rho: float,
-    ) -> None:
-        """One learner step of one demon, by its learner and step-size mode."""
-        d = demon
-        common = (phi_t, phi_next, r, z, d.gamma_t, gamma_tp1, rho, d.lam)
+    def _step(d: ReferenceDemon, t: Transition) -> None:
+        """One learner step of demon d, by its learner and step-size mode."""
         learner = d.spec.learner
         if d.mode != "constant":
             d.theta, d.e, d.alphas, d.h, d.v, d.delta = adaptive_td_step(
-                d.theta, d.e, d.alphas, d.h, d.v, *common, d.mode, d.meta, d.tau
+                d.theta, d.e, d.alphas, d.h, d.v, t, d.mode, d.meta, d.tau
             )
         elif learner == "true_online_td":
-            d.theta, d.e, d.v_old, d.delta = true_online_td_step(d.theta, d.e, d.v_old, *common, d.alpha)
+            d.theta, d.e, d.v_old, d.delta = true_online_td_step(d.theta, d.e, d.v_old, t, d.alpha)
         elif learner == "true_online_gtd":
             d.theta, d.w, d.e, d.e_grad, d.e_w, d.v_old, d.delta = true_online_gtd_step(
-                d.theta, d.w, d.e, d.e_grad, d.e_w, d.v_old, d.rho_prev, *common, d.alpha, d.alpha_w
+                d.theta, d.w, d.e, d.e_grad, d.e_w, d.v_old, d.rho_prev, t, d.alpha, d.alpha_w
             )
         elif learner == "etd":
-            d.theta, d.e, d.followon, d.delta = etd_step(d.theta, d.e, d.followon, d.rho_prev, *common, d.alpha)
+            d.theta, d.e, d.followon, d.delta = etd_step(d.theta, d.e, d.followon, d.rho_prev, t, d.alpha)
         else:
-            d.theta, d.w, d.e, d.delta = STEPS[learner](d.theta, d.w, d.e, *common, d.alpha, d.alpha_w)
-        d.rho_prev = rho
+            d.theta, d.w, d.e, d.delta = STEPS[learner](d.theta, d.w, d.e, t, d.alpha, d.alpha_w)
+        d.rho_prev = t.rho_t
 
     @staticmethod
     def effective_alpha(demon: ReferenceDemon) -> float:
