@@ -58,8 +58,8 @@ def _read_groups(net, buf, wanted, x, y, sensors):
             continue
         k = gi[g, G_K]
         cond = buf.pred[gi[g, G_COND]] if gi[g, G_COND] >= 0 else 0.0
-        _features(gi, net.thresholds, net.tiled_col, net.tiled_low, net.tiled_high, buf.tiled_values, g, x, y,
-                  sensors, cond, net.wp, buf.feat[g])  # fmt: skip
+        _features(gi, net.thresholds, net.tiled_col, net.tiled_low, net.tiled_high, buf.tiled_values, net.table, g,
+                  x, y, sensors, cond, net.wp, buf.feat[g])  # fmt: skip
         _sort(buf.feat[g], k)
         _given_policies(gi, net.class_kind, net.class_of, net.class_fixed, buf.pi, buf.pi_given, g)
         blo, bhi = gi[g, G_BLO], gi[g, G_BHI]
