@@ -373,7 +373,11 @@ def _dutch_columns(dutch, i0, i1, db, woff, voff, ncls, kept, theta, trace, rows
 def _adaptive_kernel(exp):
     """TIDBD / Autostep for TD(lambda) (reference.adaptive_td_step), compiled once per kind of exp for
     Autostep's meta step (`exp`: `_exp_tiny`, `_exp_small` or `_exp`; chosen once per block by `_columns`),
-    so that the source is written once and each hot loop has one kind of exp."""
+    so that the source is written once and each hot loop has one kind of exp.
+
+    Why about 180 lines: the factory is the compiled kernels themselves (the meta step, the fused walk and
+    the two-pass columns, each short): they are closures over `exp`, so that numba binds the exp when it
+    compiles them, and closures must be written inside the function that makes them."""
 
     @njit(inline="always")
     def meta_step(at, u, mu, e, inv_tau, a, v, h, rate, dlv):
