@@ -234,6 +234,35 @@ def _blocked(wp, rects, is_obstacle, x, y):
 
 
 @njit(**NO_NRT)
+def _draw(rng, cdf, n):
+    """An index drawn from the cumulative weights cdf[:n] with one uniform (the last index if rounding leaves the
+    draw past every bound): how the behaviour and the Monte-Carlo rollouts pick an action."""
+    draw = rng.random() * cdf[n - 1]
+    index = 0
+    for a in range(n):
+        if draw >= cdf[a]:
+            index += 1
+    return min(index, n - 1)
+
+
+@njit(**NO_NRT)
+def _displacement(rng, wp, action):
+    """The (dx, dy) an action moves the agent: to a perpendicular with probability slip (half each way), one
+    step long, plus Gaussian noise on each axis (random draws in this order, as `World.step` makes them)."""
+    moved = action
+    if wp[W_SLIP] > 0.0:
+        u = rng.random()
+        if u < wp[W_SLIP]:
+            moved = PERPENDICULAR_[action, 1 if u < wp[W_SLIP] / 2 else 0]
+    dx = DIRECTIONS_[moved, 0] * wp[W_STEP]
+    dy = DIRECTIONS_[moved, 1] * wp[W_STEP]
+    if wp[W_NOISE] > 0.0:
+        dx = dx + rng.normal(0.0, wp[W_NOISE])
+        dy = dy + rng.normal(0.0, wp[W_NOISE])
+    return dx, dy
+
+
+@njit(**NO_NRT)
 def _is_start_bad(wp, rects, is_obstacle, is_terminal, x, y):
     if _blocked(wp, rects, is_obstacle, x, y):
         return True
@@ -723,22 +752,8 @@ def _loop(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_
             for a in range(A):
                 total += b[a]
                 cdf[a] = total
-            draw = rng.random() * cdf[A - 1]
-            action = 0
-            for a in range(A):
-                if draw >= cdf[a]:
-                    action += 1
-            action = min(action, A - 1)
-            moved = action
-            if wp[W_SLIP] > 0.0:
-                u2 = rng.random()
-                if u2 < wp[W_SLIP]:
-                    moved = PERPENDICULAR_[action, 1 if u2 < wp[W_SLIP] / 2 else 0]
-            dx = DIRECTIONS_[moved, 0] * wp[W_STEP]
-            dy = DIRECTIONS_[moved, 1] * wp[W_STEP]
-            if wp[W_NOISE] > 0.0:
-                dx = dx + rng.normal(0.0, wp[W_NOISE])
-                dy = dy + rng.normal(0.0, wp[W_NOISE])
+            action = _draw(rng, cdf, A)
+            dx, dy = _displacement(rng, wp, action)
             nx = pos[0] + dx
             ny = pos[1] + dy
             bump = 0.0

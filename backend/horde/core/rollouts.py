@@ -19,7 +19,6 @@ import numpy as np
 from numba import njit
 
 from horde.core.fast import (
-    DIRECTIONS_,
     G_BHI,
     G_BLO,
     G_CHI,
@@ -28,14 +27,12 @@ from horde.core.fast import (
     G_K,
     G_NS,
     G_STAGE,
-    PERPENDICULAR_,
-    W_NOISE,
-    W_SLIP,
-    W_STEP,
     W_TRANSIENT,
     Buffers,
     Net,
     _blocked,
+    _displacement,
+    _draw,
     _evaluate,
     _features,
     _given_policies,
@@ -107,22 +104,8 @@ def rollouts(net, buf, rng, slot, group, wanted, start_x, start_y, cap, floor, t
             for a in range(num_actions):
                 acc += buf.pi[slot, a]
                 cdf[a] = acc
-            draw = rng.random() * cdf[num_actions - 1]
-            action = 0
-            for a in range(num_actions):
-                if draw >= cdf[a]:
-                    action += 1
-            action = min(action, num_actions - 1)
-            moved = action
-            if wp[W_SLIP] > 0.0:
-                u = rng.random()
-                if u < wp[W_SLIP]:
-                    moved = PERPENDICULAR_[action, 1 if u < wp[W_SLIP] / 2 else 0]
-            dx = DIRECTIONS_[moved, 0] * wp[W_STEP]
-            dy = DIRECTIONS_[moved, 1] * wp[W_STEP]
-            if wp[W_NOISE] > 0.0:
-                dx = dx + rng.normal(0.0, wp[W_NOISE])
-                dy = dy + rng.normal(0.0, wp[W_NOISE])
+            action = _draw(rng, cdf, num_actions)
+            dx, dy = _displacement(rng, wp, action)
             nx = buf.pos[0] + dx
             ny = buf.pos[1] + dy
             bump = 0.0
