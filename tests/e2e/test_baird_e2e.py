@@ -7,14 +7,13 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
 
 import pytest
-from playwright.sync_api import expect
+from playwright.sync_api import Browser, expect
 
 from horde.server import Settings
 
-from .conftest import CHROMIUM, CHROMIUM_ARGS, ROOT, SHOTS, RunningServer, free_port, serve_in_thread
+from .conftest import CHROMIUM, ROOT, SHOTS, RunningServer, browser_page, free_port, serve_in_thread
 from .test_dashboard_live_e2e import viser_race
 
 DIST = ROOT / "frontend" / "dist"
@@ -36,42 +35,30 @@ def server(tmp_path: Path) -> Iterator[RunningServer]:
 
 
 def test_baird_launched_from_the_dashboard_marks_td_diverged_and_charts_it_on_a_log_scale(
-    server: RunningServer,
+    browser: Browser, server: RunningServer
 ) -> None:
-    from playwright.sync_api import sync_playwright
+    with browser_page(browser, 1280, 2400, ignore=viser_race) as (page, errors):  # the whole page: the view too
+        page.set_default_timeout(60_000)
+        page.goto(server.url)
+        launcher = page.locator("section.launcher")
+        launcher.get_by_label("Scenario").select_option("baird")
+        expect(launcher.locator(".scenario-description")).to_contain_text("Baird's counterexample")
+        launcher.get_by_label("Steps/s").fill("")
+        launcher.get_by_role("button", name="Launch").click()
+        page.locator("li.run-item.selected").wait_for()
 
-    errors: list[str] = []
-    with sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
-        try:
-            page: Any = browser.new_page(viewport={"width": 1280, "height": 2400})  # the whole page: the view drawn too
-            page.set_default_timeout(60_000)
-            page.on(
-                "console", lambda m: errors.append(m.text) if m.type == "error" and not viser_race(m.text) else None
-            )
-            page.on("pageerror", lambda e: errors.append(str(e)))
-            page.goto(server.url)
-            launcher = page.locator("section.launcher")
-            launcher.get_by_label("Scenario").select_option("baird")
-            expect(launcher.locator(".scenario-description")).to_contain_text("Baird's counterexample")
-            launcher.get_by_label("Steps/s").fill("")
-            launcher.get_by_role("button", name="Launch").click()
-            page.locator("li.run-item.selected").wait_for()
-
-            rows = {name: page.locator(f'table.demon-table tr[data-demon="{name}"]') for name in ("td", "gtd")}
-            rows["td"].get_by_label("Chart td").check()
-            rows["gtd"].get_by_label("Chart gtd").check()
-            expect(rows["td"].locator(".tag.diverged"), "TD diverges within seconds").to_be_visible(timeout=60_000)
-            expect(rows["gtd"].locator(".tag.diverged")).to_be_hidden()
-            expect(page.locator('figure.chart[data-demon="td"] figcaption')).to_contain_text("log scale")
-            expect(page.locator('figure.chart[data-demon="gtd"] figcaption')).not_to_contain_text("log scale")
-            view_url = server.client.get("/api/view").json()["url"]
-            view = next(f for f in page.frames if f.url.startswith(view_url))
-            view.wait_for_function(STAR, timeout=60_000)
-            page.wait_for_timeout(2000)  # a few frames of the view, for the picture
-            view.locator(".mantine-Notification-root button").first.click()  # "software WebGL" note
-            SHOTS.mkdir(parents=True, exist_ok=True)
-            page.screenshot(path=str(SHOTS / "baird.png"), full_page=True)
-        finally:
-            browser.close()
+        rows = {name: page.locator(f'table.demon-table tr[data-demon="{name}"]') for name in ("td", "gtd")}
+        rows["td"].get_by_label("Chart td").check()
+        rows["gtd"].get_by_label("Chart gtd").check()
+        expect(rows["td"].locator(".tag.diverged"), "TD diverges within seconds").to_be_visible(timeout=60_000)
+        expect(rows["gtd"].locator(".tag.diverged")).to_be_hidden()
+        expect(page.locator('figure.chart[data-demon="td"] figcaption')).to_contain_text("log scale")
+        expect(page.locator('figure.chart[data-demon="gtd"] figcaption')).not_to_contain_text("log scale")
+        view_url = server.client.get("/api/view").json()["url"]
+        view = next(f for f in page.frames if f.url.startswith(view_url))
+        view.wait_for_function(STAR, timeout=60_000)
+        page.wait_for_timeout(2000)  # a few frames of the view, for the picture
+        view.locator(".mantine-Notification-root button").first.click()  # "software WebGL" note
+        SHOTS.mkdir(parents=True, exist_ok=True)
+        page.screenshot(path=str(SHOTS / "baird.png"), full_page=True)
     assert errors == [], errors
