@@ -3,13 +3,28 @@ docs/autostep-exact.md): it changes `base`'s alpha and nothing else, and measure
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 from horde.core.experiment import run_trial
 from horde.scenarios import find_scenario
 from horde.spec import RunSpec
-from horde.studies.base_alpha import exact_checks, markdown, thesis_criterion, trial, with_base_alpha
+from horde.studies.base_alpha import (
+    SCENARIOS,
+    choose,
+    exact_checks,
+    load,
+    markdown,
+    meets,
+    standard_error,
+    thesis_criterion,
+    trial,
+    with_base_alpha,
+)
+
+MEASURED = Path(__file__).resolve().parents[2] / "docs" / "studies" / "base-alpha.jsonl"
 
 
 def short(name: str, episodes: int, rollouts: int = 2000) -> RunSpec:
@@ -68,6 +83,43 @@ def test_the_report_by_hand() -> None:
     assert not base.holds and not base.probability
     assert steps.error == pytest.approx(0.0) and steps.holds
     assert thesis_criterion(result) == "steps_to_end 45.00 vs 45.00: 0.00 %"
+    assert standard_error(base) == pytest.approx(0.02 / 0.15)  # gaps -0.01, -0.05: sd 0.04 / sqrt 2, / sqrt 2
     row = markdown([result]).splitlines()[2]
-    assert row.startswith("| experiment1 | 0.02 | -0.1500 | -0.1800 | 20.00 % **no** | 10.0 to 25 % |")
-    assert row.endswith("| 1,000 | 3.0 / 2.0 |")
+    assert row.startswith("| experiment1 | 0.02 | -0.1500 | -0.1800 | 20.00 % **no** | 13.3 % | 10.0 to 25 % |")
+    assert row.endswith("| **no** | 1,000 | 3.0 / 2.0 |")
+
+
+def test_the_rule_wants_the_mean_within_the_bound_and_its_noise_below_it() -> None:
+    def result(base: list[tuple[float, float]], counts: list[int] | None = None) -> dict[str, object]:
+        trials = [
+            {"predictions": {"base": p, "steps_to_end": 50.0}, "exact": {"base": e, "steps_to_end": 50.0},
+             "truths": {"steps_to_end": 50.5}, "counts": None}
+            for p, e in base
+        ]  # fmt: skip
+        return {"scenario": "experiment1", "alpha": 0.01, "trials": trials}
+
+    assert meets(result([(-0.101, -0.1), (-0.099, -0.1)]))
+    assert not meets(result([(-0.2, -0.1), (0.0, -0.1)])), "the mean holds, by luck: its standard error is 100 %"
+    assert not meets(result([(-0.11, -0.1), (-0.11, -0.1)])), "10 % off"
+    control = {"scenario": "experiment3", "alpha": 0.01, "trials": [{"counts": {"positive": 49, "negative": 1,
+               "none": 0}}, {"counts": {"positive": 48, "negative": 2, "none": 0}}]}  # fmt: skip
+    assert not meets(control), "97 positive of 100"
+    control["trials"][0]["counts"]["positive"] = 50  # type: ignore[index]
+    assert meets(control)
+
+
+def test_the_shipped_base_demons_carry_the_alpha_the_measured_sweep_chooses() -> None:
+    """The sweep's results as measured (docs/studies/base-alpha.jsonl, written by `--json`; the table and
+    figure of docs/autostep-exact.md come from it): its rule picks one alpha, and every shipped thesis scenario
+    gives its `base` demon that alpha and leaves the others as they were."""
+    results = load(MEASURED)
+    assert {r["scenario"] for r in results} == set(SCENARIOS)
+    assert all(len(r["trials"]) == 10 and r["trials"][0]["episodes"] == 10_000 for r in results)
+    chosen = choose(results)
+    assert chosen == 0.005
+    for name in SCENARIOS:
+        spec = find_scenario(name)
+        alphas = {d.name: d.alpha for d in spec.demons}
+        assert alphas.pop("base") == chosen, name
+        assert alphas in ({"steps_to_end": 0.05}, {"critical": 0.05}, {"colour": 0.5}, {}), name
+        assert spec.learning.alpha == 0.1, name
