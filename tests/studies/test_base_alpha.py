@@ -3,6 +3,7 @@ docs/autostep-exact.md): it changes `base`'s alpha and nothing else, and measure
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -15,6 +16,7 @@ from horde.studies.base_alpha import (
     SCENARIOS,
     choose,
     exact_checks,
+    label,
     load,
     markdown,
     meets,
@@ -123,3 +125,20 @@ def test_the_shipped_base_demons_carry_the_alpha_the_measured_sweep_chooses() ->
         assert alphas.pop("base") == chosen, name
         assert alphas in ({"steps_to_end": 0.05}, {"critical": 0.05}, {"colour": 0.5}, {}), name
         assert spec.learning.alpha == 0.1, name
+
+
+def test_other_seeds_are_kept_apart_and_named(tmp_path: Path) -> None:
+    """`--seeds` runs the protocol from other seeds: the results file keeps one object per scenario x alpha x
+    seed (the last of each; a line without a seed is the scenario's own), and the table names a seed that is not
+    the scenario's own."""
+    lines = [
+        {"scenario": "experiment1", "alpha": 0.01, "trials": [], "mark": "own, old"},
+        {"scenario": "experiment1", "alpha": 0.01, "seed": 11, "trials": [], "mark": "seed 11"},
+        {"scenario": "experiment1", "alpha": 0.01, "trials": [], "mark": "own, new"},
+        {"scenario": "experiment1", "alpha": 0.01, "seed": 1, "trials": [], "mark": "own seed, named"},
+    ]
+    path = tmp_path / "sweep.jsonl"
+    path.write_text("\n".join(json.dumps(line) for line in lines) + "\n")
+    found = load(path)
+    assert [r["mark"] for r in found] == ["own seed, named", "seed 11"]  # a line without a seed ran the own
+    assert [label(r) for r in found] == ["experiment1", "experiment1 (seed 11)"]

@@ -94,22 +94,25 @@ def trial(spec: RunSpec, number: int, exact_answers: bool) -> dict[str, Any]:
     }
 
 
-def sweep_one(scenario: str, alpha: float) -> dict[str, Any]:
-    """One scenario's whole protocol with `base`'s alpha set."""
+def sweep_one(scenario: str, alpha: float, seed: int | None = None) -> dict[str, Any]:
+    """One scenario's whole protocol with `base`'s alpha set (and its seed, if given: other trials' draws)."""
     spec = with_base_alpha(find_scenario(scenario), alpha)
+    if seed is not None:
+        spec = spec.model_copy(update={"seed": seed})
     lattice = has_exact_answers(spec, [d.name for d in spec.demons])
     trials = [trial(spec, n, lattice) for n in range(spec.protocol.trials)]
-    return {"scenario": scenario, "alpha": alpha, "trials": trials}
+    return {"scenario": scenario, "alpha": alpha, "seed": spec.seed, "trials": trials}
 
 
 def load(path: Path) -> list[dict[str, Any]]:
-    """The sweep's results, one object per scenario x alpha (the last of each, if run twice)."""
-    found: dict[tuple[str, float], dict[str, Any]] = {}
+    """The sweep's results, one object per scenario x alpha x seed (the last of each, if run twice)."""
+    found: dict[tuple[str, float, int | None], dict[str, Any]] = {}
     for line in path.read_text().splitlines():
         if line.strip():
             item = json.loads(line)
-            found[(item["scenario"], item["alpha"])] = item
-    return sorted(found.values(), key=lambda r: (SCENARIOS.index(r["scenario"]), -r["alpha"]))
+            item.setdefault("seed", find_scenario(item["scenario"]).seed)  # written before --seeds
+            found[(item["scenario"], item["alpha"], item["seed"])] = item
+    return sorted(found.values(), key=lambda r: (SCENARIOS.index(r["scenario"]), r["seed"], -r["alpha"]))
 
 
 def exact_checks(result: dict[str, Any]) -> list[DemonCheck]:
@@ -184,6 +187,13 @@ def choose(results: list[dict[str, Any]]) -> float:
     return good[0]
 
 
+def label(result: dict[str, Any]) -> str:
+    """The scenario's name, and the seed when it is not the scenario's own."""
+    seed = result.get("seed")
+    own = seed is None or seed == find_scenario(result["scenario"]).seed
+    return result["scenario"] if own else f"{result['scenario']} (seed {seed})"
+
+
 def markdown(results: list[dict[str, Any]]) -> str:
     """Per scenario x alpha: `base`'s exact error (of the mean over trials, and the per-trial range), the other
     demons' exact errors, the thesis criterion, and the protocol's time as `horde run` spends it."""
@@ -214,7 +224,7 @@ def markdown(results: list[dict[str, Any]]) -> str:
                 f"{100 * base.errors.min():.1f} to {100 * base.errors.max():.0f} %",
             ]
         lines.append(
-            f"| {r['scenario']} | {r['alpha']:g} | {' | '.join(cells)} | {others} | {thesis_criterion(r)} | "
+            f"| {label(r)} | {r['alpha']:g} | {' | '.join(cells)} | {others} | {thesis_criterion(r)} | "
             f"{'yes' if meets(r) else '**no**'} | {steps:,} | {wall:.1f} / {cpu:.1f} |"
         )
     return "\n".join(lines)
@@ -293,6 +303,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--alphas", type=float, nargs="*", default=[0.1, 0.03, 0.02, 0.01, 0.005])
     parser.add_argument("--only", nargs="*", default=SCENARIOS)
+    parser.add_argument("--seeds", type=int, nargs="*", default=[None], help="other seeds (default: the scenario's)")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--json", type=Path, default=None, help="append one JSON object per line to this file")
     parser.add_argument("--report", type=Path, default=None, help="no sweep: the table and figure from this file")
@@ -305,13 +316,14 @@ def main() -> None:
         if args.plot is not None:
             plot(results, args.plot)
         return
-    jobs = [(s, a) for a in args.alphas for s in args.only]
+    jobs = [(s, a, seed) for seed in args.seeds for a in args.alphas for s in args.only]
     with ProcessPoolExecutor(args.workers) as pool:
-        for done in as_completed([pool.submit(sweep_one, s, a) for s, a in jobs]):
+        for done in as_completed([pool.submit(sweep_one, s, a, seed) for s, a, seed in jobs]):
             found = done.result()
             wall = sum(t["wall"] for t in found["trials"])
             cpu = sum(t["cpu"] for t in found["trials"])
-            print(f"{found['scenario']} alpha {found['alpha']}: {wall:.1f} s wall, {cpu:.1f} s CPU", flush=True)
+            name = f"{found['scenario']} seed {found['seed']} alpha {found['alpha']}"
+            print(f"{name}: {wall:.1f} s wall, {cpu:.1f} s CPU", flush=True)
             if args.json is not None:
                 with args.json.open("a") as out:
                     out.write(json.dumps(found) + "\n")
