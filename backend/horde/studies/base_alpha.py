@@ -157,7 +157,8 @@ def standard_error(check: DemonCheck) -> float:
 
 def meets(result: dict[str, Any]) -> bool:
     """The rule of the choice, on one scenario: `base`'s mean over trials within 5 % of the exact answer, with
-    a standard error of at most that bound (else a mean that holds is luck of the seeds); every other demon
+    a standard error of at most half that bound (the bound two standard errors away, so that the mean would
+    hold for about 95 % of other seeds, not by the luck of these); every other demon
     within its bound of the exact answer; the thesis criterion: the prediction demon's mean within 5 % (0.05
     for a probability) of its Monte-Carlo truth, or at least 98 of 100 greedy test runs positive in
     `experiment3`."""
@@ -166,7 +167,7 @@ def meets(result: dict[str, Any]) -> bool:
         return result["scenario"] != "experiment3" or sum(t["counts"]["positive"] for t in trials) >= 98
     checks = exact_checks(result)
     base = next(c for c in checks if c.demon == "base")
-    if not (base.holds and standard_error(base) <= base.tolerance and all(c.holds for c in checks)):
+    if not (base.holds and standard_error(base) <= base.tolerance / 2 and all(c.holds for c in checks)):
         return False
     for name in trials[0]["truths"]:
         check = next(c for c in checks if c.demon == name)
@@ -242,7 +243,7 @@ def plot(results: list[dict[str, Any]], path: Path) -> None:
 
     from horde.studies.stats import bootstrap_mean
 
-    fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.6))
+    fig, (left, right) = plt.subplots(1, 2, figsize=(13, 4.8))
     families = {"experiment1": "experiment1", "experiment2-large": "experiment2-* (one base for all five)"}
     for number, (scenario, title) in enumerate(families.items()):
         rows = [r for r in results if r["scenario"] == scenario]
@@ -267,7 +268,7 @@ def plot(results: list[dict[str, Any]], path: Path) -> None:
     left.set_xlabel("base's alpha (divided by its 5 active features per step)")
     left.set_ylabel("base: |prediction - exact| / |exact| at the start (%)")
     left.set_title("base (GQ(lambda) control demon), 10 trials x 10,000 episodes", fontsize=10)
-    left.legend(fontsize=7, loc="upper left")
+    left.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.3))
     for number, scenario in enumerate(SCENARIOS[:6]):
         rows = [r for r in results if r["scenario"] == scenario]
         if not rows:
@@ -286,16 +287,17 @@ def plot(results: list[dict[str, Any]], path: Path) -> None:
     right.set_xscale("log")
     right.set_xlabel("base's alpha (the prediction demons keep alpha 0.05)")
     right.set_ylabel("prediction demon's error per trial (%, or absolute x 100)")
-    right.set_title("the prediction demons under base's learned policy; 95 % bootstrap intervals", fontsize=10)
-    right.legend(fontsize=7)
+    right.set_title("prediction demons, under base's learned policy (95 % bootstrap intervals)", fontsize=10)
+    right.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.3), ncol=2)
     ticks = sorted({r["alpha"] for r in results})
     for axis in (left, right):
         axis.grid(True, which="major", alpha=0.3)
-        axis.set_xticks(ticks, [f"{a:g}" for a in ticks])
+        axis.set_xticks(ticks, [f"{a:g}" for a in ticks], rotation=45)
         axis.minorticks_off()
+        axis.set_xlim(ticks[0] / 1.25, ticks[-1] * 1.25)
     left.yaxis.set_major_formatter(ticker.FuncFormatter(lambda v, _: f"{v:g}"))
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=110, bbox_inches="tight")
     plt.close(fig)
 
 
