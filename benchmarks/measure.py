@@ -13,7 +13,9 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
+import numba
 import numpy as np
+from numba import njit, prange
 
 
 @dataclass(frozen=True)
@@ -61,22 +63,38 @@ def time_alternating(
 
 @dataclass(frozen=True)
 class Bandwidth:
-    """This machine's memory bandwidth from one core, in bytes per second, measured three ways on a
-    large array (bytes counted once per read and once per write)."""
+    """This machine's memory bandwidth, in bytes per second, measured on a large array.
+
+    `copy`, `update` and `read` are numpy's on one core, counting a byte once when read and once when
+    written (an update moves each byte twice). `in_place[t - 1]` is an in-place update (`a += 1`, the
+    pattern of `theta += ...`) on t threads counting each byte once, the unit of `FastLoop.unique_bytes`:
+    the bound a step that reads and writes its bytes once can reach."""
 
     copy: float  # numpy copyto: read one array, write another
-    update: float  # a += 1.0: read and write the same array (the pattern of theta += ...)
+    update: float  # a += 1.0 by numpy, bytes read plus bytes written
     read: float  # a.sum(): read only
     megabytes: int
+    in_place: tuple[float, ...] = ()  # unique bytes per second of a += 1 on 1, 2, ... threads
 
     @property
     def best(self) -> float:
-        """The largest of the three: the denominator of `bandwidth_fraction`."""
+        """The largest of numpy's three."""
         return max(self.copy, self.update, self.read)
 
+    def for_threads(self, threads: int) -> float:
+        """Unique bytes per second of an in-place update on `threads` threads (the most measured, if more)."""
+        return self.in_place[min(threads, len(self.in_place)) - 1]
 
-def bandwidth(megabytes: int = 512, repeats: int = 5) -> Bandwidth:
-    """Best-of-`repeats` bandwidth of numpy operations on a `megabytes` float64 array (far beyond caches)."""
+
+@njit(parallel=True, cache=True)
+def _add_one(a: np.ndarray) -> None:
+    for i in prange(a.shape[0]):
+        a[i] += 1.0
+
+
+def bandwidth(megabytes: int = 512, repeats: int = 5, threads: int = 1) -> Bandwidth:
+    """Best-of-`repeats` bandwidth of numpy operations on a `megabytes` float64 array (far beyond caches),
+    and of a compiled in-place update on 1 .. `threads` threads."""
     a = np.ones(megabytes * 2**20 // 8)
     b = np.ones_like(a)
     size = a.nbytes
@@ -90,13 +108,21 @@ def bandwidth(megabytes: int = 512, repeats: int = 5) -> Bandwidth:
             seconds.append(time.perf_counter() - start)
         return bytes_moved / min(seconds)
 
-    result = Bandwidth(
+    in_place = []
+    before = numba.get_num_threads()
+    try:
+        for t in range(1, max(1, min(threads, numba.config.NUMBA_NUM_THREADS)) + 1):
+            numba.set_num_threads(t)
+            in_place.append(best(lambda: _add_one(a), size))
+    finally:
+        numba.set_num_threads(before)
+    return Bandwidth(
         copy=best(lambda: np.copyto(b, a), 2 * size),
         update=best(lambda: np.add(a, 1.0, out=a), 2 * size),
         read=best(lambda: a.sum(), size),
         megabytes=megabytes,
+        in_place=tuple(in_place),
     )
-    return result
 
 
 def rss_bytes() -> int:

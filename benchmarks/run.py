@@ -31,6 +31,7 @@ import numpy as np
 from benchmarks import measure, thesis, workloads
 from horde.core.reference import ReferenceHorde
 from horde.core.simulation import Simulation
+from horde.core.threads import cores
 
 WORKLOADS = ("thesis", "nexting", "off_policy", "control")
 
@@ -130,7 +131,7 @@ class Report:
 # ----------------------------------------------------------------------------------------------
 
 
-def run_thesis(demons: int, plan: Plan, bandwidth: float) -> Row:
+def run_thesis(demons: int, plan: Plan, bandwidth: measure.Bandwidth) -> Row:
     """The whole loop of Experiment 1 with `demons` demons, against ReferenceHorde."""
     sim = thesis.simulation(demons)
     sim.run(200)  # compile (cached) and warm up
@@ -143,7 +144,7 @@ def run_thesis(demons: int, plan: Plan, bandwidth: float) -> Row:
     subset = min(demons, 12)
     reference = thesis.reference_seconds_per_step(subset, max(plan.reference_steps, 20))
     updates = demons / timing.wall
-    traffic = sim._loop.unique_bytes()
+    traffic = _traffic(sim)
     return Row(
         workload="thesis",
         demons=demons,
@@ -151,15 +152,29 @@ def run_thesis(demons: int, plan: Plan, bandwidth: float) -> Row:
         ms_per_step=1e3 * timing.wall,
         demon_updates_per_second=updates,
         reference_ratio=updates / (subset / reference),
-        bandwidth_fraction=traffic / timing.wall / bandwidth,
+        bandwidth_fraction=traffic / timing.wall / bandwidth.for_threads(sim.threads),
         learner="gq+gtd",
         cpu_ms_per_step=1e3 * timing.cpu,
         traffic_mb_per_step=traffic / 1e6,
         reference_demons=subset,
         threads=sim.threads,
-        bound_fraction=traffic / bandwidth / timing.cpu,
+        bound_fraction=_bound(traffic, timing, bandwidth, sim.threads),
         notes=f"whole loop, {sim.horde.groups[0].coder.n} features, reference: ReferenceHorde of {subset} demons",
     )
+
+
+def _traffic(sim: Simulation) -> int:
+    """The unique bytes of one more step (`FastLoop.unique_bytes`, which needs the features at s_t)."""
+    loop = sim._loop
+    before = tuple(loop.buf.feat[g, : group.coder.k].copy() for g, group in enumerate(loop.horde.groups))
+    sim.run(1)
+    return loop.unique_bytes(before)
+
+
+def _bound(traffic: int, timing: measure.Timing, bandwidth: measure.Bandwidth, threads: int) -> float:
+    """The CPU time that `threads` threads updating `traffic` bytes in place would take, over the step's
+    CPU time: 1.0 means the step costs no more CPU than reading and writing its bytes once."""
+    return threads * traffic / bandwidth.for_threads(threads) / timing.cpu
 
 
 def _replay(sim: Simulation, reference: ReferenceHorde, steps: int) -> float:
@@ -179,7 +194,7 @@ def _replay(sim: Simulation, reference: ReferenceHorde, steps: int) -> float:
     return float(np.median(seconds))
 
 
-def run_scale(name: str, demons: int, learner: str, plan: Plan, bandwidth: float) -> Row:
+def run_scale(name: str, demons: int, learner: str, plan: Plan, bandwidth: measure.Bandwidth) -> Row:
     """A scale workload through `Simulation`, against ReferenceHorde on a subset of its demons."""
     spec = workloads.spec(name, demons, learner)
     rss_before = measure.rss_bytes()
@@ -207,7 +222,7 @@ def run_scale(name: str, demons: int, learner: str, plan: Plan, bandwidth: float
     rss = measure.rss_bytes() - rss_before
     memory = sum(a.nbytes for a in sim._loop.buf if isinstance(a, np.ndarray))
     nnz = float(sim._loop.buf.touched.mean())
-    traffic = sim._loop.unique_bytes()
+    traffic = _traffic(sim)
     updates = demons / timing.wall
     return Row(
         workload=name,
@@ -216,7 +231,7 @@ def run_scale(name: str, demons: int, learner: str, plan: Plan, bandwidth: float
         ms_per_step=1e3 * timing.wall,
         demon_updates_per_second=updates,
         reference_ratio=updates / (len(picked) / reference_seconds),
-        bandwidth_fraction=traffic / timing.wall / bandwidth,
+        bandwidth_fraction=traffic / timing.wall / bandwidth.for_threads(threads),
         learner=learner,
         cpu_ms_per_step=1e3 * timing.cpu,
         traffic_mb_per_step=traffic / 1e6,
@@ -225,7 +240,7 @@ def run_scale(name: str, demons: int, learner: str, plan: Plan, bandwidth: float
         reference_error=float(np.abs(ours - theirs).max()),
         reference_demons=len(picked),
         threads=threads,
-        bound_fraction=traffic / bandwidth / timing.cpu,
+        bound_fraction=_bound(traffic, timing, bandwidth, threads),
         single_thread_ms_per_step=1e3 * single.wall,
         single_thread_cpu_ms_per_step=1e3 * single.cpu,
         thread_speedup=single.wall / timing.wall,
@@ -241,24 +256,25 @@ def run(plan: Plan, only: Sequence[str] = WORKLOADS, stream: TextIO | None = Non
     """Every workload of the plan (those named in `only`), with progress lines on `stream` (stderr)."""
     began = time.perf_counter()
     report = Report()
-    report.bandwidth = measure.bandwidth(plan.bandwidth_mb)
-    best = report.bandwidth.best
+    report.bandwidth = measure.bandwidth(plan.bandwidth_mb, threads=cores())
+    in_place = ", ".join(f"{b / 1e9:.1f}" for b in report.bandwidth.in_place)
 
     def say(text: str) -> None:
         print(text, file=stream or sys.stderr, flush=True)
 
     say(
-        f"memory bandwidth: {best / 1e9:.1f} GB/s (copy {report.bandwidth.copy / 1e9:.1f}, "
-        f"update {report.bandwidth.update / 1e9:.1f}, read {report.bandwidth.read / 1e9:.1f})"
+        f"memory bandwidth: in-place update {in_place} GB/s on 1, 2, ... threads (each byte once); numpy "
+        f"copy {report.bandwidth.copy / 1e9:.1f}, update {report.bandwidth.update / 1e9:.1f}, read "
+        f"{report.bandwidth.read / 1e9:.1f} GB/s (bytes read plus bytes written)"
     )
     if "thesis" in only:
         for demons in plan.thesis:
             say(f"thesis {demons} ...")
-            report.rows.append(run_thesis(demons, plan, best))
+            report.rows.append(run_thesis(demons, plan, report.bandwidth))
     for name, demons, learner in plan.scale:
         if name in only:
             say(f"{name} {demons} {learner} ...")
-            report.rows.append(run_scale(name, demons, learner, plan, best))
+            report.rows.append(run_scale(name, demons, learner, plan, report.bandwidth))
             gc.collect()
     report.seconds = time.perf_counter() - began
     return report
@@ -319,11 +335,13 @@ def format_table(report: Report) -> str:
     ]
     lines.insert(1, "  ".join("-" * w for w in widths))
     if report.bandwidth is not None:
+        in_place = ", ".join(f"{b / 1e9:.1f}" for b in report.bandwidth.in_place)
         lines.append("")
         lines.append(
-            f"bandwidth fraction: a step's unique bytes of weight and trace rows per wall second over "
-            f"{report.bandwidth.best / 1e9:.1f} GB/s (best of numpy copy / update / read of "
-            f"{report.bandwidth.megabytes} MB, measured in this run); bound: the same per CPU second; "
+            f"bw frac: a step's unique bytes of weights and traces per wall second over the bandwidth of an "
+            f"in-place update on as many threads ({in_place} GB/s on 1, 2, ... threads, each byte counted "
+            f"once, {report.bandwidth.megabytes} MB, measured in this run); bound: that update's CPU time for "
+            f"the step's bytes over the step's CPU time; "
             f"thr: threads; x 1 thr: speed-up over one thread (wall, rounds alternated in this run); "
             f"total {report.seconds:.0f} s. The machine may be shared: compare CPU ms with wall ms."
         )

@@ -9,11 +9,15 @@ import json
 import math
 from pathlib import Path
 
+import numba
+import numpy as np
 import pytest
+from benchmarks import measure, workloads
 
 from horde.cli import main
 from horde.core import threads
 from horde.core.scale_fast import PARALLEL_MIN
+from horde.core.simulation import Simulation
 
 REQUIRED = {
     "workload": str,
@@ -34,7 +38,7 @@ def test_quick_bench_writes_every_workload(tmp_path: Path, capsys: pytest.Captur
     out = tmp_path / "bench.json"
     assert main(["bench", "--quick", "--json", str(out)]) == 0
     table = capsys.readouterr().out
-    assert "updates/s" in table and "bandwidth fraction" in table
+    assert "updates/s" in table and "bw frac:" in table and "in-place update" in table
     rows = json.loads(out.read_text())
     assert isinstance(rows, list)
     assert {r["workload"] for r in rows} == {"thesis", "nexting", "off_policy", "control"}
@@ -63,3 +67,31 @@ def test_bench_can_run_one_workload(tmp_path: Path) -> None:
     out = tmp_path / "bench.json"
     assert main(["bench", "--quick", "--only", "nexting", "--json", str(out)]) == 0
     assert {r["workload"] for r in json.loads(out.read_text())} == {"nexting"}
+
+
+@pytest.mark.parametrize("learner", ["td", "gtd"])
+def test_unique_bytes_counts_each_touched_number_once(learner: str) -> None:
+    """`FastLoop.unique_bytes` against a plain count over the rows of the last step: theta on the support
+    and at x_{t+1}, for GTD w on the support and at x_t, the trace's rows, each row once."""
+    sim = Simulation(workloads.spec("nexting", 200, learner), np.random.default_rng(3))
+    sim.run(30)
+    loop = sim._loop
+    before = tuple(loop.buf.feat[g, : group.coder.k].copy() for g, group in enumerate(loop.horde.groups))
+    sim.run(1)
+    (block,) = loop.horde.blocks
+    (group,) = loop.horde.groups
+    support = set(loop.buf.support[: int(loop.buf.nnz[0])].tolist())
+    x_next, x_prev = set(loop.buf.feat[0, : group.coder.k].tolist()), set(before[0].tolist())
+    expected = len(support) * block.num_classes * loop.buf.trace.itemsize
+    for row in support | x_next | x_prev:
+        expected += 8 * block.size * (row in support or row in x_next)  # theta
+        expected += 8 * block.size * (learner == "gtd" and (row in support or row in x_prev))  # w
+    assert loop.unique_bytes(before) == expected
+    assert block.num_classes > 1 and len(x_next - support) < len(x_next), "x_{t+1}'s rows mostly in the support"
+
+
+def test_bandwidth_in_place_on_each_thread_count() -> None:
+    bw = measure.bandwidth(megabytes=16, repeats=2, threads=2)
+    assert len(bw.in_place) == min(2, numba.config.NUMBA_NUM_THREADS)
+    assert all(b > 0 for b in bw.in_place)
+    assert bw.for_threads(1) == bw.in_place[0] and bw.for_threads(64) == bw.in_place[-1]

@@ -79,6 +79,9 @@ FEATURE_KINDS = {"stripes": 0, "tiles": 1, "grid": 2, "constant": 3, "sensors": 
 FOREVER = 2**62  # "no limit" for step and episode counts
 
 # Columns of the per-group integer table.
+# Per-weight vectors of the adaptive learners beside theta, for `FastLoop.unique_bytes`: true online GTD's w,
+# Autostep's step sizes, normaliser and h, TIDBD's step sizes and h.
+VECTORS = {"true_online_gtd": 2, "autostep": 3, "tidbd": 2}
 G_STAGE, G_ACTION_VALUES, G_NS, G_K, G_KIND, G_PARTS, G_TILINGS, G_TILES, G_BASE_N, G_COND = range(10)
 G_THR_LO, G_THR_HI, G_BLO, G_BHI, G_CLO, G_CHI, G_SLO, G_SHI, G_SEN_LO, G_SEN_HI = range(10, 20)
 G_TABLE, G_TABLE_ROWS, G_TABLE_COL = range(20, 23)  # kind "table": its rows' offset in Net.table, count, sensor
@@ -1313,21 +1316,32 @@ class FastLoop:
 
     # ------------------------------------------------------------------------------------------
 
-    def unique_bytes(self) -> int:
-        """Bytes of weight and trace rows that the last step touched, each counted once (a model).
+    def unique_bytes(self, before: tuple[np.ndarray, ...]) -> int:
+        """Bytes of weights and traces that the last step read or wrote, each byte counted once (a model
+        of the step's memory traffic; `before`: each group's active features at s_t, taken before the step).
 
-        Per block of Db demons and C classes: the rows of its trace's support after the step (theta, w
-        for GTD / GQ, and the trace row), and the rows read and corrected at x_{t+1} (A k of them for GQ,
-        else k: theta, and w at x_t for GTD / GQ), at 8 bytes a number. Rows of x_t and x_{t+1} that are
-        also in the support are counted twice, so the figure is a little above the true one.
-        """
+        Per block of Db demons, at 8 bytes a number: theta's whole rows at x_{t+1} (A of them for GQ: read,
+        and for GTD / GQ corrected) and on the trace's support (read and written); for GTD / GQ, w's whole
+        rows on the support and, for GTD, at x_t; the trace's rows in the support. The learners of
+        `adaptive_kernels` (which skip a class whose trace is cut on a row: an upper bound for them): each
+        of their per-weight vectors (`VECTORS`) on the same rows as theta. Per-demon vectors (a few numbers
+        a demon) are left out."""
         total = 0
-        for group in self.horde.groups:
-            k = group.coder.k
+        bi, buf = self.net.bi, self.buf
+        for g, group in enumerate(self.horde.groups):
+            n_s = int(self.net.gi[g, G_NS])
+            x_next = np.unique(buf.feat[g, : group.coder.k])
+            x_prev = np.unique(before[g])
             for b in group.blocks:
                 block = self.horde.blocks[b]
-                kinds = 1 if block.learner == "td" else 2
-                support = int(self.buf.touched[b]) * 8 * (kinds * block.size + block.num_classes)
-                gathers = (self.horde.num_actions if block.learner == "gq" else 1) * k * 8 * block.size * kinds
-                total += support + gathers
+                actions = self.horde.num_actions if block.learner == "gq" else 1
+                support = buf.support[int(bi[b, B_TOFF]) :][: int(buf.nnz[b])].astype(np.int64)
+                rows = np.union1d(support, np.concatenate([a * n_s + x_next for a in range(actions)])).size
+                total += support.size * block.num_classes * buf.trace.itemsize
+                if block.learner == "gtd":  # w: on the support and read at x_t (there unless cut)
+                    total += 8 * block.size * (rows + np.union1d(support, x_prev).size)
+                elif block.learner == "gq":  # x_t's rows (one action's) always stay in the support
+                    total += 8 * block.size * (rows + support.size)
+                else:
+                    total += 8 * block.size * rows * (VECTORS.get(block.learner, 1) + VECTORS.get(block.step_size, 0))
         return total
