@@ -231,6 +231,53 @@ def markdown(results: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+def _intervals(checks: list[DemonCheck]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Mean per-trial error of each check and its 95 % bootstrap interval (mean, low, high)."""
+    from horde.studies.stats import bootstrap_mean
+
+    bounds = np.array([[float(v) for v in bootstrap_mean(c.errors)] for c in checks])
+    return bounds[:, 0], bounds[:, 1], bounds[:, 2]
+
+
+def _base_panel(axis: Any, results: list[dict[str, Any]]) -> None:
+    """`base`'s error at the start against its alpha: per trial (mean, interval) and of the mean over trials."""
+    families = {"experiment1": "experiment1", "experiment2-large": "experiment2-* (one base for all five)"}
+    for number, (scenario, title) in enumerate(families.items()):
+        rows = [r for r in results if r["scenario"] == scenario]
+        alphas = np.array([r["alpha"] for r in rows])
+        checks = [next(c for c in exact_checks(r) if c.demon == "base") for r in rows]
+        mean, low, high = _intervals(checks)
+        colour = f"C{number}"
+        axis.errorbar(alphas, 100 * mean, yerr=[100 * (mean - low), 100 * (high - mean)], color=colour,
+                      marker="o", capsize=3, label=f"{title}: per trial (mean, 95 % bootstrap interval)")  # fmt: skip
+        axis.plot(alphas, 100 * np.array([c.error for c in checks]), color=colour, marker="s", linestyle="--",
+                  label=f"{title}: of the mean over trials")  # fmt: skip
+    axis.axhline(5, color="black", linewidth=1, linestyle=":", label="the bound, 5 %")
+    axis.set_yscale("log")
+    axis.set_xlabel("base's alpha (divided by its 5 active features per step)")
+    axis.set_ylabel("base: |prediction - exact| / |exact| at the start (%)")
+    axis.set_title("base (GQ(lambda) control demon), 10 trials x 10,000 episodes", fontsize=10)
+
+
+def _prediction_panel(axis: Any, results: list[dict[str, Any]]) -> None:
+    """The prediction demons' exact errors against base's alpha, one curve per scenario."""
+    for number, scenario in enumerate(SCENARIOS[:6]):
+        rows = [r for r in results if r["scenario"] == scenario]
+        if not rows:
+            continue
+        alphas = np.array([r["alpha"] for r in rows])
+        checks = [next(c for c in exact_checks(r) if c.demon != "base") for r in rows]
+        unit = "absolute x 100" if checks[0].probability else "%"
+        mean, low, high = _intervals(checks)
+        axis.errorbar(alphas * (1 + 0.015 * (number - 2.5)), 100 * mean,
+                      yerr=[100 * (mean - low), 100 * (high - mean)], marker="o", capsize=3, color=f"C{number}",
+                      label=f"{scenario} {checks[0].demon} ({unit})")  # fmt: skip
+    axis.axhline(5, color="black", linewidth=1, linestyle=":", label="the bound (5 %, or 0.05)")
+    axis.set_xlabel("base's alpha (the prediction demons keep alpha 0.05)")
+    axis.set_ylabel("prediction demon's error per trial (%, or absolute x 100)")
+    axis.set_title("prediction demons, under base's learned policy (95 % bootstrap intervals)", fontsize=10)
+
+
 def plot(results: list[dict[str, Any]], path: Path) -> None:
     """The sensitivity figure: `base`'s error at the start against its alpha (left; the error of the mean
     over trials, which the bound judges, and the mean per-trial error with its 95 % bootstrap interval), and
@@ -241,56 +288,15 @@ def plot(results: list[dict[str, Any]], path: Path) -> None:
     import matplotlib.pyplot as plt
     from matplotlib import ticker
 
-    from horde.studies.stats import bootstrap_mean
-
     fig, (left, right) = plt.subplots(1, 2, figsize=(13, 4.8))
-    families = {"experiment1": "experiment1", "experiment2-large": "experiment2-* (one base for all five)"}
-    for number, (scenario, title) in enumerate(families.items()):
-        rows = [r for r in results if r["scenario"] == scenario]
-        alphas = np.array([r["alpha"] for r in rows])
-        checks = [next(c for c in exact_checks(r) if c.demon == "base") for r in rows]
-        of_mean = np.array([c.error for c in checks])
-        per_trial = [bootstrap_mean(c.errors) for c in checks]
-        mean = np.array([float(m) for m, _, _ in per_trial])
-        low = np.array([float(lo) for _, lo, _ in per_trial])
-        high = np.array([float(hi) for _, _, hi in per_trial])
-        colour = f"C{number}"
-        left.errorbar(alphas, 100 * mean, yerr=[100 * (mean - low), 100 * (high - mean)], color=colour,
-                      marker="o", capsize=3, label=f"{title}: per trial (mean, 95 % bootstrap interval)")  # fmt: skip
-        left.plot(alphas, 100 * of_mean, color=colour, marker="s", linestyle="--",
-                  label=f"{title}: of the mean over trials")  # fmt: skip
-    left.axhline(5, color="black", linewidth=1, linestyle=":", label="the bound, 5 %")
+    _base_panel(left, results)
+    _prediction_panel(right, results)
     chosen = choose(results)
-    for axis in (left, right):
-        axis.axvline(chosen, color="grey", linewidth=6, alpha=0.25, label=f"chosen: {chosen:g}")
-    left.set_xscale("log")
-    left.set_yscale("log")
-    left.set_xlabel("base's alpha (divided by its 5 active features per step)")
-    left.set_ylabel("base: |prediction - exact| / |exact| at the start (%)")
-    left.set_title("base (GQ(lambda) control demon), 10 trials x 10,000 episodes", fontsize=10)
-    left.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.3))
-    for number, scenario in enumerate(SCENARIOS[:6]):
-        rows = [r for r in results if r["scenario"] == scenario]
-        if not rows:
-            continue
-        alphas = np.array([r["alpha"] for r in rows])
-        checks = [next(c for c in exact_checks(r) if c.demon != "base") for r in rows]
-        unit = "absolute x 100" if checks[0].probability else "%"
-        errors = [bootstrap_mean(c.errors) for c in checks]
-        mean = np.array([float(m) for m, _, _ in errors])
-        low = np.array([float(lo) for _, lo, _ in errors])
-        high = np.array([float(hi) for _, _, hi in errors])
-        right.errorbar(alphas * (1 + 0.015 * (number - 2.5)), 100 * mean,
-                       yerr=[100 * (mean - low), 100 * (high - mean)], marker="o", capsize=3, color=f"C{number}",
-                       label=f"{scenario} {checks[0].demon} ({unit})")  # fmt: skip
-    right.axhline(5, color="black", linewidth=1, linestyle=":", label="the bound (5 %, or 0.05)")
-    right.set_xscale("log")
-    right.set_xlabel("base's alpha (the prediction demons keep alpha 0.05)")
-    right.set_ylabel("prediction demon's error per trial (%, or absolute x 100)")
-    right.set_title("prediction demons, under base's learned policy (95 % bootstrap intervals)", fontsize=10)
-    right.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.3), ncol=2)
     ticks = sorted({r["alpha"] for r in results})
-    for axis in (left, right):
+    for axis, columns in ((left, 1), (right, 2)):
+        axis.axvline(chosen, color="grey", linewidth=6, alpha=0.25, label=f"chosen: {chosen:g}")
+        axis.set_xscale("log")
+        axis.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.3), ncol=columns)
         axis.grid(True, which="major", alpha=0.3)
         axis.set_xticks(ticks, [f"{a:g}" for a in ticks], rotation=45)
         axis.minorticks_off()
