@@ -78,10 +78,11 @@ A = NUM_ACTIONS
 FEATURE_KINDS = {"stripes": 0, "tiles": 1, "grid": 2, "constant": 3, "sensors": 4, "table": 5}
 FOREVER = 2**62  # "no limit" for step and episode counts
 
-# Columns of the per-group integer table.
 # Per-weight vectors of the adaptive learners beside theta, for `FastLoop.unique_bytes`: true online GTD's w,
 # Autostep's step sizes, normaliser and h, TIDBD's step sizes and h.
 VECTORS = {"true_online_gtd": 2, "autostep": 3, "tidbd": 2}
+
+# Columns of the per-group integer table.
 G_STAGE, G_ACTION_VALUES, G_NS, G_K, G_KIND, G_PARTS, G_TILINGS, G_TILES, G_BASE_N, G_COND = range(10)
 G_THR_LO, G_THR_HI, G_BLO, G_BHI, G_CLO, G_CHI, G_SLO, G_SHI, G_SEN_LO, G_SEN_HI = range(10, 20)
 G_TABLE, G_TABLE_ROWS, G_TABLE_COL = range(20, 23)  # kind "table": its rows' offset in Net.table, count, sensor
