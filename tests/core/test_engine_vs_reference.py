@@ -117,6 +117,14 @@ DEMONS: list[dict[str, Any]] = [
         "discount": 0.9,
     },
     {
+        "name": "follow_gtd",  # GTD whose target policy is 0 on most actions: x_t's rows lose their trace
+        "learner": "gtd",
+        "policy": {"of": "greedy_ctl"},
+        "cumulant": {"sensor": "bump"},
+        "lambda": 0.6,
+        "discount": 0.8,
+    },
+    {
         "name": "follow_td",
         "learner": "td",
         "policy": {"of": "eps_ctl"},
@@ -270,3 +278,25 @@ def test_engine_equals_reference_at_every_step(case: str, cut: float) -> None:
               for pair in (("goal_prob", "goal_bumps"), ("bumps", "bumps_x"))}  # fmt: skip
     assert all(a == b for a, b in shared), "the pairs share one trace class each"
     assert min(largest.values()) > 1e-3, largest  # every demon learned something
+
+
+@pytest.mark.parametrize("cut", [0.0, TRACE_CUT], ids=["cut=0", "default cut"])
+@pytest.mark.parametrize("case", list(BEHAVIOURS))
+def test_many_steps_a_call_land_where_one_step_a_call_does(case: str, cut: float) -> None:
+    """GTD's correction at x_{t+1} is owed to the next step of the same call (`scale_fast._columns`) and
+    paid when a call ends, so the one-step calls above never carry it over: 1000 steps in calls of 37
+    must land where 1000 calls of one step do (which equal the reference, above)."""
+    behaviour, world = BEHAVIOURS[case]
+    spec = run_spec(behaviour, **world)
+    one, many = Simulation(spec, cut=cut), Simulation(spec, cut=cut)
+    for _ in range(1000):
+        one.step()
+    while many.total_steps < 1000:
+        many.run(min(37, 1000 - many.total_steps))
+    ones, manys = engine_arrays(one), engine_arrays(many)
+    for name in one.horde.names:
+        for label, a, b in zip(("theta", "w", "e"), ones[name], manys[name], strict=True):
+            np.testing.assert_allclose(b, a, rtol=0, atol=TOLERANCE, err_msg=f"{label} of {name!r}")
+    np.testing.assert_allclose(many.horde_state.prediction, one.horde_state.prediction, rtol=0, atol=TOLERANCE)
+    gtd = [n for n, d in zip(one.horde.names, spec.demons, strict=True) if d.learner == "gtd"]
+    assert sum(np.abs(ones[n][1]).max() > 1e-3 for n in gtd) >= 3, "GTD demons learned a w (so owed corrections)"

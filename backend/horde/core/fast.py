@@ -62,6 +62,7 @@ from horde.core.scale_fast import (
     _read_values,
     _step,
     _value_policy,
+    settle_owed,
 )
 from horde.core.world import (
     DIRECTIONS,
@@ -189,6 +190,7 @@ class Buffers(NamedTuple):
     values: np.ndarray  # [A, dmax]
     pi_next: np.ndarray  # [A, dmax]
     work: np.ndarray  # [6, dmax]
+    owed: np.ndarray  # [D] GTD's correction at the last x_{t+1}, owed by theta until the next step (`_columns`)
     ev: np.ndarray  # [2, dmax]
     scratch: np.ndarray  # [2, A]
     returns: np.ndarray  # [2] this episode's return so far, the last episode's
@@ -566,13 +568,15 @@ def _freeze_diverged(net, buf, g):
             if buf.diverged[s] or not _slot_diverged(s, bi[b, B_LEARNER] == GQ, buf.delta, buf.pred, buf.q):
                 continue
             found = True
+            buf.owed[s] = 0.0  # its weights are all 0: nothing is owed
             buf.diverged[s] = True
             buf.alpha_now[s] = 0.0
             buf.alpha_w_now[s] = 0.0
             for row in range(rows):
                 buf.theta[woff + row * db + i] = 0.0
                 buf.w[woff + row * db + i] = 0.0
-        if found:  # read the block's values again with the cleaned weights
+        if found:  # read the block's values again with the cleaned weights (the others' owed paid first)
+            settle_owed(bi, b, buf.theta, buf.idx[:k], buf.owed)
             bi_g = bi[blo:bhi]
             _read_values(bi_g, b - blo, net.gi[g, G_NS], buf.theta, buf.idx[:k], buf.values)
             _observe_block(bi_g, b - blo, net.dcls, net.temperature, net.epsilon, buf.pi_given, buf.values, buf.q,
@@ -818,7 +822,7 @@ def _loop(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_
                 bi[blo:bhi], lam[blo:bhi], alpha_now, alpha_w_now, temperature, epsilon, dcls, cls_lo, cls_hi,
                 net.cut, gi[g, G_NS], theta, w, trace, support, rows_, rows_e, rows_f, nnz[blo:bhi], feat[g, :k],
                 action, b_prob, idx[:k], r_s, z_s, gamma_tp1, rho, pi_given, class_gamma, q, pi, pred, delta,
-                touched[blo:bhi], values, pi_next, work[0], work[1], work[2], work[3], ev, work[4], work[5],
+                touched[blo:bhi], values, pi_next, work[0], work[1], work[2], work[3], buf.owed, ev, work[4], work[5],
                 scratch[0], scratch[1], threads,
             )  # fmt: skip
             for ob in range(blo, bhi):  # the learners of adaptive_kernels.py, which _step skips
@@ -855,6 +859,7 @@ def _loop(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_
         result[R_SIGN] = 1.0 if terminal > 0 else (-1.0 if terminal < 0 else 0.0)
         result[R_BPROB] = b_prob
         if terminated or truncated:
+            _settle_all(net, buf)
             episodes += 1
             returns[1] = returns[0]
             returns[0] = 0.0
@@ -863,8 +868,18 @@ def _loop(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_
             _start_sensors(net, buf)
             _observe(net, buf)
             online_reset(bi, net.reset, net.alpha, onl)
+    _settle_all(net, buf)  # whoever reads theta after the loop sees it whole
     result[R_STEPS] = steps
     result[R_EPISODES] = episodes
+
+
+@njit(**NO_NRT)
+def _settle_all(net, buf):
+    """Pay every block's owed GTD correction on its group's x_t (`scale_fast._columns`)."""
+    for g in range(net.gi.shape[0]):
+        k = net.gi[g, G_K]
+        for b in range(net.gi[g, G_BLO], net.gi[g, G_BHI]):
+            settle_owed(net.bi, b, buf.theta, buf.feat[g, :k], buf.owed)
 
 
 @njit(cache=True)
@@ -1116,6 +1131,7 @@ class FastLoop:
             values=np.zeros((na, dmax)),
             pi_next=np.zeros((na, dmax)),
             work=np.zeros((6, dmax)),
+            owed=np.zeros(d),
             ev=np.zeros((2, dmax)),
             scratch=np.zeros((2, na)),
             returns=np.zeros(2),
@@ -1305,6 +1321,7 @@ class FastLoop:
         buf.delta[:] = state.delta[slot]
         buf.cumulant[:] = state.cumulant[slot]
         buf.diverged[:] = state.diverged[slot]
+        buf.owed[:] = 0.0  # a state's theta owes nothing (the loop pays all before it returns)
         buf.pos[:] = (world_state.x[0], world_state.y[0])
         buf.wsteps[0] = world_state.steps[0]
         buf.colors[:] = world_state.colors[0]

@@ -207,7 +207,7 @@ def _observe(
 
 
 @njit(**NO_NRT)
-def _update_each(th, wr, ev, f, td, ad, awd, step_x, w_dot_e):
+def _update_each(th, wr, ev, f, td, ad, awd, step_x, w_dot_e, owed):
     """One support row with a trace value per demon (ev): the updates of the one-class row in `_columns`."""
     db = th.shape[0]
     if td:
@@ -218,12 +218,12 @@ def _update_each(th, wr, ev, f, td, ad, awd, step_x, w_dot_e):
         e = np.float64(ev[i])
         wv = wr[i]
         w_dot_e[i] += wv * e
-        th[i] += ad[i] * e
+        th[i] += ad[i] * e - f * owed[i]
         wr[i] = wv + awd[i] * e - f * step_x[i]
 
 
 @njit(**NO_NRT)
-def _update_each_pair(th0, w0, ev0, f0, th1, w1, ev1, f1, td, ad, awd, step_x, w_dot_e):
+def _update_each_pair(th0, w0, ev0, f0, th1, w1, ev1, f1, td, ad, awd, step_x, w_dot_e, owed):
     """Two support rows with a trace value per demon: the updates of the one-class pair in `_columns`."""
     db = th0.shape[0]
     if td:
@@ -241,8 +241,8 @@ def _update_each_pair(th0, w0, ev0, f0, th1, w1, ev1, f1, td, ad, awd, step_x, w
         v0 = w0[i]
         v1 = w1[i]
         w_dot_e[i] += v0 * e0 + v1 * e1
-        th0[i] += a * e0
-        th1[i] += a * e1
+        th0[i] += a * e0 - f0 * owed[i]
+        th1[i] += a * e1 - f1 * owed[i]
         w0[i] = v0 + aw * e0 - f0 * sx
         w1[i] = v1 + aw * e1 - f1 * sx
 
@@ -311,6 +311,7 @@ def _step(
     awd,
     w_dot_e,
     w_dot_x,
+    owed,
     ev,
     decay,
     add,
@@ -335,11 +336,12 @@ def _step(
             _columns_parallel(threads, bi, b, kept, dropped, lam[b], alpha, alpha_w, temperature, epsilon, dcls,
                               cls_lo, cls_hi, n_s, theta, w, trace, rows, rows_e, rows_f, x_t, action, x_tp1, r, z,
                               gamma_tp1, pi_given, q, pi, pred, delta, values, pi_next, ad, awd, w_dot_e, w_dot_x,
-                              ev)  # fmt: skip
+                              owed, ev)  # fmt: skip
         else:
             _columns(bi, b, 0, db, kept, dropped, lam[b], alpha, alpha_w, temperature, epsilon, dcls, cls_lo, cls_hi,
                      n_s, theta, w, trace, rows, rows_e, rows_f, x_t, action, x_tp1, r, z, gamma_tp1, pi_given, q, pi,
-                     pred, delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, ev, scratch_q, scratch_pi)  # fmt: skip
+                     pred, delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, owed, ev, scratch_q,
+                     scratch_pi)  # fmt: skip
         coff = bi[b, B_COFF]
         for c in range(bi[b, B_NCLS]):
             gamma[coff + c] = gamma_tp1[coff + c]
@@ -425,7 +427,7 @@ ALIGN = 8  # column runs start at multiples of 8 numbers (64 bytes, a cache line
 @njit(cache=True, parallel=True, **WITH_NRT)  # allocates: NRT on (a caller without NRT would pass its flag down)
 def _columns_parallel(threads, bi, b, kept, dropped, lam_b, alpha, alpha_w, temperature, epsilon, dcls, cls_lo,
                       cls_hi, n_s, theta, w, trace, rows, rows_e, rows_f, x_t, action, x_tp1, r, z, gamma_tp1,
-                      pi_given, q, pi, pred, delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, ev):  # fmt: skip
+                      pi_given, q, pi, pred, delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, owed, ev):  # fmt: skip
     """`_columns` of block b on `threads` threads, each over one run of the block's demons."""
     db = bi[b, B_HI] - bi[b, B_LO]
     runs = min(threads, (db + ALIGN - 1) // ALIGN)
@@ -436,15 +438,23 @@ def _columns_parallel(threads, bi, b, kept, dropped, lam_b, alpha, alpha_w, temp
         i1 = min(i0 + width, db)
         _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, epsilon, dcls, cls_lo, cls_hi,
                  n_s, theta, w, trace, rows, rows_e, rows_f, x_t, action, x_tp1, r, z, gamma_tp1, pi_given, q, pi,
-                 pred, delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, ev, scratch[t, 0], scratch[t, 1])  # fmt: skip
+                 pred, delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, owed, ev, scratch[t, 0],
+                 scratch[t, 1])  # fmt: skip
 
 
 @njit(**NO_NRT)
 def _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, epsilon, dcls, cls_lo, cls_hi, n_s,
              theta, w, trace, rows, rows_e, rows_f, x_t, action, x_tp1, r, z, gamma_tp1, pi_given, q, pi, pred,
-             delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, ev, scratch_q, scratch_pi):  # fmt: skip
+             delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, owed, ev, scratch_q, scratch_pi):  # fmt: skip
     """Block b's demons i0 <= i < i1 learn the transition, after `_merge`: only their columns of the
-    weights and of the per-demon buffers (values, pi_next, ad, awd, w_dot_e, w_dot_x, ev) are touched."""
+    weights and of the per-demon buffers (values, pi_next, ad, awd, w_dot_e, w_dot_x, owed, ev) are touched.
+
+    GTD's correction at x_{t+1} (theta -= alpha gamma (1 - lambda) (w . e) x_{t+1}) is owed rather than
+    applied: `owed[d]` holds it, and the next step subtracts it from theta on its x_t's rows (the same
+    rows) in its pass over the support, which visits them anyway. The values at s_{t+1} are then had from
+    the update's algebra instead of a pass that corrects and reads those rows again; `settle_owed` pays
+    what is owed before anyone else reads theta (the end of a run of steps, an episode's end, a freeze).
+    GQ keeps the pass: its correction falls on every action's rows, which no later pass visits."""
     learner, kind = bi[b, B_LEARNER], bi[b, B_POLICY]
     lo, hi = bi[b, B_LO], bi[b, B_HI]
     woff, voff, ncls, coff = bi[b, B_WOFF], bi[b, B_VOFF], bi[b, B_NCLS], bi[b, B_COFF]
@@ -456,9 +466,14 @@ def _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, e
     A = q.shape[1]
     actions = A if gq else 1
     shift = action * n_s if gq else 0
+    owing = learner == GTD and not own
 
     # Values at s_{t+1} under the weights before this update, the target policy there, delta.
     _read_range(bi, b, n_s, theta, x_tp1, i0, i1, values)
+    if owing:  # theta still owes the last step's correction on x_t's rows
+        shared = _dot(x_t, x_tp1)
+        for i in range(i0, i1):
+            values[0, i] -= owed[lo + i] * shared
     for i in range(i0, i1):
         d = lo + i
         g1 = gamma_tp1[dcls[d]]
@@ -487,10 +502,12 @@ def _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, e
         for i in range(width):
             step_x[i] = step_x[i] * alpha_w[lo + i0 + i] if alpha_w[lo + i0 + i] != 0.0 else 0.0
         end = rows.shape[0] - 1
+        owed_ = owed[lo + i0 : lo + i1]
         for j in range(dropped):
             start = _at(woff + rows[end - j] * db + i0)
             for i in range(width):
                 w[start + _at(i)] -= step_x[i]
+                theta[start + _at(i)] -= owed_[i]
 
     # The weight pass over the support, in row order, two rows at a time. One class: its trace value
     # per row; several: each row's values spread over the classes' demons (own-value blocks: the
@@ -518,13 +535,14 @@ def _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, e
                         a = ad[i0 + i]
                         aw = awd[i0 + i]
                         sx = step_x[i]
+                        o = owed[lo + i0 + i]
                         j0 = u0 + _at(i)
                         j1 = u1 + _at(i)
                         v0 = w[j0]
                         v1 = w[j1]
                         w_dot_e[i0 + i] += v0 * e0 + v1 * e1
-                        theta[j0] += a * e0
-                        theta[j1] += a * e1
+                        theta[j0] += a * e0 - f0 * o
+                        theta[j1] += a * e1 - f1 * o
                         w[j0] = v0 + aw * e0 - f0 * sx
                         w[j1] = v1 + aw * e1 - f1 * sx
                 s += 2
@@ -537,7 +555,7 @@ def _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, e
                         j0 = u0 + _at(i)
                         wv = w[j0]
                         w_dot_e[i0 + i] += wv * e0
-                        theta[j0] += ad[i0 + i] * e0
+                        theta[j0] += ad[i0 + i] * e0 - f0 * owed[lo + i0 + i]
                         w[j0] = wv + awd[i0 + i] * e0 - f0 * step_x[i]
                 s += 1
     else:
@@ -559,10 +577,12 @@ def _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, e
             if pair:
                 b1 = woff + r1 * db + i0
                 _update_each_pair(theta[b0 : b0 + width], w[b0 : b0 + width], e0, rows_f[s], theta[b1 : b1 + width],
-                                  w[b1 : b1 + width], e1, rows_f[s + 1], td, ad_, awd_, step_x, dot_e)  # fmt: skip
+                                  w[b1 : b1 + width], e1, rows_f[s + 1], td, ad_, awd_, step_x, dot_e,
+                                  owed[lo + i0 : lo + i1])  # fmt: skip
                 s += 2
             else:
-                _update_each(theta[b0 : b0 + width], w[b0 : b0 + width], e0, rows_f[s], td, ad_, awd_, step_x, dot_e)
+                _update_each(theta[b0 : b0 + width], w[b0 : b0 + width], e0, rows_f[s], td, ad_, awd_, step_x, dot_e,
+                             owed[lo + i0 : lo + i1])  # fmt: skip
                 s += 1
 
     # The correction at x_bar_{t+1}, fused with reading the new values at s_{t+1}.
@@ -570,11 +590,68 @@ def _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, e
         for i in range(i0, i1):
             a_i = alpha[lo + i]
             w_dot_e[i] = a_i * gamma_tp1[dcls[lo + i]] * (1.0 - lam_b) * w_dot_e[i] if a_i != 0.0 else 0.0
-    mode = 0 if td else (2 if gq else 1)
-    for a in range(actions):
-        _correct_and_read(theta, woff + a * n_s * db + i0, x_tp1, db, dot_e, pi_next[a, i0:i1], mode,
-                          values[a, i0:i1])  # fmt: skip
+    if owing:
+        # theta' . x_{t+1} = theta . x_{t+1} + alpha delta (e . x_{t+1}) - owed (x_{t+1} . x_{t+1}): the update
+        # added alpha delta e to every row (a row cut from the support has trace 0 and was not updated), and
+        # x_t's rows paid what they owed (already taken from the values above).
+        own_dot = _dot(x_tp1, x_tp1)
+        for c in range(ncls):
+            c0 = max(cls_lo[coff + c], i0) if ncls > 1 else i0
+            c1 = min(cls_hi[coff + c], i1) if ncls > 1 else i1
+            if c0 >= c1:
+                continue
+            e_dot_x = 0.0
+            for j in range(x_tp1.shape[0]):
+                e_dot_x += np.float64(trace[voff + x_tp1[j] * ncls + c])
+            for i in range(c0, c1):
+                values[0, i] += ad[i] * e_dot_x - w_dot_e[i] * own_dot
+                owed[lo + i] = w_dot_e[i]
+    else:
+        mode = 0 if td else (2 if gq else 1)
+        for a in range(actions):
+            _correct_and_read(theta, woff + a * n_s * db + i0, x_tp1, db, dot_e, pi_next[a, i0:i1], mode,
+                              values[a, i0:i1])  # fmt: skip
     _observe_range(bi, b, i0, i1, dcls, temperature, epsilon, pi_given, values, q, pi, pred, scratch_q, scratch_pi)
+
+
+@njit(**NO_NRT)
+def _dot(x, y):
+    """x . y for two sorted lists of active features (an index listed twice is a feature of value 2)."""
+    total = 0.0
+    i = 0
+    j = 0
+    while i < x.shape[0] and j < y.shape[0]:
+        if x[i] < y[j]:
+            i += 1
+        elif y[j] < x[i]:
+            j += 1
+        else:
+            row = x[i]
+            m = 0
+            while i < x.shape[0] and x[i] == row:
+                m += 1
+                i += 1
+            n = 0
+            while j < y.shape[0] and y[j] == row:
+                n += 1
+                j += 1
+            total += m * n
+    return total
+
+
+@njit(**NO_NRT)
+def settle_owed(bi, b, theta, x, owed):
+    """Pay block b's owed GTD correction (`_columns`) on the rows x it is owed on, and owe nothing more."""
+    if bi[b, B_LEARNER] != GTD:
+        return
+    lo, woff = bi[b, B_LO], bi[b, B_WOFF]
+    db = bi[b, B_HI] - lo
+    for j in range(x.shape[0]):
+        u = _at(woff + x[j] * db)
+        for i in range(db):
+            theta[u + _at(i)] -= owed[lo + i]
+    for i in range(db):
+        owed[lo + i] = 0.0
 
 
 @njit(**NO_NRT)
