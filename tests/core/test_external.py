@@ -99,7 +99,7 @@ def test_a_batch_of_rows_equals_one_row_at_a_time() -> None:
     for t in range(1, 200):
         one.learn(sensors[t], actions[t : t + 1], probs[t : t + 1])
     batch.learn(sensors[1:], actions[1:], probs[1:])
-    assert_same(one.horde_state(), batch.horde_state())
+    assert_same(one.horde_state(), batch.horde_state(), atol=1e-9)  # GTD owes within a batch: same to rounding
 
 
 def stream_spec(actions: int = 3) -> RunSpec:
