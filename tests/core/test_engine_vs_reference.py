@@ -116,6 +116,21 @@ DEMONS: list[dict[str, Any]] = [
         "cumulant": {"mul": [{"max": [{"sensor": "x"}, {"sensor": "y"}]}, 0.002]},
         "discount": 0.9,
     },
+    # GQ evaluating given policies: one block, two trace classes (discounts), each demon's values per action
+    {
+        "name": "q_lean",
+        "learner": "gq",
+        "policy": {"kind": "fixed", "probabilities": [0.1, 0.6, 0.2, 0.1]},
+        "cumulant": {"sensor": "bump"},
+        "discount": 0.9,
+    },
+    {
+        "name": "q_lean_short",
+        "learner": "gq",
+        "policy": {"kind": "fixed", "probabilities": [0.1, 0.6, 0.2, 0.1]},
+        "cumulant": {"sensor": "y"},
+        "discount": 0.5,
+    },
     {
         "name": "follow_gtd",  # GTD whose target policy is 0 on most actions: x_t's rows lose their trace
         "learner": "gtd",

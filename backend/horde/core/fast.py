@@ -190,7 +190,9 @@ class Buffers(NamedTuple):
     values: np.ndarray  # [A, dmax]
     pi_next: np.ndarray  # [A, dmax]
     work: np.ndarray  # [6, dmax]
-    owed: np.ndarray  # [D] GTD's correction at the last x_{t+1}, owed by theta until the next step (`_columns`)
+    owed: np.ndarray  # [A, D] the gradient correction at the last x_{t+1}, owed by theta (`scale_fast._columns`)
+    mark: np.ndarray  # [most rows of a block] how often a row is listed at s_{t+1} (GQ's support pass; else 0)
+    ex: np.ndarray  # [A, dmax] e . x_bar(s_{t+1}, a) per demon
     ev: np.ndarray  # [2, dmax]
     scratch: np.ndarray  # [2, A]
     returns: np.ndarray  # [2] this episode's return so far, the last episode's
@@ -568,7 +570,7 @@ def _freeze_diverged(net, buf, g):
             if buf.diverged[s] or not _slot_diverged(s, bi[b, B_LEARNER] == GQ, buf.delta, buf.pred, buf.q):
                 continue
             found = True
-            buf.owed[s] = 0.0  # its weights are all 0: nothing is owed
+            buf.owed[:, s] = 0.0  # its weights are all 0: nothing is owed
             buf.diverged[s] = True
             buf.alpha_now[s] = 0.0
             buf.alpha_w_now[s] = 0.0
@@ -576,7 +578,7 @@ def _freeze_diverged(net, buf, g):
                 buf.theta[woff + row * db + i] = 0.0
                 buf.w[woff + row * db + i] = 0.0
         if found:  # read the block's values again with the cleaned weights (the others' owed paid first)
-            settle_owed(bi, b, buf.theta, buf.idx[:k], buf.owed)
+            settle_owed(bi, b, net.gi[g, G_NS], buf.theta, buf.idx[:k], buf.owed)
             bi_g = bi[blo:bhi]
             _read_values(bi_g, b - blo, net.gi[g, G_NS], buf.theta, buf.idx[:k], buf.values)
             _observe_block(bi_g, b - blo, net.dcls, net.temperature, net.epsilon, buf.pi_given, buf.values, buf.q,
@@ -822,8 +824,8 @@ def _loop(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_
                 bi[blo:bhi], lam[blo:bhi], alpha_now, alpha_w_now, temperature, epsilon, dcls, cls_lo, cls_hi,
                 net.cut, gi[g, G_NS], theta, w, trace, support, rows_, rows_e, rows_f, nnz[blo:bhi], feat[g, :k],
                 action, b_prob, idx[:k], r_s, z_s, gamma_tp1, rho, pi_given, class_gamma, q, pi, pred, delta,
-                touched[blo:bhi], values, pi_next, work[0], work[1], work[2], work[3], buf.owed, ev, work[4], work[5],
-                scratch[0], scratch[1], threads,
+                touched[blo:bhi], values, pi_next, work[0], work[1], work[2], work[3], buf.owed, buf.mark, buf.ex, ev,
+                work[4], work[5], scratch[0], scratch[1], threads,
             )  # fmt: skip
             for ob in range(blo, bhi):  # the learners of adaptive_kernels.py, which _step skips
                 if bi[ob, B_LEARNER] >= ONLINE:  # it reads the values at x_{t+1} itself (on the threads)
@@ -875,11 +877,11 @@ def _loop(net, buf, rng, max_steps, max_episodes, beh_i, beh_f, beh_probs, with_
 
 @njit(**NO_NRT)
 def _settle_all(net, buf):
-    """Pay every block's owed GTD correction on its group's x_t (`scale_fast._columns`)."""
+    """Pay every block's owed gradient correction on its group's x_t (`scale_fast._columns`)."""
     for g in range(net.gi.shape[0]):
         k = net.gi[g, G_K]
         for b in range(net.gi[g, G_BLO], net.gi[g, G_BHI]):
-            settle_owed(net.bi, b, buf.theta, buf.feat[g, :k], buf.owed)
+            settle_owed(net.bi, b, net.gi[g, G_NS], buf.theta, buf.feat[g, :k], buf.owed)
 
 
 @njit(cache=True)
@@ -1131,7 +1133,9 @@ class FastLoop:
             values=np.zeros((na, dmax)),
             pi_next=np.zeros((na, dmax)),
             work=np.zeros((6, dmax)),
-            owed=np.zeros(d),
+            owed=np.zeros((na, d)),
+            mark=np.zeros(int(max([1, *rows.tolist()])), np.int64),
+            ex=np.zeros((na, dmax)),
             ev=np.zeros((2, dmax)),
             scratch=np.zeros((2, na)),
             returns=np.zeros(2),

@@ -312,6 +312,8 @@ def _step(
     w_dot_e,
     w_dot_x,
     owed,
+    mark,
+    ex,
     ev,
     decay,
     add,
@@ -332,16 +334,25 @@ def _step(
         kept, dropped = _merge(bi, b, lam[b], cut, n_s, trace, support, rows, rows_e, rows_f, nnz, touched, x_t,
                                action, b_prob, rho_t, pi, gamma, decay, add)  # fmt: skip
         db = bi[b, B_HI] - bi[b, B_LO]
+        marking = bi[b, B_LEARNER] == GQ and bi[b, B_NCLS] > 1  # e . x_bar(s_{t+1}, a) per demon (`_gather`)
+        if marking:
+            for a in range(q.shape[1]):
+                for j in range(x_tp1.shape[0]):
+                    mark[a * n_s + x_tp1[j]] += 1
         if threads > 1 and db >= PARALLEL_MIN:
             _columns_parallel(threads, bi, b, kept, dropped, lam[b], alpha, alpha_w, temperature, epsilon, dcls,
                               cls_lo, cls_hi, n_s, theta, w, trace, rows, rows_e, rows_f, x_t, action, x_tp1, r, z,
                               gamma_tp1, pi_given, q, pi, pred, delta, values, pi_next, ad, awd, w_dot_e, w_dot_x,
-                              owed, ev)  # fmt: skip
+                              owed, mark, ex, ev)  # fmt: skip
         else:
             _columns(bi, b, 0, db, kept, dropped, lam[b], alpha, alpha_w, temperature, epsilon, dcls, cls_lo, cls_hi,
                      n_s, theta, w, trace, rows, rows_e, rows_f, x_t, action, x_tp1, r, z, gamma_tp1, pi_given, q, pi,
-                     pred, delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, owed, ev, scratch_q,
+                     pred, delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, owed, mark, ex, ev, scratch_q,
                      scratch_pi)  # fmt: skip
+        if marking:
+            for a in range(q.shape[1]):
+                for j in range(x_tp1.shape[0]):
+                    mark[a * n_s + x_tp1[j]] = 0
         coff = bi[b, B_COFF]
         for c in range(bi[b, B_NCLS]):
             gamma[coff + c] = gamma_tp1[coff + c]
@@ -427,7 +438,8 @@ ALIGN = 8  # column runs start at multiples of 8 numbers (64 bytes, a cache line
 @njit(cache=True, parallel=True, **WITH_NRT)  # allocates: NRT on (a caller without NRT would pass its flag down)
 def _columns_parallel(threads, bi, b, kept, dropped, lam_b, alpha, alpha_w, temperature, epsilon, dcls, cls_lo,
                       cls_hi, n_s, theta, w, trace, rows, rows_e, rows_f, x_t, action, x_tp1, r, z, gamma_tp1,
-                      pi_given, q, pi, pred, delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, owed, ev):  # fmt: skip
+                      pi_given, q, pi, pred, delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, owed, mark, ex,
+                      ev):  # fmt: skip
     """`_columns` of block b on `threads` threads, each over one run of the block's demons."""
     db = bi[b, B_HI] - bi[b, B_LO]
     runs = min(threads, (db + ALIGN - 1) // ALIGN)
@@ -438,23 +450,27 @@ def _columns_parallel(threads, bi, b, kept, dropped, lam_b, alpha, alpha_w, temp
         i1 = min(i0 + width, db)
         _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, epsilon, dcls, cls_lo, cls_hi,
                  n_s, theta, w, trace, rows, rows_e, rows_f, x_t, action, x_tp1, r, z, gamma_tp1, pi_given, q, pi,
-                 pred, delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, owed, ev, scratch[t, 0],
+                 pred, delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, owed, mark, ex, ev, scratch[t, 0],
                  scratch[t, 1])  # fmt: skip
 
 
 @njit(**NO_NRT)
 def _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, epsilon, dcls, cls_lo, cls_hi, n_s,
              theta, w, trace, rows, rows_e, rows_f, x_t, action, x_tp1, r, z, gamma_tp1, pi_given, q, pi, pred,
-             delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, owed, ev, scratch_q, scratch_pi):  # fmt: skip
+             delta, values, pi_next, ad, awd, w_dot_e, w_dot_x, owed, mark, ex, ev, scratch_q,
+             scratch_pi):  # fmt: skip
     """Block b's demons i0 <= i < i1 learn the transition, after `_merge`: only their columns of the
-    weights and of the per-demon buffers (values, pi_next, ad, awd, w_dot_e, w_dot_x, owed, ev) are touched.
+    weights and of the per-demon buffers (values, pi_next, ad, awd, w_dot_e, w_dot_x, owed, ex, ev) are
+    touched.
 
-    GTD's correction at x_{t+1} (theta -= alpha gamma (1 - lambda) (w . e) x_{t+1}) is owed rather than
-    applied: `owed[d]` holds it, and the next step subtracts it from theta on its x_t's rows (the same
-    rows) in its pass over the support, which visits them anyway. The values at s_{t+1} are then had from
-    the update's algebra instead of a pass that corrects and reads those rows again; `settle_owed` pays
-    what is owed before anyone else reads theta (the end of a run of steps, an episode's end, a freeze).
-    GQ keeps the pass: its correction falls on every action's rows, which no later pass visits."""
+    The gradient correction at x_{t+1} (theta -= alpha gamma (1 - lambda) (w . e) x_bar_{t+1}; for GQ on
+    every action's rows, weighted by the target policy there) is owed rather than applied: `owed[a, d]`
+    holds it, and the next step pays it on its x_t's rows (the same rows). GTD pays in its pass over the
+    support, which visits them anyway; GQ while it reads its values at x_{t+1} (the other actions' rows
+    are in no support). The new values at s_{t+1} then come from the update's algebra instead of a pass
+    that corrects and reads those rows again: theta' . x = theta . x + alpha delta (e . x) - owed (x . x),
+    with e . x one sum per trace class, or per demon from the support pass (`mark`, `ex`). `settle_owed`
+    pays what is owed before anyone else reads theta (a call's end, an episode's end, a freeze)."""
     learner, kind = bi[b, B_LEARNER], bi[b, B_POLICY]
     lo, hi = bi[b, B_LO], bi[b, B_HI]
     woff, voff, ncls, coff = bi[b, B_WOFF], bi[b, B_VOFF], bi[b, B_NCLS], bi[b, B_COFF]
@@ -464,16 +480,22 @@ def _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, e
     td = learner == TD
     own = kind != FIXED
     A = q.shape[1]
-    actions = A if gq else 1
     shift = action * n_s if gq else 0
-    owing = learner == GTD and not own
+    owing = learner == GTD  # pays on the support (GTD follows given policies: never own values); GQ pays below
 
     # Values at s_{t+1} under the weights before this update, the target policy there, delta.
-    _read_range(bi, b, n_s, theta, x_tp1, i0, i1, values)
+    if gq:
+        for a in range(A):
+            _pay_and_read(theta, woff + a * n_s * db + i0, x_t, x_tp1, db, owed[a, lo + i0 : lo + i1],
+                          values[a, i0:i1])  # fmt: skip
+            for i in range(i0, i1):
+                ex[a, i] = 0.0
+    else:
+        _read_range(bi, b, n_s, theta, x_tp1, i0, i1, values)
     if owing:  # theta still owes the last step's correction on x_t's rows
         shared = _dot(x_t, x_tp1)
         for i in range(i0, i1):
-            values[0, i] -= owed[lo + i] * shared
+            values[0, i] -= owed[0, lo + i] * shared
     for i in range(i0, i1):
         d = lo + i
         g1 = gamma_tp1[dcls[d]]
@@ -502,7 +524,7 @@ def _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, e
         for i in range(width):
             step_x[i] = step_x[i] * alpha_w[lo + i0 + i] if alpha_w[lo + i0 + i] != 0.0 else 0.0
         end = rows.shape[0] - 1
-        owed_ = owed[lo + i0 : lo + i1]
+        owed_ = owed[0, lo + i0 : lo + i1]  # (GQ has paid already: 0)
         for j in range(dropped):
             start = _at(woff + rows[end - j] * db + i0)
             for i in range(width):
@@ -535,7 +557,7 @@ def _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, e
                         a = ad[i0 + i]
                         aw = awd[i0 + i]
                         sx = step_x[i]
-                        o = owed[lo + i0 + i]
+                        o = owed[0, lo + i0 + i]
                         j0 = u0 + _at(i)
                         j1 = u1 + _at(i)
                         v0 = w[j0]
@@ -555,7 +577,7 @@ def _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, e
                         j0 = u0 + _at(i)
                         wv = w[j0]
                         w_dot_e[i0 + i] += wv * e0
-                        theta[j0] += ad[i0 + i] * e0 - f0 * owed[lo + i0 + i]
+                        theta[j0] += ad[i0 + i] * e0 - f0 * owed[0, lo + i0 + i]
                         w[j0] = wv + awd[i0 + i] * e0 - f0 * step_x[i]
                 s += 1
     else:
@@ -578,19 +600,38 @@ def _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, e
                 b1 = woff + r1 * db + i0
                 _update_each_pair(theta[b0 : b0 + width], w[b0 : b0 + width], e0, rows_f[s], theta[b1 : b1 + width],
                                   w[b1 : b1 + width], e1, rows_f[s + 1], td, ad_, awd_, step_x, dot_e,
-                                  owed[lo + i0 : lo + i1])  # fmt: skip
+                                  owed[0, lo + i0 : lo + i1])  # fmt: skip
+                if gq:
+                    _gather(mark, r1, n_s, e1, ex, i0)
                 s += 2
             else:
                 _update_each(theta[b0 : b0 + width], w[b0 : b0 + width], e0, rows_f[s], td, ad_, awd_, step_x, dot_e,
-                             owed[lo + i0 : lo + i1])  # fmt: skip
+                             owed[0, lo + i0 : lo + i1])  # fmt: skip
                 s += 1
+            if gq:
+                _gather(mark, r0, n_s, e0, ex, i0)
 
-    # The correction at x_bar_{t+1}, fused with reading the new values at s_{t+1}.
+    # The correction at x_bar_{t+1} (owed: see above) and the new values at s_{t+1}.
     if not td:
         for i in range(i0, i1):
             a_i = alpha[lo + i]
             w_dot_e[i] = a_i * gamma_tp1[dcls[lo + i]] * (1.0 - lam_b) * w_dot_e[i] if a_i != 0.0 else 0.0
-    if owing:
+    if gq:
+        # As for GTD below, for each action's rows at s_{t+1}; e . x_bar(s_{t+1}, a) from the support pass
+        # (`_gather`; one class: one sum per action).
+        own_dot = _dot(x_tp1, x_tp1)
+        for a in range(A):
+            if ncls == 1:
+                e_dot_x = 0.0
+                for j in range(x_tp1.shape[0]):
+                    e_dot_x += np.float64(trace[voff + a * n_s + x_tp1[j]])
+                for i in range(i0, i1):
+                    ex[a, i] = e_dot_x
+            for i in range(i0, i1):
+                o = w_dot_e[i] * pi_next[a, i]
+                values[a, i] += ad[i] * ex[a, i] - o * own_dot
+                owed[a, lo + i] = o
+    elif owing:
         # theta' . x_{t+1} = theta . x_{t+1} + alpha delta (e . x_{t+1}) - owed (x_{t+1} . x_{t+1}): the update
         # added alpha delta e to every row (a row cut from the support has trace 0 and was not updated), and
         # x_t's rows paid what they owed (already taken from the values above).
@@ -605,12 +646,12 @@ def _columns(bi, b, i0, i1, kept, dropped, lam_b, alpha, alpha_w, temperature, e
                 e_dot_x += np.float64(trace[voff + x_tp1[j] * ncls + c])
             for i in range(c0, c1):
                 values[0, i] += ad[i] * e_dot_x - w_dot_e[i] * own_dot
-                owed[lo + i] = w_dot_e[i]
-    else:
-        mode = 0 if td else (2 if gq else 1)
-        for a in range(actions):
-            _correct_and_read(theta, woff + a * n_s * db + i0, x_tp1, db, dot_e, pi_next[a, i0:i1], mode,
-                              values[a, i0:i1])  # fmt: skip
+                owed[0, lo + i] = w_dot_e[i]
+    else:  # TD: the new values at s_{t+1}, read
+        acc = values[0, i0:i1]
+        for i in range(width):
+            acc[i] = 0.0
+        _sum_rows(theta, woff + i0, x_tp1, db, acc)
     _observe_range(bi, b, i0, i1, dcls, temperature, epsilon, pi_given, values, q, pi, pred, scratch_q, scratch_pi)
 
 
@@ -640,18 +681,69 @@ def _dot(x, y):
 
 
 @njit(**NO_NRT)
-def settle_owed(bi, b, theta, x, owed):
-    """Pay block b's owed GTD correction (`_columns`) on the rows x it is owed on, and owe nothing more."""
-    if bi[b, B_LEARNER] != GTD:
+def _gather(mark, row, n_s, e, ex, i0):
+    """ex[a, i0 + i] += e[i] times how often the support row `row` is listed at s_{t+1} for action a (`mark`)."""
+    m = mark[row]
+    if m != 0:
+        a = row // n_s
+        for i in range(e.shape[0]):
+            ex[a, i0 + i] += m * np.float64(e[i])
+
+
+@njit(**NO_NRT)
+def _pay_and_read(theta, start, x_t, x_tp1, db, owed, acc):
+    """theta pays `owed` on the rows x_t (once per listing), then acc = the sum of the rows x_tp1: one walk
+    over the union of the two sorted lists. As in `_sum_rows`, acc may be a run of columns (start at its
+    first column, db the row length); `owed` (the same run) is 0 afterwards."""
+    width = acc.shape[0]
+    for i in range(width):
+        acc[i] = 0.0
+    nt = x_t.shape[0]
+    nn = x_tp1.shape[0]
+    j_t = 0
+    j_n = 0
+    while j_t < nt or j_n < nn:
+        row = x_t[j_t] if j_n >= nn or (j_t < nt and x_t[j_t] < x_tp1[j_n]) else x_tp1[j_n]
+        m_t = 0.0
+        while j_t < nt and x_t[j_t] == row:
+            m_t += 1.0
+            j_t += 1
+        m_n = 0.0
+        while j_n < nn and x_tp1[j_n] == row:
+            m_n += 1.0
+            j_n += 1
+        u = _at(start + row * db)
+        if m_t == 0.0:
+            for i in range(width):
+                acc[i] += m_n * theta[u + _at(i)]
+        elif m_n == 0.0:
+            for i in range(width):
+                theta[u + _at(i)] -= m_t * owed[i]
+        else:
+            for i in range(width):
+                v = theta[u + _at(i)] - m_t * owed[i]
+                theta[u + _at(i)] = v
+                acc[i] += m_n * v
+    for i in range(width):
+        owed[i] = 0.0
+
+
+@njit(**NO_NRT)
+def settle_owed(bi, b, n_s, theta, x, owed):
+    """Pay block b's owed gradient correction (`_columns`) on the rows x it is owed on (each action's, for
+    GQ), and owe nothing more."""
+    learner = bi[b, B_LEARNER]
+    if learner != GTD and learner != GQ:
         return
     lo, woff = bi[b, B_LO], bi[b, B_WOFF]
     db = bi[b, B_HI] - lo
-    for j in range(x.shape[0]):
-        u = _at(woff + x[j] * db)
+    for a in range(owed.shape[0] if learner == GQ else 1):
+        for j in range(x.shape[0]):
+            u = _at(woff + (a * n_s + x[j]) * db)
+            for i in range(db):
+                theta[u + _at(i)] -= owed[a, lo + i]
         for i in range(db):
-            theta[u + _at(i)] -= owed[lo + i]
-    for i in range(db):
-        owed[lo + i] = 0.0
+            owed[a, lo + i] = 0.0
 
 
 @njit(**NO_NRT)
@@ -662,61 +754,3 @@ def _spread(trace, start, ncls, cls_lo, cls_hi, coff, i0, i1, out):
         c1 = min(cls_hi[coff + c], i1)
         if c0 < c1:
             out[c0 - i0 : c1 - i0] = trace[start + c]
-
-
-@njit(**NO_NRT)
-def _correct_and_read(theta, start, x, db, correction, weight, mode, acc):
-    """theta -= correction * weight on the rows x (mode 2: a weight per demon, 1: weight 1, 0: no
-    correction), then acc = the sum of those rows: the new values at s_{t+1}. Two rows at a time. As in
-    `_sum_rows`, acc may be a run of columns (start at its first column, db the row length), and
-    offsets are unsigned."""
-    k = x.shape[0]
-    width = acc.shape[0]
-    for i in range(width):
-        acc[i] = 0.0
-    if mode != 0:
-        for j in range(1, k):
-            if x[j] == x[j - 1]:  # an index listed twice (sorted: adjacent): correct every row before reading
-                _correct_then_read(theta, start, x, db, correction, weight, mode, acc)
-                return
-    j = 0
-    while j < k:
-        pair = j + 1 < k
-        u0 = _at(start + x[j] * db)
-        u1 = _at(start + x[j + 1] * db) if pair else u0
-        if mode == 2:
-            for i in range(width):
-                c = correction[i] * weight[i]
-                theta[u0 + _at(i)] -= c
-                if pair:
-                    theta[u1 + _at(i)] -= c
-        elif mode == 1:
-            for i in range(width):
-                theta[u0 + _at(i)] -= correction[i]
-                if pair:
-                    theta[u1 + _at(i)] -= correction[i]
-        if pair:
-            for i in range(width):
-                acc[i] += theta[u0 + _at(i)] + theta[u1 + _at(i)]
-            j += 2
-        else:
-            for i in range(width):
-                acc[i] += theta[u0 + _at(i)]
-            j += 1
-
-
-@njit(**NO_NRT)
-def _correct_then_read(theta, start, x, db, correction, weight, mode, acc):
-    """`_correct_and_read` where x lists an index more than once (a table feature of value 2): every row is
-    corrected once per listing first, then the rows are summed once per listing, so that a repeated row is
-    read after all of its corrections (the fused pass reads a pair's rows before the next pair corrects)."""
-    k = x.shape[0]
-    width = acc.shape[0]
-    for j in range(k):
-        u0 = _at(start + x[j] * db)
-        for i in range(width):
-            theta[u0 + _at(i)] -= correction[i] * weight[i] if mode == 2 else correction[i]
-    for j in range(k):
-        u0 = _at(start + x[j] * db)
-        for i in range(width):
-            acc[i] += theta[u0 + _at(i)]
