@@ -22,7 +22,7 @@ import math
 import sys
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import TextIO
 
@@ -60,6 +60,10 @@ class Row:
     single_thread_ms_per_step: float = math.nan  # the same steps on one thread, measured in the same run
     single_thread_cpu_ms_per_step: float = math.nan
     thread_speedup: float = math.nan  # wall ms per step on one thread / on `threads` threads
+    # nexting learners other than TD: steps/s over TD's with as many demons, rounds of the two alternated
+    # in this run (so that a change in a shared machine's load falls on both), on wall and CPU time
+    td_ratio: float = math.nan
+    td_ratio_cpu: float = math.nan
     notes: str = ""
 
 
@@ -249,6 +253,30 @@ def run_scale(name: str, demons: int, learner: str, plan: Plan, bandwidth: measu
     )
 
 
+def td_ratio(demons: int, learner: str, plan: Plan) -> tuple[float, float]:
+    """The learner's steps per second over TD's on the same nexting workload (wall, CPU): both runs built,
+    warmed, then timed in alternated rounds, as the speed-up over one thread is. Measured one after the
+    other, minutes apart, the ratio moved from 0.26 to 0.41 with a shared machine's load (sixth session)."""
+    sims = []
+    for name in ("td", learner):
+        sim = Simulation(workloads.spec("nexting", demons, name), np.random.default_rng(0))
+        sim.with_metrics = False
+        sim.run(plan.warmup)
+        sims.append(sim)
+    current: list[Simulation] = []
+
+    def use(sim: Simulation) -> Callable[[], None]:
+        def choose() -> None:
+            current[:] = [sim]
+
+        return choose
+
+    chunk = 5
+    td, other = measure.time_alternating(lambda t: current[0].run(chunk), [use(s) for s in sims],
+                                         max(2, plan.timed // chunk), chunk)  # fmt: skip
+    return td.wall / other.wall, td.cpu / other.cpu
+
+
 # ----------------------------------------------------------------------------------------------
 
 
@@ -275,6 +303,12 @@ def run(plan: Plan, only: Sequence[str] = WORKLOADS, stream: TextIO | None = Non
         if name in only:
             say(f"{name} {demons} {learner} ...")
             report.rows.append(run_scale(name, demons, learner, plan, report.bandwidth))
+            gc.collect()
+    for i, row in enumerate(report.rows):
+        if row.workload == "nexting" and row.learner != "td" and ("nexting", row.demons, "td") in plan.scale:
+            say(f"nexting {row.demons} {row.learner} against td, alternated ...")
+            wall, cpu = td_ratio(row.demons, row.learner, plan)
+            report.rows[i] = replace(row, td_ratio=wall, td_ratio_cpu=cpu)
             gc.collect()
     report.seconds = time.perf_counter() - began
     return report
@@ -306,6 +340,7 @@ def format_table(report: Report) -> str:
         "rows",
         "KiB/demon",
         "ref err",
+        "x td",
     )
     rows = [
         (
@@ -325,6 +360,7 @@ def format_table(report: Report) -> str:
             _fmt(r.trace_rows, 0),
             _fmt(r.memory_per_demon_bytes / 1024),
             "-" if not math.isfinite(r.reference_error) else f"{r.reference_error:.1e}",
+            _fmt(r.td_ratio, 2),
         )
         for r in report.rows
     ]
@@ -342,7 +378,8 @@ def format_table(report: Report) -> str:
             f"in-place update on as many threads ({in_place} GB/s on 1, 2, ... threads, each byte counted "
             f"once, {report.bandwidth.megabytes} MB, measured in this run); bound: that update's CPU time for "
             f"the step's bytes over the step's CPU time; "
-            f"thr: threads; x 1 thr: speed-up over one thread (wall, rounds alternated in this run); "
+            f"thr: threads; x 1 thr: speed-up over one thread (wall, rounds alternated in this run); x td: "
+            f"steps/s over TD's with as many demons (wall, rounds of the two alternated in this run); "
             f"total {report.seconds:.0f} s. The machine may be shared: compare CPU ms with wall ms."
         )
     return "\n".join(lines)

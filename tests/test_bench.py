@@ -50,6 +50,9 @@ def test_quick_bench_writes_every_workload(tmp_path: Path, capsys: pytest.Captur
         assert row["demons"] > 0
         assert row["ms_per_step"] == pytest.approx(1e3 / row["steps_per_second"])
         assert row["demon_updates_per_second"] == pytest.approx(row["demons"] * row["steps_per_second"])
+    # a learner's speed over TD's, the two timed in alternated rounds in the same run (TD's own row has none)
+    ratios = {r["learner"]: r["td_ratio"] for r in rows if r["workload"] == "nexting" and r["demons"] == 50}
+    assert ratios["td"] is None and 0 < ratios["td+autostep"] < 10, ratios
     scale_rows = [r for r in rows if r["workload"] != "thesis"]
     assert all(r["reference_error"] < 1e-6 for r in scale_rows), "the product path agrees with reference.py"
     assert all(r["threads"] >= 1 for r in rows)
