@@ -72,6 +72,7 @@ from horde.core.scale_fast import (
     PARALLEL_MIN,
     _at,
     _read_range,
+    listed,
 )
 
 TOTD = LEARNER_CODES["true_online_td"]
@@ -284,14 +285,8 @@ def _walk(rows, kept, s, x_t, j, x_tp1, m):
     if m < x_tp1.shape[0] and (row < 0 or x_tp1[m] < row):
         row = x_tp1[m]
     in_support = s < kept and rows[s] == row
-    on_x = 0.0
-    while j < x_t.shape[0] and x_t[j] == row:
-        j += 1
-        on_x += 1.0
-    on_next = 0.0
-    while m < x_tp1.shape[0] and x_tp1[m] == row:
-        m += 1
-        on_next += 1.0
+    on_x, j = listed(x_t, j, row)
+    on_next, m = listed(x_tp1, m, row)
     return row, in_support, on_x, on_next, s + in_support, j, m
 
 

@@ -664,17 +664,21 @@ def _dot(x, y):
         elif y[j] < x[i]:
             j += 1
         else:
-            row = x[i]
-            m = 0
-            while i < x.shape[0] and x[i] == row:
-                m += 1
-                i += 1
-            n = 0
-            while j < y.shape[0] and y[j] == row:
-                n += 1
-                j += 1
+            m, i = listed(x, i, x[i])
+            n, j = listed(y, j, y[j])
             total += m * n
     return total
+
+
+@njit(**NO_NRT, inline="always")
+def listed(x, j, row):
+    """How often the sorted list x lists `row` from position j on (0, 1, or 2 for a table's repeat, ...),
+    and the position past it."""
+    count = 0.0
+    while j < x.shape[0] and x[j] == row:
+        count += 1.0
+        j += 1
+    return count, j
 
 
 @njit(**NO_NRT)
@@ -725,14 +729,8 @@ def _pay_and_read(theta, start, x_t, x_tp1, db, owed, acc):
     j_n = 0
     while j_t < nt or j_n < nn:
         row = x_t[j_t] if j_n >= nn or (j_t < nt and x_t[j_t] < x_tp1[j_n]) else x_tp1[j_n]
-        m_t = 0.0
-        while j_t < nt and x_t[j_t] == row:
-            m_t += 1.0
-            j_t += 1
-        m_n = 0.0
-        while j_n < nn and x_tp1[j_n] == row:
-            m_n += 1.0
-            j_n += 1
+        m_t, j_t = listed(x_t, j_t, row)
+        m_n, j_n = listed(x_tp1, j_n, row)
         u = _at(start + row * db)
         if m_t == 0.0:
             for i in range(width):
