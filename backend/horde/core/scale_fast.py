@@ -27,7 +27,7 @@ step (perf), and dropping it made the thesis loop 2.1 times faster. A kernel com
 allocate (numba refuses to compile it) and passes the setting down to what it calls, unless the callee
 sets `_nrt=True` (`_columns_parallel`, which allocates its scratch).
 
-Why one module of about 610 lines: the kernels call one another in the hot loop, and numba specialises
+Why one module of about 780 lines: the kernels call one another in the hot loop, and numba specialises
 and inlines calls best within one module (its cache is keyed per module as well).
 """
 
