@@ -253,16 +253,15 @@ def run_scale(name: str, demons: int, learner: str, plan: Plan, bandwidth: measu
     )
 
 
-def td_ratio(demons: int, learner: str, plan: Plan) -> tuple[float, float]:
-    """The learner's steps per second over TD's on the same nexting workload (wall, CPU): both runs built,
-    warmed, then timed in alternated rounds, as the speed-up over one thread is. Measured one after the
-    other, minutes apart, the ratio moved from 0.26 to 0.41 with a shared machine's load (sixth session)."""
-    sims = []
-    for name in ("td", learner):
-        sim = Simulation(workloads.spec("nexting", demons, name), np.random.default_rng(0))
-        sim.with_metrics = False
-        sim.run(plan.warmup)
-        sims.append(sim)
+def td_ratio(td: Simulation, demons: int, learner: str, plan: Plan) -> tuple[float, float]:
+    """The learner's steps per second over TD's (`td`, warmed) on the same nexting workload (wall, CPU): the
+    learner's run built and warmed, then the two timed in alternated rounds, as the speed-up over one thread
+    is. Measured one after the other, minutes apart, the ratio moved from 0.26 to 0.41 with a shared
+    machine's load (sixth session)."""
+    sim = Simulation(workloads.spec("nexting", demons, learner), np.random.default_rng(0))
+    sim.with_metrics = False
+    sim.run(plan.warmup)
+    sims = [td, sim]
     current: list[Simulation] = []
 
     def use(sim: Simulation) -> Callable[[], None]:
@@ -272,9 +271,9 @@ def td_ratio(demons: int, learner: str, plan: Plan) -> tuple[float, float]:
         return choose
 
     chunk = 5
-    td, other = measure.time_alternating(lambda t: current[0].run(chunk), [use(s) for s in sims],
-                                         max(2, plan.timed // chunk), chunk)  # fmt: skip
-    return td.wall / other.wall, td.cpu / other.cpu
+    base, other = measure.time_alternating(lambda t: current[0].run(chunk), [use(s) for s in sims],
+                                           max(2, plan.timed // chunk), chunk)  # fmt: skip
+    return base.wall / other.wall, base.cpu / other.cpu
 
 
 # ----------------------------------------------------------------------------------------------
@@ -304,12 +303,18 @@ def run(plan: Plan, only: Sequence[str] = WORKLOADS, stream: TextIO | None = Non
             say(f"{name} {demons} {learner} ...")
             report.rows.append(run_scale(name, demons, learner, plan, report.bandwidth))
             gc.collect()
+    tds: dict[int, Simulation] = {}  # one warmed TD run per size, timed against each other learner
     for i, row in enumerate(report.rows):
         if row.workload == "nexting" and row.learner != "td" and ("nexting", row.demons, "td") in plan.scale:
             say(f"nexting {row.demons} {row.learner} against td, alternated ...")
-            wall, cpu = td_ratio(row.demons, row.learner, plan)
+            if row.demons not in tds:
+                td = tds[row.demons] = Simulation(workloads.spec("nexting", row.demons, "td"), np.random.default_rng(0))
+                td.with_metrics = False
+                td.run(plan.warmup)
+            wall, cpu = td_ratio(tds[row.demons], row.demons, row.learner, plan)
             report.rows[i] = replace(row, td_ratio=wall, td_ratio_cpu=cpu)
             gc.collect()
+    tds.clear()
     report.seconds = time.perf_counter() - began
     return report
 
