@@ -29,7 +29,7 @@ NUMBER = re.compile(r"^-?\d+(\.\d+)?(e[+-]\d+)?$")
 pytestmark = ON_DASHBOARD
 
 if TYPE_CHECKING:  # Playwright itself is imported in the browser fixture
-    from playwright.sync_api import Browser, Locator, Page
+    from playwright.sync_api import Browser, Locator, Page, Route
 
 
 @dataclass
@@ -190,6 +190,40 @@ def test_launch_experiment1_and_watch_it_learn(page: Page, server: Server) -> No
         f"step {before + 1:,} ·"
     )
     assert server.client.get(f"/api/runs/{run_id}").json()["step"] == before + 1
+
+
+def test_the_launch_forms_wait_for_the_scenarios(browser: Browser, server: Server, console: Console) -> None:
+    """Until the scenario list arrives, the three forms that launch from it cannot be pressed: a press then
+    launched an empty run, or a study with no scenario (a 422 the user had not caused). Then each takes its
+    default scenario and can be pressed."""
+    held: list[Route] = []
+    with open_page(browser, console) as page:
+        page.route("**/api/scenarios", lambda route: held.append(route))
+        page.goto(server.url)
+        page.get_by_role("heading", name="Horde Lab").wait_for()
+        launcher = page.locator("section.launcher")
+        expect(launcher.get_by_role("button", name="Launch")).to_be_disabled()
+        expect(launcher.locator(".scenario-description")).to_have_text("Loading the scenarios…")
+        page.get_by_role("tab", name="Protocol").click()
+        protocol = page.locator("section.protocol-panel")
+        expect(protocol.get_by_role("button", name="Run")).to_be_disabled()
+        expect(protocol.get_by_label("Scenario")).to_have_text("loading the scenarios…")
+        page.get_by_role("tab", name="Studies").click()
+        studies = page.locator("form.study-form")
+        expect(studies.get_by_role("button", name="Launch")).to_be_disabled()
+        expect(studies.get_by_label("Scenario")).to_have_text("loading the scenarios…")
+
+        assert len(held) == 1, "the dashboard asks for the scenarios once"
+        held[0].continue_()
+        expect(studies.get_by_role("button", name="Launch")).to_be_enabled()
+        expect(studies.get_by_label("Scenario")).to_have_value("classroom-offpolicy")
+        page.get_by_role("tab", name="Protocol").click()
+        expect(protocol.get_by_role("button", name="Run")).to_be_enabled()
+        expect(protocol.get_by_label("Scenario")).to_have_value("experiment1")
+        page.get_by_role("tab", name="Live").click()
+        expect(launcher.get_by_role("button", name="Launch")).to_be_enabled()
+        expect(launcher.get_by_label("Scenario")).to_have_value("experiment1")
+    assert console.unexpected() == [], "errors in the browser console"
 
 
 def test_add_a_demon_to_a_live_run_and_see_a_422_at_its_field(page: Page, server: Server, console: Console) -> None:

@@ -31,7 +31,7 @@ export async function attempt<T>(store: AppStore, work: () => Promise<T>): Promi
 
 export async function loadCatalog(store: AppStore): Promise<void> {
   const [scenarios, worlds] = await Promise.all([unwrap(api.GET("/api/scenarios")), unwrap(api.GET("/api/worlds"))]);
-  store.update({ scenarios, worlds });
+  store.update({ scenarios, worlds, catalogLoaded: true });
 }
 
 export async function refreshWorlds(store: AppStore): Promise<void> {

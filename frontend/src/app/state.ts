@@ -28,6 +28,8 @@ export interface AppState {
   charted: string[];
   scenarios: Scenario[];
   worlds: WorldRecord[];
+  /** whether the scenarios and worlds have arrived: until then the forms that launch from them wait */
+  catalogLoaded: boolean;
   /** every protocol job the server keeps, oldest first (the Protocol tab's table of results) */
   protocols: Protocol[];
   /** the protocol job the Protocol tab shows (the server's latest answer about it) */
@@ -54,6 +56,7 @@ export function createStore(): Store<AppState> {
     charted: [],
     scenarios: [],
     worlds: [],
+    catalogLoaded: false,
     protocols: [],
     protocol: null,
     protocolStartedAt: null,

@@ -69,9 +69,12 @@ export function launcher(store: AppStore): HTMLElement {
   const startNow = h("input", { name: "start", checked: true });
   const submit = h("button", { type: "submit", class: "primary" }, "Launch");
 
+  // Launch waits for the catalogue: before it the list holds only "none", and the default is Experiment 1.
+  let launching = false;
+  const allowLaunch = () => (submit.disabled = launching || !store.state.catalogLoaded);
   const renderChoices = () => {
     const { scenarios, worlds } = store.state;
-    // Experiment 1 until the user chooses (before the catalog arrives the list holds only "none").
+    // Experiment 1 until the user chooses.
     const chosenScenario = store.state.scenarios.length > 0 && scenario.dataset.chosen ? scenario.value : "experiment1";
     const chosenWorld = world.value;
     replaceChildren(
@@ -88,6 +91,7 @@ export function launcher(store: AppStore): HTMLElement {
         chosenWorld,
       ),
     );
+    allowLaunch();
     describe();
   };
 
@@ -100,7 +104,9 @@ export function launcher(store: AppStore): HTMLElement {
     const entry = store.state.scenarios.find((s) => s.name === name);
     description.textContent = entry
       ? entry.description
-      : "A run with the default spec: add demons with the demon editor.";
+      : store.state.catalogLoaded
+        ? "A run with the default spec: add demons with the demon editor."
+        : "Loading the scenarios…";
     if (!name || name === described) return;
     described = name;
     void attempt(store, async () => {
@@ -140,7 +146,8 @@ export function launcher(store: AppStore): HTMLElement {
     if (world.value) template.world = world.value;
     const episodeCount = readOptionalNumber(episodes.value);
     if (episodeCount !== undefined) template.protocol = { episodes: episodeCount };
-    submit.disabled = true;
+    launching = true;
+    allowLaunch();
     try {
       const run = await launchRun(store, template, readOptionalNumber(hz.value), startNow.checked);
       notify(store, `Launched run ${runLabel(run)}.`);
@@ -149,11 +156,12 @@ export function launcher(store: AppStore): HTMLElement {
       if (error instanceof ApiError && error.problems.length > 0) errors.showProblems(error.problems);
       else errors.showGeneral(error instanceof Error ? error.message : String(error));
     } finally {
-      submit.disabled = false;
+      launching = false;
+      allowLaunch();
     }
   };
 
-  store.subscribe(renderChoices, ["scenarios", "worlds"]);
+  store.subscribe(renderChoices, ["scenarios", "worlds", "catalogLoaded"]);
   renderChoices();
 
   return h(

@@ -18,7 +18,7 @@ import { jobsTable } from "./protocol-jobs";
 import { scenarioGroups } from "../lib/protocol-jobs";
 import { readOptionalNumber } from "../lib/parse";
 import { h, options, replaceChildren, section, setText } from "../ui/dom";
-import { FormErrors, field, numberInput } from "../ui/form";
+import { FormErrors, field, nothingToChoose, numberInput } from "../ui/form";
 
 const DEFAULT_SCENARIO = "experiment1";
 const GROUP = "group:";
@@ -45,6 +45,11 @@ export function protocolPanel(store: AppStore): HTMLElement {
     const names = store.state.scenarios.filter((s) => !s.error).map((s) => s.name);
     const chosen = scenario.dataset.chosen ? scenario.value : DEFAULT_SCENARIO;
     const groups = scenarioGroups(names);
+    if (names.length === 0) {
+      replaceChildren(scenario, nothingToChoose(store.state.catalogLoaded, "scenarios"));
+      render(store.state);
+      return;
+    }
     replaceChildren(
       scenario,
       h("optgroup", { label: "One scenario" }, options(names, chosen)),
@@ -59,6 +64,7 @@ export function protocolPanel(store: AppStore): HTMLElement {
           )
         : null,
     );
+    render(store.state);
     describe();
   };
 
@@ -215,7 +221,7 @@ export function protocolPanel(store: AppStore): HTMLElement {
   const render = (state: Readonly<AppState>) => {
     const { protocol, protocolStartedAt } = state;
     const running = protocol?.status === "running";
-    submit.disabled = running;
+    submit.disabled = running || !scenario.value;
     setText(submit, running ? "Running…" : "Run");
     job.hidden = protocol === null;
     if (protocol === null) return;
@@ -243,9 +249,8 @@ export function protocolPanel(store: AppStore): HTMLElement {
     replaceChildren(results, protocol.results ? resultsTables(protocol) : null);
   };
   store.subscribe(render, ["protocol", "protocolStartedAt"]);
-  store.subscribe(renderChoices, ["scenarios"]);
+  store.subscribe(renderChoices, ["scenarios", "catalogLoaded"]);
   renderChoices();
-  render(store.state);
 
   return section(
     { class: "panel protocol-panel", id: "protocol-title", title: "Protocol" },

@@ -7,7 +7,7 @@ import type { AppStore } from "../app/state";
 import { ApiError, api, errorMessage, unwrap } from "../api/client";
 import { type StudyIn, parseValues } from "../lib/study";
 import { h, options, replaceChildren } from "../ui/dom";
-import { FormErrors, field, numberInput, textInput } from "../ui/form";
+import { FormErrors, field, nothingToChoose, numberInput, textInput } from "../ui/form";
 
 const DEFAULT_SCENARIO = "classroom-offpolicy";
 const SUGGESTED_PATHS = [
@@ -68,10 +68,16 @@ export function studyForm(store: AppStore, onStarted: (id: string) => Promise<vo
   addAxis("demons.*.learner", "td, gq");
   const addButton = h("button", { type: "button", onclick: () => addAxis() }, "Add an axis");
 
+  let launching = false;
+  const allowLaunch = () => (submit.disabled = launching || !scenario.value);
   const renderChoices = () => {
     const names = store.state.scenarios.filter((x) => !x.error).map((x) => x.name);
     const chosen = scenario.dataset.chosen ? scenario.value : DEFAULT_SCENARIO;
-    replaceChildren(scenario, options(names, chosen));
+    replaceChildren(
+      scenario,
+      names.length > 0 ? options(names, chosen) : nothingToChoose(store.state.catalogLoaded, "scenarios"),
+    );
+    allowLaunch();
   };
   scenario.addEventListener("change", () => (scenario.dataset.chosen = "yes"));
 
@@ -85,7 +91,8 @@ export function studyForm(store: AppStore, onStarted: (id: string) => Promise<vo
       measure: { episodes: Number(episodes.value), checkpoints: Number(checkpoints.value) },
       axes: axisRows.map((a) => ({ path: a.path.value.trim(), values: parseValues(a.values.value) })),
     } as StudyIn;
-    submit.disabled = true;
+    launching = true;
+    allowLaunch();
     try {
       const started = await unwrap(api.POST("/api/studies", { body }));
       await onStarted(started.id);
@@ -93,11 +100,12 @@ export function studyForm(store: AppStore, onStarted: (id: string) => Promise<vo
       if (error instanceof ApiError && error.problems.length > 0) errors.showProblems(error.problems);
       else errors.showGeneral(errorMessage(error));
     } finally {
-      submit.disabled = false;
+      launching = false;
+      allowLaunch();
     }
   };
 
-  store.subscribe(renderChoices, ["scenarios"]);
+  store.subscribe(renderChoices, ["scenarios", "catalogLoaded"]);
   renderChoices();
 
   return h(
