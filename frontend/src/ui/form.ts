@@ -170,10 +170,6 @@ export function checkbox(label: string, input: HTMLInputElement): HTMLElement {
 }
 
 /**
- * A number input that never blocks submission: no min/max/step checks in the browser, since the
- * server's 422 names the field and says why.
- */
-/**
  * The one entry of a list with nothing to choose yet: the catalogue is still on its way, or the server
  * has none. Its value is empty, so a form that launches from the list waits (its button is disabled).
  */
@@ -185,6 +181,10 @@ export function nothingToChoose(loaded: boolean, what: string): HTMLOptionElemen
   );
 }
 
+/**
+ * A number input that never blocks submission: no min/max/step checks in the browser, since the
+ * server's 422 names the field and says why.
+ */
 export function numberInput(value: number | null | undefined, props: Record<string, unknown> = {}): HTMLInputElement {
   return h("input", { type: "number", step: "any", inputmode: "decimal", value: value ?? "", ...props });
 }
