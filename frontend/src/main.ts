@@ -70,7 +70,7 @@ document.body.append(helpPanel.element, guide.element);
 installShortcuts(store, helpPanel.open, () =>
   Number((document.getElementById("step-size") as HTMLSelectElement | null)?.value ?? 1),
 );
-void attempt(store, () => loadCatalog(store));
+void loadCatalog(store);
 void attempt(store, () => loadProtocols(store));
 void loadLiveView(store);
 watchRuns(store);

@@ -29,9 +29,17 @@ export async function attempt<T>(store: AppStore, work: () => Promise<T>): Promi
   }
 }
 
-export async function loadCatalog(store: AppStore): Promise<void> {
-  const [scenarios, worlds] = await Promise.all([unwrap(api.GET("/api/scenarios")), unwrap(api.GET("/api/worlds"))]);
-  store.update({ scenarios, worlds, catalogLoaded: true });
+/**
+ * The scenarios and worlds, asked for again every `retryMs` until they arrive (each failure is shown as a
+ * notice): the forms that launch from them wait for them, so one failed request must not leave them waiting.
+ */
+export async function loadCatalog(store: AppStore, retryMs = 3000): Promise<void> {
+  const load = async () => {
+    const [scenarios, worlds] = await Promise.all([unwrap(api.GET("/api/scenarios")), unwrap(api.GET("/api/worlds"))]);
+    store.update({ scenarios, worlds, catalogLoaded: true });
+    return true;
+  };
+  while ((await attempt(store, load)) === undefined) await new Promise((resolve) => setTimeout(resolve, retryMs));
 }
 
 export async function refreshWorlds(store: AppStore): Promise<void> {
