@@ -45,25 +45,22 @@ export function protocolPanel(store: AppStore): HTMLElement {
     const names = store.state.scenarios.filter((s) => !s.error).map((s) => s.name);
     const chosen = scenario.dataset.chosen ? scenario.value : DEFAULT_SCENARIO;
     const groups = scenarioGroups(names);
-    if (names.length === 0) {
-      replaceChildren(scenario, nothingToChoose(store.state.catalogLoaded, "scenarios"));
-      render(store.state);
-      return;
-    }
-    replaceChildren(
-      scenario,
-      h("optgroup", { label: "One scenario" }, options(names, chosen)),
-      groups.length
-        ? h(
-            "optgroup",
-            { label: "A group" },
-            options(
-              groups.map((g) => [`${GROUP}${g.key}`, g.label] as const),
-              chosen,
-            ),
-          )
-        : null,
-    );
+    if (names.length === 0) replaceChildren(scenario, nothingToChoose(store.state.catalogLoaded, "scenarios"));
+    else
+      replaceChildren(
+        scenario,
+        h("optgroup", { label: "One scenario" }, options(names, chosen)),
+        groups.length
+          ? h(
+              "optgroup",
+              { label: "A group" },
+              options(
+                groups.map((g) => [`${GROUP}${g.key}`, g.label] as const),
+                chosen,
+              ),
+            )
+          : null,
+      );
     render(store.state);
     describe();
   };
