@@ -15,7 +15,7 @@ from horde.view.scene import agent_point, to_scene
 from serving import RunningServer, free_port, serve_in_thread
 
 if TYPE_CHECKING:
-    from playwright.sync_api import Browser, Locator, Page
+    from playwright.sync_api import Browser, Frame, Locator, Page
 
 CHROMIUM = Path("/usr/bin/chromium")
 # Playwright cannot download browsers here; these flags run Debian's chromium headless, with no network
@@ -98,6 +98,16 @@ def browser_page(
         yield page, collect_errors(page, lambda message: not ignore(message.text))
     finally:
         context.close()
+
+
+def viser_view(page: Page, view_url: str) -> Frame:
+    """The frame of the embedded viser live view at `view_url`, its iframe scrolled into sight first.
+
+    The view is served on another port, so its iframe is cross-origin, and Chromium runs no frames of a
+    cross-origin iframe outside the viewport: below the fold the viser client neither starts nor draws, and a
+    wait for its nodes times out (about one run in five of the stream test, as the page's layout settled)."""
+    page.locator("iframe.viser-frame").scroll_into_view_if_needed()
+    return next(f for f in page.frames if f.url.startswith(view_url.rstrip("/")))
 
 
 def fill_and_press(form: Locator, fields: dict[str, str], button: str) -> None:

@@ -13,7 +13,7 @@ from playwright.sync_api import Browser, expect
 
 from horde.server import Settings
 
-from .conftest import CHROMIUM, ROOT, SHOTS, RunningServer, browser_page, free_port, serve_in_thread
+from .conftest import CHROMIUM, ROOT, SHOTS, RunningServer, browser_page, free_port, serve_in_thread, viser_view
 from .test_dashboard_live_e2e import viser_race
 
 DIST = ROOT / "frontend" / "dist"
@@ -55,7 +55,7 @@ def test_baird_launched_from_the_dashboard_marks_td_diverged_and_charts_it_on_a_
         expect(page.locator('figure.chart[data-demon="td"] figcaption')).to_contain_text("log scale")
         expect(page.locator('figure.chart[data-demon="gtd"] figcaption')).not_to_contain_text("log scale")
         view_url = server.client.get("/api/view").json()["url"]
-        view = next(f for f in page.frames if f.url.startswith(view_url))
+        view = viser_view(page, view_url)
         view.wait_for_function(STAR, timeout=60_000)
         page.wait_for_timeout(2000)  # a few frames of the view, for the picture
         view.locator(".mantine-Notification-root button").first.click()  # "software WebGL" note

@@ -19,7 +19,16 @@ from playwright.sync_api import expect
 
 from horde.server import Settings
 
-from .conftest import ON_DASHBOARD, ROOT, SHOTS, RunningServer, collect_errors, free_port, serve_in_thread
+from .conftest import (
+    ON_DASHBOARD,
+    ROOT,
+    SHOTS,
+    RunningServer,
+    collect_errors,
+    free_port,
+    serve_in_thread,
+    viser_view,
+)
 
 if TYPE_CHECKING:
     from playwright.sync_api import Browser, Page
@@ -122,7 +131,7 @@ def test_three_screen_sizes_with_large_text_grow_nothing_and_cover_no_world(
         assert first[width]["count"] >= 6, "classroom mode charts every demon of the classroom scenario"
         assert page.evaluate(COVERING) == [], f"{width} px: something covers the live view's world"
         # For the pictures: the view drawn, and the truth beside the predictions.
-        frame = next(f for f in page.frames if f.url.startswith(view_url))
+        frame = viser_view(page, view_url)
         frame.wait_for_function(AGENT_NODE, timeout=30_000)
         # Inside the frame: wide enough for the viser client's desktop layout (its phone layout lays the
         # panel over the world), and its panel minimized to a bar.
@@ -225,7 +234,7 @@ def test_draw_a_world_by_dragging_save_it_run_it_and_see_its_value_map(browser: 
     launcher.get_by_role("button", name="Launch").click()
     page.locator("li.run-item.selected", has_text="on-drawn").wait_for()
     view_url = server.client.get("/api/view").json()["url"]
-    frame = next(f for f in page.frames if f.url.startswith(view_url))
+    frame = viser_view(page, view_url)
     frame.wait_for_function(
         """() => Object.keys(window.__viserMutable?.nodeRefFromName ?? {}).some(n => n.startsWith("/value_map/"))""",
         timeout=30_000,

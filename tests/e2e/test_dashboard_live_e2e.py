@@ -11,6 +11,7 @@ from .conftest import (
     SHOTS,
     RunningServer,
     browser_page,
+    viser_view,
 )
 
 AGENT_NODE = """() => !!window.__viserMutable?.nodeRefFromName?.["/agent"]"""
@@ -36,7 +37,7 @@ def test_the_dashboard_embeds_the_live_view_of_the_selected_run(browser: Browser
         assert api.get("/api/view").json()["run"] == run, "selecting a run shows it in the live view"
 
         frame = page.frame_locator("iframe.viser-frame")
-        view = next(f for f in page.frames if f.url.startswith(api.get("/api/view").json()["url"]))
+        view = viser_view(page, api.get("/api/view").json()["url"])
         view.wait_for_function(AGENT_NODE, timeout=30_000)
         assert frame.get_by_text("Connected").first.is_visible()
 

@@ -16,7 +16,7 @@ from playwright.sync_api import expect
 
 from horde.server import Settings
 
-from .conftest import CHROMIUM, CHROMIUM_ARGS, ROOT, RunningServer, free_port, serve_in_thread
+from .conftest import CHROMIUM, CHROMIUM_ARGS, ROOT, RunningServer, free_port, serve_in_thread, viser_view
 from .test_dashboard_live_e2e import viser_race
 
 DIST = ROOT / "frontend" / "dist"
@@ -90,7 +90,7 @@ def test_mountaincar_launched_from_the_dashboard_shows_its_demons_and_phase_plan
 
             # The embedded live view draws the run's phase plane: a value map with the car (its trail ends there) on it.
             view_url = api.get("/api/view").json()["url"]
-            view = next(f for f in page.frames if f.url.startswith(view_url))
+            view = viser_view(page, view_url)
             view.wait_for_function(PHASE_MAP, timeout=120_000)
             view.wait_for_function(PHASE_AGENT, timeout=60_000)
 

@@ -15,6 +15,7 @@ from .conftest import (
     ON_DASHBOARD,
     RunningServer,
     browser_page,
+    viser_view,
 )
 from .test_dashboard_live_e2e import AGENT_NODE, viser_race
 
@@ -51,7 +52,7 @@ def test_nexting_launched_from_the_dashboard_learns_and_the_page_stays_responsiv
         # The live view follows the selected run and draws its agent.
         view_url = api.get("/api/view").json()["url"]
         frame = page.frame_locator("iframe.viser-frame")
-        view = next(f for f in page.frames if f.url.startswith(view_url))
+        view = viser_view(page, view_url)
         view.wait_for_function(AGENT_NODE, timeout=120_000)
         assert frame.get_by_text("Connected").first.is_visible()
 

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 from stream_specs import LIGHT_WHEEL, nexting, robot, tiled
 
-from .conftest import ON_DASHBOARD, SHOTS, RunningServer
+from .conftest import ON_DASHBOARD, SHOTS, RunningServer, viser_view
 
 if TYPE_CHECKING:
     from playwright.sync_api import Browser
@@ -80,7 +80,7 @@ def test_pushed_records_draw_the_strip_chart_and_the_phase_plane(server: Running
         assert api.get("/api/view").json()["run"] == stream, "selecting a stream run shows it in the live view"
         frame = page.frame_locator("iframe.viser-frame")
         frame.locator("body").wait_for(timeout=15_000)
-        viser = next(f for f in page.frames if f.url.startswith(api.get("/api/view").json()["url"].rstrip("/")))
+        viser = viser_view(page, api.get("/api/view").json()["url"])
         viser.wait_for_function(PHASE_MAP, timeout=60_000)  # a GPU-less client on a busy machine is slow
         SHOTS.mkdir(parents=True, exist_ok=True)
         page.screenshot(path=str(SHOTS / "stream-strip.png"), full_page=True)
