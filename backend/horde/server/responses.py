@@ -28,7 +28,11 @@ BUSY: Responses = {
 }
 
 NOT_SAVED: Responses = {
-    503: {"model": ErrorOut, "description": "The change was made but could not be saved; the detail says why"}
+    503: {
+        "model": ErrorOut,
+        "description": "Not saved: the store could not write (say, the disk is full); the detail says why and "
+        "whether the change holds (a run's command) or was not made (a new run or world)",
+    }
 }
 
 STATUS: dict[type[RunError], int] = {NotFoundError: 404, ConflictError: 409, BusyError: 429, SaveError: 503}
