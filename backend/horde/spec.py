@@ -16,6 +16,7 @@ import heapq
 import itertools
 import math
 import re
+from collections.abc import Iterator
 from functools import partial
 from typing import Annotated, Any, Literal
 
@@ -49,7 +50,11 @@ MAX_STEPS = 1_000_000
 MAX_EPISODES = 1_000_000
 MAX_TRIALS = 1_000
 
-Name = Annotated[str, Field(min_length=1, max_length=64, pattern=r"^[A-Za-z_][A-Za-z0-9_.-]*$")]
+NAME_MAX = 64
+NAME_PATTERN = r"^[A-Za-z_][A-Za-z0-9_.-]*$"
+NAME_RULE = f"1 to {NAME_MAX} letters, digits, '_', '.' or '-', the first a letter or '_'"
+_NAME = re.compile(NAME_PATTERN)
+Name = Annotated[str, Field(min_length=1, max_length=NAME_MAX, pattern=NAME_PATTERN)]
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 Probability = Annotated[float, Field(ge=0.0, le=1.0, allow_inf_nan=False)]
 PositiveSize = Annotated[float, Field(gt=0.0, le=MAX_WORLD_SIZE, allow_inf_nan=False)]
@@ -926,13 +931,14 @@ class DemonFamily(Model):
 
     `demon` is a demon written as usual, in which any "{var}" stands for the values of the list `var`
     of `over`; `name` is the pattern of the demons' names, such as "{sensor}_g{gamma}" (characters a
-    name cannot hold, such as the colon of "in:zone1", become "_").
+    name cannot hold, such as the colon of "in:zone1", become "_"). A 422 about a family names the field
+    and the rule, never the pattern or a demon name made of it (they are input).
     """
 
-    name: str = Field(min_length=1, max_length=64, description='the name pattern, e.g. "{sensor}_g{gamma}"')
     over: dict[Name, Annotated[list[Annotated[str, Field(max_length=80)] | Finite], Field(min_length=1)]] = Field(
         min_length=1, max_length=8, description="the lists whose product the family expands into"
     )
+    name: str = Field(min_length=1, max_length=64, description='the name pattern, e.g. "{sensor}_g{gamma}"')
     demon: dict[str, Any] = Field(description='a demon without its name; "{var}" in any string takes the values')
     _demons: list[DemonSpec] = PrivateAttr(default_factory=list)
 
@@ -944,15 +950,26 @@ class DemonFamily(Model):
             raise ValueError(f"the lists expand into {count} demons, more than {MAX_DEMONS}")
         return over
 
+    @field_validator("name")
+    @classmethod
+    def _pattern_fits_over(cls, name: str, info: ValidationInfo) -> str:
+        over = info.data.get("over")
+        if over is None:  # over is invalid itself, and its own error says so
+            return name
+        used = set(_PLACEHOLDER.findall(name))
+        unknown = sorted(used - set(over))
+        if unknown:  # placeholders are identifiers ([A-Za-z_][A-Za-z0-9_]*): naming them echoes no markup
+            raise ValueError(f"every {{placeholder}} must be a list of over ({', '.join(unknown)} is not)")
+        missing = sorted(set(over) - used)
+        if missing:
+            raise ValueError(f"must use every list of over as a {{placeholder}} (missing: {', '.join(missing)})")
+        for i, (_, demon_name) in enumerate(_combinations(name, over)):
+            if not (len(demon_name) <= NAME_MAX and _NAME.fullmatch(demon_name)):
+                raise ValueError(f"must make demon names of {NAME_RULE}; combination {i + 1} of over does not")
+        return name
+
     @model_validator(mode="after")
     def _names(self) -> DemonFamily:
-        used = set(_PLACEHOLDER.findall(self.name))
-        unknown = sorted(used - set(self.over))
-        if unknown:
-            raise ValueError(f"name pattern {self.name!r} uses {', '.join(unknown)}, which over does not list")
-        missing = sorted(set(self.over) - used)
-        if missing:
-            raise ValueError(f"name pattern {self.name!r} must use every list of over (missing: {', '.join(missing)})")
         if "name" in self.demon:
             raise ValueError("the demon template takes its name from the family's name pattern")
         self._demons = self._expand()
@@ -969,21 +986,26 @@ class DemonFamily(Model):
         """The demons of `expand`, validated.
 
         Raises:
-            ValueError: naming the first demon whose filled-in template is not a valid demon.
+            ValueError: naming the first combination whose filled-in template is not a valid demon, and the field.
         """
-        keys = list(self.over)
         demons = []
-        for values in itertools.product(*(self.over[key] for key in keys)):
-            env = dict(zip(keys, values, strict=True))
-            parts = {key: re.sub(r"[^A-Za-z0-9_.-]", "_", str(value)) for key, value in env.items()}
-            name = _PLACEHOLDER.sub(partial(_part, parts), self.name)
+        for i, (env, name) in enumerate(_combinations(self.name, self.over)):
             try:
                 demons.append(DemonSpec.model_validate({**_fill(self.demon, env), "name": name}))
             except ValidationError as exc:
                 error = exc.errors()[0]
                 where = ".".join(str(part) for part in error["loc"])
-                raise ValueError(f"demon {name!r}: {where}: {error['msg']}") from None
+                raise ValueError(f"demon: combination {i + 1} of over: {where}: {error['msg']}") from None
         return demons
+
+
+def _combinations(pattern: str, over: dict[str, list[str | float]]) -> Iterator[tuple[dict[str, str | float], str]]:
+    """(values, demon name) of every combination of `over`'s lists, the last list varying fastest."""
+    keys = list(over)
+    for values in itertools.product(*(over[key] for key in keys)):
+        env = dict(zip(keys, values, strict=True))
+        parts = {key: re.sub(r"[^A-Za-z0-9_.-]", "_", str(value)) for key, value in env.items()}
+        yield env, _PLACEHOLDER.sub(partial(_part, parts), pattern)
 
 
 class RunSpec(Model):

@@ -61,16 +61,31 @@ def test_families_and_demons_together_past_the_limit_name_families() -> None:
 
 
 @pytest.mark.parametrize(
-    ("change", "words"),
+    ("change", "field", "words"),
     [
-        (lambda f: f.update(name="{s}"), "must use every list"),
-        (lambda f: f.update(name="{s}_{nope}_{gamma}"), "nope"),
-        (lambda f: f["demon"].update(discount="{s}"), "discount"),
-        (lambda f: f["demon"].update(name="x"), "takes its name"),
+        (lambda f: f.update(name="{s}"), "name", "must use every list of over as a {placeholder} (missing: gamma)"),
+        (lambda f: f.update(name="{s}_{nope}_{gamma}"), "name", "(nope is not)"),
+        (lambda f: f.update(name="<b>{s}{gamma}"), "name", "combination 1 of over does not"),
+        (lambda f: f["demon"].update(discount="{s}"), None, "demon: combination 1 of over: discount"),
+        (lambda f: f["demon"].update(name="x"), None, "takes its name"),
     ],
 )
-def test_a_bad_family_is_a_422_naming_it(change, words) -> None:
+def test_a_bad_family_is_a_422_naming_the_field_and_the_rule(change, field, words) -> None:
     body = copy.deepcopy(spec_body())
     change(body["families"][0])
     [(loc, msg)] = errors(body)
-    assert loc[:2] == ("families", 0) and words in msg
+    assert loc == ("families", 0, field) if field else loc == ("families", 0)
+    assert words in msg
+
+
+def test_a_family_422_never_echoes_the_pattern_or_the_names_made_of_it() -> None:
+    for pattern in ("<script>alert(1)</script>{s}{gamma}", "SECRET_{s}", "SECRET_{s}_{gamma}_{oops}"):
+        body = copy.deepcopy(spec_body())
+        body["families"][0]["name"] = pattern
+        [(_, msg)] = errors(body)
+        assert "script" not in msg and "SECRET" not in msg, msg
+    body = copy.deepcopy(spec_body())
+    body["families"][0]["name"] = "SECRET_{s}_{gamma}"
+    body["families"][0]["demon"]["discount"] = "{s}"
+    [(_, msg)] = errors(body)
+    assert "SECRET" not in msg and "in_z1" not in msg, msg

@@ -5,6 +5,8 @@ The waits take any client with `get` (FastAPI's TestClient in process, httpx aga
 
 from __future__ import annotations
 
+import statistics
+import time
 from typing import Any
 
 from grids import GOAL, PIT, WALL, grid
@@ -78,3 +80,19 @@ def locs(response: Any) -> list[list[Any]]:
 def messages(response: Any) -> str:
     assert response.status_code == 422, response.text
     return " | ".join(problem["msg"] for problem in response.json()["detail"])
+
+
+HEALTH_MEDIAN = 0.1  # seconds: the median /api/health answer after a reproducer (issue 24)
+HEALTH_STALL = 1.0  # seconds: no answer may take longer
+
+
+def assert_healthy(client: Any, checks: int = 5) -> None:
+    """/api/health answers 200, the median of `checks` answers within HEALTH_MEDIAN and none beyond HEALTH_STALL:
+    the server is alive and its loop not stalled (a median, as test_health_under_attack, on a shared machine)."""
+    times = []
+    for _ in range(checks):
+        start = time.perf_counter()
+        response = client.get("/api/health")
+        times.append(time.perf_counter() - start)
+        assert response.status_code == 200, response.text
+    assert statistics.median(times) <= HEALTH_MEDIAN and max(times) <= HEALTH_STALL, times

@@ -32,6 +32,15 @@ class SaveError(RunError):
     """
 
 
+class StoreWriteError(SaveError):
+    """The store refused a write (the disk is full, the file read-only, an I/O error): nothing of it was written
+    (HTTP 503, its message saying why: "the store could not write: database or disk is full")."""
+
+
+class StoreOpenError(Exception):
+    """The data directory cannot hold the store (read-only, not a directory, ...): the server cannot start."""
+
+
 @dataclass(frozen=True)
 class FieldProblem:
     """One invalid field: where it is (as FastAPI writes locations) and what is wrong."""

@@ -175,26 +175,28 @@ class RunManager:
 
     def _add(self, make: Callable[[str], LiveRun]) -> LiveRun:
         """Make a run (outside the lock: a large Horde takes a while, and readers of the table must not
-        wait for it) in a slot reserved under the lock, then save it and start its thread."""
+        wait for it) in a slot reserved under the lock, save it, then list it and start its thread.
+
+        Raises:
+            ConflictError: there are as many runs as the limits allow.
+            SaveError: the store refused the run; it was not made (a restart would not know it).
+        """
         with self._lock:
             if len(self._runs) + self._making >= self.limits.max_runs:
                 raise ConflictError(f"this server holds at most {self.limits.max_runs} runs; delete one first")
             self._making += 1
-        run: LiveRun | None = None
         try:
             run = make(secrets.token_hex(6))
+            keep_out_of_collector()
+            try:
+                run.save()
+            except SaveError as exc:
+                raise SaveError(f"the run was not created: {exc.__cause__ or exc}") from exc
+            with self._lock:
+                self._runs[run.id] = run
         finally:
             with self._lock:
                 self._making -= 1
-                if run is not None:
-                    self._runs[run.id] = run
-        keep_out_of_collector()
-        try:
-            run.save()
-        except SaveError:
-            with self._lock:
-                self._runs.pop(run.id, None)
-            raise
         run.start_thread()
         return run
 

@@ -165,8 +165,11 @@ class Recorder:
         is longer (a large Horde's writes then keep the writer, which holds the GIL while it encodes, busy a
         tenth of the time at most); never while the previous one is still being written.
         """
-        if session.status != "running" or (self._pending_save is not None and not self._pending_save.done()):
+        pending = self._pending_save
+        if session.status != "running" or (pending is not None and not pending.done()):
             return
+        if pending is not None and pending.exception() is None:
+            self._saved(session)
         cost = self.snapshot_cost
         interval = max(self.limits.snapshot_every, SNAPSHOT_DUTY_RATIO * (cost.encode_seconds + cost.write_seconds))
         if time.monotonic() - self._last_snapshot >= interval:
@@ -177,10 +180,15 @@ class Recorder:
         with contextlib.suppress(SaveError):
             self.persist(session, snapshot)
 
+    def _saved(self, session: RunSession) -> None:
+        """A save worked: what the message said of an earlier failure no longer holds."""
+        session.message = session.message.split(NOT_SAVED)[0]
+
     def _row(self, session: RunSession) -> RunRecord:
-        """The run's row in the store, as it stands now."""
+        """The run's row in the store, as it stands now (saved, so without what the message said of a failure)."""
         sim = session.sim
-        return RunRecord(id=self.id, name=session.spec.name, status=session.status, message=session.message,
+        message = session.message.split(NOT_SAVED)[0]
+        return RunRecord(id=self.id, name=session.spec.name, status=session.status, message=message,
                          hz=session.hz, spec=session.spec.model_dump_json(by_alias=True), episode=sim.episode,
                          steps=sim.total_steps, created_at=self.created_at, updated_at=time.time())  # fmt: skip
 
@@ -201,7 +209,7 @@ class Recorder:
             return
         store = self.store
         if wait:  # this save's outcome replaces what the message said of the last one
-            session.message = session.message.split(NOT_SAVED)[0]
+            self._saved(session)
         try:
             began = time.perf_counter()
             record = self._row(session)
@@ -230,6 +238,8 @@ class Recorder:
                 write()
             except Exception as exc:
                 self._save_failed(session, exc, wait)
+            else:
+                self._saved(session)
             return
         future = self.saver.submit(write)
         if not wait:

@@ -19,13 +19,14 @@ from dataclasses import dataclass
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, field_validator
 
+from horde.core.horde import Horde, HordeState
 from horde.core.simulation import AdaptiveState, Simulation
-from horde.core.world import WorldState
 from horde.runs.errors import SpecError
 from horde.runs.run_setup import Hz, new_simulation
 from horde.runs.run_view import RunStatus
+from horde.runs.snapshot_checks import MAX_COUNT, check_horde, check_interleaved, check_world
 from horde.spec import RunSpec
 from horde.worlds.gym_simulation import GymSimulation
 
@@ -50,13 +51,21 @@ class RngState(BaseModel):
     model_config = ConfigDict(frozen=True, extra="forbid")
 
     bit_generator: Literal["PCG64"] = "PCG64"
-    state: str = Field(pattern=r"^[0-9]{1,40}$")
-    inc: str = Field(pattern=r"^[0-9]{1,40}$")
+    state: str = Field(pattern=r"^[0-9]{1,39}$")
+    inc: str = Field(pattern=r"^[0-9]{1,39}$")
     has_uint32: int = Field(ge=0, le=1)
     uinteger: int = Field(ge=0, le=2**32 - 1)
 
+    @field_validator("state", "inc")
+    @classmethod
+    def _within_128_bits(cls, value: str) -> str:
+        if int(value) >= 2**128:
+            raise ValueError("must be below 2**128 (a PCG64 number is 128 bits)")
+        return value
+
 
 Number = Annotated[float, Field(allow_inf_nan=False)]
+Count = Annotated[int, Field(ge=0, le=MAX_COUNT)]  # what the store's INTEGER columns hold
 
 
 class Snapshot(BaseModel):
@@ -68,8 +77,8 @@ class Snapshot(BaseModel):
     spec: RunSpec
     status: RunStatus
     hz: Hz | None = None
-    episode: int = Field(ge=0)
-    total_steps: int = Field(ge=0)
+    episode: Count
+    total_steps: Count
     episode_return: Number
     last_return: Number
     rng: RngState
@@ -278,22 +287,32 @@ def capture(
 
 
 def restore(snapshot: Snapshot) -> Restored:
-    """Rebuild the simulation of a snapshot.
+    """Rebuild the simulation of a snapshot, every array checked before it reaches the engine (snapshot_checks).
 
     Raises:
-        SpecError: the arrays do not fit the snapshot's spec, or the agent stands outside the world.
+        SpecError: the arrays do not fit the snapshot's spec, hold numbers out of range, or put the agent outside
+            the world.
     """
     spec = snapshot.spec
     sim = new_simulation(spec)
     world_state = _decode_tree(sim.world_state, snapshot.world, "world")
-    if isinstance(world_state, WorldState):
-        x, y = float(world_state.x[0]), float(world_state.y[0])
-        if not spec.grid.contains(x, y):
-            raise SpecError.at(("body", "world", "x"), f"the agent at ({x}, {y}) stands outside the world")
-    sim.world_state = world_state
-    sim.horde_state = _decode_tree(sim.horde_state, snapshot.horde, "horde")
+    check_world(sim, world_state)
+    horde_state = decode_horde(sim.horde, sim.horde_state, snapshot.horde)
+    learner_state = None
     if snapshot.online is not None:
-        sim.load_learner_state(_decode_tree(sim.learner_state(), snapshot.online, "online"))
+        learner_state = _decode_tree(sim.learner_state(), snapshot.online, "online")
+        check_interleaved(horde_state, zip(AdaptiveState._fields, learner_state, strict=True), "online")
+    reference = None
+    if snapshot.stop_reference is not None:
+        template = sim.thetas()
+        reference = list(
+            _decode_tree(tuple(template), {str(i): a for i, a in enumerate(snapshot.stop_reference)}, "stop_reference")
+        )
+        check_interleaved(horde_state, ((str(i), a) for i, a in enumerate(reference)), "stop_reference")
+    sim.world_state = world_state
+    sim.horde_state = horde_state
+    if learner_state is not None:
+        sim.load_learner_state(learner_state)
     sim.rng.bit_generator.state = {
         "bit_generator": "PCG64",
         "state": {"state": int(snapshot.rng.state), "inc": int(snapshot.rng.inc)},
@@ -303,13 +322,18 @@ def restore(snapshot: Snapshot) -> Restored:
     sim.episode = snapshot.episode
     sim.total_steps = snapshot.total_steps
     sim.set_returns(snapshot.episode_return, snapshot.last_return)
-    reference = None
-    if snapshot.stop_reference is not None:
-        template = sim.thetas()
-        reference = list(
-            _decode_tree(tuple(template), {str(i): a for i, a in enumerate(snapshot.stop_reference)}, "stop_reference")
-        )
     return Restored(sim, snapshot.status, snapshot.hz, reference)
+
+
+def decode_horde(horde: Horde, template: HordeState, encoded: dict[str, Any]) -> HordeState:
+    """A snapshot's Horde state, checked against the compiled spec (`check_horde`) before it reaches the engine.
+
+    Raises:
+        SpecError: naming the entry.
+    """
+    state: HordeState = _decode_tree(template, encoded, "horde")
+    check_horde(horde, state)
+    return state
 
 
 def to_bytes(snapshot: Snapshot) -> bytes:

@@ -17,6 +17,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from horde.runs.errors import StoreOpenError, StoreWriteError
+
 DB_NAME = "horde.db"
 SCHEMA_VERSION = 1
 SCHEMA = """
@@ -151,18 +153,27 @@ class Store:
     """
 
     def __init__(self, directory: Path) -> None:
-        directory.mkdir(parents=True, exist_ok=True)
+        """Open (or create) the database and its tables.
+
+        Raises:
+            StoreOpenError: the directory cannot be made, or the database cannot be opened or written there.
+        """
         self.path = directory / DB_NAME
         self._lock = threading.Lock()
-        self._db = sqlite3.connect(self.path, check_same_thread=False, isolation_level=None, timeout=30.0)
-        self._db.execute("PRAGMA journal_mode=WAL")
-        self._db.execute("PRAGMA synchronous=FULL")
-        self._db.execute("PRAGMA foreign_keys=ON")
-        with self._transaction() as db:
-            for statement in (SCHEMA + STUDY_SCHEMA).split(";"):
-                if statement.strip():
-                    db.execute(statement)
-            db.execute(f"PRAGMA user_version={SCHEMA_VERSION}")
+        try:
+            directory.mkdir(parents=True, exist_ok=True)
+            self._db = sqlite3.connect(self.path, check_same_thread=False, isolation_level=None, timeout=30.0)
+            self._db.execute("PRAGMA journal_mode=WAL")
+            self._db.execute("PRAGMA synchronous=FULL")
+            self._db.execute("PRAGMA foreign_keys=ON")
+            with self._transaction() as db:
+                for statement in (SCHEMA + STUDY_SCHEMA).split(";"):
+                    if statement.strip():
+                        db.execute(statement)
+                db.execute(f"PRAGMA user_version={SCHEMA_VERSION}")
+        except (OSError, sqlite3.Error, StoreWriteError) as exc:
+            reason = exc.__cause__ if isinstance(exc, StoreWriteError) else exc
+            raise StoreOpenError(f"the data directory {directory} cannot hold the store: {reason}") from exc
 
     def close(self) -> None:
         with self._lock:
@@ -170,15 +181,24 @@ class Store:
 
     @contextmanager
     def _transaction(self) -> Iterator[sqlite3.Connection]:
-        """BEGIN IMMEDIATE ... COMMIT under the lock; ROLLBACK on any error."""
+        """BEGIN IMMEDIATE ... COMMIT under the lock; ROLLBACK on any error.
+
+        Raises:
+            StoreWriteError: SQLite refused the write (a full disk, a read-only file, an I/O error); nothing of it
+                was written.
+        """
         with self._lock:
-            self._db.execute("BEGIN IMMEDIATE")
             try:
-                yield self._db
-            except BaseException:
-                self._db.execute("ROLLBACK")
-                raise
-            self._db.execute("COMMIT")
+                self._db.execute("BEGIN IMMEDIATE")
+                try:
+                    yield self._db
+                    self._db.execute("COMMIT")
+                except BaseException:
+                    if self._db.in_transaction:  # a failed COMMIT may have rolled back already
+                        self._db.execute("ROLLBACK")
+                    raise
+            except sqlite3.OperationalError as exc:
+                raise StoreWriteError(f"the store could not write: {exc}") from exc
 
     def _read(self, sql: str, args: tuple[object, ...] = ()) -> list[Any]:
         with self._lock:

@@ -14,7 +14,9 @@ from typing import Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-from horde.runs.snapshot import EncodedArray, Number, _decode_tree, _encode_tree, decode, encode
+from horde.runs.errors import SpecError
+from horde.runs.snapshot import Count, EncodedArray, Number, _encode_tree, decode, decode_horde, encode
+from horde.runs.snapshot_checks import check_finite
 from horde.spec import RunSpec
 from horde.worlds.records import RecordLearner
 
@@ -28,9 +30,9 @@ class StreamSnapshot(BaseModel):
 
     format: Literal["horde-stream-snapshot/1"] = FORMAT
     spec: RunSpec
-    received: int = Field(ge=0)
-    learned: int = Field(ge=0)
-    refused: int = Field(ge=0)
+    received: Count
+    learned: Count
+    refused: Count
     pending_action: int | None = Field(default=None, ge=0, description="a_t of the last good record (null: none)")
     pending_probability: Number | None = Field(default=None, gt=0, le=1, description="b(a_t | s_t) there")
     sensors: EncodedArray = Field(description="[S] the sensors of the last observation")
@@ -56,17 +58,16 @@ def restore_stream(snapshot: StreamSnapshot) -> RecordLearner:
     """A learner that goes on where the snapshot's stood.
 
     Raises:
-        SpecError: the arrays do not fit the snapshot's spec (naming the entry), or the pending action is
-            outside the world's actions.
+        SpecError: the arrays do not fit the snapshot's spec or hold numbers out of range (naming the entry), or
+            the pending action is outside the world's actions.
     """
-    from horde.runs.errors import SpecError
-
     learner = RecordLearner(snapshot.spec)
     fast = learner.loop.fast
-    state = _decode_tree(learner.loop.horde_state(), snapshot.horde, "horde")
+    state = decode_horde(learner.loop.horde, learner.loop.horde_state(), snapshot.horde)
     sensors = decode(snapshot.sensors, ("body", "sensors"))
     if sensors.shape != fast.buf.sensors.shape:
         raise SpecError.at(("body", "sensors"), f"{sensors.shape[0]} readings, the world has {len(fast.buf.sensors)}")
+    check_finite(sensors, ("body", "sensors"))
     action = snapshot.pending_action
     if action is not None and (action >= learner.loop.num_actions or snapshot.pending_probability is None):
         raise SpecError.at(("body", "pending_action"), "an action of the world's, with its probability")

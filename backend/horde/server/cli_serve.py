@@ -11,6 +11,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from horde.runs.errors import StoreOpenError
+from horde.runs.store import Store
 from horde.server.settings import Settings
 
 DEFAULT_VISER_PORT = 8080
@@ -88,6 +90,11 @@ def serve(args: argparse.Namespace) -> int:
         return 2
     if warning:
         print(f"WARNING: {warning}.", file=sys.stderr)
+    try:  # here, where it can be said in one line: in the app's start-up uvicorn would print a traceback
+        Store(settings.data).close()
+    except StoreOpenError as exc:
+        print(f"refusing to start: {exc}", file=sys.stderr)
+        return 2
     print(f"Horde Lab serving (data in {settings.data.resolve()}):")
     for label, url in urls(settings).items():
         print(f"  {label + ':':10} {url}")

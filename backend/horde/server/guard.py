@@ -3,8 +3,8 @@
 `BodyGuard` is a pure ASGI middleware in front of the API. For every request with a body it
 
 - refuses a body larger than the limit with 413 (checked on `Content-Length`, and again while the
-  body streams in, so a chunked body cannot get past it); `POST /api/runs/import` has its own,
-  larger limit, since a snapshot carries weight arrays;
+  body streams in, so a chunked body cannot get past it); the snapshot imports (`IMPORT_PATHS`) have
+  their own, larger limit, since a snapshot carries weight arrays;
 - parses a JSON body once, in a worker thread when it is large, and refuses one nested deeper than
   `MAX_JSON_DEPTH` (or with a container wider than `MAX_JSON_WIDTH`) with a 422 naming where, before
   pydantic walks it: a union validated level by level on deep input multiplies its errors, and a
@@ -45,7 +45,7 @@ MAX_JSON_WIDTH = 20_000  # keys of one object or items of one list
 MAX_ERRORS = 20  # problems listed in one 422
 MAX_MSG_CHARS = 300  # characters of one problem's message
 THREAD_BYTES = 64 * 1024  # bodies larger than this are parsed in a worker thread
-IMPORT_PATH = "/api/runs/import"
+IMPORT_PATHS = frozenset({"/api/runs/import", "/api/streams/import"})  # bodies up to max_import_body
 REQUEST_THREADS = 4  # requests with a body handled in worker threads at once (WorkLimiter)
 
 
@@ -102,7 +102,7 @@ class BodyGuard:
     Args:
         app: the application behind it.
         max_body: bytes of a request body at most (413 beyond).
-        max_import_body: bytes of a snapshot import at most.
+        max_import_body: bytes of a snapshot import (`IMPORT_PATHS`) at most.
         max_demons: demons of one run at most: a longer `demons` list is refused before validation.
     """
 
@@ -116,7 +116,7 @@ class BodyGuard:
         if scope["type"] != "http" or scope["method"] in ("GET", "HEAD", "OPTIONS"):
             await self.app(scope, receive, send)
             return
-        limit = self.max_import_body if scope["path"] == IMPORT_PATH else self.max_body
+        limit = self.max_import_body if scope["path"] in IMPORT_PATHS else self.max_body
         too_large = {"detail": f"the request body is larger than this server accepts ({limit} bytes)"}
         headers = dict(scope.get("headers") or [])
         declared = headers.get(b"content-length", b"")

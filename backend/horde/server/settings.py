@@ -57,7 +57,10 @@ class Settings(BaseSettings):
         default=1024 * 1024, ge=1024, le=2**31, description="bytes of a request body at most (413 beyond)"
     )
     max_import_body: int = Field(
-        default=256 * 1024 * 1024, ge=1024, le=2**33, description="bytes of a snapshot import (POST /api/runs/import)"
+        default=256 * 1024 * 1024,
+        ge=1024,
+        le=2**33,
+        description="bytes of a snapshot import (POST /api/runs/import, POST /api/streams/import)",
     )
     allow_open: bool = Field(
         default=False, description="bind beyond loopback without HORDE_TOKEN (anyone who reaches it may change runs)"

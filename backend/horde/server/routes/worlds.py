@@ -14,7 +14,7 @@ from horde.runs.errors import ConflictError, NotFoundError, SpecError
 from horde.runs.store import WorldRecord
 from horde.server.convert import timestamp
 from horde.server.deps import SettingsDep, StoreDep, write_router
-from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND
+from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND, NOT_SAVED
 from horde.server.schemas import WorldCreate, WorldOut
 from horde.spec import WorldSpec
 
@@ -48,7 +48,12 @@ def list_worlds(store: StoreDep) -> list[WorldOut]:
     return [_out(r) for r in store.list_worlds()]
 
 
-@writes.post("", summary="Store a new world", status_code=status.HTTP_201_CREATED, responses={**BAD_BODY, **CONFLICT})
+@writes.post(
+    "",
+    summary="Store a new world",
+    status_code=status.HTTP_201_CREATED,
+    responses={**BAD_BODY, **CONFLICT, **NOT_SAVED},
+)
 def create_world(world: WorldCreate, store: StoreDep, settings: SettingsDep) -> WorldOut:
     """409 when a world of that name exists already, or the store holds as many worlds as allowed."""
     if store.get_world(world.name) is not None:
@@ -67,7 +72,7 @@ def get_world(name: WorldName, store: StoreDep) -> WorldOut:
 @writes.put(
     "/{name}",
     summary="Create or replace a stored world",
-    responses={**BAD_BODY, **CONFLICT, 201: {"model": WorldOut, "description": "Created"}},
+    responses={**BAD_BODY, **CONFLICT, **NOT_SAVED, 201: {"model": WorldOut, "description": "Created"}},
 )
 def put_world(
     name: WorldName, world: WorldSpec, store: StoreDep, settings: SettingsDep, response: Response
@@ -84,7 +89,12 @@ def put_world(
     return _out(_get(store, name))
 
 
-@writes.delete("/{name}", summary="Delete a stored world", status_code=status.HTTP_204_NO_CONTENT, responses=NOT_FOUND)
+@writes.delete(
+    "/{name}",
+    summary="Delete a stored world",
+    status_code=status.HTTP_204_NO_CONTENT,
+    responses={**NOT_FOUND, **NOT_SAVED},
+)
 def delete_world(name: WorldName, store: StoreDep) -> None:
     if not store.delete_world(name):
         raise NotFoundError(f"no world {name!r}")
