@@ -10,6 +10,7 @@ import pytest
 
 from horde.server import cli_serve
 from horde.server.cli_serve import add_serve_parser, serve, settings_from_args, urls
+from horde.server.logs import log_config
 
 
 def parse(argv: list[str]) -> argparse.Namespace:
@@ -49,7 +50,8 @@ def test_serve_prints_its_urls_and_warns_when_exposed(
     assert "http://127.0.0.1:9002/api" in out.out and "http://127.0.0.1:9002/docs" in out.out
     assert "Dashboard: http://127.0.0.1:9002/" in out.out
     assert "WARNING" not in out.err
-    assert calls == [{"host": "127.0.0.1", "port": 9002, "log_level": "info", "ws_per_message_deflate": False}]
+    assert calls == [{"host": "127.0.0.1", "port": 9002, "log_level": "info", "log_config": log_config(),
+                      "ws_per_message_deflate": False}]  # fmt: skip
 
     # Beyond loopback without a token: refused, unless asked for on purpose (then a warning).
     calls.clear()

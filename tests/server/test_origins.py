@@ -11,23 +11,28 @@ from fastapi.testclient import TestClient
 from starlette.websockets import WebSocketDisconnect
 
 from horde.server import Settings, create_app
+from horde.server.hosts import HostRule
 from horde.server.origins import origin_allowed
 
 from .helpers import make_spec
 
+LOOPBACK = HostRule.of("127.0.0.1", [])
+
 
 def test_origin_rules() -> None:
-    assert origin_allowed(None, "127.0.0.1:8000", True), "no Origin: not a browser page"
-    assert origin_allowed("http://127.0.0.1:8000", "127.0.0.1:8000", True)
-    assert origin_allowed("http://localhost:8080/", "localhost:8080", True)
-    assert origin_allowed("http://[::1]:8000", "[::1]:8000", True)
-    assert not origin_allowed("http://evil.example", "127.0.0.1:8000", True), "another site"
-    assert not origin_allowed("http://127.0.0.1:9999", "127.0.0.1:8000", True), "another port"
-    assert not origin_allowed("null", "127.0.0.1:8000", True), "a sandboxed page"
+    assert origin_allowed(None, "127.0.0.1:8000", LOOPBACK), "no Origin: not a browser page"
+    assert origin_allowed("http://127.0.0.1:8000", "127.0.0.1:8000", LOOPBACK)
+    assert origin_allowed("http://localhost:8080/", "localhost:8080", LOOPBACK)
+    assert origin_allowed("http://[::1]:8000", "[::1]:8000", LOOPBACK)
+    assert not origin_allowed("http://evil.example", "127.0.0.1:8000", LOOPBACK), "another site"
+    assert not origin_allowed("http://127.0.0.1:9999", "127.0.0.1:8000", LOOPBACK), "another port"
+    assert not origin_allowed("null", "127.0.0.1:8000", LOOPBACK), "a sandboxed page"
     # DNS rebinding: the attacker's name points at 127.0.0.1; Origin and Host agree, but not a loopback name.
-    assert not origin_allowed("http://evil.example:8000", "evil.example:8000", True)
-    assert origin_allowed("http://lab.school.example:8000", "lab.school.example:8000", False), "served openly"
-    assert origin_allowed("http://localhost:5173", "127.0.0.1:8000", True, ["http://localhost:5173/"])
+    assert not origin_allowed("http://evil.example:8000", "evil.example:8000", LOOPBACK)
+    served_openly = HostRule.of("0.0.0.0", ["lab.school.example"])
+    assert origin_allowed("http://lab.school.example:8000", "lab.school.example:8000", served_openly)
+    assert not origin_allowed("http://evil.example:8000", "evil.example:8000", served_openly)
+    assert origin_allowed("http://localhost:5173", "127.0.0.1:8000", LOOPBACK, ["http://localhost:5173/"])
 
 
 def test_the_stream_refuses_other_sites(tmp_path: Path) -> None:
@@ -40,8 +45,8 @@ def test_the_stream_refuses_other_sites(tmp_path: Path) -> None:
             assert json.loads(ws.receive_text())["run"] == run
         other = {**own, "origin": "http://evil.example"}
         with (
+            client.websocket_connect(f"/api/runs/{run}/stream", headers=other) as ws,
             pytest.raises(WebSocketDisconnect) as refused,
-            client.websocket_connect(f"/api/runs/{run}/stream", headers=other),
         ):
-            pass
+            ws.receive_json()  # accepted, then closed before any message
         assert refused.value.code == 1008

@@ -16,8 +16,8 @@ from .test_stream_history import records, spec
 
 
 def test_an_unknown_stream_run_closes_with_not_found(client: TestClient) -> None:
-    with pytest.raises(WebSocketDisconnect) as closed, client.websocket_connect("/api/streams/nope/records"):
-        pass  # refused before it is accepted
+    with client.websocket_connect("/api/streams/nope/records") as ws, pytest.raises(WebSocketDisconnect) as closed:
+        ws.receive_json()  # accepted, then closed: the client sees the code
     assert closed.value.code == StreamClose.NOT_FOUND == 4404
 
 
@@ -26,8 +26,8 @@ def test_pushing_without_the_token_closes_with_unauthorized(tmp_path: Path) -> N
         headers = {"Authorization": "Bearer s3cret"}
         stream = client.post("/api/streams", json=spec(), headers=headers).json()["id"]
         url = f"/api/streams/{stream}/records"
-        with pytest.raises(WebSocketDisconnect) as closed, client.websocket_connect(url):
-            pass
+        with client.websocket_connect(url) as ws, pytest.raises(WebSocketDisconnect) as closed:
+            ws.receive_json()
         assert closed.value.code == StreamClose.UNAUTHORIZED == 4401
         with client.websocket_connect(f"{url}?token=s3cret") as ws:
             assert ws.receive_json()["type"] == "hello"

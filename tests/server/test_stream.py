@@ -64,18 +64,16 @@ def test_deleting_the_run_closes_its_streams(client: TestClient, create_run: Cal
 
 
 class FakeSocket:
-    """A client that takes `send_delay` seconds per message (forever when None after the first)."""
+    """An accepted client (the route accepts it) that takes `send_delay` seconds per message (forever when
+    None after the first)."""
 
     def __init__(self, send_delay: float | None) -> None:
         self.send_delay = send_delay
         self.sent = 0
         self.closed: tuple[int, str] | None = None
-        self.application_state = WebSocketState.CONNECTING
+        self.application_state = WebSocketState.CONNECTED
         self.client_state = WebSocketState.CONNECTED
         self._gone = asyncio.Event()
-
-    async def accept(self) -> None:
-        self.application_state = WebSocketState.CONNECTED
 
     async def send_text(self, text: str) -> None:
         self.sent += 1

@@ -28,6 +28,7 @@ from horde.server.api_docs import add_api_docs
 from horde.server.catalog import ScenarioCatalog
 from horde.server.frontend import DIST_DIR, mount_frontend
 from horde.server.guard import BodyGuard, validate_off_loop
+from horde.server.hosts import HostGuard
 from horde.server.origins import origin_allowed
 from horde.server.responses import add_error_handlers
 from horde.server.routes import ROUTERS
@@ -56,7 +57,7 @@ def _live_view(settings: Settings, manager: RunManager, port: int, streams: Stre
         host=settings.host,
         port=port,
         token=token,
-        allow_origin=lambda origin, host: origin_allowed(origin, host, settings.is_loopback(), settings.origins),
+        allow_origin=lambda origin, host: origin_allowed(origin, host, settings.host_rule(), settings.origins),
     )
 
 
@@ -133,6 +134,7 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
         max_import_body=settings.max_import_body,
         max_demons=settings.max_demons,
     )
+    app.add_middleware(HostGuard, rule=settings.host_rule())  # added last, so outermost: before the body is read
     for router in ROUTERS:
         app.include_router(router, prefix="/api")
     validate_off_loop(app)

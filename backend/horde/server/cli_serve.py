@@ -79,6 +79,7 @@ def serve(args: argparse.Namespace) -> int:
     import uvicorn
 
     from horde.server.app import create_app
+    from horde.server.logs import log_config
 
     settings = settings_from_args(args)
     warning = security_warning(settings)
@@ -108,6 +109,7 @@ def serve(args: argparse.Namespace) -> int:
         host=settings.host,
         port=settings.port,
         log_level=getattr(args, "log_level", "info"),
+        log_config=log_config(),  # uvicorn's, with `?token=` hidden
         # The streams are small JSON messages to a dashboard on this machine or the LAN: compressing each
         # one costs more CPU (taken from learning) than it saves.
         ws_per_message_deflate=False,

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import ipaddress
 from collections.abc import Callable
 from pathlib import Path
 from typing import Literal
@@ -12,6 +11,7 @@ from pydantic import Field, SecretStr, field_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
 from horde.runs.run_setup import Limits
+from horde.server.hosts import HostRule
 from horde.studies.runner import Executor, InProcess, RayExecutor
 
 
@@ -65,6 +65,11 @@ class Settings(BaseSettings):
     allow_open: bool = Field(
         default=False, description="bind beyond loopback without HORDE_TOKEN (anyone who reaches it may change runs)"
     )
+    allowed_hosts: list[str] = Field(
+        default_factory=list,
+        description="names besides loopback and HORDE_HOST that requests may give in Host (DNS rebinding guard); "
+        "'*' allows any",
+    )
     origins: list[str] = Field(
         default_factory=list,
         description="extra browser origins allowed to open WebSockets (besides the server's own), e.g. a dev server",
@@ -91,11 +96,10 @@ class Settings(BaseSettings):
         names = [f.name for f in dataclasses.fields(Limits) if f.name in type(self).model_fields]
         return Limits(**{name: getattr(self, name) for name in names})
 
+    def host_rule(self) -> HostRule:
+        """The names requests may give in `Host`: loopback, `host`, `allowed_hosts` (see hosts.py)."""
+        return HostRule.of(self.host, self.allowed_hosts)
+
     def is_loopback(self) -> bool:
         """Whether `host` only listens on this machine."""
-        if self.host == "localhost":
-            return True
-        try:
-            return ipaddress.ip_address(self.host).is_loopback
-        except ValueError:
-            return False
+        return self.host_rule().loopback_only

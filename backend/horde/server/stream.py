@@ -21,7 +21,7 @@ from horde.runs.events import RECENT_EVENTS
 from horde.runs.live_run import LiveRun
 from horde.runs.manager import RunManager
 from horde.server.convert import state_out
-from horde.server.stream_protocol import StreamClose
+from horde.server.stream_protocol import StreamClose, close_reason
 
 # The close codes, from the one source the dashboard's are generated from (stream_protocol.py).
 CLOSE_UNKNOWN_RUN = StreamClose.NOT_FOUND
@@ -81,12 +81,12 @@ class StreamHub:
         return sum(len(c.clients) for c in self._channels.values())
 
     async def serve(self, websocket: WebSocket, run_id: str) -> None:
-        """Stream run `run_id` to one client until it leaves, falls behind, or the run is deleted."""
-        await websocket.accept()
+        """Stream run `run_id` to one client (its socket accepted) until it leaves, falls behind, or the run
+        is deleted."""
         try:
             run = self.manager.get(run_id)
         except NotFoundError as exc:
-            await websocket.close(code=CLOSE_UNKNOWN_RUN, reason=str(exc))
+            await websocket.close(code=CLOSE_UNKNOWN_RUN, reason=close_reason(str(exc)))
             return
         client = _Client(asyncio.Queue(maxsize=self.backlog))
         channel = self._join(run, client)

@@ -38,6 +38,17 @@ CLOSE_MEANINGS: dict[StreamClose, str] = {
     StreamClose.RUN_DELETED: "the run (or stream run) was deleted while streamed",
 }
 
+MAX_REASON_BYTES = 123  # RFC 6455: a close frame's reason, in UTF-8
+
+
+def close_reason(text: str) -> str:
+    """`text` cut to what a close frame may carry (a reason may quote an id of any length)."""
+    data = text.encode()
+    if len(data) <= MAX_REASON_BYTES:
+        return text
+    return data[: MAX_REASON_BYTES - 3].decode(errors="ignore") + "…"
+
+
 # Each stream's message: (component, the model it is, what it says).
 STREAM_MESSAGES: dict[str, tuple[str, str]] = {
     "RunStreamMessage": (

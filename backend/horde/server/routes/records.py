@@ -5,8 +5,9 @@ GET /api/streams/{id}/phase-plane and /history for what the live view and the da
 A record is {observation: [S readings], action, behaviour_probabilities?: [A]} (horde.worlds.records). The
 REST route takes a batch whole or not at all: any refused record is a 422 naming it
 (`body.records.<i>.<field>`), and nothing of that batch is learned; the run goes on with later batches.
-The WebSocket takes messages `{"records": [...]}` (at most 10,000 records; a larger message, or one that is
-not JSON, is refused whole with an error naming `message`) or one record, learns them in order, and answers each
+The WebSocket takes messages `{"records": [...]}` (at most 10,000 records; a larger message, one that is
+not JSON, a binary frame, or JSON nested more than 48 levels, is refused whole with an error naming
+`message`, and the connection stays open) or one record, learns them in order, and answers each
 learned message (several queued messages are learned together) with
 `{"type": "learned", "received", "learned", "predictions": [D]}`; a refused record gets
 `{"type": "error", "index", "field", "message"}` and the stream goes on with the next good one. Back-pressure:
@@ -20,21 +21,23 @@ import asyncio
 import contextlib
 import hmac
 import json
+from collections.abc import Mapping
 from typing import Annotated, Any
 
 import numpy as np
-from fastapi import APIRouter, Path, Query, Response, WebSocket, WebSocketDisconnect, status
+from fastapi import APIRouter, Path, Query, Response, WebSocket, WebSocketDisconnect, WebSocketException, status
 from pydantic import Field
 
 from horde.runs.errors import FieldProblem, NotFoundError, SpecError
 from horde.runs.stream_run import HISTORY, MAX_RECORDS_PER_BATCH, PushResult, StreamRun
 from horde.runs.stream_snapshot import StreamSnapshot
 from horde.server.deps import SettingsDep, StreamsDep, write_router
-from horde.server.origins import origin_allowed
+from horde.server.guard import MAX_JSON_DEPTH, json_problem
 from horde.server.responses import BAD_BODY, BUSY, NOT_FOUND
 from horde.server.schemas import DemonMetricsOut, DemonOut, In, Out
 from horde.server.settings import Settings
-from horde.server.stream_protocol import StreamClose
+from horde.server.sockets import AcceptedSocket
+from horde.server.stream_protocol import StreamClose, close_reason
 from horde.spec import RunSpec
 from horde.view.palette import demon_colour
 from horde.worlds.phase_plane import MAX_PHASE_RESOLUTION
@@ -262,9 +265,19 @@ def _token_ok(websocket: WebSocket, settings: Settings) -> bool:
     return hmac.compare_digest(given, expected)
 
 
-def _items(text: str) -> list[Any]:
-    """A message's records. Raises ValueError for text that is not JSON or a batch that is too large."""
-    data = json.loads(text)
+def _items(message: Mapping[str, Any]) -> list[Any]:
+    """A message's records. Raises ValueError for a binary frame, text that is not JSON, JSON nested deeper
+    than a REST body may be, or a batch that is too large."""
+    text = message.get("text")
+    if text is None:
+        raise ValueError("a binary frame: send each message as JSON text")
+    try:
+        data = json.loads(text)
+    except RecursionError:  # deeper than Python's parser goes
+        raise ValueError(f"nested more than {MAX_JSON_DEPTH} levels deep") from None
+    problem = json_problem(data)
+    if problem is not None:
+        raise ValueError(problem["msg"])
     if isinstance(data, dict) and set(data) == {"records"} and isinstance(data["records"], list):
         if len(data["records"]) > MAX_RECORDS_PER_BATCH:
             raise ValueError(f"at most {MAX_RECORDS_PER_BATCH} records a message (this one has {len(data['records'])})")
@@ -294,23 +307,17 @@ async def _learn(queue: asyncio.Queue[list[Any] | None], run: StreamRun, websock
 
 
 @router.websocket("/{stream_id}/records")
-async def stream_records(websocket: WebSocket, stream_id: str, settings: SettingsDep, streams: StreamsDep) -> None:
+async def stream_records(websocket: AcceptedSocket, stream_id: str, settings: SettingsDep, streams: StreamsDep) -> None:
     """Push records, read predictions (see the module). Close codes (StreamClose): 4404 unknown stream run,
     4401 no token (when HORDE_TOKEN is set: `Authorization: Bearer` or `?token=`), 1008 a page of another
-    site, 4410 the stream run was deleted (what was pushed after that is not learned)."""
-    headers = websocket.headers
-    if not origin_allowed(headers.get("origin"), headers.get("host"), settings.is_loopback(), settings.origins):
-        await websocket.close(code=StreamClose.ORIGIN_REFUSED, reason="this page's origin may not push records")
-        return
+    site, 4410 the stream run was deleted (what was pushed after that is not learned). The upgrade is
+    accepted before any of these, so that the client sees the code."""
     if not _token_ok(websocket, settings):
-        await websocket.close(code=StreamClose.UNAUTHORIZED, reason="this server requires its HORDE_TOKEN")
-        return
+        raise WebSocketException(StreamClose.UNAUTHORIZED, "this server requires its HORDE_TOKEN")
     try:
         run = streams.get(stream_id)
     except NotFoundError:
-        await websocket.close(code=StreamClose.NOT_FOUND, reason=f"no stream run {stream_id!r}")
-        return
-    await websocket.accept()
+        raise WebSocketException(StreamClose.NOT_FOUND, close_reason(f"no stream run {stream_id!r}")) from None
     await websocket.send_json({"type": "hello", "sensors": run.spec.world.sensor_names(),
                                "actions": run.spec.world.num_actions(), "demons": run.names})  # fmt: skip
     queue: asyncio.Queue[list[Any] | None] = asyncio.Queue(maxsize=QUEUE)
@@ -318,9 +325,11 @@ async def stream_records(websocket: WebSocket, stream_id: str, settings: Setting
     deleted = False
     try:
         while not learner.done():
-            text = await websocket.receive_text()
+            message = await websocket.receive()
+            if message["type"] == "websocket.disconnect":
+                break
             try:
-                items = _items(text)
+                items = _items(message)
             except ValueError as exc:  # json.JSONDecodeError is one; the message is refused whole, none learned
                 problem = f"not JSON: {exc}" if isinstance(exc, json.JSONDecodeError) else str(exc)
                 await websocket.send_json({"type": "error", "index": None, "field": "message", "message": problem})

@@ -10,7 +10,7 @@ import asyncio
 import json
 from typing import Annotated
 
-from fastapi import APIRouter, Body, Path, Query, WebSocket, WebSocketDisconnect, status
+from fastapi import APIRouter, Body, Path, Query, WebSocketDisconnect, status
 from fastapi.responses import PlainTextResponse, Response
 
 from horde.runs.errors import NotFoundError, SpecError
@@ -19,7 +19,8 @@ from horde.server.convert import timestamp
 from horde.server.deps import CatalogDep, StudiesDep, write_router
 from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND
 from horde.server.routes.exports import FILE_RESPONSES
-from horde.server.stream_protocol import StreamClose
+from horde.server.sockets import AcceptedSocket
+from horde.server.stream_protocol import StreamClose, close_reason
 from horde.server.study_schemas import StudyConfigOut, StudyOut, StudyResultsOut
 from horde.studies.export import results_csv, results_json
 from horde.studies.jobs import StudyJobs
@@ -126,16 +127,16 @@ def export_study(
 
 
 @router.websocket("/{study_id}/stream")
-async def stream_study(websocket: WebSocket, study_id: str, jobs: StudiesDep) -> None:
+async def stream_study(websocket: AcceptedSocket, study_id: str, jobs: StudiesDep) -> None:
     """Messages have the shape of GET /api/studies (a StudyOut), twice a second while the study runs; the
-    last one is sent when it stops. Close codes: 4404 unknown study, 1000 the study stopped."""
-    await websocket.accept()
+    last one is sent when it stops. Close codes: 4404 unknown study, 1000 the study stopped, 1008 a page of
+    another site (its `Origin`)."""
     try:
         while True:
             try:
                 out = _out(jobs, jobs.get(study_id))
             except NotFoundError:
-                await websocket.close(code=StreamClose.NOT_FOUND)
+                await websocket.close(code=StreamClose.NOT_FOUND, reason=close_reason(f"no study {study_id!r}"))
                 return
             await websocket.send_json(out.model_dump(mode="json"))
             if out.status not in ("running", "created"):
