@@ -4,9 +4,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+import pytest
 from fastapi.testclient import TestClient
 
 from horde.server import Settings, create_app
+
+from polling import wait_until
 
 from .helpers import locs, make_spec, messages
 
@@ -23,6 +26,26 @@ def test_create_list_get_delete(client: TestClient) -> None:
     assert client.get(f"/api/runs/{run['id']}").status_code == 404
     assert client.delete(f"/api/runs/{run['id']}").status_code == 404
     assert client.get("/api/runs").json() == []
+
+
+@pytest.mark.timeout(60)
+def test_an_empty_run_starts_moves_and_takes_demons(client: TestClient) -> None:
+    """`{}` (the default RunSpec, no demons) and a run without episodes both start; a demon joins and learns."""
+    created = client.post("/api/runs", json={})
+    assert created.status_code == 201, created.text
+    assert created.json()["demons"] == []
+    assert client.post(f"/api/runs/{created.json()['id']}/demons", json={"name": "one", "cumulant": 1}).status_code == 201
+
+    response = client.post("/api/runs", json={"protocol": {"episodes": 0}}, params={"start": "true"})
+    assert response.status_code == 201, response.text
+    run_id = response.json()["id"]
+    wait_until(lambda: client.get(f"/api/runs/{run_id}/state").json()["step"] > 0, "the empty run to move")
+    assert client.post(f"/api/runs/{run_id}/demons", json={"name": "one", "cumulant": 1}).status_code == 201
+    wait_until(
+        lambda: (client.get(f"/api/runs/{run_id}/state").json()["predictions"].get("one") or 0) > 0.5,
+        "the demon that joined to learn",
+    )
+    client.post(f"/api/runs/{run_id}/pause")
 
 
 def test_create_from_a_scenario_with_overrides(client: TestClient) -> None:
