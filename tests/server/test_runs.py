@@ -8,7 +8,6 @@ import pytest
 from fastapi.testclient import TestClient
 
 from horde.server import Settings, create_app
-
 from polling import wait_until
 
 from .helpers import locs, make_spec, messages
@@ -34,7 +33,9 @@ def test_an_empty_run_starts_moves_and_takes_demons(client: TestClient) -> None:
     created = client.post("/api/runs", json={})
     assert created.status_code == 201, created.text
     assert created.json()["demons"] == []
-    assert client.post(f"/api/runs/{created.json()['id']}/demons", json={"name": "one", "cumulant": 1}).status_code == 201
+    assert (
+        client.post(f"/api/runs/{created.json()['id']}/demons", json={"name": "one", "cumulant": 1}).status_code == 201
+    )
 
     response = client.post("/api/runs", json={"protocol": {"episodes": 0}}, params={"start": "true"})
     assert response.status_code == 201, response.text

@@ -3,27 +3,13 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Annotated
 
 import numpy as np
-from pydantic import Field
 
 from horde.core.simulation import Simulation
 from horde.runs.errors import SpecError
 from horde.spec import RunSpec
 from horde.worlds.gym_simulation import GymSimulation
-
-MIN_HZ = 0.01  # paced runs: one step every 100 s at the slowest
-MAX_HZ = 10_000.0  # beyond this, run at full speed (hz = null)
-Hz = Annotated[
-    float,
-    Field(
-        ge=MIN_HZ,
-        le=MAX_HZ,
-        allow_inf_nan=False,
-        description=f"steps per second, {MIN_HZ} to {MAX_HZ:g}; null: as fast as possible",
-    ),
-]
 
 
 @dataclass(frozen=True)

@@ -24,9 +24,9 @@ from pydantic import BaseModel, ConfigDict, Field
 from horde.core.simulation import AdaptiveState, Simulation
 from horde.core.world import WorldState
 from horde.runs.errors import SpecError
-from horde.runs.run_setup import Hz, new_simulation
+from horde.runs.run_setup import new_simulation
 from horde.runs.run_view import RunStatus
-from horde.spec import RunSpec
+from horde.spec import Hz, RunSpec
 from horde.worlds.gym_simulation import GymSimulation
 
 FORMAT: Literal["horde-snapshot/1"] = "horde-snapshot/1"

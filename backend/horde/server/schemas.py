@@ -18,9 +18,8 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Discriminator, Fiel
 
 from horde.runs.divergence import meaningful
 from horde.runs.events import EventKind
-from horde.runs.run_setup import Hz
 from horde.runs.run_view import RunStatus
-from horde.spec import BehaviourSpec, DemonSpec, Name, RunSpec, WorldSpec
+from horde.spec import BehaviourSpec, DemonSpec, Hz, Name, RunSpec, WorldSpec
 
 MAX_RESOLUTION = 256
 MAX_EVAL_EPISODES = 5_000
@@ -192,6 +191,10 @@ class ScenarioOut(Out):
     name: str
     description: str
     error: str | None = Field(default=None, description="why the file does not load, if it does not")
+    watch_hz: float | None = Field(
+        default=None, description="the speed to watch it at live, steps per second (its `[watch]` table); null: full"
+    )
+    watch_note: str = Field(default="", description="why that speed, and what to watch for")
 
 
 class WorldOut(Out):
