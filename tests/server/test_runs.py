@@ -8,6 +8,8 @@ import pytest
 from fastapi.testclient import TestClient
 
 from horde.server import Settings, create_app
+from horde.server.schemas import RunTemplateIn
+from horde.spec import RunSpec
 from polling import wait_until
 
 from .helpers import locs, make_spec, messages
@@ -57,6 +59,20 @@ def test_create_from_a_scenario_with_overrides(client: TestClient) -> None:
     assert spec["seed"] == 9 and spec["protocol"]["episodes"] == 3
     assert spec["world"]["max_steps"] == 50 and len(spec["world"]["regions"]) == 3  # merged, not replaced
     assert spec["name"] == "experiment1"
+
+
+def test_a_template_overrides_every_field_of_a_runspec(client: TestClient) -> None:
+    assert set(RunSpec.model_fields) <= set(RunTemplateIn.model_fields)
+    family = {
+        "name": "bump_g{gamma}",
+        "over": {"gamma": [0.5, 0.9]},
+        "demon": {"learner": "td", "policy": "uniform", "cumulant": {"sensor": "bump"}, "discount": "{gamma}"},
+    }
+    scenario = client.get("/api/scenarios/classroom-offpolicy").json()
+    response = client.post("/api/runs", json={"scenario": "classroom-offpolicy", "families": [family]})
+    assert response.status_code == 201, response.text
+    own = [d["name"] for d in scenario["demons"]]
+    assert response.json()["demons"] == [*own, "bump_g0.5", "bump_g0.9"]  # the family joins the scenario's demons
 
 
 def test_create_and_start_at_once_with_hz(client: TestClient) -> None:

@@ -19,7 +19,7 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Discriminator, Fiel
 from horde.runs.divergence import meaningful
 from horde.runs.events import EventKind
 from horde.runs.run_view import RunStatus
-from horde.spec import BehaviourSpec, DemonSpec, Hz, Name, RunSpec, WorldSpec
+from horde.spec import MAX_DEMONS, MAX_FAMILIES, BehaviourSpec, DemonSpec, Hz, Name, RunSpec, WorldSpec
 
 MAX_RESOLUTION = 256
 MAX_EVAL_EPISODES = 5_000
@@ -61,11 +61,14 @@ class WorldCreate(WorldSpec):
 
 
 class RunTemplateIn(In):
-    """A run from a scenario and/or a stored world, with overrides merged into it.
+    """A run from a scenario and/or a stored world, with overrides of any top-level RunSpec field.
 
     Objects (world, features, behaviour, learning, protocol, thesis) are merged key by key into the
-    scenario's; lists (demons) and plain values replace it. Without a scenario the base is the default
-    RunSpec. `world` names a stored world, or is an object merged into the scenario's world.
+    scenario's, recursively; plain values (name, description, seed) replace it; `demons` replaces the
+    scenario's demons (its families already expanded into them); `families` are expanded into more demons
+    beside those (kept or replaced), so `{scenario, families}` adds a family to a scenario. Without a
+    scenario the base is the default RunSpec. `world` names a stored world, or is an object merged into
+    the scenario's world.
     """
 
     scenario: Name | None = Field(default=None, description="a scenario name (GET /api/scenarios)")
@@ -76,7 +79,8 @@ class RunTemplateIn(In):
     features: dict[str, Any] | None = None
     behaviour: dict[str, Any] | str | None = None
     learning: dict[str, Any] | None = None
-    demons: list[dict[str, Any]] | None = Field(default=None, max_length=10_000)
+    demons: list[dict[str, Any]] | None = Field(default=None, max_length=MAX_DEMONS)
+    families: list[dict[str, Any]] | None = Field(default=None, max_length=MAX_FAMILIES)
     protocol: dict[str, Any] | None = None
     thesis: dict[str, Any] | None = None
 
