@@ -109,11 +109,19 @@ class StepIn(In):
 
 
 class EvaluateIn(In):
-    """A Monte-Carlo evaluation of one demon's question from one point."""
+    """A Monte-Carlo evaluation of one demon's question, as the run's world allows (`RunOut.evaluation`).
+
+    On the grid ("grid") from a point `from` = [x, y], by default the world's start (the centre of a start
+    rectangle); on a Gymnasium world ("rollouts") from the agent's current state, `from` left out.
+    """
 
     demon: Name
-    from_: list[Annotated[float, Field(allow_inf_nan=False)]] = Field(
-        alias="from", min_length=2, max_length=2, description="[x, y]"
+    from_: list[Annotated[float, Field(allow_inf_nan=False)]] | None = Field(
+        default=None,
+        alias="from",
+        min_length=2,
+        max_length=2,
+        description="[x, y] on the grid (default: the world's start); left out on a Gymnasium world",
     )
     episodes: int = Field(default=100, ge=1, le=MAX_EVAL_EPISODES, description="rollouts")
     cap: int | None = Field(
@@ -220,6 +228,16 @@ class SummaryOut(Out):
     stopped_early: bool
 
 
+class EvaluationSupportOut(Out):
+    """What POST /api/runs/{id}/evaluate can do in this run's world."""
+
+    kind: Literal["grid", "rollouts", "none"] = Field(
+        description="grid: from a point [x, y], and a value map over the world; rollouts: from the agent's "
+        "current state, no value map; none: no evaluation (`note` says why)"
+    )
+    note: str = Field(description="one sentence: what an evaluation is here, or why there is none")
+
+
 class RunBriefOut(Out):
     id: str
     name: str | None
@@ -229,6 +247,7 @@ class RunBriefOut(Out):
     episode: int = Field(description="episodes completed")
     step: int = Field(description="steps taken in all")
     demons: list[str]
+    evaluation: EvaluationSupportOut
     created_at: datetime
     updated_at: datetime
 
@@ -336,7 +355,11 @@ class HistoryOut(Out):
 
 class EvaluationOut(Out):
     demon: str
-    from_: list[float] = Field(alias="from")
+    from_: list[float] = Field(
+        alias="from",
+        description="the point [x, y] evaluated from on the grid; elsewhere the sensors at the agent's state the "
+        "rollouts began from (one per sensor, in the world's order)",
+    )
     prediction: MaybeFloat
     truth: MaybeFloat = Field(description="mean realised return over the rollouts")
     stderr: MaybeFloat
