@@ -102,6 +102,12 @@ def cmd_study(args: argparse.Namespace) -> int:
     if not summaries:
         return 1
     print(format_table(summaries))
+    write_outputs(summaries, args)
+    return 0 if status == "finished" else 1
+
+
+def write_outputs(summaries: list[ConfigSummary], args: argparse.Namespace) -> None:
+    """--json, --csv and --plots: the results as files."""
     if args.json:
         Path(args.json).write_text(json.dumps(results_json(summaries), indent=2) + "\n")
     if args.csv:
@@ -115,7 +121,6 @@ def cmd_study(args: argparse.Namespace) -> int:
 
         files = write_plots(summaries, Path(args.plots), args.x, args.group)
         print(f"plots: {', '.join(str(f) for f in files)}", file=sys.stderr)
-    return 0 if status == "finished" else 1
 
 
 def add_study_parser(sub: argparse._SubParsersAction) -> None:
