@@ -116,6 +116,8 @@ def test_a_question_that_rollouts_cannot_follow_is_a_422_naming_the_demon(client
     response = client.post(f"/api/runs/{run}/evaluate", json={"demon": "reader", "episodes": 3})
     assert response.status_code == 422 and response.json()["detail"][0]["loc"] == ["body", "demon"], response.text
     assert "reads other demons" in response.text
+    too_many = client.post(f"/api/runs/{run}/evaluate", json={"demon": "position_g0.5", "episodes": 5000, "cap": 1000})
+    assert too_many.status_code == 422 and too_many.json()["detail"][0]["loc"] == ["body", "episodes"], too_many.text
 
 
 def test_an_unknown_environment_or_unsupported_space_is_a_422_naming_world_id(client: TestClient) -> None:

@@ -51,6 +51,9 @@ class ValueMap:
 
 EvaluationKind = Literal["grid", "rollouts", "none"]
 GIVEN_POLICIES = ("uniform", "fixed", "sign")  # target policies a rollout in a Gymnasium copy can follow
+# Rollout steps (episodes x cap) of one evaluation on a Gymnasium world, at most: stepped in Python at about
+# 10,000 steps a second, this bounds an evaluation to some twenty seconds (the grid's compiled rollouts need none).
+MAX_ROLLOUT_STEPS = 200_000
 
 
 @dataclass(frozen=True)
@@ -184,6 +187,10 @@ def _start_point(world: WorldSpec) -> tuple[float, float]:
 def _evaluate_rollouts(view: RunView, name: str, demon: int, episodes: int, cap: int, seed: int) -> Evaluation:
     """The demon's prediction now and the mean realised return of rollouts from the agent's current state."""
     spec, state = view.spec, view.world_state
+    if episodes * cap > MAX_ROLLOUT_STEPS:
+        raise SpecError.at(("body", "episodes"), f"{episodes} rollouts of up to {cap} steps exceed the "
+                                                 f"{MAX_ROLLOUT_STEPS:,} steps one evaluation may take on a Gymnasium "
+                                                 "world: ask for fewer episodes or a smaller cap")  # fmt: skip
     question = spec.demons[demon]
     if question.policy.kind not in GIVEN_POLICIES or any(
         expr_predictions(e) for e in (question.cumulant, question.outcome, question.continuation)
