@@ -199,6 +199,9 @@ def _evaluate_rollouts(view: RunView, name: str, demon: int, episodes: int, cap:
                                               f"({question.policy.kind}) reads action values, or its question reads "
                                               "other demons' predictions")  # fmt: skip
     assert isinstance(spec.world, GymnasiumWorldSpec) and isinstance(state, GymWorldState)
+    if len(state.env_state) == 0:  # rollouts start from a copy of `unwrapped.state` (classic control keeps one)
+        raise SpecError.at(("path", "run_id"), f"{spec.world.id!r} keeps no state (`unwrapped.state`) that rollouts "
+                                               "could start from")  # fmt: skip
     world = GymWorld(spec.world, time_limit=False)
     try:
         world.reset(seed=seed % 2**32)
