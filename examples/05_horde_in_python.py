@@ -19,7 +19,7 @@ import argparse
 
 import numpy as np
 
-from horde import RunSpec, Simulation, check_world, exact
+from horde import GridSimulation, RunSpec, Simulation, check_world, exact
 
 TARGET = [0.4, 0.1, 0.1, 0.4]  # the target policy's probabilities of up, down, left, right
 
@@ -48,16 +48,17 @@ SPEC = {
 }
 
 
-def learn(steps: int, seed: int) -> Simulation:
+def learn(steps: int, seed: int) -> GridSimulation:
     """2-3. Validate the spec, check its world, run the agent `steps` steps."""
     spec = RunSpec.model_validate({**SPEC, "seed": seed})
     check_world(spec)
     sim = Simulation(spec)
+    assert isinstance(sim, GridSimulation)  # a grid world's: it reads predictions at any point (`predictions_at`)
     sim.run(steps)
     return sim
 
 
-def compare(sim: Simulation, name: str) -> float:
+def compare(sim: GridSimulation, name: str) -> float:
     """4. Print demon `name`'s prediction in every cell beside the exact answer; return the worst relative error."""
     truth = exact(sim.horde, sim.horde_state, name)
     print(f"\n{name}: prediction vs exact answer, cell by cell (the lattice points the agent visits)")

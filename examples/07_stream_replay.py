@@ -10,7 +10,7 @@ WebSocket. This script plays the robot with a recorded log (examples/06_record_a
 3. a second thread reads what comes back: "learned" messages with every demon's prediction, "error"
    messages naming the field of a refused record; every second the script prints a few predictions;
 4. at the end it waits until the server has learned every record and prints (or writes, --out) the
-   final predictions.
+   final predictions; a stream run it started is then deleted (`--keep` leaves it on the server).
 
 Start a server first (`horde serve`), then:
     python examples/07_stream_replay.py examples/data/mountaincar-pump.csv --hz 50
@@ -57,6 +57,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--batch", type=int, default=1, help="records per message")
     parser.add_argument("--out", type=Path, help="write the final counts and predictions here as JSON")
     parser.add_argument("--timeout", type=float, default=600.0, help="give up waiting for the server after this")
+    parser.add_argument("--keep", action="store_true", help="leave the stream run it started on the server")
     args = parser.parse_args(argv)
     token = os.environ.get("HORDE_TOKEN")
     headers = {"Authorization": f"Bearer {token}"} if token else {}
@@ -66,6 +67,15 @@ def main(argv: list[str] | None = None) -> int:
             run = client.post("/api/streams", json=spec).raise_for_status().json()
         else:
             run = client.get(f"/api/streams/{args.stream}").raise_for_status().json()
+    try:
+        return replay(args, run, headers)
+    finally:  # a stream run it started is deleted, even when the replay failed, unless --keep
+        if args.stream is None and not args.keep:
+            httpx.delete(f"{args.url}/api/streams/{run['id']}", headers=headers, timeout=60.0)
+
+
+def replay(args: argparse.Namespace, run: dict[str, Any], headers: dict[str, str]) -> int:
+    """Steps 2 to 4: send the log's records to stream run `run`, read the predictions, print the final ones."""
     print(f"stream run {run['id']}: sensors {', '.join(run['sensors'])}; {len(run['demons'])} demons")
     records = read_records(args.log, run["sensors"], run["actions"])
     base = int(run["received"])  # records the run had before this replay

@@ -1,6 +1,8 @@
 """TOML scenario files -> RunSpec, with errors that name the file and the line.
 
-A scenario is a RunSpec written in TOML (see scenarios/*.toml). Its name is the file's stem.
+A scenario is a RunSpec written in TOML (see scenarios/*.toml), plus an optional `[watch]` table that is no
+part of the run: the speed it is best watched at live (`hz`, steps per second; absent: full speed) and a `note`
+saying why and what to watch for. Its name is the file's stem.
 """
 
 from __future__ import annotations
@@ -11,13 +13,22 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
-from pydantic import ValidationError
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from horde.spec import RunSpec
+from horde.spec import Hz, RunSpec
 
 
 class ScenarioError(ValueError):
     """A scenario file that cannot be read or does not validate; the message names file and line."""
+
+
+class Watch(BaseModel):
+    """A scenario's `[watch]` table: how to watch it live (the dashboard launches it at this speed)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    hz: Hz | None = Field(default=None, description="steps per second to watch at; absent: full speed")
+    note: str = Field(default="", max_length=500, description="why this speed, what to watch for")
 
 
 def file_dir(variable: str, folder: str) -> Path:
@@ -50,7 +61,16 @@ line_of = _line_of  # public: study files (horde.studies.files) locate their pro
 
 
 def parse_scenario(text: str, source: str = "<scenario>") -> RunSpec:
-    """Validate TOML text as a RunSpec.
+    """Validate TOML text as a RunSpec (a `[watch]` table is checked and left out: see `parse_watched`).
+
+    Raises:
+        ScenarioError: "source:line: field: message" for every problem found.
+    """
+    return parse_watched(text, source)[0]
+
+
+def parse_watched(text: str, source: str = "<scenario>") -> tuple[RunSpec, Watch]:
+    """Validate TOML text as a RunSpec and its `[watch]` table.
 
     Raises:
         ScenarioError: "source:line: field: message" for every problem found.
@@ -62,27 +82,47 @@ def parse_scenario(text: str, source: str = "<scenario>") -> RunSpec:
         found = re.search(r"\(at line (\d+), column \d+\)", message)
         number = int(found.group(1)) if found else max(len(text.splitlines()), 1)
         raise ScenarioError(f"{source}:{number}: invalid TOML: {message}") from None
+    watch_table = data.pop("watch", {})
+    messages = []
     try:
-        return RunSpec.model_validate(data)
+        watch = Watch.model_validate(watch_table)
     except ValidationError as exc:
-        messages = []
-        for error in exc.errors():
-            field = ".".join(str(p) for p in error["loc"]) or "(top level)"
-            line = _line_of(text, tuple(error["loc"]))
-            where = f"{source}:{line}" if line else source
-            messages.append(f"{where}: {field}: {error['msg']}")
-        raise ScenarioError("\n".join(messages)) from None
+        messages += _located(exc, text, source, ("watch",))
+    try:
+        spec = RunSpec.model_validate(data)
+    except ValidationError as exc:
+        messages += _located(exc, text, source, ())
+    if messages:
+        raise ScenarioError("\n".join(messages))
+    return spec, watch
+
+
+def _located(exc: ValidationError, text: str, source: str, prefix: tuple[str, ...]) -> list[str]:
+    """ "source:line: field: message" for every problem of a validation error, its fields under `prefix`."""
+    messages = []
+    for error in exc.errors():
+        loc = (*prefix, *error["loc"])
+        field = ".".join(str(p) for p in loc) or "(top level)"
+        line = _line_of(text, loc)
+        where = f"{source}:{line}" if line else source
+        messages.append(f"{where}: {field}: {error['msg']}")
+    return messages
 
 
 def load_scenario(path: str | Path) -> RunSpec:
     """Read and validate one scenario file; a missing `name` becomes the file's stem."""
+    return load_watched(path)[0]
+
+
+def load_watched(path: str | Path) -> tuple[RunSpec, Watch]:
+    """Read and validate one scenario file and its `[watch]` table; a missing `name` becomes the file's stem."""
     path = Path(path)
     try:
         text = path.read_text()
     except OSError as exc:
         raise ScenarioError(f"{path}: cannot read: {exc.strerror}") from None
-    spec = parse_scenario(text, str(path))
-    return spec if spec.name else spec.model_copy(update={"name": path.stem})
+    spec, watch = parse_watched(text, str(path))
+    return (spec if spec.name else spec.model_copy(update={"name": path.stem})), watch
 
 
 @dataclass(frozen=True)
@@ -90,6 +130,7 @@ class ScenarioInfo:
     name: str
     description: str
     path: Path
+    watch: Watch
 
 
 def list_scenarios(directory: Path | None = None) -> list[ScenarioInfo]:
@@ -97,8 +138,8 @@ def list_scenarios(directory: Path | None = None) -> list[ScenarioInfo]:
     directory = directory or scenario_dir()
     found = []
     for path in sorted(directory.glob("*.toml")):
-        spec = load_scenario(path)
-        found.append(ScenarioInfo(path.stem, spec.description, path))
+        spec, watch = load_watched(path)
+        found.append(ScenarioInfo(path.stem, spec.description, path, watch))
     return found
 
 

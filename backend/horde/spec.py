@@ -58,6 +58,17 @@ Name = Annotated[str, Field(min_length=1, max_length=NAME_MAX, pattern=NAME_PATT
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 Probability = Annotated[float, Field(ge=0.0, le=1.0, allow_inf_nan=False)]
 PositiveSize = Annotated[float, Field(gt=0.0, le=MAX_WORLD_SIZE, allow_inf_nan=False)]
+MIN_HZ = 0.01  # paced runs: one step every 100 s at the slowest
+MAX_HZ = 10_000.0  # beyond this, run at full speed (hz = null)
+Hz = Annotated[
+    float,
+    Field(
+        ge=MIN_HZ,
+        le=MAX_HZ,
+        allow_inf_nan=False,
+        description=f"steps per second, {MIN_HZ} to {MAX_HZ:g}; null: as fast as possible",
+    ),
+]
 
 
 class Model(BaseModel):

@@ -18,6 +18,7 @@ function config(index: number, alpha: number, learner: string, error: number, au
     axes: { "learning.alpha": alpha, "demons.*.learner": learner },
     runs: 3,
     best: false,
+    diverged: false,
     truth: "exact",
     episodes: [0, 10],
     error,

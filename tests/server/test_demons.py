@@ -2,13 +2,20 @@
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Callable
 
 import pytest
 from fastapi.testclient import TestClient
 
+from horde.runs import readout
+from horde.runs.errors import SpecError
+from horde.runs.manager import RunManager
+from horde.runs.readout import evaluation_support
 from horde.server import Settings, create_app
+from horde.spec import RunSpec
+from stream_specs import nexting, robot
 
 from .helpers import locs, make_spec, messages, wait_for
 
@@ -153,6 +160,32 @@ def test_evaluate_errors(client: TestClient, create_run: Callable[..., str]) -> 
     assert "obstacle 'wall'" in messages(client.post(url, json={"demon": "steps", "from": [150, 250]}))
     assert ["body", "episodes"] in locs(client.post(url, json={"demon": "steps", "from": [0, 0], "episodes": 10**6}))
     assert ["body", "from"] in locs(client.post(url, json={"demon": "steps", "from": [0]}))
+
+
+def test_a_grid_run_is_evaluated_from_a_point_by_default_its_start(
+    client: TestClient, create_run: Callable[..., str]
+) -> None:
+    run_id = create_run(make_spec(world={**make_spec()["world"], "start": [100, 0, 300, 200]}))
+    assert client.get(f"/api/runs/{run_id}").json()["evaluation"]["kind"] == "grid"
+    client.post(f"/api/runs/{run_id}/step", json={"steps": 300})
+    body = client.post(f"/api/runs/{run_id}/evaluate", json={"demon": "steps", "episodes": 5, "seed": 1}).json()
+    assert body["from"] == [200, 100]  # the centre of the start rectangle, as the dashboard evaluates from
+    given = {"demon": "steps", "from": [200, 100], "episodes": 5, "seed": 1}
+    assert client.post(f"/api/runs/{run_id}/evaluate", json=given).json() == body
+
+
+def test_a_stream_world_offers_no_evaluation_and_says_why() -> None:
+    stream = RunSpec.model_validate(robot({"kind": "constant"}, nexting("light", 0.5)))
+    support = evaluation_support(stream)
+    assert support.kind == "none" and "stream" in support.note
+    manager = RunManager()
+    try:
+        view = manager.create(RunSpec.model_validate(make_spec()))
+        with pytest.raises(SpecError, match="no Monte-Carlo evaluation here: a stream") as refused:
+            readout.evaluate(dataclasses.replace(view, spec=stream), "steps", None, 3, 10)
+        assert refused.value.problems[0].loc == ("path", "run_id")
+    finally:
+        manager.stop()
 
 
 FAMILY = {

@@ -89,6 +89,37 @@ def test_a_value_map_or_evaluation_from_a_point_is_a_422_naming_why(client: Test
     assert evaluation.status_code == 422 and evaluation.json()["detail"][0]["loc"][-1] == "from"
 
 
+@pytest.mark.timeout(120)
+def test_a_gymnasium_run_is_evaluated_by_rollouts_from_the_agents_current_state(client: TestClient) -> None:
+    created = client.post("/api/runs", json={"scenario": "mountaincar-nexting"})
+    assert created.json()["evaluation"]["kind"] == "rollouts", created.json()["evaluation"]
+    run = created.json()["id"]
+    client.post(f"/api/runs/{run}/step", json={"steps": 400})
+    state = client.get(f"/api/runs/{run}/state").json()
+    request = {"demon": "position_g0.5_on", "episodes": 30, "seed": 1}
+    response = client.post(f"/api/runs/{run}/evaluate", json=request)
+    assert response.status_code == 200, response.text
+    body = response.json()
+    assert body["from"] == list(state["sensors"].values()) and body["exact"] is None
+    assert body["prediction"] == state["predictions"]["position_g0.5_on"]
+    assert body["stderr"] is not None and body["stderr"] >= 0 and body["error"] == body["prediction"] - body["truth"]
+    # The discounted position at gamma 0.5 weighs the next few positions: (1 - gamma) G lies near where the car
+    # is now (it moves at most 0.07 a step), not where a fresh episode starts.
+    assert abs(0.5 * body["truth"] - state["sensors"]["position"]) < 0.15, (body["truth"], state["sensors"])
+    assert client.post(f"/api/runs/{run}/evaluate", json=request).json() == body  # seeded: repeatable
+    assert client.get(f"/api/runs/{run}/state").json()["step"] == 400  # the run did not move
+
+
+def test_a_question_that_rollouts_cannot_follow_is_a_422_naming_the_demon(client: TestClient) -> None:
+    reader = {"name": "reader", "learner": "td", "cumulant": {"prediction": "position_g0.5"}, "discount": 0.5}
+    run = client.post("/api/runs", json=gym_spec(demons=[*gym_spec()["demons"], reader])).json()["id"]
+    response = client.post(f"/api/runs/{run}/evaluate", json={"demon": "reader", "episodes": 3})
+    assert response.status_code == 422 and response.json()["detail"][0]["loc"] == ["body", "demon"], response.text
+    assert "reads other demons" in response.text
+    too_many = client.post(f"/api/runs/{run}/evaluate", json={"demon": "position_g0.5", "episodes": 5000, "cap": 1000})
+    assert too_many.status_code == 422 and too_many.json()["detail"][0]["loc"] == ["body", "episodes"], too_many.text
+
+
 def test_an_unknown_environment_or_unsupported_space_is_a_422_naming_world_id(client: TestClient) -> None:
     for env_id in ("NoSuchEnv-v0", "Pendulum-v1"):  # not installed; a Box action space
         response = client.post("/api/runs", json=gym_spec(world={"kind": "gymnasium", "id": env_id}))

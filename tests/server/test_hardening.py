@@ -15,10 +15,9 @@ from typing import Any
 import pytest
 from fastapi.testclient import TestClient
 
-from horde.runs.run_setup import MAX_HZ, MIN_HZ
 from horde.server import Settings, create_app
 from horde.server.guard import MAX_ERRORS, MAX_JSON_DEPTH, json_problem, validation_body
-from horde.spec import MAX_EXPR_DEPTH
+from horde.spec import MAX_EXPR_DEPTH, MAX_HZ, MIN_HZ
 
 from .helpers import WORLD, make_spec, wait_for
 

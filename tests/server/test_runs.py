@@ -4,9 +4,13 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+import pytest
 from fastapi.testclient import TestClient
 
 from horde.server import Settings, create_app
+from horde.server.schemas import RunTemplateIn
+from horde.spec import RunSpec
+from polling import wait_until
 
 from .helpers import locs, make_spec, messages
 
@@ -25,6 +29,28 @@ def test_create_list_get_delete(client: TestClient) -> None:
     assert client.get("/api/runs").json() == []
 
 
+@pytest.mark.timeout(60)
+def test_an_empty_run_starts_moves_and_takes_demons(client: TestClient) -> None:
+    """`{}` (the default RunSpec, no demons) and a run without episodes both start; a demon joins and learns."""
+    created = client.post("/api/runs", json={})
+    assert created.status_code == 201, created.text
+    assert created.json()["demons"] == []
+    assert (
+        client.post(f"/api/runs/{created.json()['id']}/demons", json={"name": "one", "cumulant": 1}).status_code == 201
+    )
+
+    response = client.post("/api/runs", json={"protocol": {"episodes": 0}}, params={"start": "true"})
+    assert response.status_code == 201, response.text
+    run_id = response.json()["id"]
+    wait_until(lambda: client.get(f"/api/runs/{run_id}/state").json()["step"] > 0, "the empty run to move")
+    assert client.post(f"/api/runs/{run_id}/demons", json={"name": "one", "cumulant": 1}).status_code == 201
+    wait_until(
+        lambda: (client.get(f"/api/runs/{run_id}/state").json()["predictions"].get("one") or 0) > 0.5,
+        "the demon that joined to learn",
+    )
+    client.post(f"/api/runs/{run_id}/pause")
+
+
 def test_create_from_a_scenario_with_overrides(client: TestClient) -> None:
     body = {"scenario": "experiment1", "seed": 9, "protocol": {"episodes": 3}, "world": {"max_steps": 50}}
     response = client.post("/api/runs", json=body)
@@ -33,6 +59,20 @@ def test_create_from_a_scenario_with_overrides(client: TestClient) -> None:
     assert spec["seed"] == 9 and spec["protocol"]["episodes"] == 3
     assert spec["world"]["max_steps"] == 50 and len(spec["world"]["regions"]) == 3  # merged, not replaced
     assert spec["name"] == "experiment1"
+
+
+def test_a_template_overrides_every_field_of_a_runspec(client: TestClient) -> None:
+    assert set(RunSpec.model_fields) <= set(RunTemplateIn.model_fields)
+    family = {
+        "name": "bump_g{gamma}",
+        "over": {"gamma": [0.5, 0.9]},
+        "demon": {"learner": "td", "policy": "uniform", "cumulant": {"sensor": "bump"}, "discount": "{gamma}"},
+    }
+    scenario = client.get("/api/scenarios/classroom-offpolicy").json()
+    response = client.post("/api/runs", json={"scenario": "classroom-offpolicy", "families": [family]})
+    assert response.status_code == 201, response.text
+    own = [d["name"] for d in scenario["demons"]]
+    assert response.json()["demons"] == [*own, "bump_g0.5", "bump_g0.9"]  # the family joins the scenario's demons
 
 
 def test_create_and_start_at_once_with_hz(client: TestClient) -> None:

@@ -68,6 +68,37 @@ def test_study_results_export_as_csv_and_json(client: TestClient) -> None:
     assert by_demon[(0, "goal_random")] == as_json[0]["demons"]["goal_random"]["error"]
 
 
+@pytest.mark.timeout(120)
+def test_a_diverged_configuration_and_gtd_as_td_are_flagged_in_results_and_exports(client: TestClient) -> None:
+    study = {
+        "scenario": "classroom-offpolicy",
+        "runs": 1,
+        "measure": {"episodes": 20, "checkpoints": 2},
+        "axes": [
+            {"path": "learning.alpha", "values": [0.03, 10.0]},  # a step of 10 overshoots tenfold: TD blows up
+            {"path": "demons.*.learner", "values": ["td", "gtd"]},
+            {"path": "learning.alpha_w", "values": [0.0]},
+        ],
+    }
+    study_id = client.post("/api/studies", json=study).json()["id"]
+    body = wait_study(client, study_id, "finished")
+    flagged = {(r["axes"]["learning.alpha"], r["axes"]["demons.*.learner"]): r["diverged"] for r in body["results"]}
+    assert flagged == {(0.03, "td"): False, (0.03, "gtd"): False, (10.0, "td"): True, (10.0, "gtd"): True}
+    assert not any(r["best"] and r["diverged"] for r in body["results"])
+    assert len(body["warnings"]) == 1 and "gtd with alpha_w = 0 learns exactly as td" in body["warnings"][0]
+    rows = list(csv.DictReader(io.StringIO(client.get(f"/api/studies/{study_id}/export").text)))
+    assert {r["config"]: r["diverged"] for r in rows} == {
+        str(r["index"]): str(int(r["diverged"])) for r in body["results"]
+    }
+    curves = client.get(f"/api/studies/{study_id}/export", params={"format": "curves"})
+    assert curves.status_code == 200 and "curves.csv" in curves.headers["content-disposition"]
+    points = list(csv.DictReader(io.StringIO(curves.text)))
+    first = body["results"][0]
+    mine = [r for r in points if r["config"] == str(first["index"]) and r["demon"] == "*"]
+    assert [int(r["episode"]) for r in mine] == first["episodes"] == [0, 10, 20]
+    assert [float(r["error"]) for r in mine] == pytest.approx(first["curve"]["mean"])
+
+
 def test_the_stream_reports_progress_until_the_study_stops(client: TestClient) -> None:
     study = {**STUDY, "measure": {"episodes": 400, "checkpoints": 2}}
     study_id = client.post("/api/studies", json=study).json()["id"]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import csv
 import json
 from pathlib import Path
 
@@ -38,6 +39,22 @@ def test_study_prints_a_table_and_writes_json_and_plots(tmp_path: Path, capsys: 
     for stem in ("learning-curves", "sensitivity-final", "sensitivity-auc"):
         for suffix in (".png", ".svg"):
             assert (plots / f"{stem}{suffix}").stat().st_size > 5000
+
+
+def test_study_warns_of_gtd_as_td_and_writes_results_and_curves_csv(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = tmp_path / "zero.toml"
+    study = alpha_by_learner(runs=1, episodes=10, checkpoints=2, learners=("td", "gtd"), name="zero")
+    path.write_text(study + '\n[[axes]]\npath = "learning.alpha_w"\nvalues = [0.0]\n')
+    folder = tmp_path / "csv"
+    assert main(["study", str(path), "--local", "--quiet", "--data", str(tmp_path / "d"), "--csv", str(folder)]) == 0
+    assert "warning: gtd with alpha_w = 0 learns exactly as td" in capsys.readouterr().err
+    results = list(csv.DictReader((folder / "results.csv").open()))
+    curves = list(csv.DictReader((folder / "curves.csv").open()))
+    assert len(results) == 4 * 7 and {r["diverged"] for r in results} == {"0"}
+    assert len(curves) == 4 * 7 * 3  # configurations x (all demons, six demons) x checkpoints 0, 5, 10
+    assert sorted({int(r["episode"]) for r in curves}) == [0, 5, 10]
 
 
 @pytest.mark.parametrize(

@@ -191,6 +191,23 @@ def test_100k_records_over_the_websocket_from_another_process_equal_the_csv_log(
               f"the CSV log: {expected.records_per_second:,.0f} records/s")  # fmt: skip
 
 
+@pytest.mark.timeout(180)
+def test_the_replay_example_deletes_the_stream_run_it_started_unless_asked_to_keep_it(tmp_path: Path) -> None:
+    import httpx
+
+    log = ROOT / "examples" / "data" / "mountaincar-pump.csv"
+    with serve_in_thread(Settings(data=tmp_path / "data", token=None, snapshot_every=3600.0)) as server:
+        for extra, left in (([], 0), (["--keep"], 1)):
+            replay = subprocess.run(
+                [sys.executable, str(ROOT / "examples" / "07_stream_replay.py"), str(log), "--url", server.url,
+                 "--hz", "0", "--batch", "500", "--timeout", "120", *extra],
+                capture_output=True, text=True, timeout=150,
+            )  # fmt: skip
+            assert replay.returncode == 0, replay.stdout + replay.stderr
+            assert "learned in all" in replay.stdout
+            assert len(httpx.get(f"{server.url}/api/streams", timeout=60).json()) == left, extra
+
+
 def test_the_recording_example_writes_a_log_the_stream_scenario_reads(tmp_path: Path) -> None:
     from horde.scenarios import load_scenario
 

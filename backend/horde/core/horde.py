@@ -171,9 +171,9 @@ class Horde:
         self.slot_demon = np.concatenate([g.demons for g in self.groups]) if self.groups else np.zeros(0, np.int64)
         self.demon_slot = np.empty(self.num_demons, dtype=np.int64)
         self.demon_slot[self.slot_demon] = np.arange(self.num_demons)
-        self.block_group = np.concatenate([np.full(len(g.blocks), i) for i, g in enumerate(self.groups)]).astype(
-            np.int64
-        )
+        self.block_group = np.array(
+            [i for i, g in enumerate(self.groups) for _ in g.blocks], dtype=np.int64
+        )  # [B] group of each block
         self.block_rows = np.array([g.layout.rows(b) for g in self.groups for b in g.layout.blocks], dtype=np.int64)
         sizes = [b.size for b in self.blocks]
         self.block_lo = np.cumsum([0, *sizes])[:-1].astype(np.int64)  # [B] first slot of each block

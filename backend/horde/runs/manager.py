@@ -226,9 +226,9 @@ class RunManager:
     # Evaluation (outside the learner thread, on a frozen view)
 
     def evaluate(
-        self, run_id: str, demon: str, start: tuple[float, float], episodes: int, cap: int, seed: int | None
+        self, run_id: str, demon: str, start: tuple[float, float] | None, episodes: int, cap: int, seed: int | None
     ) -> Evaluation:
-        """Monte-Carlo truth of a demon's question from `start`, beside its prediction there.
+        """Monte-Carlo truth of a demon's question from `start` (`readout.evaluate`), beside its prediction there.
 
         Raises:
             BusyError: MAX_EVALUATIONS evaluations are already running.

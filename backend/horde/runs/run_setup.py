@@ -3,27 +3,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Annotated
 
 import numpy as np
-from pydantic import Field
 
-from horde.core.simulation import Simulation
 from horde.runs.errors import SpecError
 from horde.spec import RunSpec
-from horde.worlds.gym_simulation import GymSimulation
-
-MIN_HZ = 0.01  # paced runs: one step every 100 s at the slowest
-MAX_HZ = 10_000.0  # beyond this, run at full speed (hz = null)
-Hz = Annotated[
-    float,
-    Field(
-        ge=MIN_HZ,
-        le=MAX_HZ,
-        allow_inf_nan=False,
-        description=f"steps per second, {MIN_HZ} to {MAX_HZ:g}; null: as fast as possible",
-    ),
-]
+from horde.worlds.kinds import AnySimulation, Simulation
 
 
 @dataclass(frozen=True)
@@ -63,7 +48,7 @@ def check_limits(spec: RunSpec, limits: Limits) -> None:
         )
 
 
-def new_simulation(spec: RunSpec) -> Simulation | GymSimulation:
+def new_simulation(spec: RunSpec) -> AnySimulation:
     """A fresh source of transitions for the spec's world, seeded like trial 0 of its protocol: the grid
     world's `Simulation`, or a `GymSimulation` for a Gymnasium environment.
 
@@ -75,8 +60,6 @@ def new_simulation(spec: RunSpec) -> Simulation | GymSimulation:
         raise SpecError.at(("body", "world", "kind"), "a stream world learns the records its clients push: "
                                                       "create it with POST /api/streams")  # fmt: skip
     try:
-        if spec.world.kind == "gymnasium":
-            return GymSimulation(spec, trial_rng(spec))
         return Simulation(spec, trial_rng(spec))
     except ValueError as exc:
         raise SpecError.at(("body",), f"the spec cannot run: {exc}") from None

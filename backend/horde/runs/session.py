@@ -26,9 +26,9 @@ from horde.core.simulation import Simulation
 from horde.runs.divergence import MAX_MAGNITUDE, beyond_magnitude
 from horde.runs.errors import ConflictError, NotFoundError, SpecError
 from horde.runs.events import EventLog
-from horde.runs.run_setup import MAX_HZ, MIN_HZ, Limits, check_limits, new_simulation
+from horde.runs.run_setup import Limits, check_limits, new_simulation
 from horde.runs.run_view import RunStatus, Summary
-from horde.spec import BehaviourSpec, DemonSpec, RunSpec, demon_dependencies
+from horde.spec import MAX_HZ, MIN_HZ, BehaviourSpec, DemonSpec, RunSpec, demon_dependencies
 from horde.worlds.gym_simulation import GymSimulation
 
 log = logging.getLogger(__name__)

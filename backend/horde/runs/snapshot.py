@@ -24,10 +24,10 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator
 from horde.core.horde import Horde, HordeState
 from horde.core.simulation import AdaptiveState, Simulation
 from horde.runs.errors import SpecError
-from horde.runs.run_setup import Hz, new_simulation
+from horde.runs.run_setup import new_simulation
 from horde.runs.run_view import RunStatus
 from horde.runs.snapshot_checks import MAX_COUNT, check_horde, check_interleaved, check_world
-from horde.spec import RunSpec
+from horde.spec import Hz, RunSpec
 from horde.worlds.gym_simulation import GymSimulation
 
 FORMAT: Literal["horde-snapshot/1"] = "horde-snapshot/1"

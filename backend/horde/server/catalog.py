@@ -6,7 +6,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from horde.runs.errors import ConflictError, NotFoundError
-from horde.scenarios import ScenarioError, find_scenario, load_scenario, scenario_dir
+from horde.scenarios import ScenarioError, Watch, find_scenario, load_watched, scenario_dir
 from horde.spec import RunSpec
 
 
@@ -15,6 +15,7 @@ class ScenarioEntry:
     name: str
     description: str
     error: str | None  # why the file does not load, if it does not
+    watch: Watch
 
 
 class ScenarioCatalog:
@@ -28,11 +29,11 @@ class ScenarioCatalog:
         found = []
         for path in sorted(self.directory.glob("*.toml")):
             try:
-                spec = load_scenario(path)
+                spec, watch = load_watched(path)
             except ScenarioError as exc:
-                found.append(ScenarioEntry(path.stem, "", str(exc)))
+                found.append(ScenarioEntry(path.stem, "", str(exc), Watch()))
             else:
-                found.append(ScenarioEntry(path.stem, spec.description, None))
+                found.append(ScenarioEntry(path.stem, spec.description, None, watch))
         return found
 
     def get(self, name: str) -> RunSpec:

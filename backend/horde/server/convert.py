@@ -16,13 +16,14 @@ import numpy as np
 from horde.runs.divergence import MAX_MAGNITUDE
 from horde.runs.events import Event
 from horde.runs.history import Series
-from horde.runs.readout import Evaluation, ValueMap
+from horde.runs.readout import Evaluation, ValueMap, evaluation_support
 from horde.runs.run_view import RunView, Summary
 from horde.server.schemas import (
     AgentOut,
     DemonMetricsOut,
     DemonOut,
     EvaluationOut,
+    EvaluationSupportOut,
     EventOut,
     HistoryOut,
     RunBriefOut,
@@ -67,6 +68,7 @@ def _brief_fields(view: RunView) -> dict[str, object]:
         "episode": view.episode,
         "step": view.total_steps,
         "demons": list(view.horde.names),
+        "evaluation": EvaluationSupportOut.model_validate(evaluation_support(view.spec), from_attributes=True),
         "created_at": timestamp(view.created_at),
         "updated_at": timestamp(view.updated_at),
     }

@@ -18,9 +18,8 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Discriminator, Fiel
 
 from horde.runs.divergence import meaningful
 from horde.runs.events import EventKind
-from horde.runs.run_setup import Hz
 from horde.runs.run_view import RunStatus
-from horde.spec import BehaviourSpec, DemonSpec, Name, RunSpec, WorldSpec
+from horde.spec import MAX_DEMONS, MAX_FAMILIES, BehaviourSpec, DemonSpec, Hz, Name, RunSpec, WorldSpec
 
 MAX_RESOLUTION = 256
 MAX_EVAL_EPISODES = 5_000
@@ -62,11 +61,14 @@ class WorldCreate(WorldSpec):
 
 
 class RunTemplateIn(In):
-    """A run from a scenario and/or a stored world, with overrides merged into it.
+    """A run from a scenario and/or a stored world, with overrides of any top-level RunSpec field.
 
     Objects (world, features, behaviour, learning, protocol, thesis) are merged key by key into the
-    scenario's; lists (demons) and plain values replace it. Without a scenario the base is the default
-    RunSpec. `world` names a stored world, or is an object merged into the scenario's world.
+    scenario's, recursively; plain values (name, description, seed) replace it; `demons` replaces the
+    scenario's demons (its families already expanded into them); `families` are expanded into more demons
+    beside those (kept or replaced), so `{scenario, families}` adds a family to a scenario. Without a
+    scenario the base is the default RunSpec. `world` names a stored world, or is an object merged into
+    the scenario's world.
     """
 
     scenario: Name | None = Field(default=None, description="a scenario name (GET /api/scenarios)")
@@ -77,7 +79,8 @@ class RunTemplateIn(In):
     features: dict[str, Any] | None = None
     behaviour: dict[str, Any] | str | None = None
     learning: dict[str, Any] | None = None
-    demons: list[dict[str, Any]] | None = Field(default=None, max_length=10_000)
+    demons: list[dict[str, Any]] | None = Field(default=None, max_length=MAX_DEMONS)
+    families: list[dict[str, Any]] | None = Field(default=None, max_length=MAX_FAMILIES)
     protocol: dict[str, Any] | None = None
     thesis: dict[str, Any] | None = None
 
@@ -106,11 +109,19 @@ class StepIn(In):
 
 
 class EvaluateIn(In):
-    """A Monte-Carlo evaluation of one demon's question from one point."""
+    """A Monte-Carlo evaluation of one demon's question, as the run's world allows (`RunOut.evaluation`).
+
+    On the grid ("grid") from a point `from` = [x, y], by default the world's start (the centre of a start
+    rectangle); on a Gymnasium world ("rollouts") from the agent's current state, `from` left out.
+    """
 
     demon: Name
-    from_: list[Annotated[float, Field(allow_inf_nan=False)]] = Field(
-        alias="from", min_length=2, max_length=2, description="[x, y]"
+    from_: list[Annotated[float, Field(allow_inf_nan=False)]] | None = Field(
+        default=None,
+        alias="from",
+        min_length=2,
+        max_length=2,
+        description="[x, y] on the grid (default: the world's start); left out on a Gymnasium world",
     )
     episodes: int = Field(default=100, ge=1, le=MAX_EVAL_EPISODES, description="rollouts")
     cap: int | None = Field(
@@ -192,6 +203,10 @@ class ScenarioOut(Out):
     name: str
     description: str
     error: str | None = Field(default=None, description="why the file does not load, if it does not")
+    watch_hz: float | None = Field(
+        default=None, description="the speed to watch it at live, steps per second (its `[watch]` table); null: full"
+    )
+    watch_note: str = Field(default="", description="why that speed, and what to watch for")
 
 
 class WorldOut(Out):
@@ -213,6 +228,16 @@ class SummaryOut(Out):
     stopped_early: bool
 
 
+class EvaluationSupportOut(Out):
+    """What POST /api/runs/{id}/evaluate can do in this run's world."""
+
+    kind: Literal["grid", "rollouts", "none"] = Field(
+        description="grid: from a point [x, y], and a value map over the world; rollouts: from the agent's "
+        "current state, no value map; none: no evaluation (`note` says why)"
+    )
+    note: str = Field(description="one sentence: what an evaluation is here, or why there is none")
+
+
 class RunBriefOut(Out):
     id: str
     name: str | None
@@ -222,6 +247,7 @@ class RunBriefOut(Out):
     episode: int = Field(description="episodes completed")
     step: int = Field(description="steps taken in all")
     demons: list[str]
+    evaluation: EvaluationSupportOut
     created_at: datetime
     updated_at: datetime
 
@@ -329,7 +355,11 @@ class HistoryOut(Out):
 
 class EvaluationOut(Out):
     demon: str
-    from_: list[float] = Field(alias="from")
+    from_: list[float] = Field(
+        alias="from",
+        description="the point [x, y] evaluated from on the grid; elsewhere the sensors at the agent's state the "
+        "rollouts began from (one per sensor, in the world's order)",
+    )
     prediction: MaybeFloat
     truth: MaybeFloat = Field(description="mean realised return over the rollouts")
     stderr: MaybeFloat

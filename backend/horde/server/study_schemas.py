@@ -46,7 +46,11 @@ class StudyConfigOut(_Out):
     index: int
     axes: dict[str, AxisValue]
     runs: int
-    best: bool = Field(description="the lowest final relative error of the study")
+    best: bool = Field(description="the lowest final relative error of the study (never a diverged configuration)")
+    diverged: bool = Field(
+        description="a run diverged: its final relative error or AUC non-finite or above 1e6, or a measured demon "
+        "frozen by the engine as diverged; its numbers are then not a fit"
+    )
     truth: Literal["exact", "monte_carlo"]
     episodes: list[int] = Field(description="training episodes at each checkpoint")
     error: MaybeFloat = Field(description="final relative error: error / scale, mean over the demons")
@@ -86,3 +90,6 @@ class StudyResultsOut(StudyOut):
     """A study with every configuration that has a finished run."""
 
     results: list[StudyConfigOut]
+    warnings: list[str] = Field(
+        description="what the results will not show on their own (gtd learning as td at alpha_w = 0)"
+    )

@@ -12,10 +12,18 @@ from pathlib import Path
 from horde.runs.errors import NotFoundError
 from horde.runs.store import Store
 from horde.scenarios import ScenarioError
-from horde.studies.export import results_json
+from horde.studies.export import curves_csv, results_csv, results_json
 from horde.studies.files import load_study_file
-from horde.studies.runner import Executor, InProcess, RayExecutor, create_study, run_study, summarize_study
-from horde.studies.spec import label
+from horde.studies.runner import (
+    Executor,
+    InProcess,
+    RayExecutor,
+    create_study,
+    load_study,
+    run_study,
+    summarize_study,
+)
+from horde.studies.spec import label, study_warnings
 from horde.studies.stats import ConfigSummary
 
 TABLE_ROWS = 20
@@ -27,16 +35,19 @@ def _number(value: float) -> str:
 
 def format_table(summaries: list[ConfigSummary], rows: int = TABLE_ROWS) -> str:
     """The configurations by final relative error, best first (the first `rows`)."""
-    ranked = sorted(summaries, key=lambda s: (not math.isfinite(s.final.mean[0]), s.final.mean[0]))
+    ranked = sorted(summaries, key=lambda s: (s.diverged or not math.isfinite(s.final.mean[0]), s.final.mean[0]))
     lines = [f"{'':2}{'configuration':50} {'runs':>4} {'error':>8} {'95% CI':>19} {'AUC':>8}"]
     for s in ranked[:rows]:
         ci = f"[{_number(s.final.low[0])}, {_number(s.final.high[0])}]"
         mark = "* " if s.best else "  "
         error, auc = _number(s.final.mean[0]), _number(s.auc.mean[0])
-        lines.append(f"{mark}{label(s.axes)[:50]:50} {s.runs:>4} {error:>8} {ci:>19} {auc:>8}")
+        note = "  diverged" if s.diverged else ""
+        lines.append(f"{mark}{label(s.axes)[:50]:50} {s.runs:>4} {error:>8} {ci:>19} {auc:>8}{note}")
     if len(ranked) > rows:
         lines.append(f"  ... {len(ranked) - rows} more (see --json)")
     lines.append("error: final relative error (RMSE / RMS of the exact answers, mean over demons); * best")
+    if any(s.diverged for s in summaries):
+        lines.append("diverged: a run's error was non-finite or above 1e6, or the engine froze a demon: not a fit")
     return "\n".join(lines)
 
 
@@ -71,6 +82,8 @@ def cmd_study(args: argparse.Namespace) -> int:
         print(f"error: {args.study}: {exc}", file=sys.stderr)
         store.close()
         return 2
+    for warning in study_warnings(load_study(store, study_id)[2]):
+        print(f"warning: {warning}", file=sys.stderr)
     executor: Executor = InProcess() if args.local else RayExecutor(args.address, args.workers or None)
     progress = None if args.quiet else ProgressBar(name, unit="tasks")
     try:
@@ -89,14 +102,25 @@ def cmd_study(args: argparse.Namespace) -> int:
     if not summaries:
         return 1
     print(format_table(summaries))
+    write_outputs(summaries, args)
+    return 0 if status == "finished" else 1
+
+
+def write_outputs(summaries: list[ConfigSummary], args: argparse.Namespace) -> None:
+    """--json, --csv and --plots: the results as files."""
     if args.json:
         Path(args.json).write_text(json.dumps(results_json(summaries), indent=2) + "\n")
+    if args.csv:
+        folder = Path(args.csv)
+        folder.mkdir(parents=True, exist_ok=True)
+        (folder / "results.csv").write_text(results_csv(summaries))
+        (folder / "curves.csv").write_text(curves_csv(summaries))
+        print(f"csv: {folder / 'results.csv'}, {folder / 'curves.csv'}", file=sys.stderr)
     if args.plots:
         from horde.studies.plots import write_plots
 
         files = write_plots(summaries, Path(args.plots), args.x, args.group)
         print(f"plots: {', '.join(str(f) for f in files)}", file=sys.stderr)
-    return 0 if status == "finished" else 1
 
 
 def add_study_parser(sub: argparse._SubParsersAction) -> None:
@@ -112,6 +136,12 @@ def add_study_parser(sub: argparse._SubParsersAction) -> None:
         "--json",
         metavar="PATH",
         help="write one object per configuration (axes, runs, per demon error, ci_low, ci_high)",
+    )
+    study.add_argument(
+        "--csv",
+        metavar="DIR",
+        help="write results.csv (a row per configuration and demon) and curves.csv (the "
+        "learning curves: a row per configuration, demon and checkpoint)",
     )
     study.add_argument("--plots", metavar="DIR", help="write learning and sensitivity curves (PNG and SVG)")
     study.add_argument("--x", metavar="PATH", help="the axis along the sensitivity curves (default: the first numeric)")

@@ -17,8 +17,16 @@ from dataclasses import dataclass, field
 from horde.runs.errors import BusyError, ConflictError, NotFoundError
 from horde.runs.store import Store, StudyRecord
 from horde.spec import RunSpec
-from horde.studies.runner import Executor, RayExecutor, SummaryCache, create_study, run_study, summarize_study
-from horde.studies.spec import StudySpec
+from horde.studies.runner import (
+    Executor,
+    RayExecutor,
+    SummaryCache,
+    create_study,
+    load_study,
+    run_study,
+    summarize_study,
+)
+from horde.studies.spec import StudySpec, study_warnings
 from horde.studies.stats import ConfigSummary
 
 log = logging.getLogger(__name__)
@@ -59,6 +67,7 @@ class StudyJobs:
         self._threads: list[threading.Thread] = []
         self._summaries: dict[str, tuple[int, list[ConfigSummary]]] = {}  # id -> (tasks done, summaries)
         self._per_config: dict[str, SummaryCache] = {}  # id -> each configuration's summary
+        self._warnings: dict[str, list[str]] = {}  # id -> its warnings (its stored spec never changes)
 
     def start(self, study: StudySpec, base: RunSpec) -> StudyRecord:
         """Validate, record and start a study (SpecError before anything is stored; BusyError while one runs)."""
@@ -136,6 +145,12 @@ class StudyJobs:
                 self._summaries[study_id] = cached
         return cached[1]
 
+    def warnings(self, study_id: str) -> list[str]:
+        """What the study's results will not show on their own (`studies.spec.study_warnings`)."""
+        if study_id not in self._warnings:
+            self._warnings[study_id] = study_warnings(load_study(self._store, study_id)[2])
+        return self._warnings[study_id]
+
     def progress(self, study_id: str) -> Progress | None:
         return self._running.get(study_id)
 
@@ -149,6 +164,7 @@ class StudyJobs:
         self._store.delete_study(study_id)
         self._summaries.pop(study_id, None)
         self._per_config.pop(study_id, None)
+        self._warnings.pop(study_id, None)
         return record
 
     def stop(self) -> None:

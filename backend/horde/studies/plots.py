@@ -6,12 +6,17 @@
 - `sensitivity-final`, `sensitivity-auc`: the final error, or its mean over the learning curve, against one
   swept axis (`x`), one curve per value of another (`group`); where further axes were swept, each point is
   the best configuration over them. Error bars are the 95 % bootstrap intervals.
+
+A diverged configuration (`ConfigSummary.diverged`) is drawn but marked: a dotted line, or a red cross at the
+top edge, "(diverged)" in the legend, and a note under the title. The y axis is scaled to the configurations
+that did not diverge, so one error of 1e9 does not flatten every other curve to the bottom.
 """
 
 from __future__ import annotations
 
+import math
 import textwrap
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 import matplotlib
@@ -25,6 +30,18 @@ from horde.studies.stats import ConfigSummary
 
 MAX_LINES = 8
 YLABEL = "relative error (RMSE / RMS of the exact answers)"
+DIVERGED_NOTE = "diverged configurations dotted or \u00d7 at the top, left out of the y scale"
+MARGIN = 1.5  # the y axis reaches this factor beyond the lowest and highest value shown (log scale)
+
+
+def _scale_to(ax: plt.Axes, values: Iterable[float]) -> float | None:
+    """Fit the log y axis to these values (the configurations that did not diverge); returns its top."""
+    shown = [v for v in values if math.isfinite(v) and v > 0]
+    if not shown:
+        return None
+    low, high = min(shown) / MARGIN, max(shown) * MARGIN
+    ax.set_ylim(low, high)
+    return high
 
 
 def _numeric(values: Sequence[AxisValue]) -> bool:
@@ -66,14 +83,20 @@ def learning_curves(summaries: list[ConfigSummary], group: str | None, path: Pat
     if len(summaries) > MAX_LINES:
         shown = list(_best_by(summaries, [group], "final").values())[:MAX_LINES]
         title += f"\nbest configuration per {group.split('.')[-1] if group else 'study'}"
+    if any(s.diverged for s in shown):
+        title += f"\n{DIVERGED_NOTE}"
     fig, ax = plt.subplots(figsize=(7, 4.2))
     for s in shown:
         name = (label(s.axes) or "the base") + ("  (best)" if s.best and len(shown) > 1 else "")
-        (line,) = ax.plot(s.episodes, s.curve.mean, label=f"{name}, {s.runs} runs")
-        ax.fill_between(s.episodes, s.curve.low, s.curve.high, color=line.get_color(), alpha=0.2, linewidth=0)
+        name += "  (diverged)" if s.diverged else ""
+        style = ":" if s.diverged else "-"
+        (line,) = ax.plot(s.episodes, s.curve.mean, label=f"{name}, {s.runs} runs", linestyle=style)
+        if not s.diverged:
+            ax.fill_between(s.episodes, s.curve.low, s.curve.high, color=line.get_color(), alpha=0.2, linewidth=0)
     ax.set_xlabel("training episodes")
     ax.set_ylabel(YLABEL)
     ax.set_yscale("log")
+    _scale_to(ax, (v for s in shown if not s.diverged for v in (*s.curve.low, *s.curve.high, *s.curve.mean)))
     ax.set_title(title, fontsize=10)
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
@@ -88,14 +111,23 @@ def sensitivity(summaries: list[ConfigSummary], x: str, group: str | None, metri
     xs_all = [s.axes[x] for s in summaries]
     numeric = _numeric(xs_all)
     order = sorted({repr(v): v for v in xs_all}.values(), key=lambda v: v if numeric else str(v))
+    ax.set_yscale("log")
+    bands = [getattr(p, metric) for p in best.values() if not p.diverged]
+    top = _scale_to(ax, (v for band in bands for v in (band.mean[0], band.low[0], band.high[0])))
+    crosses: list[AxisValue] = []  # where the diverged configurations are, along x
     for g in groups:
         points = [best[(repr(v), g)] for v in order if (repr(v), g) in best]
+        crosses += [p.axes[x] if numeric else order.index(p.axes[x]) for p in points if p.diverged]
+        points = [p for p in points if not p.diverged]
         xs = [p.axes[x] if numeric else order.index(p.axes[x]) for p in points]
         mean = [getattr(p, metric).mean[0] for p in points]
         low = [m - getattr(p, metric).low[0] for m, p in zip(mean, points, strict=True)]
         high = [getattr(p, metric).high[0] - m for m, p in zip(mean, points, strict=True)]
         name = f"{group.split('.')[-1]}={g}" if group else "all"
         ax.errorbar(xs, mean, yerr=[low, high], marker="o", capsize=3, label=name)
+    if crosses:
+        edge = top if top is not None else 1.0
+        ax.plot(crosses, [edge] * len(crosses), "x", color="red", markersize=10, clip_on=False, label="diverged")
     positive = [float(v) for v in order if numeric and float(v) > 0]
     if numeric and len(positive) == len(order) and max(positive) / min(positive) >= 10:
         ax.set_xscale("log")
@@ -106,10 +138,10 @@ def sensitivity(summaries: list[ConfigSummary], x: str, group: str | None, metri
         ax.xaxis.set_minor_locator(ticker.NullLocator())
     ax.set_xlabel(x)
     ax.set_ylabel(("final " if metric == "final" else "mean over training: ") + YLABEL, fontsize=8)
-    ax.set_yscale("log")
     rest = [p for p in summaries[0].axes if p not in (x, group)]
     note = f" (best over {', '.join(rest)})" if rest else ""
-    ax.set_title(textwrap.fill(f"Sensitivity to {x}{note}; 95\u00a0% bootstrap intervals", 80), fontsize=9)
+    title = textwrap.fill(f"Sensitivity to {x}{note}; 95\u00a0% bootstrap intervals", 80)
+    ax.set_title(title + (f"\n{DIVERGED_NOTE}" if crosses else ""), fontsize=9)
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     _save(fig, path)

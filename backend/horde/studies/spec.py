@@ -269,3 +269,28 @@ def expand(study: StudySpec, base: RunSpec) -> list[Configuration]:
 def label(axes: dict[str, AxisValue]) -> str:
     """A short name of a configuration: `alpha=0.1 lambda=0.9 learner='td'` (the last part of each path)."""
     return " ".join(f"{path.split('.')[-1]}={_fmt(v)}" for path, v in axes.items())
+
+
+def study_warnings(configurations: list[Configuration]) -> list[str]:
+    """What the results of these configurations will not show on their own, one sentence each.
+
+    Today one: GTD(lambda) with alpha_w = 0 is TD(lambda). Its correction weights w start at 0 and never move,
+    so the correction term gamma (1 - lambda) (w . e) phi' is 0 and every update equals TD's: a learner axis
+    over td and gtd then gives identical rows.
+    """
+    same_as_td = [
+        c.index
+        for c in configurations
+        if any(
+            d.learner == "gtd" and (d.alpha_w if d.alpha_w is not None else c.spec.learning.alpha_w) == 0
+            for d in c.spec.demons
+        )
+    ]
+    if not same_as_td:
+        return []
+    shown = ", ".join(map(str, same_as_td[:10])) + (", ..." if len(same_as_td) > 10 else "")
+    return [
+        f"gtd with alpha_w = 0 learns exactly as td (its correction weights stay 0), so td and gtd give identical "
+        f"results in configuration{'s' if len(same_as_td) > 1 else ''} {shown}; give alpha_w a value above 0 to "
+        "compare them"
+    ]

@@ -19,6 +19,10 @@ from horde.studies.task import TaskData
 
 LEVEL = 0.95
 RESAMPLES = 2000
+# A run whose final relative error or its mean over the learning curve (AUC) is non-finite or beyond this has
+# diverged: no fit is a million times worse than the answer's own size, while a diverging learner's error grows
+# tenfold every few hundred steps and passes it long before the engine freezes the demon (at 1e12).
+DIVERGED_ERROR = 1e6
 
 
 def bootstrap_mean(
@@ -100,6 +104,7 @@ class ConfigSummary:
     final: Band
     auc: Band
     returns: Band
+    diverged: bool = False  # a run diverged: an error non-finite or beyond DIVERGED_ERROR, or a demon frozen
     best: bool = False
     seconds: float = 0.0
     extra: dict[str, object] = field(default_factory=dict)
@@ -144,6 +149,9 @@ def summarize_configuration(index: int, axes: dict[str, AxisValue], tasks: list[
         where[name] = (columns.add(error), columns.add(error[:, -1]), columns.add(_area(error)), columns.add(rupee))
         relative.append(error / np.where(scale > 0, scale, 1.0))
     rel = np.mean(relative, axis=0)  # [R, C]
+    per_run = np.concatenate([rel[:, -1], _area(rel)])  # [2R] each run's final error and AUC
+    diverged = bool((~np.isfinite(per_run) | (np.abs(per_run) > DIVERGED_ERROR)).any())
+    diverged = diverged or any(t.get("diverged") for t in tasks)  # the engine froze a measured demon
     returns = np.array([t["returns"] for t in tasks])  # [R, C]
     overall = (columns.add(rel), columns.add(rel[:, -1]), columns.add(_area(rel)), columns.add(returns))
     positive = None
@@ -163,6 +171,7 @@ def summarize_configuration(index: int, axes: dict[str, AxisValue], tasks: list[
         final=final,
         auc=auc,
         returns=returns_band,
+        diverged=diverged,
         seconds=float(sum(t["seconds"] for t in tasks)),
         extra={"positive": columns.band(positive)} if positive is not None else {},
     )
@@ -174,8 +183,8 @@ def _area(curves: np.ndarray) -> np.ndarray:
 
 
 def mark_best(summaries: list[ConfigSummary]) -> None:
-    """Mark the configuration with the lowest final relative error (ties: the first)."""
-    finite = [s for s in summaries if np.isfinite(s.final.mean[0])]
+    """Mark the configuration with the lowest final relative error (ties: the first); never a diverged one."""
+    finite = [s for s in summaries if np.isfinite(s.final.mean[0]) and not s.diverged]
     for s in summaries:
         s.best = False
     if finite:

@@ -87,6 +87,12 @@ def _measure_error(
         row["scale"].append(abs(truth.mean))
 
 
+def _frozen(sim: Simulation, names: list[str]) -> list[str]:
+    """The demons of `names` that the engine froze as diverged."""
+    diverged = sim.horde_state.diverged  # [D]
+    return [name for name in names if diverged[sim.horde.index[name]]]
+
+
 def run_task(spec: RunSpec, run: int, measure: MeasureSpec) -> TaskData:
     """Train the spec's Horde once from scratch and measure it at checkpoints.
 
@@ -99,7 +105,8 @@ def run_task(spec: RunSpec, run: int, measure: MeasureSpec) -> TaskData:
         {"episodes": [C], "truth": "exact" | "monte_carlo", "steps", "seconds", "cpu_seconds" (of this
          process), "returns": [C] (nan at 0),
          "demons": {name: {"error": [C], "scale": [C], "rupee": [C], "prediction": [C]}},
-         "counts": {"positive", "negative", "none"} (control protocols only)}: C checkpoints.
+         "diverged": [measured demons the engine froze], "counts": {"positive", "negative", "none"} (control
+         protocols only)}: C checkpoints.
     """
     began, began_cpu = time.perf_counter(), time.process_time()
     rng = np.random.default_rng([spec.seed, run])
@@ -134,7 +141,7 @@ def run_task(spec: RunSpec, run: int, measure: MeasureSpec) -> TaskData:
             row["rupee"].append(float(rupee[horde.index[name]]))
             truth_rng = np.random.default_rng([spec.seed, run, checkpoint, 1])
             _measure_error(sim, name, at_start[name], exact_answers, start, measure, truth_rng, row)
-    out["steps"] = sim.total_steps
+    out["steps"], out["diverged"] = sim.total_steps, _frozen(sim, names)
     test = spec.protocol.test
     if test is not None:  # a control protocol: where the test runs end after training, as horde run counts them
         learning = np.array([d.reset == "episode" for d in horde.demon_specs])

@@ -78,8 +78,9 @@ def _returns(r: np.ndarray, z: np.ndarray, gamma: np.ndarray) -> np.ndarray:
 
 
 def rollout_returns(spec: RunSpec, world: GymWorld, state: np.ndarray, sensors: np.ndarray, demons: list[int],
-                    rollouts: int, cap: int, rng: np.random.Generator) -> np.ndarray:  # fmt: skip
-    """[rollouts, len(demons)] realised returns of the demons (who share one target policy) from a state."""
+                    rollouts: int, cap: int, rng: np.random.Generator) -> tuple[np.ndarray, int]:  # fmt: skip
+    """[rollouts, len(demons)] realised returns of the demons (who share one target policy) from a state, and
+    how many rollouts were still running at the cap."""
     specs = [spec.demons[i] for i in demons]
     names = world.sensor_names
     index = {n: i for i, n in enumerate(names)}
@@ -88,6 +89,7 @@ def rollout_returns(spec: RunSpec, world: GymWorld, state: np.ndarray, sensors: 
     discount = np.array([d.discount for d in specs])  # [Dp]
     policy = specs[0].policy
     out = np.empty((rollouts, len(specs)))
+    capped = 0
     for k in range(rollouts):
         world.set_state(state, sensors)
         current = sensors
@@ -105,12 +107,14 @@ def rollout_returns(spec: RunSpec, world: GymWorld, state: np.ndarray, sensors: 
             product *= float(np.max(np.clip(values[2 * len(specs) :], 0.0, 1.0) * discount))
             if product < CONTINUATION_FLOOR:
                 break
+        else:
+            capped += 1
         values = program.evaluate(np.array(trajectory))  # [T, 3 Dp]
         d = len(specs)
         gamma = np.clip(values[:, 2 * d :], 0.0, 1.0) * discount  # [T, Dp]
         gamma[np.array(ends)] = 0.0
         out[k] = _returns(values[:, :d], values[:, d : 2 * d], gamma)
-    return out
+    return out, capped
 
 
 def run_gym_protocol(spec: RunSpec, progress: Progress | None = None) -> GymProtocolResult:
@@ -151,7 +155,7 @@ def run_gym_protocol(spec: RunSpec, progress: Progress | None = None) -> GymProt
     rng = np.random.default_rng([spec.seed, 1])
     for s, (state, sensors) in enumerate(states):
         for members in groups.values():
-            returns = rollout_returns(spec, world, state, sensors, [index[j] for j in members], evaluation.rollouts,
+            returns, _ = rollout_returns(spec, world, state, sensors, [index[j] for j in members], evaluation.rollouts,
                                       evaluation.cap, rng)  # fmt: skip
             truths[s, members] = returns.mean(axis=0)
             if len(returns) > 1:

@@ -238,9 +238,11 @@ export interface paths {
         put?: never;
         /**
          * Monte-Carlo truth of a demon's question vs its prediction
-         * @description Rolls the demon's target policy out from `from` with frozen weights (its own generator: the run is not
-         *     disturbed). 422 when `from` lies outside the world or in an obstacle; 429 when two evaluations are running
-         *     already.
+         * @description Rolls the demon's target policy out with frozen weights (its own generator: the run is not disturbed), as
+         *     the run's world allows (its `evaluation`): on the grid from `from` (default: the world's start), on a
+         *     Gymnasium world from the agent's current state. 422 when `from` lies outside the world or in an obstacle, is
+         *     given on a world without points, or the demon's question cannot be rolled out there; 429 when two
+         *     evaluations are running already.
          */
         post: operations["evaluate_api_runs__run_id__evaluate_post"];
         delete?: never;
@@ -629,7 +631,7 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** A study's results as CSV (a row per configuration and demon) or JSON (as horde study --json) */
+        /** A study's results as CSV (a row per configuration and demon), its learning curves as CSV (a row per configuration, demon and checkpoint) or JSON (as horde study --json) */
         get: operations["export_study_api_studies__study_id__export_get"];
         put?: never;
         post?: never;
@@ -1110,7 +1112,10 @@ export interface components {
         };
         /**
          * EvaluateIn
-         * @description A Monte-Carlo evaluation of one demon's question from one point.
+         * @description A Monte-Carlo evaluation of one demon's question, as the run's world allows (`RunOut.evaluation`).
+         *
+         *     On the grid ("grid") from a point `from` = [x, y], by default the world's start (the centre of a start
+         *     rectangle); on a Gymnasium world ("rollouts") from the agent's current state, `from` left out.
          */
         EvaluateIn: {
             /**
@@ -1128,9 +1133,9 @@ export interface components {
             episodes: number;
             /**
              * From
-             * @description [x, y]
+             * @description [x, y] on the grid (default: the world's start); left out on a Gymnasium world
              */
-            from: number[];
+            from?: number[] | null;
             /** Seed */
             seed?: number | null;
         };
@@ -1157,7 +1162,10 @@ export interface components {
              * @description the exact answer at `from` on a small lattice world (no noise), else null
              */
             exact?: number | null;
-            /** From */
+            /**
+             * From
+             * @description the point [x, y] evaluated from on the grid; elsewhere the sensors at the agent's state the rollouts began from (one per sensor, in the world's order)
+             */
             from: number[];
             /** Prediction */
             prediction: number | null;
@@ -1198,6 +1206,23 @@ export interface components {
              * @default 20
              */
             states: number;
+        };
+        /**
+         * EvaluationSupportOut
+         * @description What POST /api/runs/{id}/evaluate can do in this run's world.
+         */
+        EvaluationSupportOut: {
+            /**
+             * Kind
+             * @description grid: from a point [x, y], and a value map over the world; rollouts: from the agent's current state, no value map; none: no evaluation (`note` says why)
+             * @enum {string}
+             */
+            kind: "grid" | "rollouts" | "none";
+            /**
+             * Note
+             * @description one sentence: what an evaluation is here, or why there is none
+             */
+            note: string;
         };
         /** EventOut */
         EventOut: {
@@ -1698,6 +1723,7 @@ export interface components {
              * @description episodes completed
              */
             episode: number;
+            evaluation: components["schemas"]["EvaluationSupportOut"];
             /** Hz */
             hz: number | null;
             /** Id */
@@ -1736,6 +1762,7 @@ export interface components {
              * @description episodes completed
              */
             episode: number;
+            evaluation: components["schemas"]["EvaluationSupportOut"];
             /** Hz */
             hz: number | null;
             /** Id */
@@ -1833,11 +1860,14 @@ export interface components {
         RunStreamMessage: components["schemas"]["StateOut"];
         /**
          * RunTemplateIn
-         * @description A run from a scenario and/or a stored world, with overrides merged into it.
+         * @description A run from a scenario and/or a stored world, with overrides of any top-level RunSpec field.
          *
          *     Objects (world, features, behaviour, learning, protocol, thesis) are merged key by key into the
-         *     scenario's; lists (demons) and plain values replace it. Without a scenario the base is the default
-         *     RunSpec. `world` names a stored world, or is an object merged into the scenario's world.
+         *     scenario's, recursively; plain values (name, description, seed) replace it; `demons` replaces the
+         *     scenario's demons (its families already expanded into them); `families` are expanded into more demons
+         *     beside those (kept or replaced), so `{scenario, families}` adds a family to a scenario. Without a
+         *     scenario the base is the default RunSpec. `world` names a stored world, or is an object merged into
+         *     the scenario's world.
          */
         RunTemplateIn: {
             /** Behaviour */
@@ -1850,6 +1880,10 @@ export interface components {
             }[] | null;
             /** Description */
             description?: string | null;
+            /** Families */
+            families?: {
+                [key: string]: unknown;
+            }[] | null;
             /** Features */
             features?: {
                 [key: string]: unknown;
@@ -1916,6 +1950,17 @@ export interface components {
             error?: string | null;
             /** Name */
             name: string;
+            /**
+             * Watch Hz
+             * @description the speed to watch it at live, steps per second (its `[watch]` table); null: full
+             */
+            watch_hz?: number | null;
+            /**
+             * Watch Note
+             * @description why that speed, and what to watch for
+             * @default
+             */
+            watch_note: string;
         };
         /** SensorExpr */
         SensorExpr: {
@@ -2308,7 +2353,7 @@ export interface components {
             };
             /**
              * Best
-             * @description the lowest final relative error of the study
+             * @description the lowest final relative error of the study (never a diverged configuration)
              */
             best: boolean;
             /** Ci High */
@@ -2321,6 +2366,11 @@ export interface components {
             demons: {
                 [key: string]: components["schemas"]["StudyDemonOut"];
             };
+            /**
+             * Diverged
+             * @description a run diverged: its final relative error or AUC non-finite or above 1e6, or a measured demon frozen by the engine as diverged; its numbers are then not a fit
+             */
+            diverged: boolean;
             /**
              * Episodes
              * @description training episodes at each checkpoint
@@ -2481,6 +2531,11 @@ export interface components {
              * Format: date-time
              */
             updated_at: string;
+            /**
+             * Warnings
+             * @description what the results will not show on their own (gtd learning as td at alpha_w = 0)
+             */
+            warnings: string[];
         };
         /**
          * StudySpec
@@ -5044,6 +5099,7 @@ export interface operations {
     export_study_api_studies__study_id__export_get: {
         parameters: {
             query?: {
+                /** @description csv: results; curves: the learning curves (CSV) */
                 format?: string;
             };
             header?: never;

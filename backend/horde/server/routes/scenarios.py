@@ -16,7 +16,10 @@ router = APIRouter(prefix="/scenarios", tags=["scenarios"])
 
 @router.get("", summary="List the scenarios")
 def list_scenarios(catalog: CatalogDep) -> list[ScenarioOut]:
-    return [ScenarioOut(name=e.name, description=e.description, error=e.error) for e in catalog.entries()]
+    return [
+        ScenarioOut(name=e.name, description=e.description, error=e.error, watch_hz=e.watch.hz, watch_note=e.watch.note)
+        for e in catalog.entries()
+    ]
 
 
 @router.get(

@@ -22,7 +22,7 @@ from horde.server.routes.exports import FILE_RESPONSES
 from horde.server.sockets import AcceptedSocket
 from horde.server.stream_protocol import StreamClose, close_reason
 from horde.server.study_schemas import StudyConfigOut, StudyOut, StudyResultsOut
-from horde.studies.export import results_csv, results_json
+from horde.studies.export import curves_csv, results_csv, results_json
 from horde.studies.jobs import StudyJobs
 from horde.studies.spec import StudySpec
 
@@ -85,7 +85,7 @@ def get_study(study_id: StudyId, jobs: StudiesDep) -> StudyResultsOut:
     record = jobs.get(study_id)
     out = _out(jobs, record)
     results = [StudyConfigOut.model_validate(r) for r in results_json(jobs.summaries(study_id))]
-    return StudyResultsOut(**dict(out), results=results)
+    return StudyResultsOut(**dict(out), results=results, warnings=jobs.warnings(study_id))
 
 
 @writes.delete(
@@ -109,20 +109,27 @@ def resume_study(study_id: StudyId, jobs: StudiesDep) -> StudyOut:
 
 @router.get(
     "/{study_id}/export",
-    summary="A study's results as CSV (a row per configuration and demon) or JSON (as horde study --json)",
+    summary="A study's results as CSV (a row per configuration and demon), its learning curves as CSV (a row per "
+    "configuration, demon and checkpoint) or JSON (as horde study --json)",
     responses={**NOT_FOUND, **FILE_RESPONSES},
 )
 def export_study(
-    study_id: StudyId, jobs: StudiesDep, format: Annotated[str, Query(pattern="^(csv|json)$")] = "csv"
+    study_id: StudyId,
+    jobs: StudiesDep,
+    format: Annotated[
+        str, Query(pattern="^(csv|curves|json)$", description="csv: results; curves: the learning curves (CSV)")
+    ] = "csv",
 ) -> Response:
     record = jobs.get(study_id)
     summaries = jobs.summaries(study_id)
     name = record.name or study_id
     if format == "json":
-        text, media = json.dumps(results_json(summaries), indent=2) + "\n", "application/json"
+        text, media, filename = json.dumps(results_json(summaries), indent=2) + "\n", "application/json", f"{name}.json"
+    elif format == "curves":
+        text, media, filename = curves_csv(summaries), "text/csv", f"{name}-curves.csv"
     else:
-        text, media = results_csv(summaries), "text/csv"
-    headers = {"Content-Disposition": f'attachment; filename="study-{name}.{format}"'}
+        text, media, filename = results_csv(summaries), "text/csv", f"{name}.csv"
+    headers = {"Content-Disposition": f'attachment; filename="study-{filename}"'}
     return PlainTextResponse(text, media_type=media, headers=headers)
 
 
