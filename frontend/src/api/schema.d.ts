@@ -1698,6 +1698,8 @@ export interface components {
              * @description episodes completed
              */
             episode: number;
+            /** @description what Evaluate offers on this run's world */
+            evaluation?: components["schemas"]["RunEvaluationOut"];
             /** Hz */
             hz: number | null;
             /** Id */
@@ -1722,6 +1724,23 @@ export interface components {
              */
             updated_at: string;
         };
+        /**
+         * RunEvaluationOut
+         * @description What the truth of a demon's question can be computed from on a run's world.
+         */
+        RunEvaluationOut: {
+            /**
+             * Kind
+             * @description grid: from a point, and the value map; rollouts: from the current state; none: no evaluation
+             * @enum {string}
+             */
+            kind: "grid" | "rollouts" | "none";
+            /**
+             * Note
+             * @description what an evaluation computes here, or why there is none
+             */
+            note: string;
+        };
         /** RunOut */
         RunOut: {
             /**
@@ -1736,6 +1755,8 @@ export interface components {
              * @description episodes completed
              */
             episode: number;
+            /** @description what Evaluate offers on this run's world */
+            evaluation?: components["schemas"]["RunEvaluationOut"];
             /** Hz */
             hz: number | null;
             /** Id */
@@ -1916,6 +1937,16 @@ export interface components {
             error?: string | null;
             /** Name */
             name: string;
+            /**
+             * Watch Hz
+             * @description steps per second for watching the scenario; null: full speed
+             */
+            watch_hz?: number | null;
+            /**
+             * Watch Note
+             * @description why that speed, and what to watch for
+             */
+            watch_note?: string;
         };
         /** SensorExpr */
         SensorExpr: {
@@ -2322,6 +2353,11 @@ export interface components {
                 [key: string]: components["schemas"]["StudyDemonOut"];
             };
             /**
+             * Diverged
+             * @description a run of this configuration diverged: its numbers are not errors to compare
+             */
+            diverged?: boolean;
+            /**
              * Episodes
              * @description training episodes at each checkpoint
              */
@@ -2481,6 +2517,11 @@ export interface components {
              * Format: date-time
              */
             updated_at: string;
+            /**
+             * Warnings
+             * @description what the reader should know before comparing the configurations
+             */
+            warnings?: string[];
         };
         /**
          * StudySpec

@@ -15,7 +15,7 @@ import type { Demon } from "../api/types";
 import { gridWorld } from "../api/types";
 import { type DemonFilter, demonSummary, filterDemons } from "../lib/demons";
 import { exprText } from "../lib/expr";
-import { formatNumber, formatRelativeError, formatTruth, truthOf } from "../lib/format";
+import { formatNumber, formatRelativeError, formatTruth, nameParts, truthOf } from "../lib/format";
 import { type Term, tip } from "../lib/glossary";
 import { readNumber } from "../lib/parse";
 import { startPoint } from "../lib/world";
@@ -158,7 +158,9 @@ export function demonTable(store: AppStore): HTMLElement {
     return html`<tr data-demon=${demon.name} data-index=${index}>
       <th scope="row">
         <span class="swatch-dot" aria-hidden="true" style=${styleMap({ background: demon.colour })}></span>
-        <span class="demon-name">${demon.name}</span>
+        <span class="demon-name"
+          >${nameParts(demon.name).map((part, i) => (i === 0 ? part : html`<wbr />${part}`))}</span
+        >
         ${demon.control ? html`<span class="tag" title=${tip("control")}>control</span>` : nothing}
         <span class="tag diverged" ?hidden=${!metrics?.diverged} title=${tip("diverged")}>diverged</span>
         <span class="question">${questionOf(demon)}</span>

@@ -24,7 +24,7 @@ export const STOPS: Stop[] = [
   {
     target: ".charts-panel",
     title: "One chart per demon",
-    text: "Each demon's prediction where the agent stands, step by step, on its own scale. Press Evaluate in the table: a dashed line shows the true answer from the start, and the caption the demon's prediction there. Evaluate again later and watch the two meet.",
+    text: "Each demon's prediction where the agent stands, step by step, on its own scale. Press Evaluate in the table: at that step a ring shows the demon's prediction from the start and a dark dot the true answer from the same place. Evaluate again later and watch the ring close in on the dot.",
   },
   {
     target: ".demons-panel",
