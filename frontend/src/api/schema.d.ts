@@ -1128,9 +1128,9 @@ export interface components {
             episodes: number;
             /**
              * From
-             * @description [x, y]
+             * @description [x, y] on the grid world; left out: from the run's current state (a simulated world)
              */
-            from: number[];
+            from?: number[] | null;
             /** Seed */
             seed?: number | null;
         };
