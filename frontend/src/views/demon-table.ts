@@ -48,10 +48,21 @@ interface RowContext {
   evaluable: boolean;
 }
 
-function questionOf(demon: Demon): string {
+/** The words of a target policy's kind that have a glossary entry of their own; the others (greedy,
+ * softmax, ...) are explained by the target policy's. */
+const POLICY_TERMS: Partial<Record<string, Term>> = {
+  uniform: "uniformPolicy",
+  fixed: "fixedPolicy",
+  of: "followsPolicy",
+};
+
+/** The question under a demon's name: its target policy and cumulant, each word explained in its tooltip. */
+function questionOf(demon: Demon) {
   const policy = demon.spec.policy;
-  const follows = policy?.kind === "of" ? `follows ${policy.demon}` : (policy?.kind ?? "uniform");
-  return `${follows} · cumulant ${exprText(demon.spec.cumulant)}`;
+  const kind = policy?.kind ?? "uniform";
+  const follows = policy?.kind === "of" ? `follows ${policy.demon}` : kind;
+  return html`<span class="term" title=${tip(POLICY_TERMS[kind] ?? "policy")}>${follows}</span> ·
+    <span class="term" title=${tip("cumulant")}>cumulant</span> ${exprText(demon.spec.cumulant)}`;
 }
 
 export function demonTable(store: AppStore): HTMLElement {
