@@ -249,7 +249,7 @@ function draw(multiple: Multiple, history: History, marks: readonly EvaluationMa
       ...look,
       title: undefined,
       series,
-      hooks: { draw: [drawTruthBars] },
+      hooks: { draw: [...(look.hooks?.draw ?? []), drawTruthBars] },
     },
     data,
     multiple.box,
