@@ -2,6 +2,7 @@ import { describe, expect, it } from "vitest";
 import {
   MISSING,
   formatCount,
+  nameParts,
   formatEstimate,
   formatHz,
   formatNumber,
@@ -70,5 +71,14 @@ describe("formatTruth and truthOf", () => {
     expect(truthOf({ truth: 14.8, exact: 16 })).toBe(16);
     expect(truthOf({ truth: 14.8, exact: null })).toBe(14.8);
     expect(truthOf(undefined)).toBeNull();
+  });
+});
+
+describe("nameParts", () => {
+  it("breaks a demon name after its separators, never inside a word", () => {
+    expect(nameParts("steps_northeast")).toEqual(["steps_", "northeast"]);
+    expect(nameParts("in:goal-2.b")).toEqual(["in:", "goal-", "2.", "b"]);
+    expect(nameParts("plain")).toEqual(["plain"]);
+    expect(nameParts("a__b").join("")).toBe("a__b");
   });
 });

@@ -1,6 +1,6 @@
 import { describe, expect, it } from "vitest";
 import { formatDuration } from "../src/lib/protocol";
-import { FULL_SPEED, matchesFilter, runDuration, speedChoice } from "../src/lib/runs";
+import { FULL_SPEED, launchEstimate, matchesFilter, runDuration, speedChoice } from "../src/lib/runs";
 
 describe("runDuration", () => {
   it("is the thesis's 6.5 hours at 20 steps a second, seconds at full speed", () => {
@@ -30,5 +30,28 @@ describe("matchesFilter", () => {
     expect(matchesFilter(run, "LARGE finished")).toBe(true);
     expect(matchesFilter(run, "abc pass")).toBe(true);
     expect(matchesFilter(run, "running")).toBe(false);
+  });
+});
+
+describe("launchEstimate", () => {
+  it("gives the time at a speed that finishes within the hour, and full speed's beside it", () => {
+    expect(launchEstimate(100, 100, 20, 200_000)).toBe(
+      "100 episodes of up to 100 steps: up to 8 min 20 s at 20 steps/s (full speed: about 0.1 s).",
+    );
+    expect(launchEstimate(40_000, 100, null, 200_000)).toBe(
+      "40,000 episodes of up to 100 steps: about 20 s at full speed.",
+    );
+  });
+  it("describes a speed too slow to finish by its pace, never as hundreds of hours", () => {
+    const text = launchEstimate(40_000, 40, 5, 40_000);
+    expect(text).toBe(
+      "40,000 episodes of up to 40 steps. At 5 steps/s: at least 7 episodes a minute, to watch; the whole protocol needs more than an hour at this speed (full speed: about 40 s).",
+    );
+    expect(text).not.toMatch(/\d+ h/);
+    expect(launchEstimate(1000, 500, 0.5, 1500)).toContain("an episode in up to 16 min 40 s");
+  });
+  it("says a run without an episode count runs until paused", () => {
+    expect(launchEstimate(0, 100, 20, 200_000)).toBe("Runs until paused (no episode count).");
+    expect(launchEstimate(undefined, 100, null, 200_000)).toBe("Runs until paused (no episode count).");
   });
 });

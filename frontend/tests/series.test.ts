@@ -1,6 +1,6 @@
 import { describe, expect, it } from "vitest";
 import type { History } from "../src/api/types";
-import { alignHistories, decadeTicks, powerLabel, spansDecades, strideIndices } from "../src/lib/series";
+import { alignHistories, decadeTicks, markColumns, powerLabel, spansDecades, strideIndices } from "../src/lib/series";
 
 function history(demon: string, steps: number[], prediction: (number | null)[]): History {
   const zeros = steps.map(() => 0);
@@ -86,5 +86,24 @@ describe("decadeTicks and powerLabel", () => {
     expect(decadeTicks(-2e4, 0)).toEqual([-1e3, 0]);
     expect(powerLabel(-1e5)).toBe("-1e5");
     expect(powerLabel(null)).toBe("");
+  });
+});
+
+describe("markColumns", () => {
+  const steps = [100, 200, 300, 400];
+  it("puts each evaluation at the row of the nearest step, the truth with its interval", () => {
+    const [prediction, truth, low, high] = markColumns(steps, [
+      { step: 190, prediction: 0.5, truth: [0.7, 0.6, 0.8] },
+      { step: 1000, prediction: 0.65, truth: [0.7, 0.7, 0.7] },
+    ]);
+    expect(prediction).toEqual([null, 0.5, null, 0.65]);
+    expect(truth).toEqual([null, 0.7, null, 0.7]);
+    expect(low).toEqual([null, 0.6, null, 0.7]);
+    expect(high).toEqual([null, 0.8, null, 0.7]);
+  });
+  it("leaves out a mark older than the history", () => {
+    const columns = markColumns(steps, [{ step: 50, prediction: 1, truth: [2, 2, 2] }]);
+    expect(columns.flat().every((v) => v === null)).toBe(true);
+    expect(markColumns([], [{ step: 50, prediction: 1, truth: [2, 2, 2] }])).toEqual([[], [], [], []]);
   });
 });

@@ -6,6 +6,7 @@ import {
   parseValues,
   sensitivityCurves,
   sortConfigs,
+  splitDiverged,
   studyProgress,
 } from "../src/lib/study";
 import { ticks } from "../src/views/study-chart";
@@ -71,6 +72,18 @@ describe("configurations", () => {
 
   it("default to the numeric axis along and the other one per curve", () => {
     expect(defaultAxes(configs)).toEqual({ x: "learning.alpha", group: "demons.*.learner" });
+  });
+});
+
+describe("splitDiverged", () => {
+  it("leaves the diverged configurations out of what the plots draw", () => {
+    const diverged = { ...config(4, 1, "td", 961325199.63), diverged: true };
+    const { kept, diverged: out } = splitDiverged([...configs, diverged]);
+    expect(kept.map((c) => c.index)).toEqual([0, 1, 2, 3]);
+    expect(out.map((c) => c.index)).toEqual([4]);
+  });
+  it("keeps every configuration when the server does not say", () => {
+    expect(splitDiverged(configs).kept).toHaveLength(configs.length);
   });
 });
 

@@ -226,6 +226,48 @@ def test_the_launch_forms_wait_for_the_scenarios(browser: Browser, server: Serve
     assert console.unexpected() == [], "errors in the browser console"
 
 
+def with_watching(route: Route) -> None:
+    """GET /api/scenarios with the speeds a scenario carries for watching (as a server with them sends):
+    classroom-offpolicy slow, baird at full speed."""
+    scenarios = route.fetch().json()
+    speeds = {"classroom-offpolicy": (5, "Watch the agent's trail."), "baird": (None, "TD diverges near step 10,000.")}
+    for scenario in scenarios:
+        if scenario["name"] in speeds:
+            scenario["watch_hz"], scenario["watch_note"] = speeds[scenario["name"]]
+    route.fulfill(json=scenarios)
+
+
+@pytest.mark.timeout(60)
+def test_the_launcher_takes_the_scenarios_speed_for_watching(
+    browser: Browser, server: Server, console: Console
+) -> None:
+    with open_page(browser, console) as page:
+        page.route("**/api/scenarios", with_watching)
+        page.goto(server.url)
+        launcher = page.locator("section.launcher")
+        hz, estimate = launcher.get_by_label("Steps/s"), launcher.get_by_test_id("estimate")
+        expect(launcher.get_by_role("button", name="Launch")).to_be_enabled()
+
+        # Its own speed and why; at 5 steps/s the estimate says what one watches, not "up to 444 h".
+        launcher.get_by_label("Scenario").select_option("classroom-offpolicy")
+        expect(hz).to_have_value("5")
+        expect(launcher.locator(".scenario-description")).to_contain_text("Watch the agent's trail.")
+        expect(estimate).to_contain_text(re.compile(r"episodes? a minute"))
+        assert not re.search(r"\d+ h\b", estimate.inner_text()), estimate.inner_text()
+        launcher.get_by_label("Scenario").select_option("baird")
+        expect(hz).to_have_value("")
+        expect(estimate).to_contain_text("at full speed")
+        # A scenario the server says nothing about keeps the launcher's own choice: nexting, which runs until
+        # paused, is watched at 20 steps/s.
+        launcher.get_by_label("Scenario").select_option("nexting")
+        expect(hz).to_have_value("20")
+        # An empty run runs until paused: episodes 0, which the form sends as it is.
+        launcher.get_by_label("Scenario").select_option("")
+        expect(launcher.get_by_label("Episodes")).to_have_value("0")
+        expect(estimate).to_have_text("Runs until paused (no episode count).")
+    assert console.unexpected() == [], "errors in the browser console"
+
+
 def test_add_a_demon_to_a_live_run_and_see_a_422_at_its_field(page: Page, server: Server, console: Console) -> None:
     run_id, form = new_demon(page, server, "reach_goal")
     # Will the agent reach the goal, following the base demon? Outcome 1 in the goal, 0 elsewhere.
@@ -283,11 +325,82 @@ def test_evaluate_a_demon_and_see_truth_beside_prediction(page: Page, server: Se
 
     page.get_by_role("button", name="Evaluate base").click()
     expect(cell_at(page, "base", 3), "the truth of base").not_to_have_text("–", timeout=30_000)
-    page.locator("figure.chart canvas").first.wait_for()
-    page.wait_for_timeout(1200)  # one more chart refresh, so that the lines show some history
+
+    # Like with like: the chart marks the evaluation at its step, the prediction from the start beside the
+    # truth from the start (the numbers of the table's evaluation), not the prediction where the agent is.
+    chart = page.locator('figure.chart[data-demon="steps_to_end"]')
+    expect(chart, "the chart marks the evaluation").to_have_attribute("data-marks", "1")
+    caption = chart.locator("figcaption").inner_text()
+    assert "from the start at step" in caption and f"prediction {prediction}" in caption, caption
+    assert f"truth {truth.removesuffix(' exact')} (exact)" in caption, caption
+    page.get_by_role("button", name="Evaluate steps_to_end").click()
+    expect(chart, "a second evaluation, a second mark").to_have_attribute("data-marks", "2", timeout=30_000)
+    assert "ring" in page.locator(".charts-panel > p").inner_text()
     page.evaluate("window.scrollTo(0, 0)")
     SHOTS.mkdir(parents=True, exist_ok=True)
     page.screenshot(path=str(SHOTS / "dashboard.png"))
+
+
+def with_evaluation(kind: str, note: str) -> Any:
+    """A route handler for GET /api/runs/{id}: the run as the server sends it, with `evaluation` of `kind`."""
+
+    def handle(route: Route) -> None:
+        if route.request.method != "GET":
+            route.fallback()
+            return
+        run = route.fetch().json()
+        route.fulfill(json={**run, "evaluation": {"kind": kind, "note": note}})
+
+    return handle
+
+
+@pytest.mark.timeout(60)
+def test_evaluate_is_offered_as_the_runs_world_allows(page: Page, server: Server) -> None:
+    """From the agent's state where the world is evaluated by rollouts (no start point sent, no Evaluate all);
+    none where it cannot be, with the server's reason in its place."""
+    run_id = server.create_run(hz=50.0)
+    page.route(f"**/api/runs/{run_id}", with_evaluation("rollouts", "Rollouts from the agent's state."))
+    sent: list[Any] = []
+
+    def evaluate(route: Route) -> None:  # the truth a server with rollouts would send back
+        body = route.request.post_data_json
+        sent.append(body)
+        route.fulfill(
+            json={
+                "demon": body["demon"],
+                "from": [0.3, 0.1],
+                "episodes": body["episodes"],
+                "cap": 1000,
+                "capped": 0,
+                "seed": 1,
+                "prediction": 0.25,
+                "truth": 0.5,
+                "stderr": 0.01,
+                "error": -0.25,
+                "exact": None,
+            }
+        )
+
+    page.route(f"**/api/runs/{run_id}/evaluate", evaluate)
+    select_run(page, run_id)
+    demons = page.locator("section.demons-panel")
+    expect(demons.get_by_test_id("evaluation-note")).to_have_text("Rollouts from the agent's state.")
+    expect(demons.get_by_role("button", name="Evaluate all")).to_be_hidden()
+    demons.get_by_role("button", name="Evaluate steps_to_end").click()
+    expect(cell_at(page, "steps_to_end", 3)).to_have_text("0.500 ± 0.010")
+    assert len(sent) == 1 and "from" not in sent[0], sent
+    caption = page.locator('figure.chart[data-demon="steps_to_end"] figcaption')
+    expect(caption).to_contain_text("from the agent's state at step")
+
+    page.unroute(f"**/api/runs/{run_id}")
+    page.route(f"**/api/runs/{run_id}", with_evaluation("none", "A stream cannot be rolled out."))
+    page.reload()
+    select_run(page, run_id)
+    expect(demons.get_by_test_id("evaluation-note")).to_have_text("A stream cannot be rolled out.")
+    page.locator('table.demon-table tr[data-demon="steps_to_end"]').wait_for()
+    assert demons.get_by_role("button", name=re.compile("^Evaluate")).count() == 0
+    assert demons.get_by_label("Rollouts per evaluation").is_hidden()
+    server.client.post(f"/api/runs/{run_id}/pause")
 
 
 def test_world_editor_draws_validates_and_saves(page: Page, server: Server, console: Console) -> None:

@@ -853,7 +853,8 @@ export interface components {
          *
          *     `demon` is a demon written as usual, in which any "{var}" stands for the values of the list `var`
          *     of `over`; `name` is the pattern of the demons' names, such as "{sensor}_g{gamma}" (characters a
-         *     name cannot hold, such as the colon of "in:zone1", become "_").
+         *     name cannot hold, such as the colon of "in:zone1", become "_"). A 422 about a family names the field
+         *     and the rule, never the pattern or a demon name made of it (they are input).
          */
         DemonFamily: {
             /**
@@ -3205,7 +3206,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description The change was made but could not be saved; the detail says why */
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -3283,7 +3284,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description The change was made but could not be saved; the detail says why */
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -3462,7 +3463,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description The change was made but could not be saved; the detail says why */
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -3593,7 +3594,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description The change was made but could not be saved; the detail says why */
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -3704,7 +3705,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description The change was made but could not be saved; the detail says why */
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -4031,7 +4032,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description The change was made but could not be saved; the detail says why */
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -4090,7 +4091,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description The change was made but could not be saved; the detail says why */
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -4199,7 +4200,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description The change was made but could not be saved; the detail says why */
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -4330,7 +4331,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description The change was made but could not be saved; the detail says why */
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -5394,6 +5395,15 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
         };
     };
     get_world_api_worlds__name__get: {
@@ -5516,6 +5526,15 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
         };
     };
     delete_world_api_worlds__name__delete: {
@@ -5562,6 +5581,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
                 };
             };
         };

@@ -34,6 +34,13 @@ export type RegionKind = Region["kind"];
 export type Color = Schemas["Color"];
 export type Scenario = Schemas["ScenarioOut"];
 export type Evaluation = Schemas["EvaluationOut"];
+/** What Evaluate offers on a run's world: from a point (grid), from the current state (rollouts), or none. */
+export type EvaluationKind = Schemas["RunEvaluationOut"]["kind"];
+
+/** A run's evaluation kind; a server that does not say is taken to offer today's grid evaluation. */
+export function evaluationKind(run: { evaluation?: { kind: EvaluationKind } } | null): EvaluationKind {
+  return run?.evaluation?.kind ?? "grid";
+}
 export type History = Schemas["HistoryOut"];
 export type Summary = Schemas["SummaryOut"];
 export type ValidationProblem = Schemas["ValidationError"];

@@ -4,7 +4,7 @@
  */
 import { ApiError, api, errorMessage, unwrap } from "../api/client";
 import type { Demon, DemonSpec, Protocol, Run, RunBrief, RunTemplate } from "../api/types";
-import { gridWorld } from "../api/types";
+import { evaluationKind, gridWorld } from "../api/types";
 import { startPoint } from "../lib/world";
 import { keys, readNow } from "./queries";
 import { type AppStore, chartedDemons } from "./state";
@@ -176,13 +176,17 @@ export async function deleteWorld(store: AppStore, name: string): Promise<void> 
   await refreshWorlds(store);
 }
 
-/** Monte-Carlo truth of a demon's question from the world's start point, beside its prediction there. */
+/** Monte-Carlo truth of a demon's question beside its prediction there: from the world's start point on the
+ * grid world, from the run's current state on a world evaluated by rollouts (`evaluationKind`). */
 export async function evaluateDemon(store: AppStore, demon: string, episodes: number): Promise<void> {
   const { selectedRunId: runId, run } = store.state;
   if (runId === null || run === null) return;
-  const from = startPoint(gridWorld(run.spec.world) ?? {});
+  const body =
+    evaluationKind(run) === "grid"
+      ? { demon, episodes, from: startPoint(gridWorld(run.spec.world) ?? {}) }
+      : { demon, episodes };
   const evaluation = await unwrap(
-    api.POST("/api/runs/{run_id}/evaluate", { params: { path: { run_id: runId } }, body: { demon, from, episodes } }),
+    api.POST("/api/runs/{run_id}/evaluate", { params: { path: { run_id: runId } }, body }),
   );
   if (store.state.selectedRunId === runId) {
     store.update({ evaluations: { ...store.state.evaluations, [demon]: evaluation } });

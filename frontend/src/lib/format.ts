@@ -78,3 +78,9 @@ export function formatTruth(
 export function truthOf(evaluation: { truth?: number | null; exact?: number | null } | undefined): number | null {
   return evaluation?.exact ?? evaluation?.truth ?? null;
 }
+
+/** A name cut into the pieces a line may break between: after each "_", "-", "." or ":" ("steps_", "northeast"),
+ * so that a long demon name wraps at its words and never inside one. */
+export function nameParts(name: string): string[] {
+  return name.split(/(?<=[_\-.:])/).filter((part) => part !== "");
+}

@@ -83,7 +83,7 @@ export const GLOSSARY = {
   },
   truth: {
     term: "Truth",
-    text: "The right answer to the question. Exact on a small lattice world (solving the linear system), otherwise the Monte-Carlo mean of many rollouts of the target policy ± its standard error.",
+    text: "The right answer to the question. Exact on a small lattice world (solving the linear system; see Lattice world), otherwise the Monte-Carlo mean of many rollouts of the target policy ± its standard error.",
   },
   thesis: {
     term: "Thesis",
@@ -100,6 +100,30 @@ export const GLOSSARY = {
   diverged: {
     term: "Diverged",
     text: "The demon's numbers (TD error, prediction or action values) went past 10^12 or became infinite or not a number: the engine sets its weights to 0 and freezes it while the others go on. Off-policy TD does this on Baird's counterexample.",
+  },
+  uniformPolicy: {
+    term: "Uniform policy",
+    text: "A target policy that picks each action with the same probability in every state: the question asks what happens under a random walk.",
+  },
+  fixedPolicy: {
+    term: "Fixed policy",
+    text: "A target policy given as one probability per action, the same in every state (for example always RIGHT): the question asks what happens if the agent kept doing that.",
+  },
+  followsPolicy: {
+    term: "Follows another demon",
+    text: "The target policy is another (control) demon's current policy, read again at every step: the question is about the behaviour that demon is learning.",
+  },
+  returnSoFar: {
+    term: "Return so far",
+    text: "The base problem's reward summed over the episode under way: the reward per step plus, at the end, the terminal's reward.",
+  },
+  lastReturn: {
+    term: "Last return",
+    text: "The return of the last episode that ended: every reward from its start to its terminal region or its step limit.",
+  },
+  lattice: {
+    term: "Lattice world",
+    text: "A grid world whose size, start and regions lie on multiples of its step and whose moves have no noise, so the agent only ever stands on a grid's points. Its states can be counted, and on a small one each question's exact answer is solved for instead of estimated.",
   },
   episode: {
     term: "Episode",

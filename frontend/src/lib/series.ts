@@ -62,3 +62,33 @@ export function powerLabel(value: number | null): string {
   const text = size < 1e4 ? String(size) : `1e${Math.round(Math.log10(size))}`;
   return value < 0 ? `-${text}` : text;
 }
+
+/** An evaluation drawn on a chart: at the step it was made, the prediction and the truth from the same state. */
+export interface EvaluationMark {
+  step: number;
+  prediction: number | null;
+  /** the truth and its 95 % interval (all three equal when exact) */
+  truth: [number, number, number];
+}
+
+/**
+ * The marks as four columns beside `steps` (prediction, truth, low, high), each mark at the row of the step
+ * nearest its own; null elsewhere. A mark older than the first step has no row and is left out (the history
+ * no longer reaches back to it); a later one sits on the last row until the next reading. Of two marks on
+ * one row the later wins.
+ */
+export function markColumns(steps: readonly number[], marks: readonly EvaluationMark[]): (number | null)[][] {
+  const columns = [0, 1, 2, 3].map(() => steps.map((): number | null => null));
+  const first = steps[0];
+  if (first === undefined) return columns;
+  for (const mark of marks) {
+    if (mark.step < first) continue;
+    let at = 0;
+    for (let i = 1; i < steps.length; i++) {
+      if (Math.abs((steps[i] as number) - mark.step) < Math.abs((steps[at] as number) - mark.step)) at = i;
+    }
+    const values = [mark.prediction, ...mark.truth];
+    columns.forEach((column, k) => (column[at] = values[k] ?? null));
+  }
+  return columns;
+}

@@ -125,6 +125,18 @@ export function sensitivityCurves(
   }));
 }
 
+/**
+ * The configurations the plots draw, and those they leave out because a run of theirs diverged: their
+ * numbers (errors of 10^9, intervals over nine powers of ten) are no errors to compare and would stretch
+ * every axis. A server that does not say `diverged` leaves every configuration in.
+ */
+export function splitDiverged(configs: readonly StudyConfig[]): { kept: StudyConfig[]; diverged: StudyConfig[] } {
+  return {
+    kept: configs.filter((c) => !c.diverged),
+    diverged: configs.filter((c) => c.diverged === true),
+  };
+}
+
 /** At most `limit` configurations for the learning-curve chart: the best ones, best first. */
 export function bestConfigs(configs: readonly StudyConfig[], limit: number): StudyConfig[] {
   return sortConfigs(configs, "error").slice(0, limit);

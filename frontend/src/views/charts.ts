@@ -1,8 +1,10 @@
 /**
  * Small multiples (uPlot): one chart per charted demon, each with its own y-axis, the demon's prediction
- * (where the agent is) over the steps in its colour, and, once evaluated, its truth from the start state
- * as a dashed line (exact on a small lattice world, else the Monte-Carlo mean with its 95 % band) with
- * the prediction there named beside it. Classroom mode charts every demon (up to
+ * (where the agent is) over the steps in its colour, and each evaluation like with like: at the step it
+ * was made, a ring for the prediction from the state it was made from (the start, or the agent's state on a
+ * world evaluated by rollouts) and a dark dot with its 95 % bar for the truth from that same state (exact on
+ * a small lattice world, else the Monte-Carlo mean); the caption gives the latest pair. Evaluated again
+ * later, the ring closes in on the dot as the demon learns. Classroom mode charts every demon (up to
  * MAX_MULTIPLES); otherwise the demons ticked in the table. Each chart is sized by its grid cell, never
  * by its content, so the page cannot grow sideways; the fonts follow "Large text". A demon whose values
  * span many powers of ten (`spansDecades`: a diverging one, as TD on Baird's star) is charted on a log
@@ -13,14 +15,15 @@ import "uplot/dist/uPlot.min.css";
 import { keys, queryClient, watchQuery } from "../app/queries";
 import { type AppState, type AppStore, chartedDemons } from "../app/state";
 import { api, unwrap } from "../api/client";
-import type { Evaluation, History } from "../api/types";
-import { formatNumber } from "../lib/format";
-import { alignHistories, decadeTicks, powerLabel, spansDecades } from "../lib/series";
+import type { Evaluation, History, Run } from "../api/types";
+import { formatCount, formatNumber, nameParts } from "../lib/format";
+import { type EvaluationMark, alignHistories, decadeTicks, markColumns, powerLabel, spansDecades } from "../lib/series";
 import { h, replaceChildren, section, setText } from "../ui/dom";
 import { lineLook, plotSize, remPx } from "./plots";
 
 const REFRESH_MS = 1000;
 const FALLBACK_COLOUR = "#0072B2";
+const TRUTH_COLOUR = "#111827";
 
 interface Multiple {
   demon: string;
@@ -28,8 +31,13 @@ interface Multiple {
   caption: HTMLElement;
   box: HTMLElement;
   plot: uPlot | null;
-  /** what the plot was built for (colour, truth, font size): rebuilt when it changes */
+  /** what the plot was built for (colour, font size, scale): rebuilt when it changes */
   key: string;
+}
+
+/** Where an evaluation's prediction and truth are taken on this run's world, for the captions. */
+function evaluatedFrom(run: Run | null): string {
+  return run?.evaluation?.kind === "rollouts" ? "from the agent's state" : "from the start";
 }
 
 export function charts(store: AppStore): HTMLElement {
@@ -51,7 +59,7 @@ export function charts(store: AppStore): HTMLElement {
         ? "Tick “chart” under a demon’s name in the table, or switch on classroom mode, to follow it here."
         : all > names.length
           ? `The first ${names.length} of ${all} demons; pick others with “chart” in the table.`
-          : "Each chart has its own scale. Solid: the prediction where the agent is. Dashed, once evaluated: the truth from the start (exact, or Monte-Carlo with its 95 % band), and the caption gives the prediction there.",
+          : `Each chart has its own scale. Solid: the prediction where the agent is. Each Evaluate marks its step: a ring, the prediction ${evaluatedFrom(state.run)}, and a dark dot with its 95 % bar, the truth ${evaluatedFrom(state.run)}. Evaluate again later: the ring closes in on the dot as the demon learns.`,
     );
     for (const [name, multiple] of multiples) {
       if (!names.includes(name)) {
@@ -105,16 +113,32 @@ export function charts(store: AppStore): HTMLElement {
       enabled: runId !== "" && names.length > 0 && state.tab === "live",
     };
   };
+  // Every evaluation of the run shown, by demon, at the step the stream had reached when it came back.
+  const marks = new Map<string, EvaluationMark[]>();
+  let marked: { runId: string | null; evaluations: Record<string, Evaluation> } = { runId: null, evaluations: {} };
+  const collectMarks = (state: Readonly<AppState>) => {
+    if (state.selectedRunId !== marked.runId) marks.clear();
+    for (const [demon, evaluation] of Object.entries(state.evaluations)) {
+      const truth = truthLine(evaluation);
+      if (evaluation === marked.evaluations[demon] || truth === null) continue;
+      const step = state.live?.step ?? state.run?.step ?? 0;
+      marks.set(demon, [...(marks.get(demon) ?? []), { step, prediction: evaluation.prediction, truth }]);
+    }
+    marked = { runId: state.selectedRunId, evaluations: state.evaluations };
+  };
+  collectMarks(store.state);
+
   // A demon removed or a run deleted between two reads fails a reading: the next one catches up.
   const histories = watchQuery(queryClient, watchOf(store.state), (read) => {
     for (const history of read) {
       const multiple = multiples.get(history.demon);
-      if (multiple) draw(multiple, history, store.state);
+      if (multiple) draw(multiple, history, marks.get(history.demon) ?? [], store.state);
     }
   });
 
   store.subscribe(
     (state) => {
+      collectMarks(state);
       layout(state);
       const watch = watchOf(state);
       histories.update(watch);
@@ -153,42 +177,58 @@ export function truthLine(evaluation: Evaluation | undefined): [number, number, 
   return [evaluation.truth, evaluation.truth - half, evaluation.truth + half];
 }
 
-function draw(multiple: Multiple, history: History, state: Readonly<AppState>): void {
+/** The caption: the demon's name (broken only between its words) and the latest evaluation's pair. */
+function caption(
+  multiple: Multiple,
+  latest: EvaluationMark | undefined,
+  exact: boolean,
+  state: Readonly<AppState>,
+  log: boolean,
+) {
+  const [truth, , high] = latest?.truth ?? [];
+  const pair =
+    latest && truth !== undefined && high !== undefined
+      ? ` · ${evaluatedFrom(state.run)} at step ${formatCount(latest.step)}: truth ${formatNumber(truth)}${exact ? " (exact)" : ` ± ${formatNumber(high - truth)}`}, prediction ${formatNumber(latest.prediction)}`
+      : "";
+  const name = nameParts(multiple.demon).flatMap((part, i) => (i === 0 ? [part] : [h("wbr", {}), part]));
+  replaceChildren(multiple.caption, ...name, pair + (log ? " · log scale: the values span many powers of ten" : ""));
+}
+
+function draw(multiple: Multiple, history: History, marks: readonly EvaluationMark[], state: Readonly<AppState>): void {
   const demon = state.demons.find((d) => d.name === multiple.demon);
   const colour = demon?.colour ?? FALLBACK_COLOUR;
-  const evaluation = state.evaluations[multiple.demon];
-  const truth = truthLine(evaluation);
   const [steps, values] = alignHistories([history], "prediction") as [number[], (number | null)[]];
-  const data: uPlot.AlignedData = truth
-    ? [steps, values, steps.map(() => truth[0]), steps.map(() => truth[1]), steps.map(() => truth[2])]
-    : [steps, values];
-  const log = spansDecades(values);
-  setText(
-    multiple.caption,
-    (truth && evaluation
-      ? `${multiple.demon} · at the start: truth ${formatNumber(truth[0])}${evaluation.exact != null ? " (exact)" : ` ± ${formatNumber(truth[2] - truth[0])}`}, prediction ${formatNumber(evaluation.prediction)}`
-      : multiple.demon) + (log ? " · log scale: the values span many powers of ten" : ""),
-  );
+  const columns = markColumns(steps, marks);
+  const data: uPlot.AlignedData = [steps, values, ...columns];
+  // How many evaluations the chart shows (the browser tests read it: a canvas has no text to find).
+  multiple.figure.dataset.marks = String(columns[0]?.filter((v) => v !== null).length ?? 0);
+  const log = spansDecades([...values, ...columns.flat()]);
+  caption(multiple, marks.at(-1), state.evaluations[multiple.demon]?.exact != null, state, log);
   multiple.caption.style.borderLeftColor = colour;
   const font = remPx();
-  const key = `${colour}|${truth?.join(",") ?? ""}|${font}|${log}`;
+  const key = `${colour}|${font}|${log}`;
   if (multiple.plot && multiple.key === key) {
     multiple.plot.setData(data);
     return;
   }
   multiple.plot?.destroy();
   multiple.key = key;
+  const dot = (size: number, stroke: string, fill: string): uPlot.Series => ({
+    stroke,
+    width: 2,
+    paths: () => null,
+    points: { show: true, size, stroke, fill, width: 2 },
+  });
+  // The interval's ends count for the y range but are drawn as the truth's bar (whiskers), not as points.
+  const end: uPlot.Series = { stroke: "transparent", paths: () => null, points: { show: false } };
   const series: uPlot.Series[] = [
     { label: "step" },
     { label: "prediction", stroke: colour, width: 2.5, spanGaps: false },
+    { label: "evaluated: prediction", ...dot(Math.round(0.75 * font), colour, "#ffffff") },
+    { label: "evaluated: truth", ...dot(Math.round(0.55 * font), TRUTH_COLOUR, TRUTH_COLOUR) },
+    { label: "low", ...end },
+    { label: "high", ...end },
   ];
-  if (truth) {
-    series.push(
-      { label: "truth", stroke: "#111827", width: 2, dash: [8, 6] },
-      { label: "low", stroke: "transparent", width: 0, show: true },
-      { label: "high", stroke: "transparent", width: 0, show: true },
-    );
-  }
   const look = lineLook("step");
   if (log) {
     look.scales = { ...look.scales, y: { distr: 4, asinh: 1 } }; // linear within ±1, log beyond
@@ -209,9 +249,36 @@ function draw(multiple: Multiple, history: History, state: Readonly<AppState>): 
       ...look,
       title: undefined,
       series,
-      bands: truth ? [{ series: [4, 3], fill: "rgba(17, 24, 39, 0.12)" }] : [],
+      hooks: { draw: [...(look.hooks?.draw ?? []), drawTruthBars] },
     },
     data,
     multiple.box,
   );
+}
+
+/** The truth's 95 % bars: a vertical line from low to high at each evaluation's step. */
+function drawTruthBars(u: uPlot): void {
+  const [steps, , , , lows, highs] = u.data;
+  if (!lows || !highs) return;
+  const ctx = u.ctx;
+  ctx.save();
+  ctx.strokeStyle = TRUTH_COLOUR;
+  ctx.lineWidth = 2 * devicePixelRatio;
+  steps.forEach((step, i) => {
+    const low = lows[i];
+    const high = highs[i];
+    if (low === null || low === undefined || high === null || high === undefined || low === high) return;
+    const x = u.valToPos(step, "x", true);
+    const cap = 4 * devicePixelRatio;
+    ctx.beginPath();
+    for (const value of [low, high]) {
+      const y = u.valToPos(value, "y", true);
+      ctx.moveTo(x - cap, y);
+      ctx.lineTo(x + cap, y);
+    }
+    ctx.moveTo(x, u.valToPos(low, "y", true));
+    ctx.lineTo(x, u.valToPos(high, "y", true));
+    ctx.stroke();
+  });
+  ctx.restore();
 }

@@ -1,6 +1,7 @@
 /**
  * The live demon table of the selected run: per demon its prediction now (at the agent's state), the
- * truth once evaluated (from the world's start, beside the prediction there and the error), the
+ * truth once evaluated (beside the prediction there and the error: from the world's start on the grid world,
+ * from the agent's state on a world evaluated by rollouts; a world with no evaluation says why), the
  * thesis's number when the scenario has one, RUPEE, UDE, the step size it takes now (α now: adaptive
  * demons tune theirs), and a `diverged` mark; a colour dot and a chart
  * toggle under each name, and an Evaluate and a Remove button per demon (removing takes two presses).
@@ -12,10 +13,10 @@ import { Virtualizer, elementScroll, observeElementOffset, observeElementRect } 
 import { attempt, evaluateDemon, notify, removeDemon, toggleCharted } from "../app/actions";
 import type { AppState, AppStore } from "../app/state";
 import type { Demon } from "../api/types";
-import { gridWorld } from "../api/types";
+import { evaluationKind, gridWorld } from "../api/types";
 import { type DemonFilter, demonSummary, filterDemons } from "../lib/demons";
 import { exprText } from "../lib/expr";
-import { formatNumber, formatRelativeError, formatTruth, truthOf } from "../lib/format";
+import { formatNumber, formatRelativeError, formatTruth, nameParts, truthOf } from "../lib/format";
 import { type Term, tip } from "../lib/glossary";
 import { readNumber } from "../lib/parse";
 import { startPoint } from "../lib/world";
@@ -43,17 +44,32 @@ interface RowContext {
   thesis: Record<string, number>;
   /** the run is finished or failed: the server refuses (409) to change it */
   closed: boolean;
+  /** the world offers an evaluation of a demon's question */
+  evaluable: boolean;
 }
 
-function questionOf(demon: Demon): string {
+/** The words of a target policy's kind that have a glossary entry of their own; the others (greedy,
+ * softmax, ...) are explained by the target policy's. */
+const POLICY_TERMS: Partial<Record<string, Term>> = {
+  uniform: "uniformPolicy",
+  fixed: "fixedPolicy",
+  of: "followsPolicy",
+};
+
+/** The question under a demon's name: its target policy and cumulant, each word explained in its tooltip. */
+function questionOf(demon: Demon) {
   const policy = demon.spec.policy;
-  const follows = policy?.kind === "of" ? `follows ${policy.demon}` : (policy?.kind ?? "uniform");
-  return `${follows} · cumulant ${exprText(demon.spec.cumulant)}`;
+  const kind = policy?.kind ?? "uniform";
+  const follows = policy?.kind === "of" ? `follows ${policy.demon}` : kind;
+  return html`<span class="term" title=${tip(POLICY_TERMS[kind] ?? "policy")}>${follows}</span> ·
+    <span class="term" title=${tip("cumulant")}>cumulant</span> ${exprText(demon.spec.cumulant)}`;
 }
 
 export function demonTable(store: AppStore): HTMLElement {
   const rollouts = numberInput(DEFAULT_ROLLOUTS, { name: "rollouts" });
   const evaluateAll = h("button", { type: "button" }, "Evaluate all");
+  const evaluationNote = h("p", { class: "hint evaluation-note", dataset: { testid: "evaluation-note" } });
+  const evaluationHead = h("span", { class: "term" });
   const caption = h("caption", {});
   const body = h("tbody", {});
   const empty = h("p", { class: "muted" }, "Select a run to see its demons.");
@@ -142,7 +158,7 @@ export function demonTable(store: AppStore): HTMLElement {
   };
 
   /** One demon's row: a template that lit-html keeps (by the demon's name) and updates in place. */
-  const rowTemplate = (demon: Demon, index: number, { state, thesis, closed }: RowContext) => {
+  const rowTemplate = (demon: Demon, index: number, { state, thesis, closed, evaluable }: RowContext) => {
     const { evaluations, charted } = state;
     const metrics = state.live?.metrics[demon.name] ?? demon.metrics;
     const prediction = state.live ? state.live.predictions[demon.name] : demon.prediction;
@@ -158,7 +174,9 @@ export function demonTable(store: AppStore): HTMLElement {
     return html`<tr data-demon=${demon.name} data-index=${index}>
       <th scope="row">
         <span class="swatch-dot" aria-hidden="true" style=${styleMap({ background: demon.colour })}></span>
-        <span class="demon-name">${demon.name}</span>
+        <span class="demon-name"
+          >${nameParts(demon.name).map((part, i) => (i === 0 ? part : html`<wbr />${part}`))}</span
+        >
         ${demon.control ? html`<span class="tag" title=${tip("control")}>control</span>` : nothing}
         <span class="tag diverged" ?hidden=${!metrics?.diverged} title=${tip("diverged")}>diverged</span>
         <span class="question">${questionOf(demon)}</span>
@@ -184,15 +202,19 @@ export function demonTable(store: AppStore): HTMLElement {
       <td class="num">${formatNumber(metrics?.step_size)}</td>
       <td>
         <div class="row-actions">
-          <button
-            type="button"
-            class="small"
-            aria-label=${`Evaluate ${demon.name}`}
-            ?disabled=${busy}
-            @click=${() => void evaluate(demon.name)}
-          >
-            ${busy ? "Evaluating…" : "Evaluate"}
-          </button>
+          ${
+            evaluable
+              ? html`<button
+                  type="button"
+                  class="small"
+                  aria-label=${`Evaluate ${demon.name}`}
+                  ?disabled=${busy}
+                  @click=${() => void evaluate(demon.name)}
+                >
+                  ${busy ? "Evaluating…" : "Evaluate"}
+                </button>`
+              : nothing
+          }
           ${remove.button}
         </div>
       </td>
@@ -229,7 +251,18 @@ export function demonTable(store: AppStore): HTMLElement {
     tools.hidden = run === null;
     if (run === null) return;
     const [x, y] = startPoint(gridWorld(run.spec.world) ?? {});
-    setText(caption, `Demons of ${run.name ?? run.id.slice(0, 6)}: evaluated from the start (${x}, ${y})`);
+    const kind = evaluationKind(run);
+    const from = { grid: `from the start (${x}, ${y})`, rollouts: "from the agent's state", none: "not here" }[kind];
+    setText(caption, `Demons of ${run.name ?? run.id.slice(0, 6)}: evaluated ${from}`);
+    setText(
+      evaluationHead,
+      { grid: "At the start", rollouts: "From the agent's state", none: "No" }[kind] + ": evaluation",
+    );
+    // Evaluate all is the grid world's (every demon from one start point); the note says what else is offered.
+    evaluateAll.hidden = kind !== "grid";
+    rollout.hidden = kind === "none";
+    evaluationNote.hidden = kind === "grid";
+    setText(evaluationNote, run.evaluation?.note ?? "");
     const totals = demonSummary(demons, live?.metrics ?? {});
     setText(
       summary,
@@ -266,7 +299,7 @@ export function demonTable(store: AppStore): HTMLElement {
     (bottomSpacer.firstChild as HTMLElement).style.height = `${after}px`;
     topSpacer.hidden = before === 0;
     bottomSpacer.hidden = after === 0;
-    const context: RowContext = { state, thesis, closed };
+    const context: RowContext = { state, thesis, closed, evaluable: kind !== "none" };
     // Keyed by name: a row's DOM stays while its numbers change 30 times a second, and is moved only
     // when the order changes (a row taken out of the page, even for a moment, loses the focus and the
     // click under way on its buttons).
@@ -296,7 +329,7 @@ export function demonTable(store: AppStore): HTMLElement {
         {},
         explained("th", "demon", { scope: "col", rowspan: 2 }, "Demon"),
         explained("th", "prediction", { scope: "col", rowspan: 2, class: "num" }, "Prediction now"),
-        explained("th", "truth", { scope: "colgroup", colspan: 3, class: "group" }, "At the start: evaluation"),
+        h("th", { scope: "colgroup", colspan: 3, class: "group", title: tip("truth") }, evaluationHead),
         explained("th", "thesis", { scope: "col", rowspan: 2, class: "num" }, "Thesis"),
         explained("th", "rupee", { scope: "col", rowspan: 2, class: "num" }, "RUPEE"),
         explained("th", "ude", { scope: "col", rowspan: 2, class: "num" }, "UDE"),
@@ -323,10 +356,10 @@ export function demonTable(store: AppStore): HTMLElement {
   );
   scrollBox.append(table);
 
+  const rollout = field("Rollouts per evaluation", rollouts, { class: "inline-field", term: "truth" });
   store.subscribe(render, ["run", "demons", "live", "evaluations", "charted"]);
   render(store.state);
 
-  const rollout = field("Rollouts per evaluation", rollouts, { class: "inline-field", term: "truth" });
   return section(
     {
       class: "panel demons-panel",
@@ -335,6 +368,7 @@ export function demonTable(store: AppStore): HTMLElement {
       beside: [h("div", { class: "row tight" }, rollout, evaluateAll)],
     },
     tools,
+    evaluationNote,
     empty,
     scrollBox,
   );

@@ -5,6 +5,7 @@
 import type { AppState, AppStore } from "../app/state";
 import { readToken, writeToken } from "../api/token";
 import { formatCount, formatNumber, formatStatus, runLabel } from "../lib/format";
+import { tip } from "../lib/glossary";
 import { h, setText } from "../ui/dom";
 
 const LARGE_KEY = "horde-lab-large-text";
@@ -14,7 +15,11 @@ export function header(store: AppStore, openHelp: () => void): HTMLElement {
   const status = h("span", { class: "badge" });
   const episode = h("span", { dataset: { testid: "episode" } });
   const step = h("span", { dataset: { testid: "step" } });
-  const ret = h("span", {});
+  // Kept, not rebuilt, as the stream updates them: a tooltip being read stays up.
+  const soFar = h("span", { class: "term", title: tip("returnSoFar") });
+  const between = h("span", {}, " · ");
+  const lastReturn = h("span", { class: "term", title: tip("lastReturn") });
+  const ret = h("span", {}, soFar, between, lastReturn);
   const says = h("span", { class: "run-says", dataset: { testid: "run-says" } });
   const runStatus = h(
     "div",
@@ -80,15 +85,13 @@ export function header(store: AppStore, openHelp: () => void): HTMLElement {
       // The return of the episode under way, and of the last one that ended (the Results' "last return").
       const last = live?.last_return ?? run.summary?.last_return;
       const under = live && (current === "running" || current === "paused") ? live.episode_return : null;
-      setText(
-        ret,
-        [
-          under !== null && under !== undefined ? `return so far ${formatNumber(under, 2)}` : "",
-          last !== null && last !== undefined ? `last return ${formatNumber(last, 3)}` : "",
-        ]
-          .filter(Boolean)
-          .join(" · "),
-      );
+      const hasUnder = under !== null && under !== undefined;
+      const hasLast = last !== null && last !== undefined;
+      setText(soFar, hasUnder ? `return so far ${formatNumber(under, 2)}` : "");
+      setText(lastReturn, hasLast ? `last return ${formatNumber(last, 3)}` : "");
+      soFar.hidden = !hasUnder;
+      lastReturn.hidden = !hasLast;
+      between.hidden = !(hasUnder && hasLast);
     }
     notice.hidden = message === null;
     if (message) {

@@ -1,7 +1,9 @@
 /**
  * The scenario launcher: a name, a scenario (or none), a world (the scenario's or one from the library),
  * the seed and a few overrides (episodes, speed), then POST /api/runs with the template form. The speed
- * starts at full speed for a protocol too long to watch, and a line says how long the run will take.
+ * starts at the scenario's own speed for watching (`watch_hz`, with its note on what to watch for); from a
+ * server that does not say, at full speed for a protocol too long to watch. A line says how long the run
+ * takes, or at a speed too slow to finish, what one sees at it. "none" is an empty run, until paused.
  */
 import { attempt, launchRun, notify } from "../app/actions";
 import type { AppStore } from "../app/state";
@@ -10,14 +12,12 @@ import type { AnyWorldSpec, RunTemplate } from "../api/types";
 import { gridWorld } from "../api/types";
 import { runLabel } from "../lib/format";
 import { readNumber, readOptionalNumber } from "../lib/parse";
-import { formatDuration } from "../lib/protocol";
-import { WATCHABLE_SECONDS, runDuration } from "../lib/runs";
+import { WATCHABLE_SECONDS, WATCH_HZ, launchEstimate, runDuration } from "../lib/runs";
 import { h, options, replaceChildren, setText } from "../ui/dom";
 import { FormErrors, checkbox, field, numberInput, textInput } from "../ui/form";
 
 const NO_SCENARIO = "";
 const SCENARIO_WORLD = "";
-const WATCH_HZ = 20;
 /** A live run of a thesis scenario at full speed on the 2-core development machine (measured). */
 const FULL_SPEED_HZ = 200_000;
 /** A live run of a Gymnasium scenario (the environment steps in Python) at full speed there (measured: README). */
@@ -45,22 +45,11 @@ export function launcher(store: AppStore): HTMLElement {
   let maxSteps = 100;
   let fullSpeed = FULL_SPEED_HZ;
   let hzTouched = false;
-  const showEstimate = () => {
-    const count = readOptionalNumber(episodes.value);
-    const speed = readOptionalNumber(hz.value) ?? null;
-    if (count === undefined || count <= 0) {
-      setText(estimate, "Runs until paused (no episode count).");
-      return;
-    }
-    const at = runDuration(count, maxSteps, speed, fullSpeed);
-    const full = runDuration(count, maxSteps, null, fullSpeed);
+  const showEstimate = () =>
     setText(
       estimate,
-      speed === null
-        ? `${count.toLocaleString("en-US")} episodes of up to ${maxSteps} steps: about ${formatDuration(full)} at full speed.`
-        : `${count.toLocaleString("en-US")} episodes of up to ${maxSteps} steps: up to ${formatDuration(at)} at ${speed} steps/s (full speed: about ${formatDuration(full)}).`,
+      launchEstimate(readOptionalNumber(episodes.value), maxSteps, readOptionalNumber(hz.value) ?? null, fullSpeed),
     );
-  };
   hz.addEventListener("input", () => {
     hzTouched = true;
     showEstimate();
@@ -103,12 +92,18 @@ export function launcher(store: AppStore): HTMLElement {
     const name = scenario.value;
     const entry = store.state.scenarios.find((s) => s.name === name);
     description.textContent = entry
-      ? entry.description
+      ? [entry.description, entry.watch_note].filter(Boolean).join(" ")
       : store.state.catalogLoaded
-        ? "A run with the default spec: add demons with the demon editor."
+        ? "An empty run on the default world (or the one chosen below), until paused: add demons with the demon editor."
         : "Loading the scenarios…";
-    if (!name || name === described) return;
+    if (name === described) return;
     described = name;
+    if (!name) {
+      episodes.value = "0";
+      if (!hzTouched) hz.value = String(WATCH_HZ);
+      showEstimate();
+      return;
+    }
     void attempt(store, async () => {
       const spec = await unwrap(api.GET("/api/scenarios/{name}", { params: { path: { name } } }));
       if (scenario.value !== name) return;
@@ -122,10 +117,12 @@ export function launcher(store: AppStore): HTMLElement {
             : "a phase plane of two sensors";
         description.textContent = `${description.textContent ?? ""} Gymnasium ${spec.world.id}: the live view draws ${drawn}.`;
       }
-      // A protocol too long to watch starts at full speed (the run card's speed control slows it down).
+      // The scenario's own speed for watching; from a server that does not say, a protocol too long to
+      // watch starts at full speed (the run card's speed control slows it down).
       if (!hzTouched) {
         const long = runDuration(spec.protocol?.episodes ?? 0, maxSteps, WATCH_HZ, fullSpeed) > WATCHABLE_SECONDS;
-        hz.value = long ? "" : String(WATCH_HZ);
+        const watchHz = entry?.watch_hz === undefined ? (long ? null : WATCH_HZ) : entry.watch_hz;
+        hz.value = watchHz === null ? "" : String(watchHz);
       }
       showEstimate();
     });

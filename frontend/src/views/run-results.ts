@@ -5,7 +5,8 @@
  * runs for a live run, so the truth comes from the dashboard's own evaluations.
  */
 import type { AppState, AppStore } from "../app/state";
-import { formatCount, formatNumber, formatRelativeError, formatTruth, truthOf } from "../lib/format";
+import { evaluationKind } from "../api/types";
+import { MISSING, formatCount, formatNumber, formatRelativeError, formatTruth, truthOf } from "../lib/format";
 import { h, replaceChildren, section } from "../ui/dom";
 
 export function runResults(store: AppStore): HTMLElement {
@@ -19,6 +20,7 @@ export function runResults(store: AppStore): HTMLElement {
     const thesis = run.spec.thesis ?? {};
     const names = Object.keys(summary.predictions);
     const counts = thesis.counts;
+    const grid = evaluationKind(run) === "grid";
     replaceChildren(
       body,
       h(
@@ -48,14 +50,19 @@ export function runResults(store: AppStore): HTMLElement {
           {},
           names.map((name) => {
             const prediction = summary.predictions[name];
-            const evaluation = evaluations[name];
+            // Only the grid world's evaluations are from the start, where these predictions are.
+            const startTruth = grid ? evaluations[name] : undefined;
             return h(
               "tr",
               {},
               h("th", { scope: "row" }, name),
               h("td", { class: "num" }, formatNumber(prediction)),
-              h("td", { class: "num" }, evaluation ? formatTruth(evaluation) : "evaluate in the table"),
-              h("td", { class: "num" }, evaluation ? formatRelativeError(prediction, truthOf(evaluation)) : "–"),
+              h(
+                "td",
+                { class: "num" },
+                startTruth ? formatTruth(startTruth) : grid ? "evaluate in the table" : MISSING,
+              ),
+              h("td", { class: "num" }, startTruth ? formatRelativeError(prediction, truthOf(startTruth)) : MISSING),
               h("td", { class: "num" }, formatNumber(thesis.predictions?.[name])),
             );
           }),

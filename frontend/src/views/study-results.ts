@@ -2,9 +2,11 @@
  * A study's results in the Studies tab: (1) learning curves per configuration with 95 % bootstrap bands
  * over runs (the best ones, or those ticked in the table), (2) sensitivity curves of the final or mean error
  * against any swept axis, one curve per value of another, and (3) a sortable table of configurations with
- * the best marked. `show` redraws them from the server's latest answer about the study.
+ * the best marked. A configuration with a diverged run is flagged in the table and left out of the plots
+ * (a note names it); the study's warnings stand above. `show` redraws them from the server's latest answer.
  */
 import { formatNumber } from "../lib/format";
+import { tip } from "../lib/glossary";
 import {
   type AxisValue,
   type SortKey,
@@ -17,9 +19,10 @@ import {
   sensitivityCurves,
   shortPath,
   sortConfigs,
+  splitDiverged,
   varyingAxes,
 } from "../lib/study";
-import { h, options, replaceChildren } from "../ui/dom";
+import { h, options, replaceChildren, setText } from "../ui/dom";
 import { field } from "../ui/form";
 import { bandChart } from "./study-chart";
 
@@ -61,6 +64,8 @@ export function studyResults(): StudyResults {
       drawSensitivity();
     });
   const table = h("div", { class: "study-table" });
+  const warnings = h("ul", { class: "study-warnings", dataset: { testid: "study-warnings" } });
+  const leftOut = h("p", { class: "hint left-out", dataset: { testid: "left-out" } });
 
   const show = (next: StudyDetail) => {
     detail = next;
@@ -75,7 +80,18 @@ export function studyResults(): StudyResults {
       const { x, group } = defaultAxes(results);
       fillAxisChoices(results, x, group);
     }
-    if (!userChose) shown = new Set(bestConfigs(results, CURVES_SHOWN).map((c) => c.index));
+    if (!userChose) shown = new Set(bestConfigs(splitDiverged(results).kept, CURVES_SHOWN).map((c) => c.index));
+    replaceChildren(
+      warnings,
+      (next.warnings ?? []).map((warning) => h("li", {}, warning)),
+    );
+    warnings.hidden = (next.warnings ?? []).length === 0;
+    const { diverged } = splitDiverged(results);
+    leftOut.hidden = diverged.length === 0;
+    setText(
+      leftOut,
+      `Left out of the plots, as a run of theirs diverged (their errors are no numbers to compare): ${diverged.map((c) => configLabel(c.axes)).join("; ")}.`,
+    );
     drawCurves();
     drawSensitivity();
     drawTable();
@@ -89,7 +105,7 @@ export function studyResults(): StudyResults {
 
   const drawCurves = () => {
     if (!detail) return;
-    const chosen = detail.results.filter((c) => shown.has(c.index));
+    const chosen = splitDiverged(detail.results).kept.filter((c) => shown.has(c.index));
     if (chosen.length === 0) {
       replaceChildren(curves, h("p", { class: "hint" }, "No finished run yet."));
       return;
@@ -116,7 +132,7 @@ export function studyResults(): StudyResults {
 
   const drawSensitivity = () => {
     if (!detail) return;
-    const results = detail.results;
+    const results = splitDiverged(detail.results).kept;
     const x = xAxis.value;
     if (!x || varyingAxes(results).length === 0) {
       replaceChildren(
@@ -196,14 +212,24 @@ export function studyResults(): StudyResults {
       });
       return h(
         "tr",
-        { class: c.best ? "best" : "", dataset: { config: String(c.index) } },
+        { class: c.best ? "best" : c.diverged ? "diverged" : "", dataset: { config: String(c.index) } },
         h("td", {}, tick),
         h("td", {}, c.best ? h("strong", { title: "the lowest final error" }, "★ best") : ""),
         paths.map((p) => h("td", { class: "num" }, String(c.axes[p]))),
         h("td", { class: "num" }, String(c.runs)),
-        h("td", { class: "num" }, formatNumber(c.error, 4)),
-        h("td", { class: "num" }, `${formatNumber(c.ci_low, 4)} – ${formatNumber(c.ci_high, 4)}`),
-        h("td", { class: "num" }, formatNumber(c.auc, 4)),
+        ...(c.diverged
+          ? [
+              h(
+                "td",
+                { class: "num", colspan: 3 },
+                h("span", { class: "tag diverged", title: tip("diverged") }, "diverged"),
+              ),
+            ]
+          : [
+              h("td", { class: "num" }, formatNumber(c.error, 4)),
+              h("td", { class: "num" }, `${formatNumber(c.ci_low, 4)} – ${formatNumber(c.ci_high, 4)}`),
+              h("td", { class: "num" }, formatNumber(c.auc, 4)),
+            ]),
       );
     });
     replaceChildren(
@@ -234,6 +260,7 @@ export function studyResults(): StudyResults {
   const element = h(
     "div",
     { class: "study-results" },
+    warnings,
     h("h4", {}, "Learning curves"),
     h(
       "p",
@@ -241,6 +268,7 @@ export function studyResults(): StudyResults {
       "Mean over runs with its 95 % bootstrap band; tick configurations in the table to draw them.",
     ),
     curves,
+    leftOut,
     h("h4", {}, "Sensitivity"),
     h("div", { class: "row" }, field("Along", xAxis), field("One curve per", groupAxis), field("Measure", metric)),
     sensitivity,

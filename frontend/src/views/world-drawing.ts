@@ -111,7 +111,13 @@ export function worldDrawing(edits?: DrawingEdits): { element: HTMLElement; draw
           {
             x: (x0 + x1) / 2,
             y: flipY((y0 + y1) / 2),
-            "font-size": Math.min(size / 22, (x1 - x0) / 4),
+            // Small enough for the whole name to fit across its region (a character is about 0.6 em wide):
+            // a label wider than a region at the world's edge would be cut off by the drawing's border.
+            "font-size": Math.min(
+              size / 22,
+              (x1 - x0) / 4,
+              (0.9 * (x1 - x0)) / (0.6 * Math.max(1, region.name.length)),
+            ),
             "text-anchor": "middle",
             "dominant-baseline": "central",
             class: "region-label",

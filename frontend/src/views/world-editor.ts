@@ -3,14 +3,17 @@
  * library, a scenario or the selected run, saved to the library (PUT /api/worlds/{name}) or deleted
  * from it (DELETE /api/worlds/{name}, two presses). The server's 422s appear at the fields they concern.
  * The drawing is drawn on: drag to add a region, drag a region to move it, drag a corner to resize it,
- * click to set the start; the form follows, and Undo (or Ctrl+Z) takes back the last change.
+ * click to set the start; the form follows, and Undo (or Ctrl+Z) takes back the last change. "Launch on
+ * this world" saves it and starts an empty run on it (until paused, at a watching speed), selected on Live.
  */
-import { attempt, deleteWorld, notify, refreshWorlds } from "../app/actions";
+import { attempt, deleteWorld, launchRun, notify, refreshWorlds } from "../app/actions";
 import type { AppStore } from "../app/state";
 import { ApiError, api, toApiError, unwrap } from "../api/client";
 import type { Region, WorldSpec } from "../api/types";
 import { gridWorld } from "../api/types";
+import { runLabel } from "../lib/format";
 import { formatList } from "../lib/parse";
+import { WATCH_HZ } from "../lib/runs";
 import { confirmButton } from "../ui/confirm";
 import { h, options, replaceChildren } from "../ui/dom";
 import { type FieldSpec, fieldTable } from "../ui/fields";
@@ -126,6 +129,7 @@ export function worldEditor(store: AppStore): HTMLElement {
   undo.addEventListener("click", takeBack);
   const addRegion = h("button", { type: "button" }, "Add region");
   const save = h("button", { type: "submit", class: "primary" }, "Save to library");
+  const launch = h("button", { type: "button" }, "Launch on this world");
   let regions: RegionFields[] = [];
 
   const setRegions = (texts: RegionText[]) => {
@@ -224,13 +228,13 @@ export function worldEditor(store: AppStore): HTMLElement {
     regions.at(-1)?.element.querySelector("input")?.focus();
   });
 
-  const onSubmit = async (event: Event) => {
-    event.preventDefault();
+  /** Save the form's world to the library; its name, or null where the form or the server refused it. */
+  const saveWorld = async (): Promise<string | null> => {
     errors.clear();
     const world = errors.readOrShow(read);
-    if (world === null) return;
+    if (world === null) return null;
     const worldName = world.name ?? "";
-    save.disabled = true;
+    save.disabled = launch.disabled = true;
     try {
       const { data, error, response } = await api.PUT("/api/worlds/{name}", {
         params: { path: { name: worldName } },
@@ -244,13 +248,30 @@ export function worldEditor(store: AppStore): HTMLElement {
       await refreshWorlds(store);
       source.value = `library:${data.name}`;
       renderRemove();
+      return data.name;
     } catch (error) {
       if (error instanceof ApiError && error.problems.length > 0) errors.showProblems(error.problems);
       else errors.showGeneral(error instanceof Error ? error.message : String(error));
+      return null;
     } finally {
-      save.disabled = false;
+      save.disabled = launch.disabled = false;
     }
   };
+  const onSubmit = (event: Event) => {
+    event.preventDefault();
+    void saveWorld();
+  };
+  // An empty run (no scenario: the default spec, no demons) on the saved world, watched at once.
+  launch.addEventListener("click", async () => {
+    const worldName = await saveWorld();
+    if (worldName === null) return;
+    await attempt(store, async () => {
+      const template = { name: `on-${worldName}`, world: worldName, protocol: { episodes: 0 } };
+      const run = await launchRun(store, template, WATCH_HZ, true);
+      notify(store, `Launched run ${runLabel(run)} on the world '${worldName}'.`);
+      store.update({ tab: "live" });
+    });
+  });
 
   store.subscribe(renderSources, ["worlds", "scenarios", "run"]);
   renderSources();
@@ -266,7 +287,7 @@ export function worldEditor(store: AppStore): HTMLElement {
     regionList,
     h("div", { class: "actions" }, addRegion),
     errors.general,
-    h("div", { class: "actions sticky-actions" }, save),
+    h("div", { class: "actions sticky-actions" }, save, launch),
   );
 
   const editor = h(
