@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import socket
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -40,10 +41,10 @@ def test_the_host_rule() -> None:
 
 
 @pytest.fixture(scope="module")
-def server(tmp_path_factory: pytest.TempPathFactory) -> RunningServer:
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[RunningServer]:
     settings = Settings(data=tmp_path_factory.mktemp("hosts") / "data", token=None, snapshot_every=3600.0)
     with serve_in_thread(settings) as running:
-        yield running  # type: ignore[misc]
+        yield running
 
 
 def test_a_rebound_name_cannot_change_or_read_anything(server: RunningServer) -> None:
