@@ -68,7 +68,7 @@ def test_a_stream_world_has_no_simulation_and_is_pointed_to_learn_log() -> None:
     spec = horde.load_scenario(ROOT / "scenarios" / "mountaincar-log.toml")
     with pytest.raises(ValueError, match=r"horde\.learn_log\(spec, path\)"):
         horde.Simulation(spec)
-    result = horde.learn_log(spec, ROOT / "examples" / "data" / "mountaincar-pump.csv")
+    result = horde.learn_log(spec, str(ROOT / "examples" / "data" / "mountaincar-pump.csv"))
     assert result.learned == result.records > 0 and not result.refused
     compared = [d for d in result.demons if d.mean_prediction is not None and d.mean_return is not None]
     assert compared and all(abs(d.mean_prediction - d.mean_return) < 0.1 * abs(d.mean_return) + 0.05 for d in compared)

@@ -85,8 +85,9 @@ def realised_returns(spec: RunSpec, sensors: np.ndarray) -> tuple[np.ndarray, np
     return returns, tail
 
 
-def learn_log(spec: RunSpec, path: Path, progress: Callable[[int, int], None] | None = None) -> LogResult:
+def learn_log(spec: RunSpec, path: str | Path, progress: Callable[[int, int], None] | None = None) -> LogResult:
     """Learn every record of a CSV or Parquet log in order; compare predictions with realised returns afterwards."""
+    path = Path(path)
     world = stream_world(spec)
     learner = RecordLearner(spec)
     total = log_length(path)
