@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -83,7 +84,13 @@ def value_map(view: RunView, name: str, resolution: int) -> ValueMap:
 
 
 def evaluate(
-    view: RunView, name: str, start: tuple[float, float], episodes: int, cap: int, seed: int | None = None
+    view: RunView,
+    name: str,
+    start: tuple[float, float],
+    episodes: int,
+    cap: int,
+    seed: int | None = None,
+    stop: Callable[[], bool] | None = None,
 ) -> Evaluation:
     """Roll the demon's target policy out `episodes` times from `start` (at most `cap` steps each).
 
@@ -93,6 +100,7 @@ def evaluate(
     Raises:
         NotFoundError: an unknown demon.
         SpecError: a start outside the world or inside an obstacle (naming the field `from`).
+        StoppedError: `stop()` said so before the rollouts were done (`core.evaluate.monte_carlo`).
     """
     demon = _demon_index(view, name)
     _require_grid(view, ("body", "from"), "a Monte-Carlo evaluation from a point")
@@ -113,7 +121,7 @@ def evaluate(
     )
     if view.horde_state.diverged[demon]:
         prediction = math.nan  # reported as null, as everywhere else
-    truth = monte_carlo(view.horde, view.horde_state, name, (x, y), episodes, cap, rng)
+    truth = monte_carlo(view.horde, view.horde_state, name, (x, y), episodes, cap, rng, stop)
     return Evaluation(name, (x, y), prediction, truth, seed, exact_at(view, name, (x, y)))
 
 

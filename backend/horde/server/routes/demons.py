@@ -103,8 +103,9 @@ def get_history(
 )
 def evaluate(run: RunDep, evaluation: EvaluateIn, manager: ManagerDep) -> EvaluationOut:
     """Rolls the demon's target policy out from `from` with frozen weights (its own generator: the run is not
-    disturbed). 422 when `from` lies outside the world or in an obstacle; 429 when two evaluations are running
-    already."""
+    disturbed). 422 when `from` lies outside the world or in an obstacle, or when the rollouts do not finish
+    within HORDE_EVALUATION_SECONDS (at `episodes`: ask for fewer, or a smaller `cap`); 429 when two
+    evaluations are running already."""
     cap = evaluation.cap or min(run.view.spec.protocol.evaluation.cap, MAX_EVAL_CAP)
     start = (evaluation.from_[0], evaluation.from_[1])
     return evaluation_out(manager.evaluate(run.id, evaluation.demon, start, evaluation.episodes, cap, evaluation.seed))
