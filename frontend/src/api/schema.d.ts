@@ -239,8 +239,9 @@ export interface paths {
         /**
          * Monte-Carlo truth of a demon's question vs its prediction
          * @description Rolls the demon's target policy out from `from` with frozen weights (its own generator: the run is not
-         *     disturbed). 422 when `from` lies outside the world or in an obstacle; 429 when two evaluations are running
-         *     already.
+         *     disturbed). 422 when `from` lies outside the world or in an obstacle, or when the rollouts do not finish
+         *     within HORDE_EVALUATION_SECONDS (at `episodes`: ask for fewer, or a smaller `cap`); 429 when two
+         *     evaluations are running already.
          */
         post: operations["evaluate_api_runs__run_id__evaluate_post"];
         delete?: never;
@@ -851,7 +852,8 @@ export interface components {
          *
          *     `demon` is a demon written as usual, in which any "{var}" stands for the values of the list `var`
          *     of `over`; `name` is the pattern of the demons' names, such as "{sensor}_g{gamma}" (characters a
-         *     name cannot hold, such as the colon of "in:zone1", become "_").
+         *     name cannot hold, such as the colon of "in:zone1", become "_"). A 422 about a family names the field
+         *     and the rule, never the pattern or a demon name made of it (they are input).
          */
         DemonFamily: {
             /**
@@ -3150,7 +3152,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description The change was made but could not be saved; the detail says why */
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -3228,7 +3230,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description The change was made but could not be saved; the detail says why */
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -3407,7 +3409,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description The change was made but could not be saved; the detail says why */
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -3538,7 +3540,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description The change was made but could not be saved; the detail says why */
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -3649,7 +3651,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description The change was made but could not be saved; the detail says why */
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -3976,7 +3978,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description The change was made but could not be saved; the detail says why */
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -4035,7 +4037,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description The change was made but could not be saved; the detail says why */
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -4144,7 +4146,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description The change was made but could not be saved; the detail says why */
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -4275,7 +4277,7 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
-            /** @description The change was made but could not be saved; the detail says why */
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
             503: {
                 headers: {
                     [name: string]: unknown;
@@ -5338,6 +5340,15 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
         };
     };
     get_world_api_worlds__name__get: {
@@ -5460,6 +5471,15 @@ export interface operations {
                     "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
         };
     };
     delete_world_api_worlds__name__delete: {
@@ -5506,6 +5526,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+            /** @description Not saved: the store could not write (say, the disk is full); the detail says why and whether the change holds (a run's command) or was not made (a new run or world) */
+            503: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
                 };
             };
         };
