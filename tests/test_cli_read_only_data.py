@@ -19,8 +19,6 @@ import pytest
 from horde.runs.store import Store
 from serving import free_port
 
-pytestmark = pytest.mark.timeout(120)
-
 
 @contextmanager
 def read_only(directory: Path) -> Iterator[None]:

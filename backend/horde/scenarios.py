@@ -12,6 +12,7 @@ import re
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
@@ -60,6 +61,39 @@ def _line_of(text: str, loc: tuple[int | str, ...]) -> int | None:
 line_of = _line_of  # public: study files (horde.studies.files) locate their problems the same way
 
 
+MAX_TOML_DEPTH = 100  # arrays and tables inside each other: where a deep document is said to go too deep
+
+
+def _too_deep_line(text: str) -> int:
+    """The line where brackets and braces first nest MAX_TOML_DEPTH deep (counted plainly, strings and all)."""
+    depth = 0
+    for number, line in enumerate(text.splitlines(), start=1):
+        for char in line:
+            depth += 1 if char in "[{" else -1 if char in "]}" else 0
+            if depth >= MAX_TOML_DEPTH:
+                return number
+    return 1
+
+
+def load_toml(text: str, source: str) -> dict[str, Any]:
+    """Parse TOML text (a scenario or a study file).
+
+    Raises:
+        ScenarioError: "source:line: invalid TOML: ..." for malformed text, or for arrays nested so deep that the
+            parser (recursive) cannot read them.
+    """
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        message = str(exc)
+        found = re.search(r"\(at line (\d+), column \d+\)", message)
+        number = int(found.group(1)) if found else max(len(text.splitlines()), 1)
+        raise ScenarioError(f"{source}:{number}: invalid TOML: {message}") from None
+    except RecursionError:
+        line = _too_deep_line(text)
+        raise ScenarioError(f"{source}:{line}: invalid TOML: arrays or tables nested too deep to read") from None
+
+
 def parse_scenario(text: str, source: str = "<scenario>") -> RunSpec:
     """Validate TOML text as a RunSpec (a `[watch]` table is checked and left out: see `parse_watched`).
 
@@ -75,13 +109,7 @@ def parse_watched(text: str, source: str = "<scenario>") -> tuple[RunSpec, Watch
     Raises:
         ScenarioError: "source:line: field: message" for every problem found.
     """
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        message = str(exc)
-        found = re.search(r"\(at line (\d+), column \d+\)", message)
-        number = int(found.group(1)) if found else max(len(text.splitlines()), 1)
-        raise ScenarioError(f"{source}:{number}: invalid TOML: {message}") from None
+    data = load_toml(text, source)
     watch_table = data.pop("watch", {})
     messages = []
     try:

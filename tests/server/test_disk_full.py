@@ -25,8 +25,6 @@ from polling import wait_until
 
 from .helpers import WORLD, assert_healthy, make_spec
 
-pytestmark = pytest.mark.timeout(120)
-
 FULL = "database or disk is full"
 
 

@@ -6,14 +6,11 @@ body may have; `POST /api/streams/import` used to answer it 413. Both imports no
 
 from __future__ import annotations
 
-import pytest
 from fastapi.testclient import TestClient
 
 from horde.server import Settings, create_app
 
 from .helpers import assert_healthy
-
-pytestmark = pytest.mark.timeout(120)
 
 
 def mountaincar_snapshot(client: TestClient) -> tuple[str, bytes]:

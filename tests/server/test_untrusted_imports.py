@@ -26,8 +26,6 @@ from stream_specs import LIGHT_WHEEL, nexting, robot, tiled
 from .helpers import assert_healthy, locs, make_spec
 from .test_divergence import WILD
 
-pytestmark = pytest.mark.timeout(120)
-
 STRIPES_FEATURES = 29  # the stripes of make_spec's world (parts = 5): the table the active indices point into
 
 

@@ -7,6 +7,7 @@ continuation has fallen to zero or until `cap` steps (named in the result).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,6 +20,11 @@ from horde.core.world import NUM_ACTIONS, PERPENDICULAR, Transition, World, Worl
 
 # A rollout whose remaining continuation weight falls to this or below has finished.
 WEIGHT_FLOOR = 1e-12
+CHUNK_STEPS = 200_000  # steps of rollouts between two questions to `stop` (a few tenths of a second)
+
+
+class StoppedError(Exception):
+    """Monte-Carlo rollouts stopped before the end because their caller said so."""
 
 
 @dataclass(frozen=True)
@@ -46,6 +52,7 @@ def monte_carlo(
     rollouts: int,
     cap: int,
     rng: np.random.Generator,
+    stop: Callable[[], bool] | None = None,
 ) -> Truth:
     """Average realised return of demon `name`'s question from `start`, following its target policy.
 
@@ -53,6 +60,12 @@ def monte_carlo(
     (its primary weights). The return is accumulated in expectation over the continuation:
     G = sum_t (prod_{j<=t} gamma_j) (r_{t+1} + (1 - gamma_{t+1}) z_{t+1}), which equals the return of a
     random stopping time with P(continue) = gamma and has lower variance.
+
+    With `stop`, the rollouts run in chunks of at most CHUNK_STEPS steps and `stop()` is asked after each
+    but the last (the same numbers: the chunks draw from one generator in turn).
+
+    Raises:
+        StoppedError: `stop()` said so before the last chunk.
     """
     loop = FastLoop(horde, World(horde.spec.grid))
     for b in range(len(horde.blocks)):
@@ -61,7 +74,17 @@ def monte_carlo(
     group = next(g for g, grp in enumerate(horde.groups) if horde.index[name] in grp.demons)
     needed = horde.needs([name])
     wanted = np.array([bool(needed[g.demons].any()) for g in horde.groups], dtype=np.bool_)
-    totals, capped = run_rollouts(loop.net, loop.buf, rng, slot, group, wanted, start, rollouts, cap, WEIGHT_FLOOR)
+    chunk = rollouts if stop is None else max(1, CHUNK_STEPS // cap)
+    parts = []
+    capped = 0
+    for done in range(0, rollouts, chunk):
+        if done and stop is not None and stop():
+            raise StoppedError(f"stopped after {done} of {rollouts} rollouts")
+        part, part_capped = run_rollouts(loop.net, loop.buf, rng, slot, group, wanted, start,
+                                         min(chunk, rollouts - done), cap, WEIGHT_FLOOR)  # fmt: skip
+        parts.append(part)
+        capped += part_capped
+    totals = np.concatenate(parts)  # [rollouts]
     stderr = float(totals.std(ddof=1) / np.sqrt(rollouts)) if rollouts > 1 else float("nan")
     return Truth(float(totals.mean()), stderr, rollouts, cap, capped)
 

@@ -12,10 +12,12 @@ from __future__ import annotations
 import logging
 import secrets
 import threading
+import time
 from collections.abc import Callable
 
+from horde.core.evaluate import StoppedError
 from horde.runs.collector import keep_out_of_collector
-from horde.runs.errors import BusyError, ConflictError, NotFoundError, RunError, SaveError
+from horde.runs.errors import BusyError, ConflictError, NotFoundError, RunError, SaveError, SpecError
 from horde.runs.live_run import LiveRun
 from horde.runs.readout import Evaluation, evaluate
 from horde.runs.run_setup import Limits, check_limits, new_simulation
@@ -228,15 +230,35 @@ class RunManager:
     def evaluate(
         self, run_id: str, demon: str, start: tuple[float, float] | None, episodes: int, cap: int, seed: int | None
     ) -> Evaluation:
-        """Monte-Carlo truth of a demon's question from `start` (`readout.evaluate`), beside its prediction there.
+        """Monte-Carlo truth of a demon's question from `start` (`readout.evaluate`), beside its prediction there,
+        given up after `limits.evaluation_seconds` (whether or not its client still waits: a thread and a slot are
+        bounded).
 
         Raises:
             BusyError: MAX_EVALUATIONS evaluations are already running.
+            SpecError: the rollouts did not finish in time (naming `episodes`).
         """
         view = self.get(run_id).view
         if not self._evaluations.acquire(blocking=False):
             raise BusyError(f"{MAX_EVALUATIONS} evaluations are running already; try again when they are done")
+        budget = self.limits.evaluation_seconds
         try:
-            return evaluate(view, demon, start, episodes, cap, seed)
+            return evaluate(view, demon, start, episodes, cap, seed, stop=_time_budget(budget))
+        except StoppedError as exc:
+            raise SpecError.at(("body", "episodes"), f"the rollouts did not finish within {budget:g} s ({exc}): "
+                               "ask for fewer episodes or a smaller cap") from None  # fmt: skip
         finally:
             self._evaluations.release()
+
+
+def _time_budget(seconds: float) -> Callable[[], bool]:
+    """A `stop` that says so once `seconds` have passed since it was first asked: after the first chunk of
+    rollouts, whose time may be that of compiling them (once per process)."""
+    deadline: list[float] = []
+
+    def stop() -> bool:
+        if not deadline:
+            deadline.append(time.monotonic() + seconds)
+        return time.monotonic() > deadline[0]
+
+    return stop

@@ -9,6 +9,7 @@ roll out in.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Literal
 
@@ -131,7 +132,13 @@ def value_map(view: RunView, name: str, resolution: int) -> ValueMap:
 
 
 def evaluate(
-    view: RunView, name: str, start: tuple[float, float] | None, episodes: int, cap: int, seed: int | None = None
+    view: RunView,
+    name: str,
+    start: tuple[float, float] | None,
+    episodes: int,
+    cap: int,
+    seed: int | None = None,
+    stop: Callable[[], bool] | None = None,
 ) -> Evaluation:
     """Roll the demon's target policy out `episodes` times (at most `cap` steps each), as the world allows
     (`evaluation_support`): on the grid from `start` (default: the world's start), on a Gymnasium world from
@@ -145,6 +152,8 @@ def evaluate(
         SpecError: a start outside the world or inside an obstacle, or given where the world has no points
             (naming the field `from`); a demon whose question rollouts cannot follow (naming `demon`); a world
             with nothing to roll out in (naming `run_id`).
+        StoppedError: `stop()` said so before the grid's rollouts were done (`core.evaluate.monte_carlo`; a
+            Gymnasium world's rollouts are bounded by MAX_ROLLOUT_STEPS instead).
     """
     demon = _demon_index(view, name)
     seed = seed if seed is not None else int(view.spec.seed * 1_000_003 + view.total_steps) % 2**63
@@ -172,7 +181,7 @@ def evaluate(
     )
     if view.horde_state.diverged[demon]:
         prediction = math.nan  # reported as null, as everywhere else
-    truth = monte_carlo(view.horde, view.horde_state, name, (x, y), episodes, cap, rng)
+    truth = monte_carlo(view.horde, view.horde_state, name, (x, y), episodes, cap, rng, stop)
     return Evaluation(name, (x, y), prediction, truth, seed, exact_at(view, name, (x, y)))
 
 

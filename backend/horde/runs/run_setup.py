@@ -24,6 +24,7 @@ class Limits:
     history_interval: float = 0.005  # seconds between two history rows at least
     snapshot_every: float = 2.0  # seconds between snapshots of a running run (a hard kill loses at most this)
     events: int = 256
+    evaluation_seconds: float = 30.0  # a Monte-Carlo evaluation (POST /evaluate) is given up after this long
 
 
 def trial_rng(spec: RunSpec) -> np.random.Generator:

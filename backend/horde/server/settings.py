@@ -43,6 +43,9 @@ class Settings(BaseSettings):
     history_interval: float = Field(
         default=0.005, ge=0.0, le=60.0, description="seconds between history rows, at least (a full-speed run samples)"
     )
+    evaluation_seconds: float = Field(
+        default=30.0, gt=0.0, le=3600.0, description="seconds a Monte-Carlo evaluation may run (422 beyond)"
+    )
     snapshot_every: float = Field(
         default=2.0,
         gt=0.0,

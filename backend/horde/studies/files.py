@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 import re
-import tomllib
 from pathlib import Path
 
 from pydantic import ValidationError
 
 from horde.runs.errors import SpecError
-from horde.scenarios import ScenarioError, file_dir, find_scenario, line_of
+from horde.scenarios import ScenarioError, file_dir, find_scenario, line_of, load_toml
 from horde.spec import RunSpec
 from horde.studies.spec import Configuration, StudySpec, expand
 
@@ -39,11 +38,7 @@ def parse_study(text: str, source: str = "<study>") -> tuple[StudySpec, RunSpec,
     Raises:
         ScenarioError: "source:line: field: message" for every problem (an axis' problems name its path).
     """
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        found = re.search(r"\(at line (\d+), column \d+\)", str(exc))
-        raise ScenarioError(f"{source}:{found.group(1) if found else 1}: invalid TOML: {exc}") from None
+    data = load_toml(text, source)
     try:
         study = StudySpec.model_validate(data)
     except ValidationError as exc:

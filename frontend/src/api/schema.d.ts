@@ -241,7 +241,8 @@ export interface paths {
          * @description Rolls the demon's target policy out with frozen weights (its own generator: the run is not disturbed), as
          *     the run's world allows (its `evaluation`): on the grid from `from` (default: the world's start), on a
          *     Gymnasium world from the agent's current state. 422 when `from` lies outside the world or in an obstacle, is
-         *     given on a world without points, or the demon's question cannot be rolled out there; 429 when two
+         *     given on a world without points, or the demon's question cannot be rolled out there, or when the rollouts do
+         *     not finish within HORDE_EVALUATION_SECONDS (at `episodes`: ask for fewer, or a smaller `cap`); 429 when two
          *     evaluations are running already.
          */
         post: operations["evaluate_api_runs__run_id__evaluate_post"];

@@ -105,7 +105,8 @@ def evaluate(run: RunDep, evaluation: EvaluateIn, manager: ManagerDep) -> Evalua
     """Rolls the demon's target policy out with frozen weights (its own generator: the run is not disturbed), as
     the run's world allows (its `evaluation`): on the grid from `from` (default: the world's start), on a
     Gymnasium world from the agent's current state. 422 when `from` lies outside the world or in an obstacle, is
-    given on a world without points, or the demon's question cannot be rolled out there; 429 when two
+    given on a world without points, or the demon's question cannot be rolled out there, or when the rollouts do
+    not finish within HORDE_EVALUATION_SECONDS (at `episodes`: ask for fewer, or a smaller `cap`); 429 when two
     evaluations are running already."""
     cap = evaluation.cap or min(run.view.spec.protocol.evaluation.cap, MAX_EVAL_CAP)
     start = (evaluation.from_[0], evaluation.from_[1]) if evaluation.from_ is not None else None
