@@ -18,6 +18,7 @@ from playwright.sync_api import Error as PlaywrightError
 from playwright.sync_api import expect
 
 from horde.server import Settings
+from polling import wait_until
 
 from .conftest import (
     ON_DASHBOARD,
@@ -152,6 +153,71 @@ def test_three_screen_sizes_with_large_text_grow_nothing_and_cover_no_world(
     server.client.post(f"/api/runs/{run_id}/pause")
 
 
+# Every chart's tick labels as drawn (plots.ts puts them on the plot as data-x-ticks / data-y-ticks), measured
+# in the axes' font: x labels closer than their half-widths (plus a gap), y labels repeated, the labels
+# themselves, and demon names broken inside a piece (a piece between two <wbr> laid over two lines).
+AXES = """() => {
+    const ctx = document.createElement('canvas').getContext('2d');
+    const rem = parseFloat(getComputedStyle(document.documentElement).fontSize);
+    ctx.font = `${Math.round(0.8 * rem)}px system-ui`;
+    const crowded = [], repeated = [], labels = [], broken = [];
+    for (const plot of document.querySelectorAll('.chart .uplot')) {
+        const xs = JSON.parse(plot.dataset.xTicks || '[]').filter(([label]) => label).sort((a, b) => a[1] - b[1]);
+        labels.push(...xs.map(([label]) => label));
+        xs.slice(1).forEach(([label, at], i) => {
+            const [before, was] = xs[i];
+            const room = (ctx.measureText(before).width + ctx.measureText(label).width) / 2 + 4;
+            if (at - was < room) crowded.push(`${before}|${label}`);
+        });
+        const ys = JSON.parse(plot.dataset.yTicks || '[]').map(([label]) => label).filter(Boolean);
+        if (new Set(ys).size < ys.length) repeated.push(ys.join(','));
+    }
+    for (const piece of document.querySelectorAll('.chart-name, .demon-table .demon-name')) {
+        for (const node of piece.childNodes) {
+            if (node.nodeType !== Node.TEXT_NODE || !node.textContent.trim()) continue;
+            const range = document.createRange();
+            range.selectNodeContents(node);
+            const lines = new Set([...range.getClientRects()].map(r => Math.round(r.top)));
+            if (lines.size > 1) broken.push(node.textContent);
+        }
+    }
+    return {crowded, repeated, labels, broken};
+}"""
+
+
+# Six charts or more whose x axis is labelled in thousands (k).
+COMPACT_CHARTS = (
+    "() => [...document.querySelectorAll('.chart .uplot')].filter(p => /\\dk/.test(p.dataset.xTicks)).length >= 6"
+)
+
+
+@pytest.mark.timeout(120)
+def test_chart_axes_stay_readable_at_1024_and_with_large_text_at_1920(browser: Browser, server: RunningServer) -> None:
+    """Steps in the hundreds of thousands (a run at full speed) on the small multiples of a classroom run:
+    compact x labels that do not run together, y labels that do not repeat, names broken between words."""
+    response = server.client.post(
+        "/api/runs", params={"start": True}, json={"scenario": "classroom-offpolicy", "seed": 4}
+    )
+    assert response.status_code == 201, response.text
+    run_id = response.json()["id"]
+    wait_until(lambda: server.client.get(f"/api/runs/{run_id}").json()["step"] >= 100_000, "100,000 steps", 60)
+    for width, height, scripts in ((1024, 768, [TOUR_DONE]), (1920, 1080, [TOUR_DONE, LARGE_TEXT])):
+        page, errors = new_page(browser, width, height, *scripts)
+        select(page, server, run_id)
+        page.get_by_role("button", name="Classroom mode").click()
+        page.wait_for_function(COMPACT_CHARTS)
+        found = page.evaluate(AXES)
+        assert found["crowded"] == [], f"{width} px: x labels run together: {found['crowded']}"
+        assert found["repeated"] == [], f"{width} px: y labels repeat: {found['repeated']}"
+        assert found["broken"] == [], f"{width} px: names broken inside a word: {found['broken']}"
+        assert not any("," in label for label in found["labels"]), found["labels"]
+        SHOTS.mkdir(parents=True, exist_ok=True)
+        page.screenshot(path=str(SHOTS / f"axes-{width}.png"), full_page=True)
+        assert errors == [], f"{width} px: errors in the browser console"
+        page.context.close()
+    server.client.post(f"/api/runs/{run_id}/pause")
+
+
 def drag(page: Page, world: dict[str, float], start: tuple[float, float], end: tuple[float, float]) -> None:
     """Drag on the world drawing from one world point to another (world units, y up)."""
     svg = page.locator("svg.world-svg")
@@ -242,6 +308,16 @@ def test_draw_a_world_by_dragging_save_it_run_it_and_see_its_value_map(browser: 
     run = next(r for r in server.client.get("/api/runs").json() if r["name"] == "on-drawn")
     assert server.client.get(f"/api/runs/{run['id']}").json()["spec"]["world"]["start"] == [100, 100]
     server.client.post(f"/api/runs/{run['id']}/pause")
+
+    # Or straight from the editor: an empty run on the drawn world, selected and running on the Live tab.
+    page.get_by_role("tab", name="World editor").click()
+    editor.get_by_role("button", name="Launch on this world").click()
+    page.locator("li.run-item.selected", has_text="empty-on-drawn").wait_for()
+    expect(page.get_by_role("tab", name="Live")).to_have_attribute("aria-selected", "true")
+    empty = next(r for r in server.client.get("/api/runs").json() if r["name"] == "empty-on-drawn")
+    assert empty["demons"] == [] and empty["status"] == "running", empty
+    assert server.client.get(f"/api/runs/{empty['id']}").json()["spec"]["world"]["regions"] == saved["regions"]
+    server.client.post(f"/api/runs/{empty['id']}/pause")
     assert errors == []
     page.context.close()
 
@@ -278,27 +354,58 @@ def test_no_serious_accessibility_violation_on_any_tab(browser: Browser, server:
     page.context.close()
 
 
+# The tour's dialog and the part it points at: whether the dialog lies over the part's upper half (where the
+# live view draws the value map's legend) and whether the part shows anything.
+TOUR_PLACE = """() => {
+    const dialog = document.querySelector('.tour').getBoundingClientRect();
+    const target = document.querySelector('.tour-target');
+    const box = target.getBoundingClientRect();
+    const upper = {top: box.top, bottom: box.top + box.height / 2, left: box.left, right: box.right};
+    const covers = dialog.left < upper.right && dialog.right > upper.left
+        && dialog.top < upper.bottom && dialog.bottom > upper.top;
+    const empty = !target.querySelector('iframe, .chart, tr[data-demon], li.run-item');
+    return {covers, empty};
+}"""
+NEXT_FRAME = "() => new Promise(resolve => requestAnimationFrame(() => requestAnimationFrame(resolve)))"
+
+
 def test_help_tooltips_shortcuts_and_the_tour(browser: Browser, server: RunningServer) -> None:
     run_id = launch(server)  # named after the classroom scenario: the tour is for it
     page, errors = new_page(browser, 1440, 900)
-    select(page, server, run_id)
+    # The live view's frame, drawn by software WebGL, can hold the page up for a while on a busy machine.
+    page.set_default_timeout(60_000)
+    page.goto(server.url)
+    page.locator(f'li.run-item[data-run="{run_id}"]').wait_for()
+    # Classroom mode with no run selected: nothing to show yet, so no tour.
+    # (no_wait_after: the live view's frame, laid out anew, loads; these clicks need not wait for it)
+    page.get_by_role("button", name="Classroom mode").click(no_wait_after=True)
+    page.evaluate(NEXT_FRAME)
+    assert page.locator(".tour").is_hidden(), "the tour waits for a run"
+    page.locator(f'li.run-item[data-run="{run_id}"] button.run-select').click(no_wait_after=True)
 
-    # A classroom run offers the tour the first time: four stops, then it is remembered.
-    tour = page.get_by_role("dialog", name="The world")
-    tour.wait_for()
+    # A classroom run offers the tour the first time, and only then: a reload without closing it
+    # does not bring it back.
+    page.get_by_role("dialog", name="The world").wait_for()
+    page.reload()
+    select(page, server, run_id)
+    page.locator("table.demon-table tr[data-demon]").first.wait_for()
+    page.evaluate(NEXT_FRAME)
+    assert page.locator(".tour").is_hidden(), "the tour, once offered, does not come back"
+
+    # Taken on demand: four stops, each at a part with something in it, the dialog never over its top.
+    page.locator(".chart").first.wait_for()
+    page.get_by_role("button", name="Take the tour").click()
     titles = []
     for _ in range(4):
         dialog = page.locator(".tour")
         titles.append(dialog.locator("h2").inner_text())
         assert page.locator(".tour-target").count() == 1
+        assert page.evaluate(TOUR_PLACE) == {"covers": False, "empty": False}, titles[-1]
+        if titles[-1] == "One chart per demon":
+            assert "ring" in dialog.inner_text(), "the tour says what the charts draw"
         dialog.get_by_role("button", name="Next").or_(dialog.get_by_role("button", name="Done")).click()
     assert titles == ["The world", "One chart per demon", "The demons", "Speed and control"]
     assert page.locator(".tour").is_hidden()
-    page.reload()
-    page.locator(f'li.run-item[data-run="{run_id}"] button.run-select').click()
-    page.locator(f'li.run-item.selected[data-run="{run_id}"]').wait_for()
-    page.wait_for_timeout(500)
-    assert page.locator(".tour").is_hidden(), "the tour, once done, does not come back"
 
     # Every column head of the demon table explains its word.
     heads = page.locator("table.demon-table thead th[title]")
