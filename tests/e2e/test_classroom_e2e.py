@@ -8,17 +8,17 @@ One server with the viser live view serves every test here; screenshots go to te
 from __future__ import annotations
 
 import contextlib
+import math
 import time
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
-from urllib.parse import urlparse
+from urllib.parse import unquote, urlparse
 
 import pytest
 from playwright.sync_api import Error as PlaywrightError
 from playwright.sync_api import expect
 
 from horde.server import Settings
-from polling import wait_until
 
 from .conftest import (
     ON_DASHBOARD,
@@ -32,7 +32,7 @@ from .conftest import (
 )
 
 if TYPE_CHECKING:
-    from playwright.sync_api import Browser, Page
+    from playwright.sync_api import Browser, Page, Route
 
 AXE = ROOT / "frontend" / "node_modules" / "axe-core" / "axe.min.js"
 SIZES = [(1024, 768), (1440, 900), (1920, 1080)]
@@ -185,24 +185,54 @@ AXES = """() => {
 }"""
 
 
-# Six charts or more whose x axis is labelled in thousands (k).
+# Six charts or more whose x axis is labelled in thousands (k) or millions (M).
 COMPACT_CHARTS = (
-    "() => [...document.querySelectorAll('.chart .uplot')].filter(p => /\\dk/.test(p.dataset.xTicks)).length >= 6"
+    "() => [...document.querySelectorAll('.chart .uplot')].filter(p => /\\d[kM]/.test(p.dataset.xTicks)).length >= 6"
 )
+
+
+def without_the_view(page: Page, server: RunningServer) -> None:
+    """The live view's frame as a stand-in page: a test about the dashboard's own panels need not wait for
+    the viser client, whose software WebGL holds a busy machine's page up for tens of seconds."""
+    view_url = server.client.get("/api/view").json()["url"].rstrip("/")
+    page.route(f"{view_url}/**", lambda route: route.fulfill(content_type="text/html", body="<p>viser</p>"))
+    page.route(view_url, lambda route: route.fulfill(content_type="text/html", body="<p>viser</p>"))
+
+
+def long_history(route: Route) -> None:
+    """A demon's history as a long run has it: 1.25 million steps; predictions of a few ten-thousandths for
+    the goal demons (whose y ticks then need four decimals), of a few steps for the others."""
+    demon = unquote(route.request.url.split("/demons/")[1].split("/")[0])
+    rows = 500
+    size = 0.0006 if demon.startswith("goal") else 4.0
+    steps = [round(i * 1_250_000 / (rows - 1)) for i in range(rows)]
+    prediction = [size * (0.5 + 0.5 * math.sin(i / 25)) for i in range(rows)]
+    zeros = [0.0] * rows
+    route.fulfill(
+        json={
+            "demon": demon,
+            "capacity": rows,
+            "every": 1,
+            "step": steps,
+            "prediction": prediction,
+            "rupee": zeros,
+            "ude": zeros,
+            "delta": zeros,
+            "cumulant": zeros,
+        }
+    )
 
 
 @pytest.mark.timeout(120)
 def test_chart_axes_stay_readable_at_1024_and_with_large_text_at_1920(browser: Browser, server: RunningServer) -> None:
-    """Steps in the hundreds of thousands (a run at full speed) on the small multiples of a classroom run:
-    compact x labels that do not run together, y labels that do not repeat, names broken between words."""
-    response = server.client.post(
-        "/api/runs", params={"start": True}, json={"scenario": "classroom-offpolicy", "seed": 4}
-    )
-    assert response.status_code == 201, response.text
-    run_id = response.json()["id"]
-    wait_until(lambda: server.client.get(f"/api/runs/{run_id}").json()["step"] >= 100_000, "100,000 steps", 60)
+    """A million steps and tiny predictions (the histories of a long run, stubbed) on the small multiples of
+    a classroom run: compact x labels that do not run together, y labels that do not repeat, demon names
+    broken only between words."""
+    run_id = launch(server, name="axes")
     for width, height, scripts in ((1024, 768, [TOUR_DONE]), (1920, 1080, [TOUR_DONE, LARGE_TEXT])):
         page, errors = new_page(browser, width, height, *scripts)
+        page.route("**/demons/*/history", long_history)
+        without_the_view(page, server)
         select(page, server, run_id)
         page.get_by_role("button", name="Classroom mode").click()
         page.wait_for_function(COMPACT_CHARTS)
@@ -210,7 +240,8 @@ def test_chart_axes_stay_readable_at_1024_and_with_large_text_at_1920(browser: B
         assert found["crowded"] == [], f"{width} px: x labels run together: {found['crowded']}"
         assert found["repeated"] == [], f"{width} px: y labels repeat: {found['repeated']}"
         assert found["broken"] == [], f"{width} px: names broken inside a word: {found['broken']}"
-        assert not any("," in label for label in found["labels"]), found["labels"]
+        assert "1M" in found["labels"] and not any("," in label for label in found["labels"]), found["labels"]
+        page.evaluate("window.scrollTo(0, 0)")
         SHOTS.mkdir(parents=True, exist_ok=True)
         page.screenshot(path=str(SHOTS / f"axes-{width}.png"), full_page=True)
         assert errors == [], f"{width} px: errors in the browser console"
@@ -372,16 +403,14 @@ NEXT_FRAME = "() => new Promise(resolve => requestAnimationFrame(() => requestAn
 def test_help_tooltips_shortcuts_and_the_tour(browser: Browser, server: RunningServer) -> None:
     run_id = launch(server)  # named after the classroom scenario: the tour is for it
     page, errors = new_page(browser, 1440, 900)
-    # The live view's frame, drawn by software WebGL, can hold the page up for a while on a busy machine.
-    page.set_default_timeout(60_000)
+    without_the_view(page, server)
     page.goto(server.url)
     page.locator(f'li.run-item[data-run="{run_id}"]').wait_for()
     # Classroom mode with no run selected: nothing to show yet, so no tour.
-    # (no_wait_after: the live view's frame, laid out anew, loads; these clicks need not wait for it)
-    page.get_by_role("button", name="Classroom mode").click(no_wait_after=True)
+    page.get_by_role("button", name="Classroom mode").click()
     page.evaluate(NEXT_FRAME)
     assert page.locator(".tour").is_hidden(), "the tour waits for a run"
-    page.locator(f'li.run-item[data-run="{run_id}"] button.run-select').click(no_wait_after=True)
+    page.locator(f'li.run-item[data-run="{run_id}"] button.run-select').click()
 
     # A classroom run offers the tour the first time, and only then: a reload without closing it
     # does not bring it back.
@@ -391,21 +420,6 @@ def test_help_tooltips_shortcuts_and_the_tour(browser: Browser, server: RunningS
     page.locator("table.demon-table tr[data-demon]").first.wait_for()
     page.evaluate(NEXT_FRAME)
     assert page.locator(".tour").is_hidden(), "the tour, once offered, does not come back"
-
-    # Taken on demand: four stops, each at a part with something in it, the dialog never over its top.
-    page.locator(".chart").first.wait_for()
-    page.get_by_role("button", name="Take the tour").click()
-    titles = []
-    for _ in range(4):
-        dialog = page.locator(".tour")
-        titles.append(dialog.locator("h2").inner_text())
-        assert page.locator(".tour-target").count() == 1
-        assert page.evaluate(TOUR_PLACE) == {"covers": False, "empty": False}, titles[-1]
-        if titles[-1] == "One chart per demon":
-            assert "ring" in dialog.inner_text(), "the tour says what the charts draw"
-        dialog.get_by_role("button", name="Next").or_(dialog.get_by_role("button", name="Done")).click()
-    assert titles == ["The world", "One chart per demon", "The demons", "Speed and control"]
-    assert page.locator(".tour").is_hidden()
 
     # Every column head of the demon table explains its word.
     heads = page.locator("table.demon-table thead th[title]")
@@ -435,6 +449,21 @@ def test_help_tooltips_shortcuts_and_the_tour(browser: Browser, server: RunningS
     assert server.client.get(f"/api/runs/{run_id}").json()["step"] > before
     page.keyboard.press(" ")
     page.locator(f'li.run-item[data-run="{run_id}"] .badge', has_text="running").wait_for()
+
+    # Taken on demand: four stops, each at a part with something in it, the dialog never over its top.
+    page.locator(".chart").first.wait_for()
+    page.get_by_role("button", name="Take the tour").click()
+    titles = []
+    for _ in range(4):
+        dialog = page.locator(".tour")
+        titles.append(dialog.locator("h2").inner_text())
+        assert page.locator(".tour-target").count() == 1
+        assert page.evaluate(TOUR_PLACE) == {"covers": False, "empty": False}, titles[-1]
+        if titles[-1] == "One chart per demon":
+            assert "ring" in dialog.inner_text(), "the tour says what the charts draw"
+        dialog.get_by_role("button", name="Next").or_(dialog.get_by_role("button", name="Done")).click()
+    assert titles == ["The world", "One chart per demon", "The demons", "Speed and control"]
+    assert page.locator(".tour").is_hidden()
     server.client.post(f"/api/runs/{run_id}/pause")
     assert errors == []
     page.context.close()
