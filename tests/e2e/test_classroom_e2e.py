@@ -400,7 +400,7 @@ TOUR_PLACE = """() => {
 NEXT_FRAME = "() => new Promise(resolve => requestAnimationFrame(() => requestAnimationFrame(resolve)))"
 
 
-def test_help_tooltips_shortcuts_and_the_tour(browser: Browser, server: RunningServer) -> None:
+def test_the_tour_waits_for_a_run_comes_once_and_covers_nothing(browser: Browser, server: RunningServer) -> None:
     run_id = launch(server)  # named after the classroom scenario: the tour is for it
     page, errors = new_page(browser, 1440, 900)
     without_the_view(page, server)
@@ -420,6 +420,30 @@ def test_help_tooltips_shortcuts_and_the_tour(browser: Browser, server: RunningS
     page.locator("table.demon-table tr[data-demon]").first.wait_for()
     page.evaluate(NEXT_FRAME)
     assert page.locator(".tour").is_hidden(), "the tour, once offered, does not come back"
+
+    # Taken on demand: four stops, each at a part with something in it, the dialog never over its top.
+    page.locator(".chart").first.wait_for()
+    page.get_by_role("button", name="Take the tour").click()
+    titles = []
+    for _ in range(4):
+        dialog = page.locator(".tour")
+        titles.append(dialog.locator("h2").inner_text())
+        assert page.locator(".tour-target").count() == 1
+        assert page.evaluate(TOUR_PLACE) == {"covers": False, "empty": False}, titles[-1]
+        if titles[-1] == "One chart per demon":
+            assert "ring" in dialog.inner_text(), "the tour says what the charts draw"
+        dialog.get_by_role("button", name="Next").or_(dialog.get_by_role("button", name="Done")).click()
+    assert titles == ["The world", "One chart per demon", "The demons", "Speed and control"]
+    assert page.locator(".tour").is_hidden()
+    server.client.post(f"/api/runs/{run_id}/pause")
+    assert errors == []
+    page.context.close()
+
+
+def test_help_tooltips_and_shortcuts(browser: Browser, server: RunningServer) -> None:
+    run_id = launch(server)
+    page, errors = new_page(browser, 1440, 900, TOUR_DONE)
+    select(page, server, run_id)
 
     # Every column head of the demon table explains its word.
     heads = page.locator("table.demon-table thead th[title]")
@@ -449,21 +473,6 @@ def test_help_tooltips_shortcuts_and_the_tour(browser: Browser, server: RunningS
     assert server.client.get(f"/api/runs/{run_id}").json()["step"] > before
     page.keyboard.press(" ")
     page.locator(f'li.run-item[data-run="{run_id}"] .badge', has_text="running").wait_for()
-
-    # Taken on demand: four stops, each at a part with something in it, the dialog never over its top.
-    page.locator(".chart").first.wait_for()
-    page.get_by_role("button", name="Take the tour").click()
-    titles = []
-    for _ in range(4):
-        dialog = page.locator(".tour")
-        titles.append(dialog.locator("h2").inner_text())
-        assert page.locator(".tour-target").count() == 1
-        assert page.evaluate(TOUR_PLACE) == {"covers": False, "empty": False}, titles[-1]
-        if titles[-1] == "One chart per demon":
-            assert "ring" in dialog.inner_text(), "the tour says what the charts draw"
-        dialog.get_by_role("button", name="Next").or_(dialog.get_by_role("button", name="Done")).click()
-    assert titles == ["The world", "One chart per demon", "The demons", "Speed and control"]
-    assert page.locator(".tour").is_hidden()
     server.client.post(f"/api/runs/{run_id}/pause")
     assert errors == []
     page.context.close()
