@@ -155,12 +155,13 @@ def test_three_screen_sizes_with_large_text_grow_nothing_and_cover_no_world(
 
 # Every chart's tick labels as drawn (plots.ts puts them on the plot as data-x-ticks / data-y-ticks), measured
 # in the axes' font: x labels closer than their half-widths (plus a gap), y labels repeated, the labels
-# themselves, and demon names broken inside a piece (a piece between two <wbr> laid over two lines).
+# themselves, y labels wider than the room left of the plot, and demon names broken inside a piece (a piece
+# between two <wbr> laid over two lines).
 AXES = """() => {
     const ctx = document.createElement('canvas').getContext('2d');
     const rem = parseFloat(getComputedStyle(document.documentElement).fontSize);
     ctx.font = `${Math.round(0.8 * rem)}px system-ui`;
-    const crowded = [], repeated = [], labels = [], broken = [];
+    const crowded = [], repeated = [], labels = [], broken = [], cut = [];
     for (const plot of document.querySelectorAll('.chart .uplot')) {
         const xs = JSON.parse(plot.dataset.xTicks || '[]').filter(([label]) => label).sort((a, b) => a[1] - b[1]);
         labels.push(...xs.map(([label]) => label));
@@ -171,6 +172,10 @@ AXES = """() => {
         });
         const ys = JSON.parse(plot.dataset.yTicks || '[]').map(([label]) => label).filter(Boolean);
         if (new Set(ys).size < ys.length) repeated.push(ys.join(','));
+        // The y labels end left of the plotting area, less uPlot's ticks (10 px) and gap (5 px): they must
+        // fit between the chart's edge and there.
+        const room = plot.querySelector('.u-over').offsetLeft - 15;
+        for (const label of ys) if (ctx.measureText(label).width + 4 > room) cut.push(label);
     }
     for (const piece of document.querySelectorAll('.chart-name, .demon-table .demon-name')) {
         for (const node of piece.childNodes) {
@@ -181,7 +186,7 @@ AXES = """() => {
             if (lines.size > 1) broken.push(node.textContent);
         }
     }
-    return {crowded, repeated, labels, broken};
+    return {crowded, repeated, labels, broken, cut};
 }"""
 
 
@@ -239,6 +244,7 @@ def test_chart_axes_stay_readable_at_1024_and_with_large_text_at_1920(browser: B
         found = page.evaluate(AXES)
         assert found["crowded"] == [], f"{width} px: x labels run together: {found['crowded']}"
         assert found["repeated"] == [], f"{width} px: y labels repeat: {found['repeated']}"
+        assert found["cut"] == [], f"{width} px: y labels cut off at the left: {found['cut']}"
         assert found["broken"] == [], f"{width} px: names broken inside a word: {found['broken']}"
         assert "1M" in found["labels"] and not any("," in label for label in found["labels"]), found["labels"]
         page.evaluate("window.scrollTo(0, 0)")
