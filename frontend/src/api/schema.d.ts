@@ -1699,7 +1699,7 @@ export interface components {
              */
             episode: number;
             /** @description what Evaluate offers on this run's world */
-            evaluation?: components["schemas"]["RunEvaluationOut"];
+            evaluation?: components["schemas"]["EvaluationSupportOut"];
             /** Hz */
             hz: number | null;
             /** Id */
@@ -1725,10 +1725,10 @@ export interface components {
             updated_at: string;
         };
         /**
-         * RunEvaluationOut
+         * EvaluationSupportOut
          * @description What the truth of a demon's question can be computed from on a run's world.
          */
-        RunEvaluationOut: {
+        EvaluationSupportOut: {
             /**
              * Kind
              * @description grid: from a point, and the value map; rollouts: from the current state; none: no evaluation
@@ -1756,7 +1756,7 @@ export interface components {
              */
             episode: number;
             /** @description what Evaluate offers on this run's world */
-            evaluation?: components["schemas"]["RunEvaluationOut"];
+            evaluation?: components["schemas"]["EvaluationSupportOut"];
             /** Hz */
             hz: number | null;
             /** Id */

@@ -35,7 +35,7 @@ export type Color = Schemas["Color"];
 export type Scenario = Schemas["ScenarioOut"];
 export type Evaluation = Schemas["EvaluationOut"];
 /** What Evaluate offers on a run's world: from a point (grid), from the current state (rollouts), or none. */
-export type EvaluationKind = Schemas["RunEvaluationOut"]["kind"];
+export type EvaluationKind = Schemas["EvaluationSupportOut"]["kind"];
 
 /** A run's evaluation kind; a server that does not say is taken to offer today's grid evaluation. */
 export function evaluationKind(run: { evaluation?: { kind: EvaluationKind } } | null): EvaluationKind {
