@@ -144,7 +144,7 @@ def test_three_screen_sizes_with_large_text_grow_nothing_and_cover_no_world(
                 close.click(timeout=2000)
         if width == 1440:
             page.get_by_role("button", name="Evaluate all").click()
-            page.locator(".chart figcaption", has_text="at the start").nth(5).wait_for(timeout=60_000)
+            page.locator(".chart figcaption", has_text="from the start at step").nth(5).wait_for(timeout=60_000)
         page.evaluate("window.scrollTo(0, 0)")
         SHOTS.mkdir(parents=True, exist_ok=True)
         page.screenshot(path=str(SHOTS / f"classroom-{width}.png"), full_page=True)
