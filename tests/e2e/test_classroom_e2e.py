@@ -8,10 +8,11 @@ One server with the viser live view serves every test here; screenshots go to te
 from __future__ import annotations
 
 import contextlib
+import math
 import time
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
-from urllib.parse import urlparse
+from urllib.parse import unquote, urlparse
 
 import pytest
 from playwright.sync_api import Error as PlaywrightError
@@ -31,7 +32,7 @@ from .conftest import (
 )
 
 if TYPE_CHECKING:
-    from playwright.sync_api import Browser, Page
+    from playwright.sync_api import Browser, Page, Route
 
 AXE = ROOT / "frontend" / "node_modules" / "axe-core" / "axe.min.js"
 SIZES = [(1024, 768), (1440, 900), (1920, 1080)]
@@ -143,10 +144,112 @@ def test_three_screen_sizes_with_large_text_grow_nothing_and_cover_no_world(
                 close.click(timeout=2000)
         if width == 1440:
             page.get_by_role("button", name="Evaluate all").click()
-            page.locator(".chart figcaption", has_text="at the start").nth(5).wait_for(timeout=60_000)
+            page.locator(".chart figcaption", has_text="from the start at step").nth(5).wait_for(timeout=60_000)
         page.evaluate("window.scrollTo(0, 0)")
         SHOTS.mkdir(parents=True, exist_ok=True)
         page.screenshot(path=str(SHOTS / f"classroom-{width}.png"), full_page=True)
+        assert errors == [], f"{width} px: errors in the browser console"
+        page.context.close()
+    server.client.post(f"/api/runs/{run_id}/pause")
+
+
+# Every chart's tick labels as drawn (plots.ts puts them on the plot as data-x-ticks / data-y-ticks), measured
+# in the axes' font: x labels closer than their half-widths (plus a gap), y labels repeated, the labels
+# themselves, y labels wider than the room left of the plot, and demon names broken inside a piece (a piece
+# between two <wbr> laid over two lines).
+AXES = """() => {
+    const ctx = document.createElement('canvas').getContext('2d');
+    const rem = parseFloat(getComputedStyle(document.documentElement).fontSize);
+    ctx.font = `${Math.round(0.8 * rem)}px system-ui`;
+    const crowded = [], repeated = [], labels = [], broken = [], cut = [];
+    for (const plot of document.querySelectorAll('.chart .uplot')) {
+        const xs = JSON.parse(plot.dataset.xTicks || '[]').filter(([label]) => label).sort((a, b) => a[1] - b[1]);
+        labels.push(...xs.map(([label]) => label));
+        xs.slice(1).forEach(([label, at], i) => {
+            const [before, was] = xs[i];
+            const room = (ctx.measureText(before).width + ctx.measureText(label).width) / 2 + 4;
+            if (at - was < room) crowded.push(`${before}|${label}`);
+        });
+        const ys = JSON.parse(plot.dataset.yTicks || '[]').map(([label]) => label).filter(Boolean);
+        if (new Set(ys).size < ys.length) repeated.push(ys.join(','));
+        // The y labels end left of the plotting area, less uPlot's ticks (10 px) and gap (5 px): they must
+        // fit between the chart's edge and there.
+        const room = plot.querySelector('.u-over').offsetLeft - 15;
+        for (const label of ys) if (ctx.measureText(label).width + 4 > room) cut.push(label);
+    }
+    for (const piece of document.querySelectorAll('.chart-name, .demon-table .demon-name')) {
+        for (const node of piece.childNodes) {
+            if (node.nodeType !== Node.TEXT_NODE || !node.textContent.trim()) continue;
+            const range = document.createRange();
+            range.selectNodeContents(node);
+            const lines = new Set([...range.getClientRects()].map(r => Math.round(r.top)));
+            if (lines.size > 1) broken.push(node.textContent);
+        }
+    }
+    return {crowded, repeated, labels, broken, cut};
+}"""
+
+
+# Six charts or more whose x axis is labelled in thousands (k) or millions (M).
+COMPACT_CHARTS = (
+    "() => [...document.querySelectorAll('.chart .uplot')].filter(p => /\\d[kM]/.test(p.dataset.xTicks)).length >= 6"
+)
+
+
+def without_the_view(page: Page, server: RunningServer) -> None:
+    """The live view's frame as a stand-in page: a test about the dashboard's own panels need not wait for
+    the viser client, whose software WebGL holds a busy machine's page up for tens of seconds."""
+    view_url = server.client.get("/api/view").json()["url"].rstrip("/")
+    page.route(f"{view_url}/**", lambda route: route.fulfill(content_type="text/html", body="<p>viser</p>"))
+    page.route(view_url, lambda route: route.fulfill(content_type="text/html", body="<p>viser</p>"))
+
+
+def long_history(route: Route) -> None:
+    """A demon's history as a long run has it: 1.25 million steps; predictions of a few ten-thousandths for
+    the goal demons (whose y ticks then need four decimals), of a few steps for the others."""
+    demon = unquote(route.request.url.split("/demons/")[1].split("/")[0])
+    rows = 500
+    size = 0.0006 if demon.startswith("goal") else 4.0
+    steps = [round(i * 1_250_000 / (rows - 1)) for i in range(rows)]
+    prediction = [size * (0.5 + 0.5 * math.sin(i / 25)) for i in range(rows)]
+    zeros = [0.0] * rows
+    route.fulfill(
+        json={
+            "demon": demon,
+            "capacity": rows,
+            "every": 1,
+            "step": steps,
+            "prediction": prediction,
+            "rupee": zeros,
+            "ude": zeros,
+            "delta": zeros,
+            "cumulant": zeros,
+        }
+    )
+
+
+@pytest.mark.timeout(120)
+def test_chart_axes_stay_readable_at_1024_and_with_large_text_at_1920(browser: Browser, server: RunningServer) -> None:
+    """A million steps and tiny predictions (the histories of a long run, stubbed) on the small multiples of
+    a classroom run: compact x labels that do not run together, y labels that do not repeat, demon names
+    broken only between words."""
+    run_id = launch(server, name="axes")
+    for width, height, scripts in ((1024, 768, [TOUR_DONE]), (1920, 1080, [TOUR_DONE, LARGE_TEXT])):
+        page, errors = new_page(browser, width, height, *scripts)
+        page.route("**/demons/*/history", long_history)
+        without_the_view(page, server)
+        select(page, server, run_id)
+        page.get_by_role("button", name="Classroom mode").click()
+        page.wait_for_function(COMPACT_CHARTS)
+        found = page.evaluate(AXES)
+        assert found["crowded"] == [], f"{width} px: x labels run together: {found['crowded']}"
+        assert found["repeated"] == [], f"{width} px: y labels repeat: {found['repeated']}"
+        assert found["cut"] == [], f"{width} px: y labels cut off at the left: {found['cut']}"
+        assert found["broken"] == [], f"{width} px: names broken inside a word: {found['broken']}"
+        assert "1M" in found["labels"] and not any("," in label for label in found["labels"]), found["labels"]
+        page.evaluate("window.scrollTo(0, 0)")
+        SHOTS.mkdir(parents=True, exist_ok=True)
+        page.screenshot(path=str(SHOTS / f"axes-{width}.png"), full_page=True)
         assert errors == [], f"{width} px: errors in the browser console"
         page.context.close()
     server.client.post(f"/api/runs/{run_id}/pause")
@@ -242,6 +345,16 @@ def test_draw_a_world_by_dragging_save_it_run_it_and_see_its_value_map(browser: 
     run = next(r for r in server.client.get("/api/runs").json() if r["name"] == "on-drawn")
     assert server.client.get(f"/api/runs/{run['id']}").json()["spec"]["world"]["start"] == [100, 100]
     server.client.post(f"/api/runs/{run['id']}/pause")
+
+    # Or straight from the editor: an empty run on the drawn world, selected and running on the Live tab.
+    page.get_by_role("tab", name="World editor").click()
+    editor.get_by_role("button", name="Launch on this world").click()
+    page.locator("li.run-item.selected", has_text="empty-on-drawn").wait_for()
+    expect(page.get_by_role("tab", name="Live")).to_have_attribute("aria-selected", "true")
+    empty = next(r for r in server.client.get("/api/runs").json() if r["name"] == "empty-on-drawn")
+    assert empty["demons"] == [] and empty["status"] == "running", empty
+    assert server.client.get(f"/api/runs/{empty['id']}").json()["spec"]["world"]["regions"] == saved["regions"]
+    server.client.post(f"/api/runs/{empty['id']}/pause")
     assert errors == []
     page.context.close()
 
@@ -278,27 +391,65 @@ def test_no_serious_accessibility_violation_on_any_tab(browser: Browser, server:
     page.context.close()
 
 
-def test_help_tooltips_shortcuts_and_the_tour(browser: Browser, server: RunningServer) -> None:
+# The tour's dialog and the part it points at: whether the dialog lies over the part's upper half (where the
+# live view draws the value map's legend) and whether the part shows anything.
+TOUR_PLACE = """() => {
+    const dialog = document.querySelector('.tour').getBoundingClientRect();
+    const target = document.querySelector('.tour-target');
+    const box = target.getBoundingClientRect();
+    const upper = {top: box.top, bottom: box.top + box.height / 2, left: box.left, right: box.right};
+    const covers = dialog.left < upper.right && dialog.right > upper.left
+        && dialog.top < upper.bottom && dialog.bottom > upper.top;
+    const empty = !target.querySelector('iframe, .chart, tr[data-demon], li.run-item');
+    return {covers, empty};
+}"""
+NEXT_FRAME = "() => new Promise(resolve => requestAnimationFrame(() => requestAnimationFrame(resolve)))"
+
+
+def test_the_tour_waits_for_a_run_comes_once_and_covers_nothing(browser: Browser, server: RunningServer) -> None:
     run_id = launch(server)  # named after the classroom scenario: the tour is for it
     page, errors = new_page(browser, 1440, 900)
-    select(page, server, run_id)
+    without_the_view(page, server)
+    page.goto(server.url)
+    page.locator(f'li.run-item[data-run="{run_id}"]').wait_for()
+    # Classroom mode with no run selected: nothing to show yet, so no tour.
+    page.get_by_role("button", name="Classroom mode").click()
+    page.evaluate(NEXT_FRAME)
+    assert page.locator(".tour").is_hidden(), "the tour waits for a run"
+    page.locator(f'li.run-item[data-run="{run_id}"] button.run-select').click()
 
-    # A classroom run offers the tour the first time: four stops, then it is remembered.
-    tour = page.get_by_role("dialog", name="The world")
-    tour.wait_for()
+    # A classroom run offers the tour the first time, and only then: a reload without closing it
+    # does not bring it back.
+    page.get_by_role("dialog", name="The world").wait_for()
+    page.reload()
+    select(page, server, run_id)
+    page.locator("table.demon-table tr[data-demon]").first.wait_for()
+    page.evaluate(NEXT_FRAME)
+    assert page.locator(".tour").is_hidden(), "the tour, once offered, does not come back"
+
+    # Taken on demand: four stops, each at a part with something in it, the dialog never over its top.
+    page.locator(".chart").first.wait_for()
+    page.get_by_role("button", name="Take the tour").click()
     titles = []
     for _ in range(4):
         dialog = page.locator(".tour")
         titles.append(dialog.locator("h2").inner_text())
         assert page.locator(".tour-target").count() == 1
+        assert page.evaluate(TOUR_PLACE) == {"covers": False, "empty": False}, titles[-1]
+        if titles[-1] == "One chart per demon":
+            assert "ring" in dialog.inner_text(), "the tour says what the charts draw"
         dialog.get_by_role("button", name="Next").or_(dialog.get_by_role("button", name="Done")).click()
     assert titles == ["The world", "One chart per demon", "The demons", "Speed and control"]
     assert page.locator(".tour").is_hidden()
-    page.reload()
-    page.locator(f'li.run-item[data-run="{run_id}"] button.run-select').click()
-    page.locator(f'li.run-item.selected[data-run="{run_id}"]').wait_for()
-    page.wait_for_timeout(500)
-    assert page.locator(".tour").is_hidden(), "the tour, once done, does not come back"
+    server.client.post(f"/api/runs/{run_id}/pause")
+    assert errors == []
+    page.context.close()
+
+
+def test_help_tooltips_and_shortcuts(browser: Browser, server: RunningServer) -> None:
+    run_id = launch(server)
+    page, errors = new_page(browser, 1440, 900, TOUR_DONE)
+    select(page, server, run_id)
 
     # Every column head of the demon table explains its word.
     heads = page.locator("table.demon-table thead th[title]")

@@ -138,8 +138,9 @@ def test_experiment3_before_a_colour_is_drawn_terminals_and_indicator_are_neutra
     experiment3: RunSpec,
 ) -> None:
     nodes = by_name(scene.world_nodes(experiment3.world, {}))
-    for name in ("north_west", "south_east", "lamp"):
+    for name in ("north_west", "south_east"):
         assert nodes[f"/regions/{name}"].color == colors.NEUTRAL
+    assert nodes["/regions/lamp"].color == colors.UNDRAWN
 
 
 def test_named_colours() -> None:

@@ -11,11 +11,15 @@ RGB = tuple[int, int, int]
 
 FLOOR = (236, 236, 232)
 BOUNDS = (60, 60, 60)
-OBSTACLE = (128, 128, 128)
-POSITIVE = (46, 160, 67)  # a terminal whose reward is > 0
-NEGATIVE = (214, 48, 39)  # a terminal whose reward is < 0
-NEUTRAL = (190, 190, 190)  # a terminal whose reward is 0 (or not known)
-ZONE = (255, 150, 30)
+# One colour per region kind, the same as the World editor's drawing (frontend/src/lib/world.ts, KIND_COLORS;
+# tests/view/test_region_colours.py holds the two together): a zone must not read as an obstacle's grey.
+OBSTACLE = (91, 100, 114)  # #5b6472
+POSITIVE = (21, 128, 61)  # #15803d, a terminal whose reward is > 0
+NEGATIVE = (220, 38, 38)  # #dc2626, a terminal whose reward is < 0
+NEUTRAL = (109, 40, 217)  # #6d28d9, a terminal whose reward is 0 (or not known: an indicator not drawn yet)
+ZONE = (249, 115, 22)  # #f97316, translucent (ZONE_OPACITY)
+ZONE_OPACITY = 0.55
+UNDRAWN = (156, 163, 175)  # #9ca3af, an indicator before its colour is drawn
 AGENT = (255, 255, 255)
 TRAIL = (20, 20, 20)
 ARROW = (250, 250, 250)

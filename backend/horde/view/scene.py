@@ -24,7 +24,6 @@ from horde.view.source import ViewSnapshot
 SCENE_SIZE = 10.0  # scene units along the world's longer side
 FLOOR_THICKNESS = 0.05
 REGION_HEIGHT = {"obstacle": 0.3, "terminal": 0.1, "zone": 0.04, "indicator": 0.12}
-ZONE_OPACITY = 0.4
 TEXTURE_Z = 0.01  # the value map lies just above the floor, under the regions
 ARROW_Z = 0.08  # greedy actions float above zones, under terminals and obstacles
 TRAIL_Z = 0.06
@@ -73,9 +72,9 @@ def region_color(region: Region, indicator_colors: Mapping[str, str]) -> tuple[t
     if region.kind == "terminal":
         return colors.terminal(terminal_reward(region, indicator_colors)), None
     if region.kind == "zone":
-        return colors.ZONE, ZONE_OPACITY
+        return colors.ZONE, colors.ZONE_OPACITY
     color = indicator_colors.get(region.name)
-    return (colors.named(color) if color else colors.NEUTRAL), None
+    return (colors.named(color) if color else colors.UNDRAWN), None
 
 
 def world_nodes(world: WorldSpec, indicator_colors: Mapping[str, str]) -> list[Node]:

@@ -45,13 +45,19 @@ export interface Fill {
   opacity: number;
 }
 
+/** One colour per region kind, the same as the live view's (backend/horde/view/colors.py; a test holds the two
+ * together). */
 export const KIND_COLORS = {
   obstacle: "#5b6472",
   positive: "#15803d",
   negative: "#dc2626",
   neutral: "#6d28d9", // a terminal whose reward is 0 or depends on an indicator's colour
   zone: "#f97316",
+  /** an indicator before its colour is drawn, or one whose colour is no CSS colour */
+  undrawn: "#9ca3af",
 } as const;
+/** A zone is translucent: what lies under it shows through. */
+export const ZONE_OPACITY = 0.55;
 
 /**
  * How a region is drawn: obstacles grey, terminals green (positive reward) or red (negative), zones
@@ -63,7 +69,7 @@ export function regionFills(region: Region, isColor: (name: string) => boolean):
     case "obstacle":
       return [{ color: KIND_COLORS.obstacle, opacity: 1 }];
     case "zone":
-      return [{ color: KIND_COLORS.zone, opacity: 0.35 }];
+      return [{ color: KIND_COLORS.zone, opacity: ZONE_OPACITY }];
     case "terminal": {
       const reward = typeof region.reward === "number" ? region.reward : 0;
       const color = reward > 0 ? KIND_COLORS.positive : reward < 0 ? KIND_COLORS.negative : KIND_COLORS.neutral;
@@ -71,7 +77,7 @@ export function regionFills(region: Region, isColor: (name: string) => boolean):
     }
     case "indicator": {
       const colors = region.colors?.length ? region.colors : [{ name: "grey" }];
-      return colors.map((c) => ({ color: isColor(c.name) ? c.name : "#9ca3af", opacity: 0.9 }));
+      return colors.map((c) => ({ color: isColor(c.name) ? c.name : KIND_COLORS.undrawn, opacity: 0.9 }));
     }
   }
 }

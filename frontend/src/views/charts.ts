@@ -191,7 +191,11 @@ function caption(
       ? ` · ${evaluatedFrom(state.run)} at step ${formatCount(latest.step)}: truth ${formatNumber(truth)}${exact ? " (exact)" : ` ± ${formatNumber(high - truth)}`}, prediction ${formatNumber(latest.prediction)}`
       : "";
   const name = nameParts(multiple.demon).flatMap((part, i) => (i === 0 ? [part] : [h("wbr", {}), part]));
-  replaceChildren(multiple.caption, ...name, pair + (log ? " · log scale: the values span many powers of ten" : ""));
+  replaceChildren(
+    multiple.caption,
+    h("span", { class: "chart-name" }, name),
+    pair + (log ? " · log scale: the values span many powers of ten" : ""),
+  );
 }
 
 function draw(multiple: Multiple, history: History, marks: readonly EvaluationMark[], state: Readonly<AppState>): void {

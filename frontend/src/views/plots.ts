@@ -35,7 +35,7 @@ export function lineLook(xLabel: string): Pick<uPlot.Options, "legend" | "cursor
     hooks: { draw: [showTicks] },
     axes: [
       { ...axis, label: xLabel, size: Math.round(2.6 * font), space: Math.round(4.5 * font), values },
-      { ...axis, size: Math.round(3.6 * font), values },
+      { ...axis, size: (_u: uPlot, labels: string[] | null) => yAxisSize(labels, axisFont, font), values },
     ],
   };
 }
@@ -51,4 +51,16 @@ function showTicks(u: uPlot): void {
     JSON.stringify((ticks[axis] ?? []).map(([label, value]) => [label, Math.round(u.valToPos(value, scale))]));
   u.root.dataset.xTicks = at(0, "x");
   u.root.dataset.yTicks = at(1, "y");
+}
+
+let measuring: CanvasRenderingContext2D | null = null;
+
+/** The y axis's width: its widest label in `axisFont` and room for the ticks, at least 3.6 rem (so that
+ * "0.00050" is never cut to "00050" by the plot's left edge). */
+function yAxisSize(labels: string[] | null, axisFont: string, font: number): number {
+  measuring ??= document.createElement("canvas").getContext("2d");
+  if (!measuring || !labels) return Math.round(3.6 * font);
+  measuring.font = axisFont;
+  const widest = Math.max(0, ...labels.map((label) => measuring?.measureText(label).width ?? 0));
+  return Math.max(Math.round(3.6 * font), Math.ceil(widest + 1.4 * font));
 }

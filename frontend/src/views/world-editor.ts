@@ -266,7 +266,7 @@ export function worldEditor(store: AppStore): HTMLElement {
     const worldName = await saveWorld();
     if (worldName === null) return;
     await attempt(store, async () => {
-      const template = { name: `on-${worldName}`, world: worldName, protocol: { episodes: 0 } };
+      const template = { name: `empty-on-${worldName}`.slice(0, 64), world: worldName, protocol: { episodes: 0 } };
       const run = await launchRun(store, template, WATCH_HZ, true);
       notify(store, `Launched run ${runLabel(run)} on the world '${worldName}'.`);
       store.update({ tab: "live" });
