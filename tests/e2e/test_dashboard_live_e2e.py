@@ -11,6 +11,7 @@ from .conftest import (
     SHOTS,
     RunningServer,
     browser_page,
+    page_viewer,
     viser_view,
 )
 
@@ -34,7 +35,8 @@ def test_the_dashboard_embeds_the_live_view_of_the_selected_run(browser: Browser
         page.goto(server.url)
         page.locator(f'li.run-item[data-run="{run}"] button.run-select').click()
         page.locator(f'li.run-item.selected[data-run="{run}"]').wait_for()
-        assert api.get("/api/view").json()["run"] == run, "selecting a run shows it in the live view"
+        shown = api.get("/api/view", params={"viewer": page_viewer(page)}).json()["run"]
+        assert shown == run, "selecting a run shows it in the live view"
 
         frame = page.frame_locator("iframe.viser-frame")
         view = viser_view(page, api.get("/api/view").json()["url"])

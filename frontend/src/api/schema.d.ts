@@ -663,10 +663,10 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** Whether and where the live view listens */
+        /** Whether and where the live view listens (for one dashboard tab, with `viewer`) */
         get: operations["get_view_api_view_get"];
         put?: never;
-        /** Show a run in the live view (every connected browser) */
+        /** Show a run in one dashboard tab's live view */
         post: operations["show_run_api_view_post"];
         delete?: never;
         options?: never;
@@ -2633,13 +2633,18 @@ export interface components {
             demons?: string[] | null;
             /**
              * Run
-             * @description the run the live view should show
+             * @description the run the tab's live view should show
              */
             run: string;
+            /**
+             * Viewer
+             * @description a dashboard tab's own random key (8 to 64 letters, digits, - or _): the browsers that opened the view at GET /api/view?viewer=<key>'s url follow this tab's choice, no others
+             */
+            viewer: string;
         };
         /**
          * ViewOut
-         * @description Whether the viser live view runs, where it listens, and which run it shows.
+         * @description Whether the viser live view runs, where it listens, and which run it shows one dashboard tab.
          */
         ViewOut: {
             /**
@@ -2649,12 +2654,12 @@ export interface components {
             enabled: boolean;
             /**
              * Run
-             * @description the run it shows now, if any
+             * @description the run shown to the browsers of `viewer`, if it chose one
              */
             run: string | null;
             /**
              * Url
-             * @description the viser client's address (embed it in an iframe or open it)
+             * @description the viser client's address (embed it in an iframe or open it); with `viewer`, the address whose browsers follow that tab's choice
              */
             url: string | null;
         };
@@ -5155,7 +5160,9 @@ export interface operations {
     };
     get_view_api_view_get: {
         parameters: {
-            query?: never;
+            query?: {
+                viewer?: string | null;
+            };
             header?: never;
             path?: never;
             cookie?: never;
@@ -5169,6 +5176,15 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ViewOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
         };
@@ -5197,15 +5213,6 @@ export interface operations {
             };
             /** @description The body cannot be parsed (not JSON, not UTF-8) */
             400: {
-                headers: {
-                    [name: string]: unknown;
-                };
-                content: {
-                    "application/json": components["schemas"]["ErrorOut"];
-                };
-            };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
-            401: {
                 headers: {
                     [name: string]: unknown;
                 };

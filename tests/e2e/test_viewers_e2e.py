@@ -1,0 +1,101 @@
+"""A view per viewer, in a real browser: two dashboards on different runs, each embedded live view showing
+its own page's run while both learn, and a switch on one page leaving the other's view alone.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterator
+from typing import TYPE_CHECKING
+
+import pytest
+
+from horde.server import Settings
+
+from .conftest import ON_DASHBOARD, RunningServer, free_port, serve_in_thread, viser_view
+
+if TYPE_CHECKING:
+    from playwright.sync_api import Browser, Frame, Page
+
+pytestmark = ON_DASHBOARD
+
+WATCH_SECONDS = 20  # both runs learning, both views watched (the issue's minute, shortened: see the README)
+TOUR_DONE = "localStorage.setItem('horde-lab-tour-done', '1')"
+# The values of the viser panel's inputs: the Run dropdown's is the name of the run it shows.
+INPUTS = "els => els.map(e => e.value)"
+
+
+@pytest.fixture
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[RunningServer]:
+    settings = Settings(
+        data=tmp_path_factory.mktemp("viewers-data"), token=None, viser_port=free_port(), snapshot_every=3600.0
+    )
+    with serve_in_thread(settings) as running:
+        yield running
+
+
+def launch(server: RunningServer, name: str) -> str:
+    body = {"scenario": "experiment1", "seed": 3, "name": name, "protocol": {"episodes": 0}}
+    response = server.client.post("/api/runs", params={"hz": 20, "start": True}, json=body)
+    assert response.status_code == 201, response.text
+    return str(response.json()["id"])
+
+
+def open_dashboard(browser: Browser, server: RunningServer) -> Page:
+    context = browser.new_context(viewport={"width": 1024, "height": 768})
+    context.add_init_script(TOUR_DONE)
+    page = context.new_page()
+    page.set_default_timeout(60_000)  # two software-WebGL views on a loaded machine
+    page.goto(server.url)
+    return page
+
+
+def select(page: Page, run_id: str) -> None:
+    page.locator(f'li.run-item[data-run="{run_id}"] button.run-select').click()
+    page.locator(f'li.run-item.selected[data-run="{run_id}"]').wait_for()
+
+
+def shown_by(frame: Frame, label: str) -> None:
+    """Wait (bounded) until the view's panel names the run `label` as the one it shows."""
+    frame.wait_for_function(
+        f"() => [...document.querySelectorAll('input')].some(e => e.value === {label!r})", timeout=30_000
+    )
+
+
+def panel_inputs(frame: Frame) -> list[str]:
+    return list(frame.locator("input").evaluate_all(INPUTS))
+
+
+@pytest.mark.timeout(240)
+def test_two_pages_each_see_their_own_run_and_a_switch_on_one_leaves_the_other(
+    browser: Browser, server: RunningServer
+) -> None:
+    alpha, beta = launch(server, "alpha"), launch(server, "beta")
+    labels = {alpha: f"alpha [{alpha}]", beta: f"beta [{beta}]"}
+    view_url = server.client.get("/api/view").json()["url"]
+    pages = [open_dashboard(browser, server), open_dashboard(browser, server)]
+    frames = []
+    for page, run_id in zip(pages, (alpha, beta), strict=True):
+        select(page, run_id)
+        frame = viser_view(page, view_url)
+        frame.get_by_role("button", name="Expand panel").click(timeout=60_000)  # it starts minimized
+        shown_by(frame, labels[run_id])
+        frames.append(frame)
+
+    began = time.monotonic()
+    while time.monotonic() - began < WATCH_SECONDS:
+        for frame, own, other in zip(frames, (alpha, beta), (beta, alpha), strict=True):
+            values = panel_inputs(frame)
+            assert labels[own] in values and labels[other] not in values, values
+        time.sleep(2)
+    steps = {run: server.client.get(f"/api/runs/{run}").json()["step"] for run in (alpha, beta)}
+    assert min(steps.values()) > 100, f"both runs learned while watched: {steps}"
+
+    select(pages[0], beta)  # the first page switches: its view follows, the second's stays on beta
+    shown_by(frames[0], labels[beta])
+    assert labels[beta] in panel_inputs(frames[1])
+    select(pages[1], alpha)  # and the other way round
+    shown_by(frames[1], labels[alpha])
+    assert labels[beta] in panel_inputs(frames[0]) and labels[alpha] not in panel_inputs(frames[0])
+    for page in pages:
+        page.context.close()
