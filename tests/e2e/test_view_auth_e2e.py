@@ -87,7 +87,7 @@ def test_without_the_token_the_panel_changes_no_run(browser: Browser, server: Ru
         # A second browser, without the token, still sees no commands.
         other = browser.new_page(viewport={"width": 1280, "height": 800})
         other.goto(url)
-        other.get_by_role("button", name="Expand panel").click(timeout=30_000)
+        other.get_by_role("button", name="Expand panel").click(timeout=60_000)  # a second software-WebGL page
         expect(other.get_by_role("button", name="Tilt to 3-D")).to_be_visible(timeout=30_000)
         expect(other.get_by_role("button", name="Pause", exact=True)).to_have_count(0)
     assert errors == [], errors

@@ -299,7 +299,8 @@ def test_each_client_sees_its_own_run_and_changes_nothing_another_sees() -> None
         source.step(second, 3)
         view.refresh()
         assert teacher.viewer.panel.run_id == first and student.viewer.panel.run_id == second
-        assert teacher.viewer.panel.run.value == f"first [{first}]", "the panel names the run it shows"
+        assert teacher.viewer.panel.run.value == f"first [{first}]"
+        assert teacher.viewer.panel._label == f"Showing first [{first}]", "the panel's title names the run it shows"
         assert student.viewer.panel.total.value == 3 and teacher.viewer.panel.total.value == 0
         assert view.shown_run(TAB) == first and view.shown_run("dashboard-tab-2") == second
         # A hand-written client changes its own Run dropdown: only its own view follows.

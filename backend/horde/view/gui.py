@@ -91,6 +91,7 @@ class ControlPanel:
         self._ticking = False
         self._charts: tuple[viser.GuiUplotHandle, viser.GuiUplotHandle] | None = None
         self._chart_names: tuple[str, ...] = ()
+        self._label: str | None = None  # the panel's title
         self._build()
 
     # ------------------------------------------------------------------------------------------
@@ -198,6 +199,7 @@ class ControlPanel:
             self._select_run(next(iter(options.values()), None))
         else:
             _set(self.run, current)
+            self._name_run(current)
 
     def select_run(self, run_id: str) -> None:
         """Show this run (the dashboard asks for the run it has selected)."""
@@ -212,7 +214,15 @@ class ControlPanel:
         option = next((o for o, r in self._run_ids.items() if r == run_id), None)
         if option is not None and self.run.value != option:
             _set(self.run, option)
+        self._name_run(option)
         self.changed.set()
+
+    def _name_run(self, option: str | None) -> None:
+        """The panel's title names the run shown (its bar too, minimized as it starts)."""
+        label = f"Showing {option}" if option is not None else None
+        if label != self._label:
+            self._label = label
+            self.gui.set_panel_label(label)
 
     def set_demons(self, names: Sequence[str], with_shown: bool = True) -> None:
         """Rebuild the demon widgets for a newly chosen run (or when demons joined or left it); without
