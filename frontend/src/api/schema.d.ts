@@ -239,10 +239,27 @@ export interface paths {
         /**
          * Monte-Carlo truth of a demon's question vs its prediction
          * @description Rolls the demon's target policy out from `from` with frozen weights (its own generator: the run is not
-         *     disturbed). 422 when `from` lies outside the world or in an obstacle; 429 when two evaluations are running
-         *     already.
+         *     disturbed), and keeps the answer with the run (the latest per demon; a reset drops them). 422 when
+         *     `from` lies outside the world or in an obstacle; 429 when two evaluations are running already.
          */
         post: operations["evaluate_api_runs__run_id__evaluate_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/runs/{run_id}/evaluations": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The run's kept evaluations, the latest of each demon */
+        get: operations["evaluations_api_runs__run_id__evaluations_get"];
+        put?: never;
+        post?: never;
         delete?: never;
         options?: never;
         head?: never;
@@ -3833,6 +3850,47 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+        };
+    };
+    evaluations_api_runs__run_id__evaluations_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["EvaluationOut"][];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
         };

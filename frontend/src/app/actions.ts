@@ -82,11 +82,14 @@ export async function selectRun(store: AppStore, runId: string | null): Promise<
   }
   if (runId === store.state.selectedRunId) return;
   const path = { params: { path: { run_id: runId } } };
-  const [run, demons] = await Promise.all([
+  const [run, demons, kept] = await Promise.all([
     unwrap(api.GET("/api/runs/{run_id}", path)),
     unwrap(api.GET("/api/runs/{run_id}/demons", path)),
+    unwrap(api.GET("/api/runs/{run_id}/evaluations", path)),
   ]);
-  store.update({ selectedRunId: runId, run, demons, live: null, evaluations: {}, charted: defaultCharted(demons) });
+  // The run's kept evaluations (the latest of each demon) are shown again, after a reload or from a link.
+  const evaluations = Object.fromEntries(kept.map((evaluation) => [evaluation.demon, evaluation]));
+  store.update({ selectedRunId: runId, run, demons, live: null, evaluations, charted: defaultCharted(demons) });
   // The embedded live view follows; selecting never waits for it.
   void attempt(store, () => showInLiveView(store, runId));
 }
