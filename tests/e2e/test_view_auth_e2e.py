@@ -60,9 +60,9 @@ def test_without_the_token_the_panel_changes_no_run(browser: Browser, server: Ru
 
     with browser_page(browser, 1280, 800) as (page, errors):
         page.goto(url)
-        page.get_by_role("button", name="Expand panel").click(timeout=30_000)  # it starts minimized
+        page.get_by_role("button", name="Expand panel").click(timeout=60_000)  # minimized at first; software WebGL
         tilt = page.get_by_role("button", name="Tilt to 3-D")
-        expect(tilt).to_be_visible(timeout=30_000)
+        expect(tilt).to_be_visible(timeout=60_000)
         for name in ("Play", "Pause", "Step", "Reset"):  # the commands are absent
             expect(page.get_by_role("button", name=name, exact=True)).to_have_count(0)
         expect(page.get_by_text("Full speed")).to_have_count(0)
