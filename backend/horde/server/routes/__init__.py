@@ -31,7 +31,6 @@ ROUTERS: tuple[APIRouter, ...] = (
     demons.writes,
     stream.router,
     view.router,
-    view.writes,
     protocols.router,
     protocols.writes,
     studies.router,
