@@ -8,7 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from horde.cli import ProgressBar, main
+from horde.cli import main
+from horde.progress import ProgressBar
 from horde.scenarios import scenario_dir
 
 

@@ -9,11 +9,12 @@ import numpy as np
 import pytest
 
 from grids import lamp, lamp_terminal
-from horde.core.check import WorldCheckError, check_world
+from horde.core.check import WorldCheckError
 from horde.core.simulation import Simulation
 from horde.core.world import World
 from horde.scenarios import ScenarioError, list_scenarios, load_scenario, parse_scenario, scenario_dir
 from horde.spec import RunSpec
+from horde.worlds.check import check_world
 
 SCENARIOS = sorted(scenario_dir().glob("*.toml"))
 

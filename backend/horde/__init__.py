@@ -16,7 +16,7 @@ examples/08_any_world_in_python.py):
 Everything else (the server, the run store, the compiled kernels) is internal and may change.
 """
 
-from horde.core.check import WorldCheckError, check_world
+from horde.core.check import WorldCheckError
 from horde.core.evaluate import Lattice, Truth, exact, monte_carlo
 from horde.core.experiment import DemonResult, ProtocolResult, TrialResult
 from horde.core.learners import LearnerParams, LearnerState, update
@@ -36,6 +36,7 @@ from horde.spec import (
     RunSpec,
     WorldSpec,
 )
+from horde.worlds.check import check_world
 from horde.worlds.gym_simulation import GymSimulation
 from horde.worlds.kinds import AnySimulation, Simulation, run_protocol
 from horde.worlds.log_run import LogDemon, LogResult, learn_log

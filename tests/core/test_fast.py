@@ -242,4 +242,6 @@ def test_forward_of_some_demons_equals_forward_of_all() -> None:
         np.testing.assert_array_equal(some.prediction[:, i], full.prediction[:, i])
         np.testing.assert_array_equal(some.pi[:, i], full.pi[:, i])
         np.testing.assert_array_equal(some.q[:, i], full.q[:, i])
-    assert sim.horde.needs([sim.horde.names[0]]).sum() < sim.horde.num_demons or len(sim.horde.names) == 1
+    needed = {name: set(np.flatnonzero(sim.horde.needs([name])).tolist()) for name in sim.horde.names}
+    assert all(sim.horde.index[name] in demons for name, demons in needed.items())
+    assert sim.horde.num_demons > 1 and min(map(len, needed.values())) == 1, "a demon reading none needs only itself"

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import time
 from collections.abc import Callable
 
 import pytest
@@ -15,6 +14,7 @@ from horde.runs.manager import RunManager
 from horde.runs.readout import evaluation_support
 from horde.server import Settings, create_app
 from horde.spec import RunSpec
+from polling import wait_until
 from stream_specs import nexting, robot
 
 from .helpers import locs, make_spec, messages, wait_for
@@ -52,10 +52,12 @@ def test_a_demon_joins_without_disturbing_the_others(client: TestClient, create_
 
 def test_a_demon_joins_a_running_run(client: TestClient, create_run: Callable[..., str]) -> None:
     run_id = create_run(make_spec(), start="true")
-    time.sleep(0.1)
+    wait_until(lambda: client.get(f"/api/runs/{run_id}").json()["step"] > 0, "the running run's first steps")
     assert client.post(f"/api/runs/{run_id}/demons", json=BUMP).status_code == 201
-    time.sleep(0.2)
-    state = client.get(f"/api/runs/{run_id}/state").json()
+    joined = client.get(f"/api/runs/{run_id}").json()["step"]
+    state = wait_until(
+        lambda: (b := client.get(f"/api/runs/{run_id}/state").json())["step"] > joined and b, "steps after the join"
+    )
     assert state["status"] == "running" and "bump" in state["predictions"]
     assert client.delete(f"/api/runs/{run_id}/demons/bump").status_code == 204
     assert "bump" not in client.get(f"/api/runs/{run_id}/state").json()["predictions"]
@@ -114,7 +116,7 @@ def test_values_errors(client: TestClient, create_run: Callable[..., str]) -> No
 
 def test_history(client: TestClient, create_run: Callable[..., str]) -> None:
     run_id = create_run(make_spec(), start="true", hz=100)
-    time.sleep(0.4)
+    wait_until(lambda: client.get(f"/api/runs/{run_id}").json()["step"] >= 20, "20 paced steps")
     steps = client.post(f"/api/runs/{run_id}/pause").json()["step"]
     body = client.get(f"/api/runs/{run_id}/demons/steps/history").json()
     assert body["every"] == 1 and body["capacity"] == 2000

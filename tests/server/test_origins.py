@@ -3,7 +3,6 @@ port: tests/e2e/test_view_auth_e2e.py)."""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import pytest
@@ -13,6 +12,7 @@ from starlette.websockets import WebSocketDisconnect
 from horde.server import Settings, create_app
 from horde.server.hosts import HostRule
 from horde.server.origins import origin_allowed
+from sockets import receive_json
 
 from .helpers import make_spec
 
@@ -40,13 +40,13 @@ def test_the_stream_refuses_other_sites(tmp_path: Path) -> None:
         run = client.post("/api/runs", json=make_spec()).json()["id"]
         own = {"origin": "http://127.0.0.1:8000", "host": "127.0.0.1:8000"}
         with client.websocket_connect(f"/api/runs/{run}/stream", headers=own) as ws:
-            assert json.loads(ws.receive_text())["run"] == run
+            assert receive_json(ws, "the first state from the own origin")["run"] == run
         with client.websocket_connect(f"/api/runs/{run}/stream") as ws:  # no Origin: a script, not a page
-            assert json.loads(ws.receive_text())["run"] == run
+            assert receive_json(ws, "the first state without an Origin")["run"] == run
         other = {**own, "origin": "http://evil.example"}
         with (
             client.websocket_connect(f"/api/runs/{run}/stream", headers=other) as ws,
             pytest.raises(WebSocketDisconnect) as refused,
         ):
-            ws.receive_json()  # accepted, then closed before any message
+            receive_json(ws, "the close of another site's stream")  # accepted, then closed before any message
         assert refused.value.code == 1008

@@ -9,7 +9,9 @@ from collections.abc import Callable
 import pytest
 from fastapi.testclient import TestClient
 
+from horde.runs.live_run import MAX_LAG
 from horde.runs.store import Store
+from polling import wait_until
 
 from .helpers import locs, make_spec, wait_for
 
@@ -19,7 +21,7 @@ def test_start_pause_resume(client: TestClient, create_run: Callable[..., str]) 
     assert client.post(f"/api/runs/{run_id}/start").json()["status"] == "running"
     assert client.post(f"/api/runs/{run_id}/start").status_code == 409
     assert client.post(f"/api/runs/{run_id}/step", json={"steps": 1}).status_code == 409
-    time.sleep(0.2)
+    wait_until(lambda: client.get(f"/api/runs/{run_id}").json()["step"] > 0, "the running run's first steps")
     paused = client.post(f"/api/runs/{run_id}/pause").json()
     assert paused["status"] == "paused" and paused["step"] > 0
     assert client.post(f"/api/runs/{run_id}/pause").status_code == 409
@@ -65,17 +67,21 @@ def test_a_finished_run_refuses_start_and_step_until_reset(client: TestClient, c
 
 def test_zero_episodes_runs_until_paused(client: TestClient, create_run: Callable[..., str]) -> None:
     run_id = create_run(make_spec(episodes=0), start="true")
-    time.sleep(0.5)
-    body = client.get(f"/api/runs/{run_id}").json()
-    assert body["status"] == "running" and body["episode"] > 2
+    body = wait_until(
+        lambda: (b := client.get(f"/api/runs/{run_id}").json())["episode"] > 2 and b, "a third episode of the run"
+    )
+    assert body["status"] == "running"
     client.post(f"/api/runs/{run_id}/pause")
 
 
 def test_hz_paces_the_run(client: TestClient, create_run: Callable[..., str]) -> None:
+    began = time.monotonic()  # before the start: the time measured can only be longer than the run's
     run_id = create_run(make_spec(), start="true", hz=40)
-    time.sleep(0.5)
-    steps = client.post(f"/api/runs/{run_id}/pause").json()["step"]
-    assert 5 <= steps <= 40  # about 20 at 40 steps per second
+    wait_until(lambda: client.get(f"/api/runs/{run_id}").json()["step"] >= 20, "20 paced steps")
+    elapsed = time.monotonic() - began
+    client.post(f"/api/runs/{run_id}/pause")
+    # the first step comes at once and a lag of up to MAX_LAG is caught up: no faster than that
+    assert elapsed >= 19 / 40 - MAX_LAG, f"20 steps in {elapsed:.3f} s: faster than 40 steps a second"
 
 
 def test_state(client: TestClient, create_run: Callable[..., str]) -> None:

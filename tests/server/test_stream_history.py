@@ -11,6 +11,7 @@ from fastapi.testclient import TestClient
 
 from horde.spec import RunSpec
 from horde.worlds.records import RecordLearner
+from sockets import receive_json
 from stream_specs import LIGHT_WHEEL, nexting, robot, tiled
 
 
@@ -64,10 +65,10 @@ def test_a_refused_record_breaks_the_realised_returns_there(client: TestClient) 
     url = f"/api/streams/{client.post('/api/streams', json=spec()).json()['id']}"
     good = records(40)
     with client.websocket_connect(f"{url}/records") as ws:
-        ws.receive_json()  # hello
+        receive_json(ws, "the hello")  # hello
         ws.send_json({"records": [*good[:20], {"observation": [0.5, float("nan")], "action": 0}, *good[20:]]})
-        assert ws.receive_json()["type"] == "error"
-        assert ws.receive_json()["learned"] == 40
+        assert receive_json(ws, "the error for the NaN record")["type"] == "error"
+        assert receive_json(ws, "the learned count")["learned"] == 40
     body = client.get(f"{url}/history", params={"demons": "light_g0.5"}).json()
     assert body["records"] == [*range(20), *range(21, 41)], "the refused record 20 is not in the history"
     light = [r["observation"][0] for r in good]

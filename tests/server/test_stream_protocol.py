@@ -13,6 +13,7 @@ from fastapi.testclient import TestClient
 from starlette.websockets import WebSocketDisconnect
 
 from horde.server.stream_protocol import StreamClose, add_stream_schemas
+from sockets import receive_json
 
 GENERATED = Path(__file__).resolve().parents[2] / "frontend" / "src" / "api" / "stream-protocol.ts"
 
@@ -37,7 +38,7 @@ def test_the_dashboards_close_codes_are_the_servers() -> None:
 def test_an_unknown_run_and_an_unknown_study_close_with_not_found(client: TestClient) -> None:
     for path in ("/api/runs/nope/stream", "/api/studies/nope/stream"):
         with client.websocket_connect(path) as ws, pytest.raises(WebSocketDisconnect) as closed:
-            ws.receive_json()
+            receive_json(ws, "the not-found close")
         assert closed.value.code == StreamClose.NOT_FOUND, path
 
 
@@ -45,7 +46,7 @@ def test_a_run_streams_messages_the_schema_describes(client: TestClient, create_
     run_id = create_run()
     state = client.get(f"/api/runs/{run_id}/state").json()
     with client.websocket_connect(f"/api/runs/{run_id}/stream") as ws:
-        message = ws.receive_json()
+        message = receive_json(ws, "the first state")
     assert set(message) == set(state)
 
 

@@ -13,6 +13,7 @@ from fastapi.testclient import TestClient
 
 from horde.server import Settings
 from polling import wait_until
+from sockets import receive_json
 
 from .helpers import wait_study
 
@@ -105,7 +106,7 @@ def test_the_stream_reports_progress_until_the_study_stops(client: TestClient) -
     seen = []
     with client.websocket_connect(f"/api/studies/{study_id}/stream") as ws:
         for _ in range(2000):
-            message = ws.receive_json()
+            message = receive_json(ws, "the study's next progress message")
             seen.append((message["status"], message["tasks_done"]))
             if message["status"] != "running":
                 break

@@ -28,6 +28,7 @@ from horde.server import Settings, create_app
 from horde.spec import RunSpec
 from horde.worlds.log_run import learn_log
 from serving import serve_in_thread
+from sockets import receive_json
 from stream_specs import tiled
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -102,25 +103,25 @@ def test_the_websocket_reports_bad_records_and_goes_on(client: TestClient) -> No
     run = client.post("/api/streams", json=stream_spec()).json()
     good = {"observation": [0.5, 0.1, 30.0], "action": 1}
     with client.websocket_connect(f"/api/streams/{run['id']}/records") as socket:
-        assert socket.receive_json()["type"] == "hello"
+        assert receive_json(socket, "the hello")["type"] == "hello"
         socket.send_text(json.dumps({"records": [good, {"observation": [0.5, 0.1, float("nan")], "action": 1}, good]}))
-        error = socket.receive_json()
+        error = receive_json(socket, "the error for the NaN record")
         assert error == {
             "type": "error",
             "index": 1,
             "field": "observation.heat",
             "message": "nan is not a finite number",
         }
-        learned = socket.receive_json()
+        learned = receive_json(socket, "the learned count")
         assert learned["type"] == "learned" and learned["received"] == 3 and learned["learned"] == 2
         socket.send_text("not json")
-        assert socket.receive_json()["field"] == "message"
+        assert receive_json(socket, "the error for a message that is not JSON")["field"] == "message"
         socket.send_text(json.dumps({"records": [good] * 10_001}))
-        assert "at most 10000 records a message" in socket.receive_json()["message"]
+        assert "at most 10000 records a message" in receive_json(socket, "the error for too many records")["message"]
         socket.send_text(json.dumps(good))
-        assert socket.receive_json()["learned"] == 3
+        assert receive_json(socket, "the learned count")["learned"] == 3
     with pytest.raises(Exception), client.websocket_connect("/api/streams/nope/records") as socket:  # noqa: B017
-        socket.receive_json()
+        receive_json(socket, "a message on an unknown stream")
 
 
 def test_a_log_with_bad_lines_names_file_line_and_field(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -8,11 +8,12 @@ import numpy as np
 import pytest
 from pydantic import ValidationError
 
-from horde.core.check import WorldCheckError, check_world
+from horde.core.check import WorldCheckError
 from horde.core.external import ExternalLoop
 from horde.core.horde import Horde
 from horde.core.policies import sign_policy
 from horde.spec import RunSpec
+from horde.worlds.check import check_world
 from horde.worlds.gymnasium import GymAgent, GymWorld
 
 

@@ -1,4 +1,4 @@
-"""`check_world`: the environment contract that every world keeps, on both engines (and every kind).
+"""`check_grid_world`: the environment contract of the grid world, on both engines.
 
 Modelled on Gymnasium's `check_env`, which runs over every registered environment: this runs over every
 scenario (tests/test_scenarios.py) and over any spec a user writes. It checks, with a seeded generator:
@@ -14,7 +14,8 @@ scenario (tests/test_scenarios.py) and over any spec a user writes. It checks, w
    The moves are compared without slip and noise (the two engines draw those from the generator in a
    different order, so a stochastic move cannot be replayed); everything else of the world is kept.
 
-Each failure raises `WorldCheckError` with what went wrong and where.
+Each failure raises `WorldCheckError` with what went wrong and where. `require` and `check_sensors` are
+shared with `horde.worlds.check`, whose `check_world` checks every world kind (the grid's through this one).
 """
 
 from __future__ import annotations
@@ -30,21 +31,21 @@ class WorldCheckError(AssertionError):
     """A world broke the environment contract (the message says which rule, at which step)."""
 
 
-def _require(ok: bool, message: str) -> None:
+def require(ok: bool, message: str) -> None:
     if not ok:
         raise WorldCheckError(message)
 
 
-def _check_sensors(spec: RunSpec, sensors: np.ndarray, where: str) -> None:
+def check_sensors(spec: RunSpec, sensors: np.ndarray, where: str) -> None:
     """[B, S] sensors: named as the spec says, finite, within the spec's bounds."""
     names = spec.world.sensor_names()
-    _require(sensors.shape[-1] == len(names), f"{where}: {sensors.shape[-1]} sensors, the spec names {len(names)}")
-    _require(bool(np.isfinite(sensors).all()), f"{where}: a sensor is not finite")
+    require(sensors.shape[-1] == len(names), f"{where}: {sensors.shape[-1]} sensors, the spec names {len(names)}")
+    require(bool(np.isfinite(sensors).all()), f"{where}: a sensor is not finite")
     bounds = spec.world.sensor_bounds()
     for column, name in enumerate(names):
         low, high = bounds[name]
         values = sensors[..., column]
-        _require(
+        require(
             bool(((values >= low - 1e-9) & (values <= high + 1e-9)).all()),
             f"{where}: sensor {name!r} read {values.min():g}..{values.max():g}, outside [{low:g}, {high:g}]",
         )
@@ -52,34 +53,30 @@ def _check_sensors(spec: RunSpec, sensors: np.ndarray, where: str) -> None:
 
 def _check_starts(world: World, state: WorldState, where: str) -> None:
     inside = world.inside(state.x, state.y)
-    _require(
-        not bool(world.blocked(state.x, state.y).any()), f"{where}: a start is outside the world or in an obstacle"
-    )
-    _require(not bool((inside & world.is_terminal).any()), f"{where}: a start lies in a terminal")
-    _require(bool((state.steps == 0).all()), f"{where}: a start has steps != 0")
+    require(not bool(world.blocked(state.x, state.y).any()), f"{where}: a start is outside the world or in an obstacle")
+    require(not bool((inside & world.is_terminal).any()), f"{where}: a start lies in a terminal")
+    require(bool((state.steps == 0).all()), f"{where}: a start has steps != 0")
 
 
 def _numpy_episodes(spec: RunSpec, seed: int, batch: int) -> list[tuple[np.ndarray, ...]]:
     """Run `batch` episodes of random actions to their end with world.py, checking every step."""
     world = World(spec.grid)
-    _require(world.sensor_names == spec.grid.sensor_names(), "world.py names its sensors unlike the spec")
+    require(world.sensor_names == spec.grid.sensor_names(), "world.py names its sensors unlike the spec")
     rng = np.random.default_rng(seed)
     state = world.reset(rng, batch)
     _check_starts(world, state, "world.py reset")
-    _check_sensors(spec, world.start_sensors(state), "world.py start sensors")
+    check_sensors(spec, world.start_sensors(state), "world.py start sensors")
     trace: list[tuple[np.ndarray, ...]] = [(state.x, state.y, state.colors)]
     ended = np.zeros(batch, dtype=bool)
     for t in range(1, spec.grid.max_steps + 1):
         actions = rng.integers(0, NUM_ACTIONS, size=batch)
         state, transition = world.step(state, actions, rng)
         where = f"world.py step {t}"
-        _check_sensors(spec, world.sensors(state, transition), where)
-        _require(not bool((transition.terminated & transition.truncated).any()), f"{where}: terminated and truncated")
-        _require(bool((transition.truncated == (state.steps == spec.grid.max_steps) & ~transition.terminated).all()),
+        check_sensors(spec, world.sensors(state, transition), where)
+        require(not bool((transition.terminated & transition.truncated).any()), f"{where}: terminated and truncated")
+        require(bool((transition.truncated == (state.steps == spec.grid.max_steps) & ~transition.terminated).all()),
                  f"{where}: truncated other than at max_steps")  # fmt: skip
-        _require(
-            not bool(world.blocked(state.x, state.y).any()), f"{where}: moved into an obstacle or out of the world"
-        )
+        require(not bool(world.blocked(state.x, state.y).any()), f"{where}: moved into an obstacle or out of the world")
         trace.append((state.x, state.y, transition.reward, transition.terminated))
         ended |= transition.terminated | transition.truncated
         if ended.all():
@@ -93,7 +90,7 @@ def _check_engines_agree(spec: RunSpec, seed: int, steps: int) -> None:
     exact = spec.model_copy(update={"world": exact_world})
     sim = Simulation(exact, np.random.default_rng(seed))
     world = World(exact_world)
-    _require(len(sim.sensors) == len(spec.world.sensor_names()), "the compiled loop has another number of sensors")
+    require(len(sim.sensors) == len(spec.world.sensor_names()), "the compiled loop has another number of sensors")
     dummy = np.random.default_rng(0)  # world.py draws nothing without slip and noise
     for t in range(1, steps + 1):
         before = sim.world_state
@@ -102,9 +99,9 @@ def _check_engines_agree(spec: RunSpec, seed: int, steps: int) -> None:
         result = sim.step()
         state, transition = world.step(before, np.array([result.action]), dummy)
         where = f"step {t} (action {result.action} from ({before.x[0]:g}, {before.y[0]:g}))"
-        _require(bool(transition.terminated[0]) == result.terminated, f"{where}: the engines disagree on terminated")
-        _require(bool(transition.truncated[0]) == result.truncated, f"{where}: the engines disagree on truncated")
-        _require(np.isclose(transition.reward[0], result.reward), f"{where}: the engines disagree on the reward")
+        require(bool(transition.terminated[0]) == result.terminated, f"{where}: the engines disagree on terminated")
+        require(bool(transition.truncated[0]) == result.truncated, f"{where}: the engines disagree on truncated")
+        require(np.isclose(transition.reward[0], result.reward), f"{where}: the engines disagree on the reward")
         np_sensors = world.sensors(state, transition)[0]
         if not np.allclose(np_sensors, sim.sensors):
             names = [
@@ -112,31 +109,23 @@ def _check_engines_agree(spec: RunSpec, seed: int, steps: int) -> None:
             ]
             raise WorldCheckError(f"{where}: the engines disagree on sensors {names}")
         if not result.done:
-            _require(np.allclose(sim.position, (state.x[0], state.y[0])), f"{where}: the engines disagree on the move")
+            require(np.allclose(sim.position, (state.x[0], state.y[0])), f"{where}: the engines disagree on the move")
 
 
-def check_world(spec: RunSpec, seed: int = 0, batch: int = 16, steps: int = 300) -> None:
-    """Check the environment contract of `spec`'s world on both engines (see the module); raise if broken.
+def check_grid_world(spec: RunSpec, seed: int = 0, batch: int = 16, steps: int = 300) -> None:
+    """Check the environment contract of `spec`'s grid world on both engines (see the module); raise if broken.
 
     Args:
         spec: a validated run spec (its demons are needed to build the compiled loop).
         seed: the generator's seed; the check is itself deterministic.
         batch: episodes run side by side on world.py, each to its end.
         steps: steps of the compiled loop replayed on world.py.
-
-    Other world kinds (a Gymnasium environment, a stream) keep the same contract, checked by
-    `horde.worlds.check.check_external_world` (imported here only for them).
     """
-    if spec.world.kind != "grid":
-        from horde.worlds.check import check_external_world
-
-        check_external_world(spec, seed, steps)
-        return
     first = _numpy_episodes(spec, seed, batch)
     second = _numpy_episodes(spec, seed, batch)
     for t, (a, b) in enumerate(zip(first, second, strict=True)):
-        _require(
+        require(
             all(np.array_equal(x, y) for x, y in zip(a, b, strict=True)), f"world.py step {t}: same seed, other run"
         )
-    _require(len(first) == len(second), "world.py: same seed, episodes of other lengths")
+    require(len(first) == len(second), "world.py: same seed, episodes of other lengths")
     _check_engines_agree(spec, seed, steps)

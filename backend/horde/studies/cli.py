@@ -9,6 +9,7 @@ import os
 import sys
 from pathlib import Path
 
+from horde.progress import ProgressBar
 from horde.runs.errors import NotFoundError
 from horde.runs.store import Store
 from horde.scenarios import ScenarioError
@@ -52,8 +53,6 @@ def format_table(summaries: list[ConfigSummary], rows: int = TABLE_ROWS) -> str:
 
 
 def cmd_study(args: argparse.Namespace) -> int:
-    from horde.cli import ProgressBar
-
     store = Store(Path(args.data or os.environ.get("HORDE_DATA") or ".horde"))
     try:
         if args.resume:

@@ -1,4 +1,7 @@
-"""The environment contract for the world kinds fed from outside (`core/check.py` checks the grid world).
+"""`check_world`: the environment contract that every world kind keeps (`core/check.py` checks the grid world).
+
+Modelled on Gymnasium's `check_env`. A grid world is checked on both engines by `core/check.py`'s
+`check_grid_world`; the kinds fed from outside are checked here.
 
 A Gymnasium world, with a seeded generator and a uniform behaviour:
 
@@ -15,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from horde.core.check import WorldCheckError, _check_sensors, _require
+from horde.core.check import WorldCheckError, check_grid_world, check_sensors, require
 from horde.core.external import ExternalLoop, ExternalRecordError
 from horde.core.horde import Horde
 from horde.spec import BehaviourSpec, GymnasiumWorldSpec, RunSpec, StreamWorldSpec
@@ -31,7 +34,7 @@ def _refuses_bad_records(loop: ExternalLoop, good: np.ndarray, where: str) -> No
         try:
             loop.learn(sensors, action, prob)
         except ExternalRecordError as exc:
-            _require(str(exc).startswith(field), f"{where}: a bad record was refused without naming {field!r}: {exc}")
+            require(str(exc).startswith(field), f"{where}: a bad record was refused without naming {field!r}: {exc}")
         else:
             raise WorldCheckError(f"{where}: a bad record ({field}) was learned")
 
@@ -43,24 +46,24 @@ def _gym_trajectory(spec: RunSpec, seed: int, steps: int) -> list[tuple[np.ndarr
     agent = GymAgent(spec, np.random.default_rng(seed))
     uniform = BehaviourSpec()
     limit = agent.world.env.spec.max_episode_steps if agent.world.env.spec else None
-    _check_sensors(spec, agent.sensors[None], "gymnasium reset")
+    check_sensors(spec, agent.sensors[None], "gymnasium reset")
     trace: list[tuple[np.ndarray, ...]] = []
     length = 0
     for t in range(1, steps + 1):
         step = agent.step(uniform)
         where = f"gymnasium step {t}"
         sensors = step.sensors  # what the Horde learned from: the sensors after the action
-        _check_sensors(spec, sensors[None], where)
-        _require(not (step.terminated and step.truncated), f"{where}: terminated and truncated")
-        _require(sensors[-2] == float(step.terminated) and sensors[-1] == float(step.truncated),
+        check_sensors(spec, sensors[None], where)
+        require(not (step.terminated and step.truncated), f"{where}: terminated and truncated")
+        require(sensors[-2] == float(step.terminated) and sensors[-1] == float(step.truncated),
                  f"{where}: the terminated / truncated sensors disagree with the environment")  # fmt: skip
         length += 1
         if limit is not None:
-            _require(not step.truncated or length == limit, f"{where}: truncated after {length} steps, not {limit}")
-            _require(length <= limit, f"{where}: an episode ran past its time limit {limit}")
+            require(not step.truncated or length == limit, f"{where}: truncated after {length} steps, not {limit}")
+            require(length <= limit, f"{where}: an episode ran past its time limit {limit}")
         if step.done:
             length = 0
-            _check_sensors(spec, agent.sensors[None], f"{where}: the next episode's first state")
+            check_sensors(spec, agent.sensors[None], f"{where}: the next episode's first state")
         trace.append((sensors, np.array([step.action]), agent.loop.prediction()))
     _refuses_bad_records(agent.loop, agent.sensors, "gymnasium")
     agent.world.close()
@@ -74,21 +77,34 @@ def _check_stream(spec: RunSpec, seed: int, steps: int) -> None:
     low = np.array([max(bounds[n][0], -1e3) for n in spec.world.sensor_names()])
     high = np.array([min(bounds[n][1], 1e3) for n in spec.world.sensor_names()])
     sensors = rng.uniform(low, high, size=(steps + 1, len(low)))  # [T + 1, S]
-    _check_sensors(spec, sensors, "stream records")
+    check_sensors(spec, sensors, "stream records")
     loop = ExternalLoop(Horde(spec))
     loop.observe(sensors[0])
     loop.learn(sensors[1:], rng.integers(0, loop.num_actions, steps), np.full(steps, 1.0 / loop.num_actions))
-    _require(loop.steps == steps, f"stream: {loop.steps} of {steps} records learned")
+    require(loop.steps == steps, f"stream: {loop.steps} of {steps} records learned")
     _refuses_bad_records(loop, sensors[-1], "stream")
 
 
-def check_external_world(spec: RunSpec, seed: int = 0, steps: int = 300) -> None:
-    """Check the contract of a Gymnasium or stream world (see the module); raise `WorldCheckError` if broken."""
+def check_world(spec: RunSpec, seed: int = 0, batch: int = 16, steps: int = 300) -> None:
+    """Check the environment contract of `spec`'s world, of any kind (see the module); raise if broken.
+
+    Args:
+        spec: a validated run spec (its demons are needed to build the compiled loop).
+        seed: the generator's seed; the check is itself deterministic.
+        batch: a grid world's episodes run side by side on world.py, each to its end.
+        steps: steps replayed (grid), taken (Gymnasium) or records learned (stream).
+
+    Raises:
+        WorldCheckError: the world broke the contract (the message says which rule, at which step).
+    """
+    if spec.world.kind == "grid":
+        check_grid_world(spec, seed, batch, steps)
+        return
     if isinstance(spec.world, StreamWorldSpec):
         _check_stream(spec, seed, steps)
         return
     first = _gym_trajectory(spec, seed, steps)
     second = _gym_trajectory(spec, seed, steps)
     for t, (a, b) in enumerate(zip(first, second, strict=True)):
-        _require(all(np.array_equal(x, y) for x, y in zip(a, b, strict=True)),
+        require(all(np.array_equal(x, y) for x, y in zip(a, b, strict=True)),
                  f"gymnasium step {t + 1}: same seed, other run")  # fmt: skip
