@@ -228,23 +228,34 @@ class RunManager:
     # Evaluation (outside the learner thread, on a frozen view)
 
     def evaluate(
-        self, run_id: str, demon: str, start: tuple[float, float] | None, episodes: int, cap: int, seed: int | None
+        self,
+        run_id: str,
+        demon: str,
+        start: tuple[float, float] | None,
+        episodes: int,
+        cap: int,
+        seed: int | None,
+        abandoned: Callable[[], bool] = lambda: False,
     ) -> Evaluation:
         """Monte-Carlo truth of a demon's question from `start` (`readout.evaluate`), beside its prediction there,
-        given up after `limits.evaluation_seconds` (whether or not its client still waits: a thread and a slot are
-        bounded).
+        given up after `limits.evaluation_seconds`, or as soon as `abandoned()` says its client has gone (so a
+        thread and a slot are held no longer than someone waits, and never past the budget).
 
         Raises:
             BusyError: MAX_EVALUATIONS evaluations are already running.
             SpecError: the rollouts did not finish in time (naming `episodes`).
+            StoppedError: the client went away first.
         """
         view = self.get(run_id).view
         if not self._evaluations.acquire(blocking=False):
             raise BusyError(f"{MAX_EVALUATIONS} evaluations are running already; try again when they are done")
         budget = self.limits.evaluation_seconds
+        over_time = _time_budget(budget)
         try:
-            return evaluate(view, demon, start, episodes, cap, seed, stop=_time_budget(budget))
+            return evaluate(view, demon, start, episodes, cap, seed, stop=lambda: abandoned() or over_time())
         except StoppedError as exc:
+            if abandoned():
+                raise
             raise SpecError.at(("body", "episodes"), f"the rollouts did not finish within {budget:g} s ({exc}): "
                                "ask for fewer episodes or a smaller cap") from None  # fmt: skip
         finally:

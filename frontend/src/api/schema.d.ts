@@ -244,7 +244,7 @@ export interface paths {
          *     drops them). 422 when `from` lies outside the world or in an obstacle, is given on a world without points,
          *     or the demon's question cannot be rolled out there, or when the rollouts do not finish within
          *     HORDE_EVALUATION_SECONDS (at `episodes`: ask for fewer, or a smaller `cap`); 429 when two evaluations are
-         *     running already.
+         *     running already. A client that hangs up ends its evaluation (the grid's rollouts stop at their next chunk).
          */
         post: operations["evaluate_api_runs__run_id__evaluate_post"];
         delete?: never;

@@ -3,10 +3,14 @@
 
 from __future__ import annotations
 
+import asyncio
+import threading
 from typing import Annotated
 
-from fastapi import APIRouter, Query, status
+from fastapi import APIRouter, Query, Request, Response, status
+from starlette.concurrency import run_in_threadpool
 
+from horde.core.evaluate import StoppedError
 from horde.runs.errors import NotFoundError
 from horde.runs.evaluations import keep_evaluation, kept_evaluations
 from horde.runs.readout import value_map
@@ -26,6 +30,8 @@ from horde.server.schemas import (
 from horde.spec import DemonSpec
 
 router = APIRouter(prefix="/runs/{run_id}", tags=["demons"])
+HANG_UP_POLL = 0.25  # seconds between checks that an evaluation's client still waits
+CLIENT_CLOSED_REQUEST = 499  # the answer to a client that hung up (never read; nginx's name and number)
 writes = write_router(router)
 
 
@@ -100,22 +106,45 @@ def get_history(
 
 @writes.post(
     "/evaluate",
+    response_model=EvaluationOut,
     summary="Monte-Carlo truth of a demon's question vs its prediction",
     responses={**BAD_BODY, **NOT_FOUND, **BUSY},
 )
-def evaluate(run: RunDep, evaluation: EvaluateIn, manager: ManagerDep, store: StoreDep) -> EvaluationOut:
+async def evaluate(
+    run: RunDep, evaluation: EvaluateIn, manager: ManagerDep, store: StoreDep, request: Request
+) -> EvaluationOut | Response:
     """Rolls the demon's target policy out with frozen weights (its own generator: the run is not disturbed), as
     the run's world allows (its `evaluation`): on the grid from `from` (default: the world's start), on a
     Gymnasium world from the agent's current state; keeps the answer with the run (the latest per demon; a reset
     drops them). 422 when `from` lies outside the world or in an obstacle, is given on a world without points,
     or the demon's question cannot be rolled out there, or when the rollouts do not finish within
     HORDE_EVALUATION_SECONDS (at `episodes`: ask for fewer, or a smaller `cap`); 429 when two evaluations are
-    running already."""
+    running already. A client that hangs up ends its evaluation (the grid's rollouts stop at their next chunk)."""
     cap = evaluation.cap or min(run.view.spec.protocol.evaluation.cap, MAX_EVAL_CAP)
     start = (evaluation.from_[0], evaluation.from_[1]) if evaluation.from_ is not None else None
-    out = evaluation_out(manager.evaluate(run.id, evaluation.demon, start, evaluation.episodes, cap, evaluation.seed))
-    keep_evaluation(store, run.id, out.demon, out.model_dump_json(by_alias=True))
-    return out
+    gone = threading.Event()
+
+    def evaluate_and_keep() -> EvaluationOut:
+        result = manager.evaluate(run.id, evaluation.demon, start, evaluation.episodes, cap, evaluation.seed,
+                                  abandoned=gone.is_set)  # fmt: skip
+        out = evaluation_out(result)
+        keep_evaluation(store, run.id, out.demon, out.model_dump_json(by_alias=True))
+        return out
+
+    watcher = asyncio.create_task(_watch_for_hang_up(request, gone))
+    try:
+        return await run_in_threadpool(evaluate_and_keep)
+    except StoppedError:  # the client hung up: nobody reads this answer
+        return Response(status_code=CLIENT_CLOSED_REQUEST)
+    finally:
+        watcher.cancel()
+
+
+async def _watch_for_hang_up(request: Request, gone: threading.Event) -> None:
+    """Set `gone` once the client's connection closes (checked every HANG_UP_POLL seconds)."""
+    while not await request.is_disconnected():
+        await asyncio.sleep(HANG_UP_POLL)
+    gone.set()
 
 
 @router.get("/evaluations", summary="The run's kept evaluations, the latest of each demon", responses=NOT_FOUND)
