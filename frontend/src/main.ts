@@ -4,7 +4,6 @@
  */
 import "./styles.css";
 import { attempt, loadCatalog, loadLiveView, loadProtocols } from "./app/actions";
-import { keepAddress } from "./app/location";
 import { createStore } from "./app/state";
 import { installShortcuts } from "./app/shortcuts";
 import { watchChartedForView, watchProtocol, watchRuns, watchSelectedRun } from "./app/watch";
@@ -74,7 +73,6 @@ installShortcuts(store, helpPanel.open, () =>
 void loadCatalog(store);
 void attempt(store, () => loadProtocols(store));
 void loadLiveView(store);
-keepAddress(store);
 watchRuns(store);
 watchSelectedRun(store);
 watchProtocol(store);

@@ -6,7 +6,6 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
-from urllib.parse import parse_qs, urlsplit
 
 import pytest
 
@@ -109,13 +108,6 @@ def viser_view(page: Page, view_url: str) -> Frame:
     wait for its nodes times out (about one run in five of the stream test, as the page's layout settled)."""
     page.locator("iframe.viser-frame").scroll_into_view_if_needed()
     return next(f for f in page.frames if f.url.startswith(view_url.rstrip("/")))
-
-
-def page_viewer(page: Page) -> str:
-    """The page's own live view key: the `viewer` of the WebSocket address in its embedded view's address."""
-    src = page.locator("iframe.viser-frame").get_attribute("src") or ""
-    socket = parse_qs(urlsplit(src).query)["websocket"][0]
-    return parse_qs(urlsplit(socket).query)["viewer"][0]
 
 
 def fill_and_press(form: Locator, fields: dict[str, str], button: str) -> None:

@@ -24,9 +24,6 @@ BASE_DEMON: dict[str, Any] = {
         "else": {"if": {"sensor": "in:pit"}, "then": -1, "else": 0},
     },
 }
-# Writes that need no token: choosing what one dashboard tab's live view shows changes no run and nothing
-# another browser sees (routes/view.py).
-TOKENLESS_WRITES = {("post", "/api/view")}
 STEPS_DEMON: dict[str, Any] = {"name": "steps", "policy": {"of": "base"}, "cumulant": 1, "alpha": 0.05}
 
 

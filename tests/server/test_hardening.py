@@ -67,7 +67,7 @@ CASES: list[tuple[str, str, Callable[[str], str], tuple[str | int, ...]]] = [
     ("POST", "/api/runs/{run}/evaluate", lambda _: json.dumps({"demon": "steps", "from": [0, "X"]}), ("from", 1)),
     ("POST", "/api/runs/{run}/demons", lambda _: json.dumps({"name": "new", "alpha": "X"}), ("alpha",)),
     ("POST", "/api/runs/{run}/demons", lambda _: json.dumps({"name": "new", "cumulant": "X"}), ("cumulant", "float")),
-    ("POST", "/api/view", lambda _: json.dumps({"viewer": "dashboard-tab", "run": "X"}), ("run",)),
+    ("POST", "/api/view", lambda _: json.dumps({"run": "X"}), ("run",)),
     ("POST", "/api/protocols", lambda _: json.dumps({"scenario": "experiment1", "seed": "X"}), ("seed",)),
 ]
 

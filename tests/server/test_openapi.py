@@ -7,8 +7,6 @@ import re
 import pytest
 from fastapi.testclient import TestClient
 
-from .helpers import TOKENLESS_WRITES
-
 CONTRACT = {
     ("get", "/api/health"),
     ("get", "/api/scenarios"),
@@ -50,7 +48,7 @@ def test_every_contract_route_is_documented_with_its_responses(client: TestClien
             assert any(code.startswith("2") for code in codes), (method, path)
             if "{run_id}" in path or ("{name}" in path and method != "put"):
                 assert "404" in codes, (method, path)
-            if method in ("post", "put", "patch", "delete") and (method, path) not in TOKENLESS_WRITES:
+            if method in ("post", "put", "patch", "delete"):
                 assert "401" in codes, (method, path)
             if "parameters" in operation or "requestBody" in operation:
                 assert "422" in codes, (method, path)

@@ -11,10 +11,10 @@ import pytest
 from horde.runs.manager import RunManager
 from horde.runs.run_setup import Limits
 from horde.scenarios import load_scenario, scenario_dir
+from horde.view.live import LiveView
 from horde.view.manager_source import ManagerSource
 from horde.view.source import CommandRefusedError, ViewSource
-
-from .viewers import RawClient, started_by_hand
+from serving import free_port
 
 
 @pytest.fixture
@@ -106,18 +106,18 @@ def test_a_refused_gui_command_is_told_to_the_client_who_clicked(source: Manager
     ).id
     source.step(run_id, 5000)
     assert source.snapshot(run_id).status == "finished"
-    view = started_by_hand(source)
+    view = LiveView(source, port=free_port())
+    view.start()
     try:
-        panel = RawClient(view).viewer.panel
-        panel.select_run(run_id)
+        view.panel.select_run(run_id)
         clicker, other = Click(Client(7)), Client(8)
-        panel._command(clicker, source.play)
+        view.panel._command(clicker, source.play)
         assert clicker.client.notes == [("Not done", "cannot start a finished run: reset it to run again", "red")]
         assert other.notes == [], "the others are not told"
-        panel._command(clicker, source.reset)  # accepted: nothing to tell
+        view.panel._command(clicker, source.reset)  # accepted: nothing to tell
         assert len(clicker.client.notes) == 1 and source.snapshot(run_id).status == "created"
         source.manager.delete(run_id)
-        panel._command(clicker, source.play)
+        view.panel._command(clicker, source.play)
         assert clicker.client.notes[-1][0] == "Run gone"
     finally:
         view.stop()

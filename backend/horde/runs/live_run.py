@@ -33,7 +33,6 @@ import numpy as np
 
 from horde.runs.commands import CommandQueue, ShutdownError
 from horde.runs.errors import BusyError, NotFoundError, SaveError
-from horde.runs.evaluations import forget_evaluations
 from horde.runs.events import EventLog
 from horde.runs.history import History
 from horde.runs.recorder import Recorder, SnapshotCost
@@ -196,10 +195,7 @@ class LiveRun:
         return self.call(self._then_commit(self.session.pause))
 
     def reset(self) -> RunView:
-        view = self.call(self._then_commit(self.session.reset))
-        if self.recorder.store is not None:  # fresh weights: the kept truths no longer describe them
-            forget_evaluations(self.recorder.store, self.id)
-        return view
+        return self.call(self._then_commit(self.session.reset))
 
     def step(self, steps: int) -> RunView:
         def command() -> RunView:

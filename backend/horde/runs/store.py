@@ -1,5 +1,4 @@
-"""The SQLite store under the data directory: worlds, runs, run summaries, weight snapshots, protocol jobs
-(and the tables of runs/evaluations.py, through `read` and `write`).
+"""The SQLite store under the data directory: worlds, runs, run summaries, weight snapshots, protocol jobs.
 
 One file, `horde.db`, in write-ahead-log mode. Every write is one transaction, so a crash (even
 SIGKILL) leaves either the old or the new row, never half of one; a run's record, its latest
@@ -19,7 +18,6 @@ from pathlib import Path
 from typing import Any
 
 from horde.runs.errors import StoreOpenError, StoreWriteError
-from horde.runs.evaluations import EVALUATION_SCHEMA
 
 DB_NAME = "horde.db"
 SCHEMA_VERSION = 1
@@ -169,7 +167,7 @@ class Store:
             self._db.execute("PRAGMA synchronous=FULL")
             self._db.execute("PRAGMA foreign_keys=ON")
             with self._transaction() as db:
-                for statement in (SCHEMA + STUDY_SCHEMA + EVALUATION_SCHEMA).split(";"):
+                for statement in (SCHEMA + STUDY_SCHEMA).split(";"):
                     if statement.strip():
                         db.execute(statement)
                 db.execute(f"PRAGMA user_version={SCHEMA_VERSION}")
@@ -205,15 +203,6 @@ class Store:
     def _read(self, sql: str, args: tuple[object, ...] = ()) -> list[Any]:
         with self._lock:
             return list(self._db.execute(sql, args).fetchall())
-
-    def read(self, sql: str, args: tuple[object, ...] = ()) -> list[Any]:
-        """The rows of one query, for the modules that keep tables of their own here (runs/evaluations.py)."""
-        return self._read(sql, args)
-
-    def write(self, sql: str, args: tuple[object, ...] = ()) -> None:
-        """One statement in a transaction of its own, for the modules that keep tables of their own here."""
-        with self._transaction() as db:
-            db.execute(sql, args)
 
     def integrity_check(self) -> str:
         """SQLite's verdict on the file: "ok" when sound."""

@@ -1,15 +1,15 @@
-"""`ControlPanel`: one browser's viser GUI of the live view (run and demon selectors, commands,
-readouts, charts).
+"""`ControlPanel`: the viser GUI of the live view (run and demon selectors, commands, readouts, charts).
 
-Every browser (every viser client) has a panel of its own, built with its own `client.gui`: its
-selectors (run, value map, demons shown, phase-plane axes, 3-D) change what that browser sees and
-nothing else, so any browser may use them. GUI callbacks run on viser's thread pool: they forward
-commands to the source and record the selection, which the view thread reads at its next frame.
+The panel is shared by every browser that shows the view (a classroom watches one teacher's
+choices). GUI callbacks run on viser's thread pool: they forward commands to the source and record
+the selection, which the view thread reads at its next frame.
 
-The commands (play, pause, step, reset, speed) change a run, which every viewer sees. Without a token
-(the server's HORDE_TOKEN) every panel has them; with one, a panel has a "Token" field instead, and
-the commands appear once that browser has entered the token. Browsers whose page came from another
-site (see `horde.server.origins`) are disconnected before they get a panel.
+With a token (the server's HORDE_TOKEN) the shared panel changes nothing: it has no commands (play,
+pause, step, reset, speed), and a change of its selectors (run, value map, demons shown, 3-D) from a
+browser that has not entered the token is undone and answered with a notification. Each browser gets
+its own "Token" field; once it holds the token, that browser alone gets the commands, in its own
+folder, and may change the selectors. Browsers whose page came from another site (see
+`horde.server.origins`) are disconnected and may change nothing, with or without a token.
 """
 
 from __future__ import annotations
@@ -53,30 +53,28 @@ def _set(handle: Any, value: object) -> None:
 
 
 class ControlPanel:
-    """The GUI of one browser (viser client).
+    """The GUI of one viser server.
 
     Args:
-        client: the viser client whose own GUI this is.
+        server: the viser server.
         source: where commands go.
         on_view_mode: called with True (tilted 3-D view) or False (top-down) when the user switches.
-        changed: set when the selection changes (the view thread redraws at once).
-        token: the server's token: the commands appear once the browser has entered it (None: at once).
     """
 
     def __init__(
         self,
-        client: viser.ClientHandle,
+        server: viser.ViserServer,
         source: ViewSource,
         on_view_mode: Callable[[bool], None],
-        changed: threading.Event,
         token: str | None = None,
     ) -> None:
-        self.client = client
-        self.gui = client.gui
+        self.server = server
         self.source = source
         self.on_view_mode = on_view_mode
         self.token = token
-        self._speed_inputs: tuple[Any, Any] | None = None  # (slider, checkbox), once the commands are shown
+        self.unlocked: set[int] = set()  # clients that entered the token
+        self.rejected: set[int] = set()  # clients whose page came from another site
+        self._speed_inputs: dict[int | None, tuple[Any, Any]] = {}  # owner (None: shared) -> (slider, checkbox)
         self.lock = threading.Lock()
         self.run_id: str | None = None
         self.value_demon: str | None = None
@@ -84,21 +82,20 @@ class ControlPanel:
         self.three_d = False
         self.phase_x: str | None = None  # the sensors along a phase plane's axes (stream runs)
         self.phase_y: str | None = None
-        self.changed = changed
+        self.changed = threading.Event()  # the selection changed: redraw now
         self._run_ids: dict[str, str] = {}  # dropdown option -> run id
         self._demon_handles: list[viser.GuiDropdownHandle[str] | viser.GuiFolderHandle] = []
         self._checkboxes: dict[str, viser.GuiCheckboxHandle] = {}
         self._ticking = False
         self._charts: tuple[viser.GuiUplotHandle, viser.GuiUplotHandle] | None = None
         self._chart_names: tuple[str, ...] = ()
-        self._label: str | None = None  # the panel's title
         self._build()
 
     # ------------------------------------------------------------------------------------------
     # Fixed widgets
 
     def _build(self) -> None:
-        gui = self.gui
+        gui = self.server.gui
         gui.configure_theme(control_width="large")
         self._syncing = False  # True while the view itself sets widget values
         # Minimized to a bar at first: embedded in the dashboard the panel would cover half the world, and
@@ -108,19 +105,18 @@ class ControlPanel:
         self.run.on_update(self._on_run)
         self.status = gui.add_text("Status", "", disabled=True, order=1)
         if self.token is None:
-            self._add_commands()
+            self._add_commands(gui, None)
         self.episode = gui.add_number("Episode", 0, disabled=True, order=9)
         self.step = gui.add_number("Step", 0, disabled=True, order=10)
         self.total = gui.add_number("Total steps", 0, disabled=True, order=11)
         self.episode_return = gui.add_number("Return", 0.0, step=0.001, disabled=True, order=12)
         self.view_button = gui.add_button("Tilt to 3-D", order=13)
-        self.view_button.on_click(lambda _: self._toggle_view())
+        self.view_button.on_click(lambda event: self._toggle_view() if self._may_change(event) else None)
         if self.token is not None:
-            self._offer_token()
+            self.server.on_client_connect(self._offer_token)
 
-    def _add_commands(self) -> None:
-        """Play, pause, step, reset and speed."""
-        gui = self.gui
+    def _add_commands(self, gui: Any, owner: int | None) -> None:
+        """Play, pause, step, reset and speed, on the shared panel or on one unlocked client's own."""
         play, pause = gui.add_button("Play", order=2), gui.add_button("Pause", order=3)
         play.on_click(lambda event: self._command(event, self.source.play))
         pause.on_click(lambda event: self._command(event, self.source.pause))
@@ -133,34 +129,50 @@ class ControlPanel:
         full_speed = gui.add_checkbox("Full speed", False, hint="as fast as possible", order=8)
         hz.on_update(lambda event: self._set_hz(event, hz, full_speed))
         full_speed.on_update(lambda event: self._set_hz(event, hz, full_speed))
-        self._speed_inputs = (hz, full_speed)
+        self._speed_inputs[owner] = (hz, full_speed)
 
     # ------------------------------------------------------------------------------------------
-    # Who may change runs
+    # Who may change what
 
-    def _offer_token(self) -> None:
-        """A "Token" field; the right token gives this browser the commands."""
-        client = self.client
-        field = self.gui.add_text("Token", "", hint="the server's HORDE_TOKEN: unlocks the commands", order=-1)
+    def _may_change(self, event: Any) -> bool:
+        """Whether the client behind a GUI event may change runs and the shared view; tells it if not."""
+        client_id = getattr(event, "client_id", None)
+        if client_id in self.rejected:
+            return False
+        if self.token is None or client_id in self.unlocked:
+            return True
+        _tell(event, "Read-only", "This server needs its token to change anything: enter it under Token.")
+        return False
+
+    def _offer_token(self, client: viser.ClientHandle) -> None:
+        """A "Token" field of this client's own; the right token gives it the commands."""
+        field = client.gui.add_text("Token", "", hint="the server's HORDE_TOKEN: unlocks the commands", order=-1)
 
         def check(_: object) -> None:
             assert self.token is not None
-            if not field.value:
+            if client.client_id in self.rejected or not field.value:
                 return
             if not hmac.compare_digest(field.value.encode(), self.token.encode()):
                 client.add_notification("Wrong token", "That is not this server's token.", color="red")
                 return
+            self.unlocked.add(client.client_id)
             field.remove()
-            with self.gui.add_folder("Commands", order=1.5):
-                self._add_commands()
+            with client.gui.add_folder("Commands", order=1.5):
+                self._add_commands(client.gui, client.client_id)
             client.add_notification("Unlocked", "This browser may now change runs.", color="green")
 
         field.on_update(check)
 
+    def forget_client(self, client_id: int) -> None:
+        """A client left: drop what the panel knew of it."""
+        self.unlocked.discard(client_id)
+        self.rejected.discard(client_id)
+        self._speed_inputs.pop(client_id, None)
+
     def _command(self, event: Any, command: Callable[[str], None]) -> None:
         """Forward a command; a refusal (or a run gone meanwhile) is told to the client who clicked, as a
         notification (viser's way of answering one browser), the others seeing nothing."""
-        if self.run_id is None:
+        if self.run_id is None or not self._may_change(event):
             return
         try:
             command(self.run_id)
@@ -175,8 +187,13 @@ class ControlPanel:
             return
         self._command(event, lambda run: self.source.set_hz(run, None if full_speed.value else float(hz.value)))
 
-    def _on_run(self, _: Any) -> None:
-        self._select_run(self._run_ids.get(self.run.value))
+    def _on_run(self, event: Any) -> None:
+        if self._may_change(event):
+            self._select_run(self._run_ids.get(self.run.value))
+            return
+        option = next((o for o, r in self._run_ids.items() if r == self.run_id), None)  # undo it
+        if option is not None:
+            _set(self.run, option)
 
     def _toggle_view(self) -> None:
         self.three_d = not self.three_d
@@ -199,7 +216,6 @@ class ControlPanel:
             self._select_run(next(iter(options.values()), None))
         else:
             _set(self.run, current)
-            self._name_run(current)
 
     def select_run(self, run_id: str) -> None:
         """Show this run (the dashboard asks for the run it has selected)."""
@@ -214,15 +230,7 @@ class ControlPanel:
         option = next((o for o, r in self._run_ids.items() if r == run_id), None)
         if option is not None and self.run.value != option:
             _set(self.run, option)
-        self._name_run(option)
         self.changed.set()
-
-    def _name_run(self, option: str | None) -> None:
-        """The panel's title names the run shown (its bar too, minimized as it starts)."""
-        label = f"Showing {option}" if option is not None else None
-        if label != self._label:
-            self._label = label
-            self.gui.set_panel_label(label)
 
     def set_demons(self, names: Sequence[str], with_shown: bool = True) -> None:
         """Rebuild the demon widgets for a newly chosen run (or when demons joined or left it); without
@@ -231,7 +239,7 @@ class ControlPanel:
             handle.remove()
         self._demon_handles, self._checkboxes = [], {}
         self._remove_charts()
-        gui = self.gui
+        gui = self.server.gui
         with self.lock:  # keep what is still there (demons joined or left), else the first ones
             self.value_demon = self.value_demon if self.value_demon in names else (names[0] if names else None)
             ticked = [name for name in self.shown if name in names]
@@ -239,7 +247,7 @@ class ControlPanel:
         if self.value_demon is None:
             return
         value = gui.add_dropdown("Value map", tuple(names), initial_value=self.value_demon, order=20)
-        value.on_update(lambda _: self._set_value_demon(value.value))
+        value.on_update(lambda event: self._on_value_demon(event, value))
         self._demon_handles.append(value)
         if not with_shown:
             return
@@ -247,9 +255,15 @@ class ControlPanel:
         with folder:
             for name in names[:MAX_DEMON_CHECKBOXES]:
                 box = gui.add_checkbox(name, name in self.shown)
-                box.on_update(lambda _: self._set_shown())
+                box.on_update(self._shown_callback(box, name))
                 self._checkboxes[name] = box
         self._demon_handles.append(folder)
+
+    def _on_value_demon(self, event: Any, handle: Any) -> None:
+        if self._may_change(event):
+            self._set_value_demon(handle.value)
+        else:
+            _set(handle, self.value_demon)
 
     def show_demons(self, names: Sequence[str]) -> None:
         """Label and chart these demons (the dashboard's selection; the first MAX_SHOWN of them)."""
@@ -265,7 +279,7 @@ class ControlPanel:
 
     def set_sensors(self, names: Sequence[str]) -> None:
         """The phase plane's axis choices for a run drawn as one (after `set_demons`, removed with its widgets)."""
-        gui = self.gui
+        gui = self.server.gui
         with self.lock:
             self.phase_x = self.phase_x if self.phase_x in names else (names[0] if names else None)
             fallback = names[min(1, len(names) - 1)] if names else None
@@ -280,9 +294,12 @@ class ControlPanel:
             self._demon_handles.append(handle)
 
     def _sensor_callback(self, handle: Any, attribute: str) -> Callable[[Any], None]:
-        def changed(_: Any) -> None:
-            setattr(self, attribute, handle.value)
-            self.changed.set()
+        def changed(event: Any) -> None:
+            if self._may_change(event):
+                setattr(self, attribute, handle.value)
+                self.changed.set()
+            else:
+                _set(handle, getattr(self, attribute))
 
         return changed
 
@@ -298,6 +315,15 @@ class ControlPanel:
         self.value_demon = name
         self.changed.set()
 
+    def _shown_callback(self, box: Any, name: str) -> Callable[[Any], None]:
+        return lambda event: self._on_shown(event, box, name)
+
+    def _on_shown(self, event: Any, box: Any, name: str) -> None:
+        if self._may_change(event):
+            self._set_shown()
+        else:
+            _set(box, name in self.shown)
+
     def _set_shown(self) -> None:
         if self._ticking:
             return
@@ -309,14 +335,12 @@ class ControlPanel:
 
     def _sync_speed(self, snapshot: ViewSnapshot) -> None:
         """Show the run's speed (it may change elsewhere, say over REST) without commanding it."""
-        if self._speed_inputs is None:
-            return
-        hz, full_speed = self._speed_inputs
         self._syncing = True
         try:
-            _set(full_speed, snapshot.hz is None)
-            if snapshot.hz is not None:
-                _set(hz, int(np.clip(round(snapshot.hz), *SPEED_RANGE)))
+            for hz, full_speed in list(self._speed_inputs.values()):
+                _set(full_speed, snapshot.hz is None)
+                if snapshot.hz is not None:
+                    _set(hz, int(np.clip(round(snapshot.hz), *SPEED_RANGE)))
         finally:
             self._syncing = False
 
@@ -349,7 +373,7 @@ class ControlPanel:
         predictions = (steps, *(snapshot.history.predictions[n] for n in names))
         rupee = (steps, *(snapshot.history.rupee[n] for n in names))
         if self._charts is None:
-            gui = self.gui
+            gui = self.server.gui
             demon_order = [d.name for d in snapshot.spec.demons]
             scales: dict[str, viser.uplot.Scale] = {"x": {"time": False}}
             axes: tuple[viser.uplot.Axis, ...] = ({"label": "step"}, {"label": ""})

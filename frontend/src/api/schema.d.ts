@@ -240,30 +240,13 @@ export interface paths {
          * Monte-Carlo truth of a demon's question vs its prediction
          * @description Rolls the demon's target policy out with frozen weights (its own generator: the run is not disturbed), as
          *     the run's world allows (its `evaluation`): on the grid from `from` (default: the world's start), on a
-         *     Gymnasium world from the agent's current state; keeps the answer with the run (the latest per demon; a reset
-         *     drops them). 422 when `from` lies outside the world or in an obstacle, is given on a world without points,
-         *     or the demon's question cannot be rolled out there, or when the rollouts do not finish within
-         *     HORDE_EVALUATION_SECONDS (at `episodes`: ask for fewer, or a smaller `cap`); 429 when two evaluations are
-         *     running already. A client that hangs up ends its evaluation (the grid's rollouts stop at their next chunk).
+         *     Gymnasium world from the agent's current state. 422 when `from` lies outside the world or in an obstacle, is
+         *     given on a world without points, or the demon's question cannot be rolled out there, or when the rollouts do
+         *     not finish within HORDE_EVALUATION_SECONDS (at `episodes`: ask for fewer, or a smaller `cap`); 429 when two
+         *     evaluations are running already. A client that hangs up ends its evaluation (the grid's rollouts stop at
+         *     their next chunk).
          */
         post: operations["evaluate_api_runs__run_id__evaluate_post"];
-        delete?: never;
-        options?: never;
-        head?: never;
-        patch?: never;
-        trace?: never;
-    };
-    "/api/runs/{run_id}/evaluations": {
-        parameters: {
-            query?: never;
-            header?: never;
-            path?: never;
-            cookie?: never;
-        };
-        /** The run's kept evaluations, the latest of each demon */
-        get: operations["evaluations_api_runs__run_id__evaluations_get"];
-        put?: never;
-        post?: never;
         delete?: never;
         options?: never;
         head?: never;
@@ -684,10 +667,10 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** Whether and where the live view listens (for one dashboard tab, with `viewer`) */
+        /** Whether and where the live view listens */
         get: operations["get_view_api_view_get"];
         put?: never;
-        /** Show a run in one dashboard tab's live view */
+        /** Show a run in the live view (every connected browser) */
         post: operations["show_run_api_view_post"];
         delete?: never;
         options?: never;
@@ -2708,18 +2691,13 @@ export interface components {
             demons?: string[] | null;
             /**
              * Run
-             * @description the run the tab's live view should show
+             * @description the run the live view should show
              */
             run: string;
-            /**
-             * Viewer
-             * @description a dashboard tab's own random key (8 to 64 letters, digits, - or _): the browsers that opened the view at GET /api/view?viewer=<key>'s url follow this tab's choice, no others
-             */
-            viewer: string;
         };
         /**
          * ViewOut
-         * @description Whether the viser live view runs, where it listens, and which run it shows one dashboard tab.
+         * @description Whether the viser live view runs, where it listens, and which run it shows.
          */
         ViewOut: {
             /**
@@ -2729,12 +2707,12 @@ export interface components {
             enabled: boolean;
             /**
              * Run
-             * @description the run shown to the browsers of `viewer`, if it chose one
+             * @description the run it shows now, if any
              */
             run: string | null;
             /**
              * Url
-             * @description the viser client's address (embed it in an iframe or open it); with `viewer`, the address whose browsers follow that tab's choice
+             * @description the viser client's address (embed it in an iframe or open it)
              */
             url: string | null;
         };
@@ -3908,47 +3886,6 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ErrorOut"];
-                };
-            };
-        };
-    };
-    evaluations_api_runs__run_id__evaluations_get: {
-        parameters: {
-            query?: never;
-            header?: never;
-            path: {
-                /** @description the run's id */
-                run_id: string;
-            };
-            cookie?: never;
-        };
-        requestBody?: never;
-        responses: {
-            /** @description Successful Response */
-            200: {
-                headers: {
-                    [name: string]: unknown;
-                };
-                content: {
-                    "application/json": components["schemas"]["EvaluationOut"][];
-                };
-            };
-            /** @description Unknown run, demon, world or scenario */
-            404: {
-                headers: {
-                    [name: string]: unknown;
-                };
-                content: {
-                    "application/json": components["schemas"]["ErrorOut"];
-                };
-            };
-            /** @description Validation Error */
-            422: {
-                headers: {
-                    [name: string]: unknown;
-                };
-                content: {
-                    "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
         };
@@ -5277,9 +5214,7 @@ export interface operations {
     };
     get_view_api_view_get: {
         parameters: {
-            query?: {
-                viewer?: string | null;
-            };
+            query?: never;
             header?: never;
             path?: never;
             cookie?: never;
@@ -5293,15 +5228,6 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ViewOut"];
-                };
-            };
-            /** @description Validation Error */
-            422: {
-                headers: {
-                    [name: string]: unknown;
-                };
-                content: {
-                    "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
         };
@@ -5330,6 +5256,15 @@ export interface operations {
             };
             /** @description The body cannot be parsed (not JSON, not UTF-8) */
             400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            401: {
                 headers: {
                     [name: string]: unknown;
                 };

@@ -1,8 +1,7 @@
 /**
- * The viser live view, embedded: its address comes from GET /api/view (this page's own, see
- * `VIEWER_KEY`), and it shows the run selected in this dashboard (POST /api/view on every selection,
- * see `selectRun`); other pages' views follow their own. Where the server runs without it
- * (`enabled: false`; only `horde serve` starts one) a short note stands instead.
+ * The viser live view, embedded: its address comes from GET /api/view, and it shows the run selected
+ * in the dashboard (POST /api/view on every selection, see `selectRun`). Where the server runs without
+ * it (`enabled: false`; only `horde serve` starts one) a short note stands instead.
  */
 import type { AppState, AppStore, LiveView } from "../app/state";
 import { h, replaceChildren, section } from "../ui/dom";

@@ -31,6 +31,7 @@ ROUTERS: tuple[APIRouter, ...] = (
     demons.writes,
     stream.router,
     view.router,
+    view.writes,
     protocols.router,
     protocols.writes,
     studies.router,

@@ -1,5 +1,4 @@
-"""A run's demons: list, join, leave, value maps, history and Monte-Carlo evaluation (kept with the run:
-`GET /api/runs/{id}/evaluations`, runs/evaluations.py)."""
+"""A run's demons: list, join, leave, value maps, history and Monte-Carlo evaluation."""
 
 from __future__ import annotations
 
@@ -12,11 +11,10 @@ from starlette.concurrency import run_in_threadpool
 
 from horde.core.evaluate import StoppedError
 from horde.runs.errors import NotFoundError
-from horde.runs.evaluations import keep_evaluation, kept_evaluations
 from horde.runs.readout import value_map
 from horde.runs.run_view import RunView
 from horde.server.convert import demons_out, evaluation_out, history_out, values_out
-from horde.server.deps import DemonName, ManagerDep, RunDep, StoreDep, write_router
+from horde.server.deps import DemonName, ManagerDep, RunDep, write_router
 from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND, NOT_SAVED
 from horde.server.schemas import (
     MAX_EVAL_CAP,
@@ -111,29 +109,27 @@ def get_history(
     responses={**BAD_BODY, **NOT_FOUND, **BUSY},
 )
 async def evaluate(
-    run: RunDep, evaluation: EvaluateIn, manager: ManagerDep, store: StoreDep, request: Request
+    run: RunDep, evaluation: EvaluateIn, manager: ManagerDep, request: Request
 ) -> EvaluationOut | Response:
     """Rolls the demon's target policy out with frozen weights (its own generator: the run is not disturbed), as
     the run's world allows (its `evaluation`): on the grid from `from` (default: the world's start), on a
-    Gymnasium world from the agent's current state; keeps the answer with the run (the latest per demon; a reset
-    drops them). 422 when `from` lies outside the world or in an obstacle, is given on a world without points,
-    or the demon's question cannot be rolled out there, or when the rollouts do not finish within
-    HORDE_EVALUATION_SECONDS (at `episodes`: ask for fewer, or a smaller `cap`); 429 when two evaluations are
-    running already. A client that hangs up ends its evaluation (the grid's rollouts stop at their next chunk)."""
+    Gymnasium world from the agent's current state. 422 when `from` lies outside the world or in an obstacle, is
+    given on a world without points, or the demon's question cannot be rolled out there, or when the rollouts do
+    not finish within HORDE_EVALUATION_SECONDS (at `episodes`: ask for fewer, or a smaller `cap`); 429 when two
+    evaluations are running already. A client that hangs up ends its evaluation (the grid's rollouts stop at
+    their next chunk)."""
     cap = evaluation.cap or min(run.view.spec.protocol.evaluation.cap, MAX_EVAL_CAP)
     start = (evaluation.from_[0], evaluation.from_[1]) if evaluation.from_ is not None else None
     gone = threading.Event()
 
-    def evaluate_and_keep() -> EvaluationOut:
+    def evaluate_now() -> EvaluationOut:
         result = manager.evaluate(run.id, evaluation.demon, start, evaluation.episodes, cap, evaluation.seed,
                                   abandoned=gone.is_set)  # fmt: skip
-        out = evaluation_out(result)
-        keep_evaluation(store, run.id, out.demon, out.model_dump_json(by_alias=True))
-        return out
+        return evaluation_out(result)
 
     watcher = asyncio.create_task(_watch_for_hang_up(request, gone))
     try:
-        return await run_in_threadpool(evaluate_and_keep)
+        return await run_in_threadpool(evaluate_now)
     except StoppedError:  # the client hung up: nobody reads this answer
         return Response(status_code=CLIENT_CLOSED_REQUEST)
     finally:
@@ -145,8 +141,3 @@ async def _watch_for_hang_up(request: Request, gone: threading.Event) -> None:
     while not await request.is_disconnected():
         await asyncio.sleep(HANG_UP_POLL)
     gone.set()
-
-
-@router.get("/evaluations", summary="The run's kept evaluations, the latest of each demon", responses=NOT_FOUND)
-def evaluations(run: RunDep, store: StoreDep) -> list[EvaluationOut]:
-    return [EvaluationOut.model_validate_json(data) for data in kept_evaluations(store, run.id)]
