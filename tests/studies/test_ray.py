@@ -128,7 +128,9 @@ def test_a_study_across_a_two_node_cluster_equals_the_in_process_run(tmp_path: P
     port = free_port()
     address = f"127.0.0.1:{port}"
     env = {
-        **os.environ,
+        # Without the single-machine switch that a local study's Ray sets in this process (studies/runner.py):
+        # with it, a second node cannot join.
+        **{k: v for k, v in os.environ.items() if k != "RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER"},
         "RAY_AUTH_MODE": "token",
         "RAY_AUTH_TOKEN": secrets.token_hex(16),
         "RAY_NODE_IP_ADDRESS": "127.0.0.1",
