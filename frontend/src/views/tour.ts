@@ -109,16 +109,24 @@ export function tour(store: AppStore): Tour {
     const box = target.getBoundingClientRect();
     const width = Math.min(element.offsetWidth || 360, window.innerWidth - 16);
     const height = element.offsetHeight || 180;
-    const left = Math.max(8, Math.min(box.left + 16, window.innerWidth - width - 8));
-    // Below the part when there is room, else above it, else over its lowest part: never over its top.
+    let left = Math.max(8, Math.min(box.left + 16, window.innerWidth - width - 8));
+    // Below the part when there is room, else above it, else beside it, else over its lowest part: never over
+    // its top.
     const below = box.bottom + 8;
     const above = box.top - height - 8;
-    const top =
-      below + height <= window.innerHeight - 8
-        ? below
-        : above >= 8
-          ? above
-          : Math.max(8, Math.min(box.bottom, window.innerHeight) - height - 8);
+    const beside =
+      box.left - width - 8 >= 8
+        ? box.left - width - 8
+        : box.right + width + 8 <= window.innerWidth
+          ? box.right + 8
+          : null;
+    let top: number;
+    if (below + height <= window.innerHeight - 8) top = below;
+    else if (above >= 8) top = above;
+    else if (beside !== null) {
+      left = beside;
+      top = Math.max(8, Math.min(box.top, window.innerHeight - height - 8));
+    } else top = Math.max(8, Math.min(box.bottom, window.innerHeight) - height - 8);
     element.style.left = `${left}px`;
     element.style.top = `${top}px`;
   };
