@@ -106,6 +106,15 @@ COVERING = """() => {
 }"""
 
 
+def picture_and_close(page: Page, errors: list[str], name: str) -> None:
+    """The whole page from its top into SHOTS as `name`, no console errors, then the page's context closed."""
+    page.evaluate("window.scrollTo(0, 0)")
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    page.screenshot(path=str(SHOTS / name), full_page=True)
+    assert errors == [], f"{name}: errors in the browser console"
+    page.context.close()
+
+
 def test_three_screen_sizes_with_large_text_grow_nothing_and_cover_no_world(
     browser: Browser, server: RunningServer
 ) -> None:
@@ -145,11 +154,7 @@ def test_three_screen_sizes_with_large_text_grow_nothing_and_cover_no_world(
         if width == 1440:
             page.get_by_role("button", name="Evaluate all").click()
             page.locator(".chart figcaption", has_text="from the start at step").nth(5).wait_for(timeout=60_000)
-        page.evaluate("window.scrollTo(0, 0)")
-        SHOTS.mkdir(parents=True, exist_ok=True)
-        page.screenshot(path=str(SHOTS / f"classroom-{width}.png"), full_page=True)
-        assert errors == [], f"{width} px: errors in the browser console"
-        page.context.close()
+        picture_and_close(page, errors, f"classroom-{width}.png")
     server.client.post(f"/api/runs/{run_id}/pause")
 
 
@@ -247,11 +252,7 @@ def test_chart_axes_stay_readable_at_1024_and_with_large_text_at_1920(browser: B
         assert found["cut"] == [], f"{width} px: y labels cut off at the left: {found['cut']}"
         assert found["broken"] == [], f"{width} px: names broken inside a word: {found['broken']}"
         assert "1M" in found["labels"] and not any("," in label for label in found["labels"]), found["labels"]
-        page.evaluate("window.scrollTo(0, 0)")
-        SHOTS.mkdir(parents=True, exist_ok=True)
-        page.screenshot(path=str(SHOTS / f"axes-{width}.png"), full_page=True)
-        assert errors == [], f"{width} px: errors in the browser console"
-        page.context.close()
+        picture_and_close(page, errors, f"axes-{width}.png")
     server.client.post(f"/api/runs/{run_id}/pause")
 
 
