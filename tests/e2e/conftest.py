@@ -105,8 +105,12 @@ def viser_view(page: Page, view_url: str) -> Frame:
 
     The view is served on another port, so its iframe is cross-origin, and Chromium runs no frames of a
     cross-origin iframe outside the viewport: below the fold the viser client neither starts nor draws, and a
-    wait for its nodes times out (about one run in five of the stream test, as the page's layout settled)."""
-    page.locator("iframe.viser-frame").scroll_into_view_if_needed()
+    wait for its nodes times out (about one run in five of the stream test, as the page's layout settled).
+
+    Scrolled by the page's own scrollIntoView, not Playwright's, which first waits for the frame to stand still
+    over two animation frames: once the view draws (software WebGL), a page gets a few frames a second, the
+    charts above the frame grow as readings arrive, and that wait ran out on a loaded machine."""
+    page.locator("iframe.viser-frame").evaluate("frame => frame.scrollIntoView({block: 'center'})")
     return next(f for f in page.frames if f.url.startswith(view_url.rstrip("/")))
 
 
