@@ -110,7 +110,11 @@ def test_experiment1_regions_are_boxes_where_their_rects_are_in_their_kinds_colo
     assert box.opacity is None
     label = nodes[f"/region_labels/{name}"]
     assert label.kind == "label" and label.text == name
-    assert label.position[:2] == pytest.approx(box.position[:2])
+    assert label.position[1] == pytest.approx(box.position[1])
+    if centre[0] == 450:  # at the world's right edge: the name ends inside the region, clear of the predictions
+        assert (label.position[0], label.anchor) == (pytest.approx(10.0 - scene.LABEL_INSET), "center-right")
+    else:
+        assert (label.position[0], label.anchor) == (pytest.approx(box.position[0]), "center-center")
     assert label.position[2] > box.size[2]  # above the box
 
 
@@ -193,8 +197,10 @@ def test_agent_trail_and_prediction_labels(experiment1: RunSpec) -> None:
     assert segments[0, 1, :2] == pytest.approx((3.0, 1.0))
     assert segments[1, 1, :2] == pytest.approx((3.0, 3.0))
     label = nodes["/predictions"]
-    assert label.text == "steps_to_end 31\nbase 0.25"  # in the order asked, unknown demons left out
-    assert label.position[0] > agent.position[0] and label.position[1] > agent.position[1]
+    assert label.text == "at the agent:\nsteps_to_end 31\nbase 0.25"  # in the order asked, unknown demons left out
+    # Beside the world, right of its top right corner and reading rightwards, wherever the agent is: it never
+    # covers a region's name (every one inside the world, reading leftwards from its right edge).
+    assert label.position[:2] == pytest.approx((10.0 + scene.PREDICTIONS_GAP, 10.0)) and label.anchor == "top-left"
 
 
 def test_no_trail_at_an_episode_start_and_no_label_without_demons(experiment1: RunSpec) -> None:

@@ -9,8 +9,8 @@ import viser
 from horde.view.nodes import Node, same_content
 
 
-def add_node(scene: viser.SceneApi, node: Node) -> viser.SceneNodeHandle:
-    """Create (or replace) the viser node that draws `node`."""
+def add_node(scene: viser.SceneApi, node: Node, label_scale: float = 1.0) -> viser.SceneNodeHandle:
+    """Create (or replace) the viser node that draws `node` (a label `label_scale` times its normal size: 12 px)."""
     name, position = node.name, node.position
     if node.kind == "box":
         return scene.add_box(
@@ -25,7 +25,13 @@ def add_node(scene: viser.SceneApi, node: Node) -> viser.SceneNodeHandle:
         return scene.add_icosphere(name, radius=node.size[0], color=node.color, position=position, subdivisions=3)
     if node.kind == "label":
         anchor = node.anchor
-        return scene.add_label(name, node.text, position=position, anchor=anchor)  # type: ignore[arg-type]
+        return scene.add_label(
+            name,
+            node.text,
+            position=position,
+            anchor=anchor,  # type: ignore[arg-type]
+            font_screen_scale=label_scale,
+        )
     if node.kind == "lines":
         assert node.points is not None
         return scene.add_line_segments(
@@ -60,11 +66,13 @@ class SceneApplier:
 
     `apply(nodes, owner)` adds the new nodes, moves the ones whose position alone changed, replaces the
     ones that changed otherwise, and removes the owner's nodes that are no longer listed. Call it
-    inside `server.atomic()` so that a client sees one consistent frame.
+    inside `client.atomic()` so that a client sees one consistent frame. Labels are drawn `label_scale`
+    times their normal size (Large text); change it, then `clear`, to redraw them.
     """
 
-    def __init__(self, scene: viser.SceneApi) -> None:
+    def __init__(self, scene: viser.SceneApi, label_scale: float = 1.0) -> None:
         self.scene = scene
+        self.label_scale = label_scale
         self.drawn: dict[str, tuple[Node, viser.SceneNodeHandle, str]] = {}
 
     def apply(self, nodes: list[Node], owner: str) -> None:
@@ -81,7 +89,7 @@ class SceneApplier:
                 old[1].position = np.asarray(node.position)
                 self.drawn[node.name] = (node, old[1], owner)
                 continue
-            self.drawn[node.name] = (node, add_node(self.scene, node), owner)
+            self.drawn[node.name] = (node, add_node(self.scene, node, self.label_scale), owner)
 
     def clear(self) -> None:
         """Remove every node drawn."""

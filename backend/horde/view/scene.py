@@ -34,6 +34,9 @@ SURFACE_BASE = 0.02
 SURFACE_ALPHA = 200  # of 255: the regions show through
 SURFACE_HEIGHT = 0.3 * SCENE_SIZE  # the surface rises this high from the lowest to the highest value
 MAX_ARROWS_PER_SIDE = 16
+LABEL_INSET = 0.1  # scene units between a region's name and the world's right edge
+PREDICTIONS_GAP = 0.4  # scene units between the world's right edge and the predictions beside it
+PREDICTIONS_TITLE = "at the agent:"
 
 
 def scene_scale(world: WorldSpec) -> float:
@@ -103,7 +106,13 @@ def world_nodes(world: WorldSpec, indicator_colors: Mapping[str, str]) -> list[N
                 opacity,
             )
         )
-        nodes.append(Node(f"/region_labels/{region.name}", "label", (*centre, height + 0.05), text=region.name))
+        if x1 >= w - 1e-9:  # at the world's right edge: the name reads leftwards, clear of the predictions beside it
+            label_at, anchor = (x1 - LABEL_INSET, centre[1]), "center-right"
+        else:
+            label_at, anchor = centre, "center-center"
+        nodes.append(
+            Node(f"/region_labels/{region.name}", "label", (*label_at, height + 0.05), text=region.name, anchor=anchor)
+        )
     return nodes
 
 
@@ -141,7 +150,9 @@ def agent_radius(world: WorldSpec) -> float:
 
 
 def agent_nodes(snapshot: ViewSnapshot, demons: Sequence[str]) -> list[Node]:
-    """The agent, its trail this episode, and a label with the predictions of `demons` beside it."""
+    """The agent, its trail this episode, and a label with the predictions of `demons` at the agent's position,
+    beside the world (right of its top right corner, reading rightwards), so that it never covers a region's
+    name wherever the agent goes."""
     world = snapshot.spec.grid
     r = agent_radius(world)
     x, y, _ = to_scene(world, *agent_point(world, snapshot.x, snapshot.y))
@@ -154,7 +165,9 @@ def agent_nodes(snapshot: ViewSnapshot, demons: Sequence[str]) -> list[Node]:
         nodes.append(Node("/trail", "lines", color=colors.TRAIL, size=(TRAIL_WIDTH, 0.0, 0.0), points=segments))
     lines = [f"{name} {_fmt(snapshot.predictions[name])}" for name in demons if name in snapshot.predictions]
     if lines:
-        nodes.append(Node("/predictions", "label", (x + r, y + r, 2 * r), text="\n".join(lines), anchor="bottom-left"))
+        w, h, _ = to_scene(world, world.width, world.height)
+        text = "\n".join([PREDICTIONS_TITLE, *lines])
+        nodes.append(Node("/predictions", "label", (w + PREDICTIONS_GAP, h, 0.0), text=text, anchor="top-left"))
     return nodes
 
 
