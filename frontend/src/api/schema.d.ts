@@ -24,6 +24,43 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/me": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Who this request acts as (its token's role)
+         * @description 401 for a token that is not this server's or was revoked (the dashboard then drops it).
+         */
+        get: operations["who_am_i_api_me_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/overview": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Every run as a card: owner, status, counters, a sparkline of its first demons */
+        get: operations["overview_api_overview_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/protocols": {
         parameters: {
             query?: never;
@@ -95,7 +132,7 @@ export interface paths {
          * Create a run
          * @description The body is a RunSpec, or a template: {scenario, world, seed, ...overrides} (a body with a `scenario` key, or
          *     whose `world` is a string naming a stored world). The run is the first trial of its protocol, seeded as `horde
-         *     run` seeds it. 404: unknown scenario or world; 409: too many runs.
+         *     run` seeds it; it belongs to the requester. 404: unknown scenario or world; 409: too many runs.
          */
         post: operations["create_run_api_runs_post"];
         delete?: never;
@@ -115,8 +152,8 @@ export interface paths {
         put?: never;
         /**
          * Import a snapshot as a new run
-         * @description The new run continues exactly where the snapshot was taken (paused, or finished). 422 when the arrays do not fit
-         *     the spec; 409 when the server holds as many runs as it allows.
+         * @description The new run continues exactly where the snapshot was taken (paused, or finished); it belongs to the
+         *     requester. 422 when the arrays do not fit the spec; 409 when the server holds as many runs as it allows.
          */
         post: operations["import_snapshot_api_runs_import_post"];
         delete?: never;
@@ -244,9 +281,26 @@ export interface paths {
          *     given on a world without points, or the demon's question cannot be rolled out there, or when the rollouts do
          *     not finish within HORDE_EVALUATION_SECONDS (at `episodes`: ask for fewer, or a smaller `cap`); 429 when two
          *     evaluations are running already. A client that hangs up ends its evaluation (the grid's rollouts stop at
-         *     their next chunk).
+         *     their next chunk). The answer is kept with the run (the latest of each demon; a reset drops them).
          */
         post: operations["evaluate_api_runs__run_id__evaluate_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/runs/{run_id}/evaluations": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The run's kept evaluations, the latest of each demon */
+        get: operations["evaluations_api_runs__run_id__evaluations_get"];
+        put?: never;
+        post?: never;
         delete?: never;
         options?: never;
         head?: never;
@@ -318,7 +372,8 @@ export interface paths {
         put?: never;
         /**
          * Reset a run to its first step
-         * @description Fresh weights and generator, the current demons; the status becomes created.
+         * @description Fresh weights and generator, the current demons; the status becomes created. The run's kept evaluations
+         *     are dropped (they described the old weights).
          */
         post: operations["reset_run_api_runs__run_id__reset_post"];
         delete?: never;
@@ -660,6 +715,53 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/tokens": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * The tokens in use (the teacher's)
+         * @description Their ids, names and roles, never their secrets. 401 without a token, 403 for a student's or viewer's.
+         */
+        get: operations["list_tokens_api_tokens_get"];
+        put?: never;
+        /**
+         * Issue a token for a student or a viewer (the teacher's)
+         * @description 403 unless the requester holds HORDE_TOKEN; 409 on a server without HORDE_TOKEN, or when a token of that
+         *     name was issued before (a name names one holder, as the owner of what they make, even once revoked); 422 for
+         *     an unknown role or a name that is empty, too long or 'teacher'.
+         */
+        post: operations["issue_token_api_tokens_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/tokens/{token_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        post?: never;
+        /**
+         * Revoke a token (the teacher's)
+         * @description Its holder is refused from now on (401), on the API, its WebSockets and the live view; what they made
+         *     stays, under their name. 404 for an unknown or already revoked token.
+         */
+        delete: operations["revoke_token_api_tokens__token_id__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/view": {
         parameters: {
             query?: never;
@@ -667,10 +769,10 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** Whether and where the live view listens */
+        /** Whether and where the live view listens (for one dashboard tab, with `viewer`) */
         get: operations["get_view_api_view_get"];
         put?: never;
-        /** Show a run in the live view (every connected browser) */
+        /** Show a run in one dashboard tab's live view */
         post: operations["show_run_api_view_post"];
         delete?: never;
         options?: never;
@@ -1457,6 +1559,30 @@ export interface components {
             max: (number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Output"] | components["schemas"]["MulExpr-Output"] | components["schemas"]["MinExpr-Output"] | components["schemas"]["MaxExpr-Output"] | components["schemas"]["IfExpr-Output"])[];
         };
         /**
+         * MeOut
+         * @description Who the request acts as, so that the dashboard shows only the controls that role may use.
+         */
+        MeOut: {
+            /**
+             * Id
+             * @description the token's id ('teacher' for HORDE_TOKEN's holder), null when anonymous
+             */
+            id: string | null;
+            /** Name */
+            name: string | null;
+            /**
+             * Role
+             * @description anonymous: no token on a server with HORDE_TOKEN (reads only)
+             * @enum {string}
+             */
+            role: "teacher" | "student" | "viewer" | "anonymous";
+            /**
+             * Tokens
+             * @description whether the server has roles (HORDE_TOKEN is set); without, all are teacher
+             */
+            tokens: boolean;
+        };
+        /**
          * MeasureSpec
          * @description What each run measures, at `checkpoints` evenly spaced points of its training (and before it).
          */
@@ -1602,6 +1728,11 @@ export interface components {
             max_steps: number;
             /** Name */
             name: string | null;
+            /**
+             * Owner
+             * @description who started it: 'teacher', or the name of the student's token
+             */
+            owner: string;
             /** Results */
             results: components["schemas"]["DemonResultOut"][] | null;
             /** Rollouts */
@@ -1736,6 +1867,11 @@ export interface components {
             /** Name */
             name: string | null;
             /**
+             * Owner
+             * @description who created it: 'teacher', or the name of the student's token
+             */
+            owner: string;
+            /**
              * Status
              * @enum {string}
              */
@@ -1744,6 +1880,36 @@ export interface components {
              * Step
              * @description steps taken in all
              */
+            step: number;
+            /**
+             * Updated At
+             * Format: date-time
+             */
+            updated_at: string;
+        };
+        /**
+         * RunCardOut
+         * @description A run as the Class tab's card shows it.
+         */
+        RunCardOut: {
+            /** Episode */
+            episode: number;
+            /** Id */
+            id: string;
+            /**
+             * Name
+             * @description the run spec's name (its scenario's, unless renamed)
+             */
+            name: string | null;
+            /** Owner */
+            owner: string;
+            sparkline: components["schemas"]["SparklineOut"];
+            /**
+             * Status
+             * @enum {string}
+             */
+            status: "created" | "running" | "paused" | "finished" | "failed";
+            /** Step */
             step: number;
             /**
              * Updated At
@@ -1774,6 +1940,11 @@ export interface components {
             message: string;
             /** Name */
             name: string | null;
+            /**
+             * Owner
+             * @description who created it: 'teacher', or the name of the student's token
+             */
+            owner: string;
             spec: components["schemas"]["RunSpec-Output"];
             /**
              * Status
@@ -2090,6 +2261,21 @@ export interface components {
             };
         };
         /**
+         * SparklineOut
+         * @description A run's first demons' predictions over its recent history, thinned to a few dozen points.
+         */
+        SparklineOut: {
+            /**
+             * Series
+             * @description demon name -> prediction at each of `steps`
+             */
+            series: {
+                [key: string]: (number | null)[];
+            };
+            /** Steps */
+            steps: number[];
+        };
+        /**
          * StateOut
          * @description The live state of a run; also the message of its WebSocket stream.
          */
@@ -2178,10 +2364,10 @@ export interface components {
         };
         /**
          * StreamClose
-         * @description How the server closes a WebSocket stream: 1000 NORMAL: the stream is over (a study stopped); 1001 GOING_AWAY: the server is stopping; 1008 ORIGIN_REFUSED: a page of another site may not open the stream; 1013 TOO_SLOW: the client fell too far behind, or a send timed out ('try again later'); 4401 UNAUTHORIZED: the server requires its HORDE_TOKEN (pushing records to a stream run); 4404 NOT_FOUND: no such run (or study, or stream run); 4410 RUN_DELETED: the run (or stream run) was deleted while streamed
+         * @description How the server closes a WebSocket stream: 1000 NORMAL: the stream is over (a study stopped); 1001 GOING_AWAY: the server is stopping; 1008 ORIGIN_REFUSED: a page of another site may not open the stream; 1013 TOO_SLOW: the client fell too far behind, or a send timed out ('try again later'); 4401 UNAUTHORIZED: the server requires a token (pushing records to a stream run), or the token given is not the server's or was revoked; 4403 FORBIDDEN: the token's role may not do this (a viewer's, or a student's on another's stream run); 4404 NOT_FOUND: no such run (or study, or stream run); 4410 RUN_DELETED: the run (or stream run) was deleted while streamed
          * @enum {integer}
          */
-        StreamClose: 1000 | 1001 | 1008 | 1013 | 4401 | 4404 | 4410;
+        StreamClose: 1000 | 1001 | 1008 | 1013 | 4401 | 4403 | 4404 | 4410;
         /** StreamHistoryOut */
         StreamHistoryOut: {
             /**
@@ -2230,6 +2416,11 @@ export interface components {
              * @default
              */
             name: string;
+            /**
+             * Owner
+             * @description who started it: 'teacher', or the name of the student's token
+             */
+            owner: string;
             /**
              * Predictions
              * @description each demon's prediction at the last observation
@@ -2443,6 +2634,11 @@ export interface components {
             /** Name */
             name: string | null;
             /**
+             * Owner
+             * @description who started it: 'teacher', or the name of the student's token
+             */
+            owner: string;
+            /**
              * Runs
              * @description runs per configuration
              */
@@ -2500,6 +2696,11 @@ export interface components {
             message: string;
             /** Name */
             name: string | null;
+            /**
+             * Owner
+             * @description who started it: 'teacher', or the name of the student's token
+             */
+            owner: string;
             /** Results */
             results: components["schemas"]["StudyConfigOut"][];
             /**
@@ -2645,6 +2846,73 @@ export interface components {
              */
             sensor: string;
         };
+        /**
+         * TokenIn
+         * @description A token to issue (POST /api/tokens, the teacher's).
+         */
+        TokenIn: {
+            /**
+             * Name
+             * @description who holds it (a student's name): shown as the owner of what they make
+             */
+            name: string;
+            /**
+             * Role
+             * @description student: creates runs, worlds, studies and changes only those; viewer: changes nothing
+             * @enum {string}
+             */
+            role: "student" | "viewer";
+        };
+        /** TokenIssuedOut */
+        TokenIssuedOut: {
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /**
+             * Id
+             * @description the token's id (DELETE /api/tokens/{id} revokes it); never the secret
+             */
+            id: string;
+            /**
+             * Link
+             * @description an invitation: the dashboard's address carrying the token (?token=...)
+             */
+            link: string;
+            /** Name */
+            name: string;
+            /**
+             * Role
+             * @enum {string}
+             */
+            role: "student" | "viewer";
+            /**
+             * Token
+             * @description the secret, shown this once (the server keeps only its SHA-256)
+             */
+            token: string;
+        };
+        /** TokenOut */
+        TokenOut: {
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /**
+             * Id
+             * @description the token's id (DELETE /api/tokens/{id} revokes it); never the secret
+             */
+            id: string;
+            /** Name */
+            name: string;
+            /**
+             * Role
+             * @enum {string}
+             */
+            role: "student" | "viewer";
+        };
         /** ValidationError */
         ValidationError: {
             /** Context */
@@ -2690,14 +2958,24 @@ export interface components {
              */
             demons?: string[] | null;
             /**
+             * Large
+             * @description Large text: the view's labels and panel larger (for a projector); null: unchanged
+             */
+            large?: boolean | null;
+            /**
              * Run
-             * @description the run the live view should show
+             * @description the run the tab's live view should show
              */
             run: string;
+            /**
+             * Viewer
+             * @description a dashboard tab's own random key (8 to 64 letters, digits, - or _): the browsers that opened the view at GET /api/view?viewer=<key>'s url follow this tab's choice, no others
+             */
+            viewer: string;
         };
         /**
          * ViewOut
-         * @description Whether the viser live view runs, where it listens, and which run it shows.
+         * @description Whether the viser live view runs, where it listens, and which run it shows one dashboard tab.
          */
         ViewOut: {
             /**
@@ -2707,12 +2985,12 @@ export interface components {
             enabled: boolean;
             /**
              * Run
-             * @description the run it shows now, if any
+             * @description the run shown to the browsers of `viewer`, if it chose one
              */
             run: string | null;
             /**
              * Url
-             * @description the viser client's address (embed it in an iframe or open it)
+             * @description the viser client's address (embed it in an iframe or open it); with `viewer`, the address whose browsers follow that tab's choice
              */
             url: string | null;
         };
@@ -2777,6 +3055,11 @@ export interface components {
             created_at: string;
             /** Name */
             name: string;
+            /**
+             * Owner
+             * @description who stored it: 'teacher', or the name of the student's token
+             */
+            owner: string;
             /**
              * Updated At
              * Format: date-time
@@ -2865,6 +3148,55 @@ export interface operations {
             };
         };
     };
+    who_am_i_api_me_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MeOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+        };
+    };
+    overview_api_overview_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RunCardOut"][];
+                };
+            };
+        };
+    };
     list_protocols_api_protocols_get: {
         parameters: {
             query?: never;
@@ -2916,8 +3248,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3025,8 +3366,17 @@ export interface operations {
                     "application/json": components["schemas"]["ProtocolOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3163,8 +3513,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3250,8 +3609,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3357,8 +3725,17 @@ export interface operations {
                 };
                 content?: never;
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3429,8 +3806,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3551,8 +3937,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3671,8 +4066,17 @@ export interface operations {
                 };
                 content?: never;
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3843,8 +4247,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3886,6 +4299,47 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+        };
+    };
+    evaluations_api_runs__run_id__evaluations_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["EvaluationOut"][];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
         };
@@ -3998,8 +4452,17 @@ export interface operations {
                     "application/json": components["schemas"]["RunOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4066,8 +4529,17 @@ export interface operations {
                     "application/json": components["schemas"]["RunOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4166,8 +4638,17 @@ export interface operations {
                     "application/json": components["schemas"]["RunOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4288,8 +4769,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4464,8 +4954,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4533,8 +5032,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4631,8 +5139,17 @@ export interface operations {
                 };
                 content?: never;
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4831,8 +5348,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4961,8 +5487,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5070,8 +5605,17 @@ export interface operations {
                     "application/json": components["schemas"]["StudyOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5165,8 +5709,17 @@ export interface operations {
                     "application/json": components["schemas"]["StudyOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5212,7 +5765,7 @@ export interface operations {
             };
         };
     };
-    get_view_api_view_get: {
+    list_tokens_api_tokens_get: {
         parameters: {
             query?: never;
             header?: never;
@@ -5227,7 +5780,211 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
+                    "application/json": components["schemas"]["TokenOut"][];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+        };
+    };
+    issue_token_api_tokens_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["TokenIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["TokenIssuedOut"];
+                };
+            };
+            /** @description The body cannot be parsed (not JSON, not UTF-8) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    revoke_token_api_tokens__token_id__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the token's id */
+                token_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["TokenOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    get_view_api_view_get: {
+        parameters: {
+            query?: {
+                viewer?: string | null;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
                     "application/json": components["schemas"]["ViewOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
         };
@@ -5263,7 +6020,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
                 headers: {
                     [name: string]: unknown;
@@ -5361,8 +6118,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5492,8 +6258,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5558,8 +6333,17 @@ export interface operations {
                 };
                 content?: never;
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };

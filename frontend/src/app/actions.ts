@@ -8,6 +8,7 @@ import { evaluationKind, gridWorld } from "../api/types";
 import { startPoint } from "../lib/world";
 import { keys, readNow } from "./queries";
 import { type AppStore, chartedDemons } from "./state";
+import { VIEWER_KEY } from "./viewer-key";
 
 /** The live view labels and charts at most this many demons: the first charted ones. */
 const VIEW_DEMONS = 12;
@@ -81,11 +82,14 @@ export async function selectRun(store: AppStore, runId: string | null): Promise<
   }
   if (runId === store.state.selectedRunId) return;
   const path = { params: { path: { run_id: runId } } };
-  const [run, demons] = await Promise.all([
+  const [run, demons, kept] = await Promise.all([
     unwrap(api.GET("/api/runs/{run_id}", path)),
     unwrap(api.GET("/api/runs/{run_id}/demons", path)),
+    unwrap(api.GET("/api/runs/{run_id}/evaluations", path)),
   ]);
-  store.update({ selectedRunId: runId, run, demons, live: null, evaluations: {}, charted: defaultCharted(demons) });
+  // The run's kept evaluations (the latest of each demon) are shown again, after a reload or from a link.
+  const evaluations = Object.fromEntries(kept.map((evaluation) => [evaluation.demon, evaluation]));
+  store.update({ selectedRunId: runId, run, demons, live: null, evaluations, charted: defaultCharted(demons) });
   // The embedded live view follows; selecting never waits for it.
   void attempt(store, () => showInLiveView(store, runId));
 }
@@ -199,12 +203,13 @@ export function toggleCharted(store: AppStore, demon: string, on: boolean): void
 }
 
 /**
- * Whether and where the viser live view listens (GET /api/view); "off" when the server runs without it
- * (only `horde serve` starts it) or cannot say. Once on, it is switched to the selected run.
+ * Whether and where the viser live view listens (GET /api/view, at this page's own address: see
+ * `VIEWER_KEY`); "off" when the server runs without it (only `horde serve` starts it) or cannot say.
+ * Once on, it is switched to the selected run.
  */
 export async function loadLiveView(store: AppStore): Promise<void> {
   try {
-    const view = await unwrap(api.GET("/api/view"));
+    const view = await unwrap(api.GET("/api/view", { params: { query: { viewer: VIEWER_KEY } } }));
     store.update({
       liveView:
         view.enabled && view.url
@@ -221,16 +226,17 @@ export async function loadLiveView(store: AppStore): Promise<void> {
 }
 
 /**
- * Show a run in the live view (POST /api/view), for every browser watching it. Nothing is asked while
- * the view is off or not known yet; a 409 (the view is off after all) or a 404 (the run was just
- * deleted) is no news for the user.
+ * Show a run in this page's live view (POST /api/view with its `VIEWER_KEY`, its Large text, and the page's
+ * token, which the view then acts with); no other page's view changes. Nothing is asked while the view is
+ * off or not known yet; a 409 (the view is off after all) or a 404 (the run was just deleted) is no news for
+ * the user.
  */
 export async function showInLiveView(store: AppStore, runId: string): Promise<void> {
   if (store.state.liveView.state !== "on") return;
   // The dashboard's choice of demons, once the run's demons are known (else the view's own first ones).
   const demons = store.state.selectedRunId === runId ? chartedDemons(store.state).slice(0, VIEW_DEMONS) : [];
   try {
-    const body = demons.length > 0 ? { run: runId, demons } : { run: runId };
+    const body = { viewer: VIEWER_KEY, run: runId, large: store.state.large, ...(demons.length > 0 ? { demons } : {}) };
     const shown = await unwrap(api.POST("/api/view", { body }));
     const view = store.state.liveView;
     if (view.state === "on") store.update({ liveView: { ...view, run: shown.run ?? null } });

@@ -1,8 +1,11 @@
 /** What the dashboard knows at one moment; the single store all views read. */
-import type { Demon, Evaluation, Protocol, Run, RunBrief, RunState, Scenario, WorldRecord } from "../api/types";
+import type { Demon, Evaluation, Me, Protocol, Run, RunBrief, RunState, Scenario, WorldRecord } from "../api/types";
 import { Store } from "./store";
 
-export type Tab = "live" | "protocol" | "world" | "demon" | "studies";
+export type Tab = "live" | "class" | "protocol" | "world" | "demon" | "studies";
+
+/** Every tab, in the order the tab list shows them (the address names one: `?tab=`). */
+export const TABS: readonly Tab[] = ["live", "class", "protocol", "world", "demon", "studies"];
 
 /** The viser live view: not asked yet, off (the server has none, or it failed: why), or on. */
 export type LiveView =
@@ -43,6 +46,10 @@ export interface AppState {
   classroom: boolean;
   /** "Large text" for a projector: the page, the charts and the embedded view scale up */
   large: boolean;
+  /** present mode for a projector: the selected run's live view and charts large, the rest hidden */
+  present: boolean;
+  /** who this page acts as (GET /api/me); null until known */
+  me: Me | null;
 }
 
 export function createStore(): Store<AppState> {
@@ -65,6 +72,8 @@ export function createStore(): Store<AppState> {
     notice: null,
     classroom: false,
     large: false,
+    present: false,
+    me: null,
   });
 }
 

@@ -100,14 +100,14 @@ export function mergeWindow(
   return { ...message, predictions, metrics };
 }
 
-/** The live view labels the demons the dashboard charts: told again when the choice changes. */
+/** The live view labels the demons the dashboard charts, at its Large text: told again when either changes. */
 export function watchChartedForView(store: AppStore): void {
   let timer: number | undefined;
   let told = "";
   store.subscribe(
     (state) => {
       const runId = state.selectedRunId;
-      const key = `${runId}|${chartedDemons(state).slice(0, 12).join(",")}`;
+      const key = `${runId}|${chartedDemons(state).slice(0, 12).join(",")}|${state.large}`;
       if (runId === null || key === told || state.liveView.state !== "on") return;
       window.clearTimeout(timer);
       timer = window.setTimeout(() => {
@@ -115,7 +115,7 @@ export function watchChartedForView(store: AppStore): void {
         void attempt(store, () => showInLiveView(store, runId));
       }, 300);
     },
-    ["charted", "classroom", "demons"],
+    ["charted", "classroom", "demons", "large"],
   );
 }
 

@@ -45,7 +45,7 @@ export function demonEditor(store: AppStore): HTMLElement {
   const stepSize = h("select", { name: "step_size" }, options(STEP_SIZES, BLANK_MODE));
   const metaStep = numberInput(null, { name: "meta_step" });
   const reset = h("select", { name: "reset" }, options(RESETS, "never"));
-  const submit = h("button", { type: "submit", class: "primary" }, "Add to run");
+  const submit = h("button", { type: "submit", class: "primary needs-owner" }, "Add to run");
   const exprs = [cumulant, outcome, continuation];
 
   const fill = (demon: DemonSpec) => {

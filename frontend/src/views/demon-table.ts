@@ -67,7 +67,7 @@ function questionOf(demon: Demon) {
 
 export function demonTable(store: AppStore): HTMLElement {
   const rollouts = numberInput(DEFAULT_ROLLOUTS, { name: "rollouts" });
-  const evaluateAll = h("button", { type: "button" }, "Evaluate all");
+  const evaluateAll = h("button", { type: "button", class: "needs-owner" }, "Evaluate all");
   const evaluationNote = h("p", { class: "hint evaluation-note", dataset: { testid: "evaluation-note" } });
   const evaluationHead = h("span", { class: "term" });
   const caption = h("caption", {});
@@ -201,7 +201,7 @@ export function demonTable(store: AppStore): HTMLElement {
       <td class="num">${formatNumber(metrics?.ude)}</td>
       <td class="num">${formatNumber(metrics?.step_size)}</td>
       <td>
-        <div class="row-actions">
+        <div class="row-actions needs-owner">
           ${
             evaluable
               ? html`<button

@@ -1,6 +1,7 @@
 /**
- * The top bar: the title, the selected run's status, episode and step (from its stream), the notice
- * line, a "large text" switch for projectors, and the token field for servers that require one.
+ * The top bar: the title, the selected run's status, episode and step (from its stream) and owner, the
+ * notice line, a "large text" switch for projectors, who the page acts as, and the token field for servers
+ * that require one (`onToken` is told when it changes).
  */
 import type { AppState, AppStore } from "../app/state";
 import { readToken, writeToken } from "../api/token";
@@ -10,8 +11,10 @@ import { h, setText } from "../ui/dom";
 
 const LARGE_KEY = "horde-lab-large-text";
 
-export function header(store: AppStore, openHelp: () => void): HTMLElement {
+export function header(store: AppStore, openHelp: () => void, onToken: () => void = () => {}): HTMLElement {
   const runName = h("span", { class: "run-name" });
+  const owner = h("span", { class: "run-owner", dataset: { testid: "selected-owner" } });
+  const role = h("span", { class: "role", dataset: { testid: "role" } });
   const status = h("span", { class: "badge" });
   const episode = h("span", { dataset: { testid: "episode" } });
   const step = h("span", { dataset: { testid: "step" } });
@@ -25,6 +28,7 @@ export function header(store: AppStore, openHelp: () => void): HTMLElement {
     "div",
     { class: "run-status", "aria-label": "Selected run" },
     runName,
+    owner,
     status,
     episode,
     step,
@@ -60,7 +64,10 @@ export function header(store: AppStore, openHelp: () => void): HTMLElement {
     id: "token",
     placeholder: "HORDE_TOKEN",
   });
-  token.addEventListener("change", () => writeToken(token.value.trim()));
+  token.addEventListener("change", () => {
+    writeToken(token.value.trim());
+    onToken();
+  });
   const tokenBox = h(
     "details",
     { class: "token" },
@@ -69,11 +76,16 @@ export function header(store: AppStore, openHelp: () => void): HTMLElement {
     token,
   );
 
-  const render = ({ run, live, runs, selectedRunId, notice: message }: Readonly<AppState>) => {
+  const render = ({ run, live, runs, selectedRunId, notice: message, me }: Readonly<AppState>) => {
     const brief = runs.find((r) => r.id === selectedRunId);
     runStatus.hidden = run === null;
+    token.value = readToken();
+    const who = me === null ? "" : me.name === me.role ? me.role : `${me.name ?? ""} (${me.role})`;
+    setText(role, me?.role === "anonymous" ? "read-only (no token)" : who);
+    role.hidden = me === null || (me.role === "teacher" && !me.tokens);
     if (run) {
       setText(runName, runLabel(run));
+      setText(owner, `by ${run.owner}`);
       const current = live?.status ?? brief?.status ?? run.status;
       setText(status, formatStatus(current));
       status.className = `badge status-${current}`;
@@ -100,7 +112,7 @@ export function header(store: AppStore, openHelp: () => void): HTMLElement {
       notice.setAttribute("role", message.kind === "error" ? "alert" : "status");
     }
   };
-  store.subscribe(render, ["run", "live", "runs", "selectedRunId", "notice"]);
+  store.subscribe(render, ["run", "live", "runs", "selectedRunId", "notice", "me"]);
   render(store.state);
 
   return h(
@@ -114,6 +126,7 @@ export function header(store: AppStore, openHelp: () => void): HTMLElement {
       { class: "tools" },
       h("button", { type: "button", onclick: openHelp, "aria-keyshortcuts": "?" }, "Help (?)"),
       large,
+      role,
       tokenBox,
     ),
   );

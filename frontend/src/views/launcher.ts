@@ -163,7 +163,7 @@ export function launcher(store: AppStore): HTMLElement {
 
   return h(
     "section",
-    { class: "panel launcher", "aria-labelledby": "launcher-title" },
+    { class: "panel launcher needs-change", "aria-labelledby": "launcher-title" },
     h("h2", { id: "launcher-title" }, "Launch a run"),
     h(
       "form",

@@ -1,9 +1,10 @@
 /**
  * The Live tab's switches: classroom mode (every demon charted, one small chart each, and the guided
- * tour on offer) and the tour itself.
+ * tour on offer), the tour itself, and present mode (views/present.ts).
  */
 import type { AppStore } from "../app/state";
 import { h } from "../ui/dom";
+import { presentButton } from "./present";
 
 const CLASSROOM_KEY = "horde-lab-classroom";
 
@@ -35,5 +36,11 @@ export function liveToolbar(store: AppStore, startTour: () => void): HTMLElement
   }
   set(stored);
   const tour = h("button", { type: "button", onclick: startTour }, "Take the tour");
-  return h("div", { class: "live-toolbar", role: "group", "aria-label": "Live view options" }, classroom, tour);
+  return h(
+    "div",
+    { class: "live-toolbar", role: "group", "aria-label": "Live view options" },
+    classroom,
+    tour,
+    presentButton(store),
+  );
 }

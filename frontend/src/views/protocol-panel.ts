@@ -37,7 +37,7 @@ export function protocolPanel(store: AppStore): HTMLElement {
   const trials = numberInput(null, { name: "trials" });
   const episodes = numberInput(null, { name: "episodes" });
   const seed = numberInput(null, { name: "seed" });
-  const submit = h("button", { type: "submit", class: "primary" }, "Run");
+  const submit = h("button", { type: "submit", class: "primary needs-change" }, "Run");
 
   // ---------------------------------------------------------------- the form
 
@@ -188,7 +188,7 @@ export function protocolPanel(store: AppStore): HTMLElement {
 
   const title = h("h3", { id: "protocol-job-title" });
   const status = h("span", { class: "badge" });
-  const cancel = h("button", { type: "button", class: "danger" }, "Cancel");
+  const cancel = h("button", { type: "button", class: "danger needs-teacher" }, "Cancel");
   const progress = h("progress", { class: "protocol-progress", "aria-labelledby": "protocol-job-title" });
   const counted = h("span", { class: "progress-count", dataset: { testid: "protocol-count" } });
   const timing = h("span", { class: "progress-timing", dataset: { testid: "protocol-timing" } });

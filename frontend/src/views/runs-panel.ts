@@ -17,6 +17,7 @@ interface Row {
   item: HTMLLIElement;
   select: HTMLButtonElement;
   status: HTMLElement;
+  owner: HTMLElement;
   counters: HTMLElement;
   toggle: HTMLButtonElement;
   step: HTMLButtonElement;
@@ -42,7 +43,7 @@ export function runsPanel(store: AppStore): HTMLElement {
   // Deleting every finished (or failed) run takes two presses, as deleting one does.
   const finishedRuns = () => store.state.runs.filter((r) => r.status === "finished" || r.status === "failed");
   const deleteFinished = confirmButton({
-    class: "danger small",
+    class: "danger small needs-teacher",
     text: (armed) => (armed ? `Really delete ${finishedRuns().length}?` : `Delete finished (${finishedRuns().length})`),
     onConfirm: () => {
       const done = finishedRuns();
@@ -63,6 +64,7 @@ export function runsPanel(store: AppStore): HTMLElement {
       onclick: () => void attempt(store, () => selectRun(store, row.run.id)),
     });
     row.status = h("span", { class: "badge" });
+    row.owner = h("span", { class: "run-owner", dataset: { testid: "run-owner" } });
     row.counters = h("span", { class: "counters", dataset: { testid: "run-counters" } });
     row.toggle = h("button", {
       type: "button",
@@ -113,10 +115,11 @@ export function runsPanel(store: AppStore): HTMLElement {
       "li",
       { class: "run-item", dataset: { run: run.id } },
       h("div", { class: "run-head" }, row.select, row.status),
+      row.owner,
       row.counters,
       row.message,
-      h("div", { class: "run-speed" }, row.speed, row.fullSpeed),
-      h("div", { class: "run-actions" }, row.toggle, row.step, row.reset, row.remove.button),
+      h("div", { class: "run-speed needs-owner" }, row.speed, row.fullSpeed),
+      h("div", { class: "run-actions needs-owner" }, row.toggle, row.step, row.reset, row.remove.button),
     );
     return row;
   };
@@ -191,6 +194,9 @@ function updateRow(row: Row, run: RunBrief, selectedRunId: string | null): void 
   row.select.title = `Show run ${run.id}`;
   setText(row.status, formatStatus(run.status));
   row.status.className = `badge status-${run.status}`;
+  // Whose run it is: its commands show only to its owner and the teacher (app/access.ts).
+  row.item.dataset.owner = run.owner;
+  setText(row.owner, `by ${run.owner}`);
   setText(row.counters, `episode ${formatCount(run.episode)} · step ${formatCount(run.step)} · ${formatHz(run.hz)}`);
   // The server's word when it matters: kernels being prepared, or why the run failed.
   const says = run.status === "failed" || run.message.startsWith("preparing") ? run.message : "";

@@ -8,10 +8,10 @@
  */
 import uPlot from "uplot";
 import "uplot/dist/uPlot.min.css";
-import { attempt, selectRun } from "../app/actions";
+import { attempt, selectRun, showInLiveView } from "../app/actions";
 import { queryClient, watchQuery } from "../app/queries";
 import type { AppStore } from "../app/state";
-import { ApiError, api, unwrap } from "../api/client";
+import { api, unwrap } from "../api/client";
 import type { Demon, StreamHistory, StreamRun } from "../api/types";
 import { formatCount, formatNumber } from "../lib/format";
 import { type Columns, demonColumns, pickNames, sensorColumns, stripError } from "../lib/stream-history";
@@ -109,13 +109,7 @@ export function streamRuns(store: AppStore): StreamViews {
     void history.refetch();
     demonRows.update(demonsWatch());
     void demonRows.refetch();
-    if (store.state.liveView.state === "on") {
-      try {
-        await unwrap(api.POST("/api/view", { body: { run: id } }));
-      } catch (error) {
-        if (!(error instanceof ApiError && (error.status === 404 || error.status === 409))) throw error;
-      }
-    }
+    await showInLiveView(store, id);
   };
 
   watchQuery(

@@ -38,8 +38,8 @@ export function studiesPanel(store: AppStore): HTMLElement {
   const counted = h("span", { dataset: { testid: "study-count" } });
   const left = h("span", { class: "progress-timing" });
   const message = h("p", { class: "hint" });
-  const cancel = h("button", { type: "button", class: "danger" }, "Cancel");
-  const resume = h("button", { type: "button" }, "Resume");
+  const cancel = h("button", { type: "button", class: "danger needs-teacher" }, "Cancel");
+  const resume = h("button", { type: "button", class: "needs-teacher" }, "Resume");
   const exportCsv = h("a", { class: "button", download: "" }, "Export CSV");
   const exportJson = h("a", { class: "button", download: "" }, "Export JSON");
   cancel.addEventListener("click", () => {

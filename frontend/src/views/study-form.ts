@@ -35,7 +35,7 @@ export function studyForm(store: AppStore, onStarted: (id: string) => Promise<vo
   const runs = numberInput(3, { name: "runs", min: 1 });
   const episodes = numberInput(300, { name: "episodes", min: 1 });
   const checkpoints = numberInput(10, { name: "checkpoints", min: 1 });
-  const submit = h("button", { type: "submit", class: "primary" }, "Launch");
+  const submit = h("button", { type: "submit", class: "primary needs-change" }, "Launch");
   const datalist = h(
     "datalist",
     { id: "study-paths" },

@@ -89,6 +89,7 @@ export function worldEditor(store: AppStore): HTMLElement {
   const load = h("button", { type: "button" }, "Load");
   // Deleting takes two presses, so a stray click cannot throw a world away.
   const remove = confirmButton({
+    class: "danger needs-teacher",
     text: (armed) => (armed ? "Really delete?" : "Delete"),
     label: (armed) => {
       const world = libraryChoice();
@@ -128,8 +129,8 @@ export function worldEditor(store: AppStore): HTMLElement {
   };
   undo.addEventListener("click", takeBack);
   const addRegion = h("button", { type: "button" }, "Add region");
-  const save = h("button", { type: "submit", class: "primary" }, "Save to library");
-  const launch = h("button", { type: "button" }, "Launch on this world");
+  const save = h("button", { type: "submit", class: "primary needs-change" }, "Save to library");
+  const launch = h("button", { type: "button", class: "needs-change" }, "Launch on this world");
   let regions: RegionFields[] = [];
 
   const setRegions = (texts: RegionText[]) => {
