@@ -52,6 +52,10 @@ RUN_LIST_PERIOD = 1.0  # seconds between looks at the list of runs
 VIEWER_KEY_PATTERN = r"^[A-Za-z0-9_-]{8,64}$"  # a dashboard tab's key (the `viewer` of POST /api/view)
 VIEWER_KEY = re.compile(VIEWER_KEY_PATTERN)
 MAX_KEYS = 1024  # dashboard tabs whose choice is remembered (the oldest are forgotten)
+# The view thread draws at most this share of the time: after a frame that took t seconds it rests at least
+# t * (1 / MAX_DUTY - 1), so many browsers lower the frame rate instead of taking the server's time (the
+# learners' and the API's: 30 browsers on one run drew 10 frames a second each at first, in 108 ms a frame).
+MAX_DUTY = 0.3
 
 
 @dataclass(frozen=True)
@@ -113,6 +117,7 @@ class LiveView:
         self._version = 0
         self._runs: list[tuple[str, str]] = []
         self._runs_time = -RUN_LIST_PERIOD
+        self._kept: OrderedDict[tuple[object, ...], Any] = OrderedDict()  # what outlives a frame (Frame.lasting)
         self.frames = 0  # frames drawn (the load benchmark reads it)
 
     # ------------------------------------------------------------------------------------------
@@ -260,19 +265,24 @@ class LiveView:
     # The view thread
 
     def _loop(self) -> None:
-        """Frames at most `fps` a second, and one at once after a choice changed."""
+        """Frames at most `fps` a second, and one at once after a choice changed; busy at most MAX_DUTY of the
+        time (a frame that took long is followed by a longer rest, a choice then waiting for its end)."""
         period = 1.0 / self.fps
         while not self._stop.is_set():
             started = time.monotonic()
             self.refresh()
-            remaining = period - (time.monotonic() - started)
+            busy = time.monotonic() - started
+            rest = busy * (1.0 / MAX_DUTY - 1.0)
+            if rest > 0 and self._stop.wait(rest):
+                return
+            remaining = period - busy - rest
             if remaining > 0 and self.changed.wait(remaining):
                 self.changed.clear()
 
     def refresh(self) -> None:
         """One frame: every viewer's run sampled (once per run and choice of demons), what changed sent."""
         now = time.monotonic()
-        frame = Frame(self.source, now)
+        frame = Frame(self.source, now, self._kept)
         if now - self._runs_time >= RUN_LIST_PERIOD:
             try:
                 self._runs = self.source.list_runs()

@@ -11,6 +11,7 @@ on one run cost one snapshot and one build of its nodes a frame, not thirty.
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from typing import Any, TypeVar
 
@@ -27,26 +28,41 @@ from horde.view.source import ViewSnapshot, ViewSource
 from horde.view.star import star_nodes
 
 T = TypeVar("T")
-TRAIL_HZ = 5.0  # trail redraws a second (the agent itself moves every frame): the trail is the largest message
+Kept = OrderedDict[tuple[object, ...], Any]
+SLOW_HZ = 5.0  # redraws a second of the trail (the largest message) and of the predictions' label (numbers that
+# change every frame at full speed are not read faster); the agent itself moves every frame
+SLOW_NODES = ("/trail", "/predictions")
 
 
 class Frame:
     """The source's reads (snapshots, value maps, phase planes) and the scene's nodes of one frame, each made once.
 
     `read(name, *args)` calls the source's method; `memo(key, make)` keeps anything else. A call with the same
-    arguments returns the first call's answer; a call that raises is not kept. Commands do not go through here:
-    the panels send them to the source itself.
+    arguments returns the first call's answer; a call that raises is not kept. `lasting(key, make)` keeps what
+    outlives a frame (a run's world nodes: the same objects frame after frame, which the appliers then skip
+    without comparing them field by field) in `kept`, the view's, at most KEPT of them. Commands do not go
+    through here: the panels send them to the source itself.
     """
 
-    def __init__(self, source: ViewSource, now: float) -> None:
+    KEPT = 64
+
+    def __init__(self, source: ViewSource, now: float, kept: Kept | None = None) -> None:
         self.source = source
         self.now = now
         self._answers: dict[tuple[object, ...], object] = {}
+        self._kept: Kept = OrderedDict() if kept is None else kept
 
     def memo(self, key: tuple[object, ...], make: Callable[[], T]) -> T:
         if key not in self._answers:
             self._answers[key] = make()
         return self._answers[key]  # type: ignore[return-value]
+
+    def lasting(self, key: tuple[object, ...], make: Callable[[], T]) -> T:
+        if key not in self._kept:
+            self._kept[key] = make()
+            while len(self._kept) > self.KEPT:
+                self._kept.popitem(last=False)
+        return self._kept[key]
 
     def read(self, name: str, *args: object) -> Any:
         method = getattr(self.source, name)  # AttributeError for reads the source does not offer
@@ -94,7 +110,7 @@ class Viewer:
         self._map_key: tuple[object, ...] | None = None
         self._map_time = 0.0
         self._chart_time = 0.0
-        self._trail_time = 0.0
+        self._slow_time = 0.0
 
     @classmethod
     def connect(
@@ -110,7 +126,13 @@ class Viewer:
 
     def refresh(self, frame: Frame, runs: Sequence[tuple[str, str]], commands: Callable[[str], bool]) -> None:
         """One frame: the panel follows the browser's choices, the chosen run is sampled (through this frame's
-        `frame`) and what changed is sent. `commands(run)` says whether the run takes commands at all."""
+        `frame`) and what changed is sent, as one message to the browser (`client.atomic`: its scene and panel
+        change together, and viser's event loop is woken once per browser and frame, not once per change).
+        `commands(run)` says whether the run takes commands at all."""
+        with self.client.atomic():
+            self._refresh(frame, runs, commands)
+
+    def _refresh(self, frame: Frame, runs: Sequence[tuple[str, str]], commands: Callable[[str], bool]) -> None:
         panel = self.panel
         panel.set_runs(runs)
         run_id = panel.run_id
@@ -138,18 +160,21 @@ class Viewer:
             snapshot = frame.read("snapshot", run_id, shown)
         panel.sync_demons()
         now = frame.now
-        world = frame.memo(("world", run_id, tuple(snapshot.indicator_colors.items())),
-                           lambda: scene.world_nodes(snapshot.spec.grid, snapshot.indicator_colors))  # fmt: skip
+        world_spec = snapshot.spec.grid
+        # Keyed by the spec's identity (specs hold lists: no hash); the kept entry holds the spec, so its id is
+        # not reused while the entry lives.
+        colours = snapshot.indicator_colors
+        _, world = frame.lasting(("world", run_id, id(world_spec), tuple(colours.items())),
+                                 lambda: (world_spec, scene.world_nodes(world_spec, colours)))  # fmt: skip
         agent = frame.memo(("agent", run_id, shown), lambda: scene.agent_nodes(snapshot, shown))
-        trail_due = now - self._trail_time >= 1.0 / TRAIL_HZ or "/trail" not in self.applier.drawn
-        if trail_due:
-            self._trail_time = now
-        else:  # the trail drawn stays until its next redraw; the agent and its label move now
-            agent = [node for node in agent if node.name != "/trail"] + [self.applier.drawn["/trail"][0]]
-        with self.client.atomic():
-            self.applier.apply(world, "world")
-            self.applier.apply(agent, "agent")
-            self._refresh_map(frame, snapshot)
+        drawn = self.applier.drawn
+        if now - self._slow_time >= 1.0 / SLOW_HZ or any(n.name not in drawn for n in agent if n.name in SLOW_NODES):
+            self._slow_time = now
+        else:  # the trail and label drawn stay until their next redraw; the agent moves now
+            agent = [n for n in agent if n.name not in SLOW_NODES] + [drawn[n][0] for n in SLOW_NODES if n in drawn]
+        self.applier.apply(world, "world")
+        self.applier.apply(agent, "agent")
+        self._refresh_map(frame, snapshot)
         panel.show_state(snapshot)
         if now - self._chart_time >= 1.0 / self.chart_hz:
             self._chart_time = now
@@ -229,13 +254,11 @@ class Viewer:
             return
         star = star_of(panel.value_demon)
         if star is not None:  # Baird's star: its seven states and the agent's, in place of a phase plane
-            with self.client.atomic():
-                self.applier.apply(star_nodes(*star), "phase")
+            self.applier.apply(star_nodes(*star), "phase")
             self._map_key, self._map_time = key, now
             return
         phase = frame.read("phase_snapshot", run_id, panel.value_demon, panel.phase_x, panel.phase_y, self.resolution)
-        with self.client.atomic():
-            self.applier.apply(phase_plane_nodes(phase.x, phase.y, phase.demon, phase.values, phase.trail), "phase")
+        self.applier.apply(phase_plane_nodes(phase.x, phase.y, phase.demon, phase.values, phase.trail), "phase")
         self._map_key, self._map_time = key, now
 
     # ------------------------------------------------------------------------------------------
@@ -249,9 +272,8 @@ class Viewer:
         self._point_camera(camera.tilted(world) if three_d else camera.top_down(world))
 
     def _point_camera(self, pose: camera.CameraPose) -> None:
-        client = self.client
-        with client.atomic():
-            client.camera.fov = pose.fov
-            client.camera.up_direction = pose.up
-            client.camera.position = pose.position
-            client.camera.look_at = pose.look_at
+        camera = self.client.camera
+        camera.fov = pose.fov
+        camera.up_direction = pose.up
+        camera.position = pose.position
+        camera.look_at = pose.look_at
