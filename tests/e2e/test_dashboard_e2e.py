@@ -479,7 +479,7 @@ def test_the_viser_view_is_embedded_and_follows_the_selected_run(page: Page, ser
     assert page.frame_locator("iframe.viser-frame").get_by_text("viser here").is_visible()
     run_id = server.create_run()
     # With the demons it charts, which the view labels too (prediction demons first).
-    wanted = {"run": run_id, "demons": ["steps_to_end", "base"]}
+    wanted = {"run": run_id, "demons": ["steps_to_end", "base"], "large": False}
 
     def tells_the_view(request: Any) -> bool:
         if request.method != "POST" or not request.url.endswith("/api/view"):

@@ -73,7 +73,7 @@ def test_without_the_token_the_panel_changes_no_run(browser: Browser, server: Ru
         token = page.get_by_role("textbox").first  # the browser's own Token field
         token.fill("wrong")
         token.press("Enter")
-        expect(page.get_by_text("That is not this server's token").first).to_be_visible(timeout=10_000)
+        expect(page.get_by_text("this token is not one of this server's").first).to_be_visible(timeout=10_000)
         expect(page.get_by_role("button", name="Play", exact=True)).to_have_count(0)
         assert api.get(f"/api/runs/{run}").json()["status"] == "created"
 

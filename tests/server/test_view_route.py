@@ -33,7 +33,7 @@ TAB, OTHER_TAB = "dashboard-tab-1", "dashboard-tab-2"  # two dashboard tabs' key
 def test_the_view_is_off_unless_asked_for(client: TestClient) -> None:
     response = client.get("/api/view")
     assert response.status_code == 200
-    assert response.json() == {"enabled": False, "url": None, "run": None}
+    assert response.json() == {"enabled": False, "url": None, "run": None, "browsers": 0, "frame_rate": 0.0}
     refused = client.post("/api/view", json={"viewer": TAB, "run": "abc"})
     assert refused.status_code == 409
     assert "live view is off" in refused.json()["detail"]

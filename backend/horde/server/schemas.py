@@ -193,6 +193,10 @@ class ViewOut(Out):
         "whose browsers follow that tab's choice"
     )
     run: str | None = Field(description="the run shown to the browsers of `viewer`, if it chose one")
+    browsers: int = Field(default=0, description="browsers connected to the live view now, each with its own view")
+    frame_rate: float = Field(
+        default=0.0, description="frames drawn a second over the last 5 s (a frame draws every browser's view)"
+    )
 
 
 ViewerKey = Annotated[

@@ -34,7 +34,7 @@ import logging
 import re
 import threading
 import time
-from collections import OrderedDict
+from collections import OrderedDict, deque
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -52,9 +52,10 @@ RUN_LIST_PERIOD = 1.0  # seconds between looks at the list of runs
 VIEWER_KEY_PATTERN = r"^[A-Za-z0-9_-]{8,64}$"  # a dashboard tab's key (the `viewer` of POST /api/view)
 VIEWER_KEY = re.compile(VIEWER_KEY_PATTERN)
 MAX_KEYS = 1024  # dashboard tabs whose choice is remembered (the oldest are forgotten)
-# The view thread draws at most this share of the time: after a frame that took t seconds it rests at least
-# t * (1 / MAX_DUTY - 1), so many browsers lower the frame rate instead of taking the server's time (the
-# learners' and the API's: 30 browsers on one run drew 10 frames a second each at first, in 108 ms a frame).
+# The view thread takes at most this share of a core: after a frame that took t seconds of its CPU it rests at
+# least t * (1 / MAX_DUTY - 1), so many browsers lower the frame rate instead of taking the server's time (the
+# learners' and the API's: 30 browsers on one run took 108 ms a frame at first). CPU time, not wall time: on a
+# busy machine a frame waits for a core, and that wait is no reason to rest longer.
 MAX_DUTY = 0.3
 
 
@@ -118,7 +119,8 @@ class LiveView:
         self._runs: list[tuple[str, str]] = []
         self._runs_time = -RUN_LIST_PERIOD
         self._kept: OrderedDict[tuple[object, ...], Any] = OrderedDict()  # what outlives a frame (Frame.lasting)
-        self.frames = 0  # frames drawn (the load benchmark reads it)
+        self.frames = 0  # frames drawn
+        self._frame_times: deque[float] = deque(maxlen=256)  # when the recent frames were drawn (frame_rate)
 
     # ------------------------------------------------------------------------------------------
     # Lifecycle
@@ -265,17 +267,16 @@ class LiveView:
     # The view thread
 
     def _loop(self) -> None:
-        """Frames at most `fps` a second, and one at once after a choice changed; busy at most MAX_DUTY of the
-        time (a frame that took long is followed by a longer rest, a choice then waiting for its end)."""
+        """Frames at most `fps` a second, and one at once after a choice changed; busy at most MAX_DUTY of a core
+        (a frame that took long is followed by a longer rest, a choice then waiting for its end)."""
         period = 1.0 / self.fps
         while not self._stop.is_set():
-            started = time.monotonic()
+            started, cpu = time.monotonic(), time.thread_time()
             self.refresh()
-            busy = time.monotonic() - started
-            rest = busy * (1.0 / MAX_DUTY - 1.0)
+            rest = (time.thread_time() - cpu) * (1.0 / MAX_DUTY - 1.0)
             if rest > 0 and self._stop.wait(rest):
                 return
-            remaining = period - busy - rest
+            remaining = period - (time.monotonic() - started)
             if remaining > 0 and self.changed.wait(remaining):
                 self.changed.clear()
 
@@ -306,6 +307,13 @@ class LiveView:
                     log.exception("live view: a frame of client %s failed", viewer.client.client_id)
                 viewer.last_error = repr(exc)
         self.frames += 1
+        self._frame_times.append(now)
+
+    def frame_rate(self, window: float = 5.0) -> float:
+        """Frames drawn a second over the last `window` seconds (each draws every browser's view)."""
+        now = time.monotonic()
+        recent = [t for t in list(self._frame_times) if now - t <= window]
+        return len(recent) / window
 
     def _take_choice(self, viewer: Viewer) -> None:
         """The viewer's dashboard tab chose anew: the viewer takes it (run, demons, large text, token)."""

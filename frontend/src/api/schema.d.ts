@@ -2979,10 +2979,22 @@ export interface components {
          */
         ViewOut: {
             /**
+             * Browsers
+             * @description browsers connected to the live view now, each with its own view
+             * @default 0
+             */
+            browsers: number;
+            /**
              * Enabled
              * @description false when the server runs without the live view (`horde serve --no-view`)
              */
             enabled: boolean;
+            /**
+             * Frame Rate
+             * @description frames drawn a second over the last 5 s (a frame draws every browser's view)
+             * @default 0
+             */
+            frame_rate: number;
             /**
              * Run
              * @description the run shown to the browsers of `viewer`, if it chose one

@@ -29,9 +29,10 @@ router = APIRouter(prefix="/view", tags=["view"])
 def get_view(view: LiveViewDep, viewer: Annotated[ViewerKey | None, Query()] = None) -> ViewOut:
     if view is None:
         return ViewOut(enabled=False, url=None, run=None)
+    load = {"browsers": len(view.viewers()), "frame_rate": round(view.frame_rate(), 2)}
     if viewer is None:
-        return ViewOut(enabled=True, url=view.url, run=None)
-    return ViewOut(enabled=True, url=view.url_for(viewer), run=view.shown_run(viewer))
+        return ViewOut(enabled=True, url=view.url, run=None, **load)
+    return ViewOut(enabled=True, url=view.url_for(viewer), run=view.shown_run(viewer), **load)
 
 
 @router.post(
