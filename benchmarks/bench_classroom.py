@@ -105,6 +105,8 @@ class Phase:
     total_rate: float
     health: list[float]
     cpu: float  # server CPU seconds per wall second
+    learner_cpu: float  # of it, the learner threads' (niced)
+    client_cpu: float  # this process's (the viewers' clients), per wall second
     load: float  # 1-minute load average at the end
     stream_rates: list[float] = field(default_factory=list)
     viser_rates: list[float] = field(default_factory=list)
@@ -129,14 +131,18 @@ async def phase(http: httpx.AsyncClient, server: int, ports: tuple[int, int], vi
     checker = asyncio.create_task(health_checks(http, health_stop, latencies))
     counted = [c.messages for c in streams], [c.messages for c in views]
     cpu_began, began, before = cpu_seconds(server), time.monotonic(), await steps(http)
+    learner_began, client_began = cpu_seconds(server, learners_only=True), time.process_time()
     await asyncio.sleep(args.seconds)
     after, wall = await steps(http), time.monotonic() - began
     cpu = (cpu_seconds(server) - cpu_began) / wall
+    learner_cpu = (cpu_seconds(server, learners_only=True) - learner_began) / wall
+    client_cpu = (time.process_time() - client_began) / wall
     view_load = (await http.get("/api/view")).json()
     health_stop.set()
     await checker
     result = Phase(loaded, (after[viewed] - before[viewed]) / wall,
-                   sum(after[r] - before[r] for r in before if r in after) / wall, latencies, cpu, os.getloadavg()[0],
+                   sum(after[r] - before[r] for r in before if r in after) / wall, latencies, cpu, learner_cpu,
+                   client_cpu, os.getloadavg()[0],
                    [(c.messages - n) / wall for c, n in zip(streams, counted[0], strict=True)],
                    [(c.messages - n) / wall for c, n in zip(views, counted[1], strict=True)],
                    sum(1 for c in [*streams, *views] if c.closed), view_load["browsers"],
@@ -180,7 +186,8 @@ async def bench(args: argparse.Namespace) -> dict[str, Any]:
                     p = phases[-1]
                     what = f"with {args.viewers} + {args.viewers} viewers" if p.viewers else "without viewers"
                     print(f"  {what:28} viewed run {p.viewed_rate:8,.0f} steps/s, all {p.total_rate:9,.0f}; "
-                          f"health p99 {1000 * percentile(p.health, 0.99):6.1f} ms; server CPU {p.cpu:.2f}/s; "
+                          f"health p99 {1000 * percentile(p.health, 0.99):6.1f} ms; server CPU {p.cpu:.2f}/s "
+                          f"(learners {p.learner_cpu:.2f}), clients' {p.client_cpu:.2f}/s; "
                           f"load {p.load:.1f}; view {p.browsers} browsers at {p.frame_rate:.1f} frames/s",
                           flush=True)  # fmt: skip
         finally:
@@ -217,6 +224,11 @@ async def bench(args: argparse.Namespace) -> dict[str, Any]:
             },
         },
         "server_cpu_per_s": {"alone": mean([p.cpu for p in alone]), "viewed": mean([p.cpu for p in viewed_phases])},
+        "learner_cpu_per_s": {
+            "alone": mean([p.learner_cpu for p in alone]),
+            "viewed": mean([p.learner_cpu for p in viewed_phases]),
+        },
+        "client_cpu_per_s": {"viewed": mean([p.client_cpu for p in viewed_phases])},
         "load_average": [p.load for p in phases],
         "stream_messages_per_s": {"min": min(stream_rates), "mean": mean(stream_rates)},
         "viser_messages_per_s": {"min": min(viser_rates), "mean": mean(viser_rates)},
@@ -248,6 +260,9 @@ def main(argv: list[str] | None = None) -> None:
           f"{result['viser_messages_per_s']['min']:.1f} messages/s; dropped: {result['dropped']} (goal 0)")  # fmt: skip
     print(f"live view: {result['view_browsers']} browsers at {result['view_frames_per_s']} frames/s (each frame "
           "draws every browser's view)")  # fmt: skip
+    print(f"learner threads' CPU per second: {result['learner_cpu_per_s']['alone']:.2f} alone, "
+          f"{result['learner_cpu_per_s']['viewed']:.2f} viewed; the clients' process "
+          f"{result['client_cpu_per_s']['viewed']:.2f} viewed")  # fmt: skip
     print(f"server CPU per second: {result['server_cpu_per_s']['alone']:.2f} alone, "
           f"{result['server_cpu_per_s']['viewed']:.2f} viewed; load averages {result['load_average']}")  # fmt: skip
     if args.json is not None:

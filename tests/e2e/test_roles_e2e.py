@@ -72,15 +72,10 @@ def visible_buttons(page: Page) -> list[Any]:
     return [b for b in page.get_by_role("button").all() if b.is_visible()]
 
 
-@pytest.mark.timeout(300)
-def test_a_viewers_dashboard_shows_no_control_that_would_be_refused(browser: Browser, server: RunningServer) -> None:
-    api = server.client
-    alice = api.post("/api/tokens", json={"role": "student", "name": "alice"}, headers=TEACHER).json()
-    teachers = launch(server, TEACHER, "teachers")
-    alices = launch(server, {"Authorization": f"Bearer {alice['token']}"}, "alices")
-    page, errors, refused = open_link(browser, "about:blank")
+def issue_viewer_link(browser: Browser, server: RunningServer) -> str:
+    """The teacher's page issues a viewer's token on the Class tab; its invitation link, shown once."""
+    page, _, _ = open_link(browser, "about:blank")
     try:
-        # The teacher issues the viewer's token on the Class tab: its invitation link is shown once.
         page.goto(f"{server.url}/?token=s3cret&tab=class")
         expect(page).to_have_url(re.compile(r"\?tab=class$"))  # the token is taken, and gone from the address
         form = page.get_by_role("form", name="Issue a token")
@@ -90,36 +85,53 @@ def test_a_viewers_dashboard_shows_no_control_that_would_be_refused(browser: Bro
         link = page.get_by_label(re.compile("Invitation for vic")).input_value()
         assert re.fullmatch(rf"{re.escape(server.url)}/\?token=hl_[\w-]+", link), link
         expect(page.get_by_role("row", name=re.compile("vic viewer"))).to_be_visible()
+        return link
+    finally:
         page.context.close()
 
-        page, errors, refused = open_link(browser, link)
+
+def sweep(page: Page, tab: str) -> None:
+    """On `tab`: no control that changes anything is shown; every other button is pressed, twice."""
+    page.get_by_role("tab", name=tab).click()
+    page.wait_for_timeout(300)  # the tab's readings arrive
+    names = [b.get_attribute("aria-label") or b.inner_text().strip() for b in visible_buttons(page)]
+    shown = [name for name in names if CHANGES.match(name)]
+    assert shown == [], f"the {tab} tab shows a viewer controls it may not use: {shown}"
+    for button in visible_buttons(page):  # the rest change only this page: pressed, twice, none refused
+        page.get_by_role("tab", name=tab).click()  # back, if the last one moved the page (Open a run)
+        if not button.is_visible() or not button.is_enabled() or button.get_attribute("role") == "tab":
+            continue
+        if NOT_PRESSED.match(button.inner_text().strip()):
+            continue
+        for _ in range(2):
+            with contextlib.suppress(PlaywrightTimeout):
+                button.click(timeout=2_000)
+
+
+@pytest.mark.timeout(300)
+def test_a_viewers_dashboard_shows_no_control_that_would_be_refused(browser: Browser, server: RunningServer) -> None:
+    api = server.client
+    alice = api.post("/api/tokens", json={"role": "student", "name": "alice"}, headers=TEACHER).json()
+    teachers = launch(server, TEACHER, "teachers")
+    alices = launch(server, {"Authorization": f"Bearer {alice['token']}"}, "alices")
+    link = issue_viewer_link(browser, server)
+    page, errors, refused = open_link(browser, link)
+    try:
         page.goto(f"{link}&run={alices}")
         page.locator(f'li.run-item.selected[data-run="{alices}"]').wait_for()
         expect(page.get_by_test_id("role")).to_have_text("vic (viewer)")
         expect(page.locator(f'li.run-item[data-run="{teachers}"] [data-testid="run-owner"]')).to_have_text("by teacher")
         for tab in TABS:
-            page.get_by_role("tab", name=tab).click()
-            page.wait_for_timeout(300)  # the tab's readings arrive
-            names = [b.get_attribute("aria-label") or b.inner_text().strip() for b in visible_buttons(page)]
-            shown = [name for name in names if CHANGES.match(name)]
-            assert shown == [], f"the {tab} tab shows a viewer controls it may not use: {shown}"
-            for button in visible_buttons(page):  # the rest change only this page: pressed, twice, none refused
-                page.get_by_role("tab", name=tab).click()  # back, if the last one moved the page (Open a run)
-                if not button.is_visible() or not button.is_enabled() or button.get_attribute("role") == "tab":
-                    continue
-                if NOT_PRESSED.match(button.inner_text().strip()):
-                    continue
-                for _ in range(2):
-                    with contextlib.suppress(PlaywrightTimeout):
-                        button.click(timeout=2_000)
+            sweep(page, tab)
         page.wait_for_timeout(500)
         assert refused == [], f"a control the viewer was shown was refused: {refused}"
         assert errors == [], errors
         page.context.close()
 
         # A student's page: the commands of the student's own run, none of the teacher's run.
-        page, errors, refused = open_link(browser, alice["link"].replace("http://testserver", server.url))
-        page.goto(f"{alice['link'].replace('http://testserver', server.url)}&run={teachers}")
+        invitation = alice["link"].replace("http://testserver", server.url)
+        page, errors, refused = open_link(browser, invitation)
+        page.goto(f"{invitation}&run={teachers}")
         page.locator(f'li.run-item.selected[data-run="{teachers}"]').wait_for()
         own = page.locator(f'li.run-item[data-run="{alices}"]')
         other = page.locator(f'li.run-item[data-run="{teachers}"]')
