@@ -165,7 +165,8 @@ class ControlPanel:
     # The view thread: the widgets follow the choices
 
     def choose(self, run_id: str, demons: Sequence[str] | None, large: bool | None, secret: str | None) -> None:
-        """What this browser's dashboard chose (its run, demons, large text, token): taken as the browser's own."""
+        """What this browser's dashboard chose (its run, demons, large text, token): taken as the browser's own; the
+        token replaces any typed into the panel (the tab's choice is its browsers')."""
         with self.lock:
             if run_id != self.run_id:
                 self.run_id, self.value_demon, self.shown = run_id, None, ()
@@ -173,8 +174,7 @@ class ControlPanel:
                 self.shown = tuple(dict.fromkeys(demons))[:MAX_SHOWN]
             if large is not None:
                 self.large = large
-            if secret is not None:
-                self.commands.secret = secret
+            self.commands.secret = secret  # the tab's token is its browsers' (none: they command nothing)
         self.changed.set()
 
     def set_runs(self, runs: Sequence[tuple[str, str]]) -> None:

@@ -62,7 +62,7 @@ MAX_DUTY = 0.3
 @dataclass(frozen=True)
 class Choice:
     """What a dashboard tab shows: a run, the demons it labels and charts (None: the view's own first ones),
-    large text (None: unchanged), the token it acts with (None: none given), numbered in order."""
+    large text (None: unchanged), the token it acts with (None: none), numbered in order."""
 
     run: str
     demons: tuple[str, ...] | None
