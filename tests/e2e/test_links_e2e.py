@@ -1,6 +1,6 @@
-"""Links to a run, in a real browser: the address names the selected run and tab, so a reload, the back
-button and a shared link restore them, with the run's kept evaluations; a link to an unknown run opens the
-dashboard with a notice."""
+"""Links to a run, in a real browser (issue 28, item 2): the address names the selected run and tab, so a reload,
+the back button and a shared link restore them, with the run's kept evaluations; a link to an unknown run opens
+the dashboard with a notice. And present mode on the run the link opened."""
 
 from __future__ import annotations
 
@@ -64,6 +64,15 @@ def test_a_link_restores_the_run_its_tab_and_its_evaluations(browser: Browser, s
     page.go_back()
     expect(page.get_by_role("tab", name="Live")).to_have_attribute("aria-selected", "true")
     expect(page).to_have_url(re.compile(rf"\?run={run}&tab=live$"))
+
+    # Present mode, for the projector: the run's view and charts, the rest hidden; Escape brings it back.
+    page.get_by_role("button", name="Present", exact=True).click()
+    expect(page.locator("aside.sidebar")).to_be_hidden()
+    expect(page.locator("table.demon-table")).to_be_hidden()
+    expect(page.locator("section.charts-panel")).to_be_visible()
+    expect(page.locator("section.viser-panel")).to_be_visible()
+    page.keyboard.press("Escape")
+    expect(page.locator("aside.sidebar")).to_be_visible()
 
     page.goto(f"{server.url}/?run=no-such-run&tab=live")
     expect(page.get_by_role("alert")).to_contain_text('No run "no-such-run" on this server')

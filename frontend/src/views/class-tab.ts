@@ -14,7 +14,6 @@ import { ApiError, api, errorMessage, unwrap } from "../api/client";
 import type { RunCard, Token, TokenIssued } from "../api/types";
 import { formatCount, formatNumber, formatStatus } from "../lib/format";
 import { CONFIRM_MS } from "../ui/confirm";
-import { h } from "../ui/dom";
 
 const OVERVIEW_MS = 2000;
 const SPARK_WIDTH = 160;
@@ -63,7 +62,8 @@ function sparkline(card: RunCard): TemplateResult {
 }
 
 export function classTab(store: AppStore): HTMLElement {
-  const root = h("div", { class: "class-tab" });
+  const root = document.createElement("div");
+  root.className = "class-tab";
   let cards: RunCard[] = [];
   let tokens: Token[] = [];
   let issued: TokenIssued | null = null;

@@ -3,19 +3,26 @@
  * hidden (styles.css, `html.present`). A "Present" button turns it on (the Live tab's toolbar, a Class tab
  * card); Escape or the "Exit present mode" button turns it off.
  */
+import { html, render } from "lit-html";
 import type { AppStore } from "../app/state";
-import { h } from "../ui/dom";
+
+/** The one element a template draws (views here are lit-html templates, mounted into an element of their own). */
+function element<T extends HTMLElement>(template: ReturnType<typeof html>): T {
+  const holder = document.createElement("div");
+  render(template, holder);
+  return holder.firstElementChild as T;
+}
 
 /** The button that presents the selected run. */
 export function presentButton(store: AppStore): HTMLButtonElement {
-  const button = h(
-    "button",
-    {
-      type: "button",
-      title: "The live view and the charts of the selected run, large, for a projector (Escape leaves)",
-      onclick: () => store.update({ present: true, tab: "live" }),
-    },
-    "Present",
+  const button = element<HTMLButtonElement>(
+    html`<button
+      type="button"
+      title="The live view and the charts of the selected run, large, for a projector (Escape leaves)"
+      @click=${() => store.update({ present: true, tab: "live" })}
+    >
+      Present
+    </button>`,
   );
   store.subscribe(({ selectedRunId }) => (button.disabled = selectedRunId === null), ["selectedRunId"]);
   button.disabled = store.state.selectedRunId === null;
@@ -24,10 +31,10 @@ export function presentButton(store: AppStore): HTMLButtonElement {
 
 /** Keep the page's present class current; returns the button that leaves present mode (shown only then). */
 export function keepPresentMode(store: AppStore): HTMLElement {
-  const leave = h(
-    "button",
-    { type: "button", class: "present-exit", onclick: () => store.update({ present: false }) },
-    "Exit present mode (Esc)",
+  const leave = element<HTMLButtonElement>(
+    html`<button type="button" class="present-exit" @click=${() => store.update({ present: false })}>
+      Exit present mode (Esc)
+    </button>`,
   );
   const apply = () => {
     const on = store.state.present && store.state.selectedRunId !== null;
