@@ -4,9 +4,10 @@
  */
 import "./styles.css";
 import { attempt, loadCatalog, loadLiveView, loadProtocols } from "./app/actions";
-import { createStore } from "./app/state";
+import { createApp } from "./app/app";
 import { installShortcuts } from "./app/shortcuts";
-import { watchChartedForView, watchProtocol, watchRuns, watchSelectedRun } from "./app/watch";
+import { watchApp } from "./app/watch";
+import { Scope } from "./ui/scope";
 import { h } from "./ui/dom";
 import { charts } from "./views/charts";
 import { demonEditor } from "./views/demon-editor";
@@ -26,54 +27,53 @@ import { tour } from "./views/tour";
 import { viserEmbed } from "./views/viser-embed";
 import { worldEditor } from "./views/world-editor";
 
-const store = createStore();
+const app = createApp();
+// The page's views and watchers live as long as the page.
+const scope = new Scope();
 const helpPanel = help();
-const guide = tour(store);
-const streams = streamRuns(store);
+const guide = tour(app, scope);
+const streams = streamRuns(app, scope);
 
 const live = h(
   "div",
   { class: "live" },
-  liveToolbar(store, guide.start),
+  liveToolbar(app, scope, guide.start),
   streams.strip,
-  demonTable(store),
-  demonOverview(store),
-  runResults(store),
-  h("div", { class: "live-bottom" }, viserEmbed(store), charts(store)),
+  demonTable(app, scope),
+  demonOverview(app, scope),
+  runResults(app, scope),
+  h("div", { class: "live-bottom" }, viserEmbed(app, scope), charts(app, scope)),
 );
 
-const app = h(
+const page = h(
   "div",
   { class: "app" },
   h("a", { href: "#main", class: "skip-link" }, "Skip to the main view"),
-  header(store, helpPanel.open),
+  header(app, scope, helpPanel.open),
   h(
     "div",
     { class: "layout" },
-    h("aside", { class: "sidebar", "aria-label": "Runs" }, launcher(store), runsPanel(store), streams.list),
+    h("aside", { class: "sidebar", "aria-label": "Runs" }, launcher(app, scope), runsPanel(app, scope), streams.list),
     h(
       "main",
       { id: "main", tabindex: "-1" },
-      tabs(store, [
+      tabs(app, scope, [
         { tab: "live", label: "Live", panel: live },
-        { tab: "protocol", label: "Protocol", panel: protocolPanel(store) },
-        { tab: "world", label: "World editor", panel: worldEditor(store) },
-        { tab: "demon", label: "Demon editor", panel: demonEditor(store) },
-        { tab: "studies", label: "Studies", panel: studiesPanel(store) },
+        { tab: "protocol", label: "Protocol", panel: protocolPanel(app, scope) },
+        { tab: "world", label: "World editor", panel: worldEditor(app, scope) },
+        { tab: "demon", label: "Demon editor", panel: demonEditor(app, scope) },
+        { tab: "studies", label: "Studies", panel: studiesPanel(app, scope) },
       ]),
     ),
   ),
 );
 
-document.getElementById("app")?.replaceWith(app);
+document.getElementById("app")?.replaceWith(page);
 document.body.append(helpPanel.element, guide.element);
-installShortcuts(store, helpPanel.open, () =>
+installShortcuts(app, scope, helpPanel.open, () =>
   Number((document.getElementById("step-size") as HTMLSelectElement | null)?.value ?? 1),
 );
-void loadCatalog(store);
-void attempt(store, () => loadProtocols(store));
-void loadLiveView(store);
-watchRuns(store);
-watchSelectedRun(store);
-watchProtocol(store);
-watchChartedForView(store);
+watchApp(app, scope);
+void loadCatalog(app);
+void attempt(app, () => loadProtocols(app));
+void loadLiveView(app);

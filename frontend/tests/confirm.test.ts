@@ -1,6 +1,6 @@
 // @vitest-environment happy-dom
 import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
-import { CONFIRM_MS, confirmButton } from "../src/ui/confirm";
+import { CONFIRM_MS, confirmButton } from "../src/ui/legacy-confirm";
 
 function make(onConfirm = vi.fn(), onChange = vi.fn()) {
   const confirm = confirmButton({

@@ -2,8 +2,8 @@
 import { describe, expect, it } from "vitest";
 import type { ValidationProblem } from "../src/api/types";
 import { InputError } from "../src/lib/input-error";
-import { type FieldSpec, fieldTable } from "../src/ui/fields";
-import { FormErrors } from "../src/ui/form";
+import { type FieldSpec, fieldTable } from "../src/ui/legacy-fields";
+import { FormErrors } from "../src/ui/legacy-form";
 
 type Key = "name" | "start" | "width" | "slip";
 const SPECS: readonly FieldSpec<Key>[] = [

@@ -12,8 +12,9 @@
  */
 import uPlot from "uplot";
 import "uplot/dist/uPlot.min.css";
-import { keys, queryClient, watchQuery } from "../app/queries";
-import { type AppState, type AppStore, chartedDemons } from "../app/state";
+import { keys, watchQuery } from "../app/queries";
+import { type App, type AppState, chartedDemons, state, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import { api, unwrap } from "../api/client";
 import type { Evaluation, History, Run } from "../api/types";
 import { formatCount, formatNumber, nameParts } from "../lib/format";
@@ -40,7 +41,7 @@ function evaluatedFrom(run: Run | null): string {
   return run?.evaluation?.kind === "rollouts" ? "from the agent's state" : "from the start";
 }
 
-export function charts(store: AppStore): HTMLElement {
+export function charts(app: App, scope: Scope): HTMLElement {
   const note = h("p", { class: "muted" });
   const grid = h("div", { class: "chart-grid" });
   const element = section(
@@ -96,7 +97,7 @@ export function charts(store: AppStore): HTMLElement {
   // choice, the run or an evaluation changes, and after a step of a paused run.
   let readAtStep: number | null = null;
   const readHistories = async (runId: string, names: readonly string[]): Promise<History[]> => {
-    readAtStep = store.state.live?.step ?? null;
+    readAtStep = state(app).live?.step ?? null;
     return Promise.all(
       names.map((name) =>
         unwrap(api.GET("/api/runs/{run_id}/demons/{name}/history", { params: { path: { run_id: runId, name } } })),
@@ -126,17 +127,20 @@ export function charts(store: AppStore): HTMLElement {
     }
     marked = { runId: state.selectedRunId, evaluations: state.evaluations };
   };
-  collectMarks(store.state);
+  collectMarks(state(app));
 
   // A demon removed or a run deleted between two reads fails a reading: the next one catches up.
-  const histories = watchQuery(queryClient, watchOf(store.state), (read) => {
+  const histories = watchQuery(app.client, watchOf(state(app)), (read) => {
     for (const history of read) {
       const multiple = multiples.get(history.demon);
-      if (multiple) draw(multiple, history, marks.get(history.demon) ?? [], store.state);
+      if (multiple) draw(multiple, history, marks.get(history.demon) ?? [], state(app));
     }
   });
 
-  store.subscribe(
+  watchState(
+    app,
+    scope,
+    ["selectedRunId", "charted", "tab", "classroom", "demons", "evaluations", "large"],
     (state) => {
       collectMarks(state);
       layout(state);
@@ -144,18 +148,14 @@ export function charts(store: AppStore): HTMLElement {
       histories.update(watch);
       if (watch.enabled) void histories.refetch();
     },
-    ["selectedRunId", "charted", "tab", "classroom", "demons", "evaluations", "large"],
   );
-  store.subscribe(
-    (state) => {
-      const watch = watchOf(state);
-      histories.update(watch);
-      const step = state.live?.step ?? null;
-      if (watch.enabled && state.live?.status !== "running" && step !== readAtStep) void histories.refetch();
-    },
-    ["live"],
-  );
-  layout(store.state);
+  watchState(app, scope, ["live"], (state) => {
+    const watch = watchOf(state);
+    histories.update(watch);
+    const step = state.live?.step ?? null;
+    if (watch.enabled && state.live?.status !== "running" && step !== readAtStep) void histories.refetch();
+  });
+  layout(state(app));
   // The grid decides each cell's width; the plots follow it (and never the other way round).
   new ResizeObserver(() => {
     for (const multiple of multiples.values()) multiple.plot?.setSize(chartSize(multiple.box));

@@ -3,7 +3,8 @@
  * protocol jobs to see their results side by side; every run and job has its export links (history or
  * results as CSV and JSON, a run's spec as TOML, so a user can share exactly what ran).
  */
-import type { AppStore } from "../app/state";
+import { type App, state, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import { api, errorMessage, unwrap } from "../api/client";
 import type { History, Protocol, RunBrief, RunState } from "../api/types";
 import { formatNumber, runLabel } from "../lib/format";
@@ -26,7 +27,7 @@ export function runExports(runId: string): HTMLElement {
   );
 }
 
-export function comparePanel(store: AppStore): HTMLElement {
+export function comparePanel(app: App, scope: Scope): HTMLElement {
   const chosenRuns = new Set<string>();
   const chosenJobs = new Set<string>();
   const runList = h("ul", { class: "compare-list" });
@@ -39,7 +40,7 @@ export function comparePanel(store: AppStore): HTMLElement {
   const renderRuns = () => {
     replaceChildren(
       runList,
-      store.state.runs.map((run: RunBrief) => {
+      state(app).runs.map((run: RunBrief) => {
         const tick = h("input", {
           type: "checkbox",
           checked: chosenRuns.has(run.id),
@@ -207,7 +208,7 @@ export function comparePanel(store: AppStore): HTMLElement {
     }
   });
 
-  store.subscribe(renderRuns, ["runs"]);
+  watchState(app, scope, ["runs"], renderRuns);
   renderRuns();
   const refreshJobs = h("button", { type: "button", onclick: () => void loadJobs() }, "Refresh the protocol jobs");
   void loadJobs();

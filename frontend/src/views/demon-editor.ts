@@ -4,7 +4,8 @@
  * (POST /api/runs/{id}/demons). Lists of sensors, regions and demons come from the run's world.
  */
 import { addDemon, notify } from "../app/actions";
-import type { AppState, AppStore } from "../app/state";
+import { type App, type AppState, state, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import { ApiError } from "../api/client";
 import type { Demon, DemonSpec } from "../api/types";
 import { runLabel } from "../lib/format";
@@ -12,7 +13,7 @@ import { LEARNER_TEXT, STEP_SIZE_TEXT, choices } from "../lib/learners";
 import { readNumber, readOptionalNumber } from "../lib/parse";
 import { regionNames, sensorNames } from "../lib/world";
 import { h, options, replaceChildren } from "../ui/dom";
-import { FormErrors, field, numberInput, textInput } from "../ui/form";
+import { FormErrors, field, numberInput, textInput } from "../ui/legacy-form";
 import { type ExprContext, exprInput } from "./expr-input";
 import { featuresFields } from "./features-fields";
 import { policyFields } from "./policy-fields";
@@ -26,7 +27,7 @@ const RESETS: readonly (readonly [DemonSpec["reset"], string])[] = [
 ];
 const BLANK = "";
 
-export function demonEditor(store: AppStore): HTMLElement {
+export function demonEditor(app: App, scope: Scope): HTMLElement {
   const errors = new FormErrors();
   const runNote = h("p", { class: "run-note", "aria-live": "polite" });
   const template = h("select", { id: "demon-template" });
@@ -127,35 +128,35 @@ export function demonEditor(store: AppStore): HTMLElement {
 
   copy.addEventListener("click", () => {
     touched = true;
-    const source = store.state.demons.find((d) => d.name === template.value);
+    const source = state(app).demons.find((d) => d.name === template.value);
     // A demon's spec comes back in the output form of the same model, which the form reads as input.
-    fill(source ? { ...(source.spec as DemonSpec), name: `${source.name}_copy` } : blankDemon(store.state.demons));
+    fill(source ? { ...(source.spec as DemonSpec), name: `${source.name}_copy` } : blankDemon(state(app).demons));
   });
 
   const onSubmit = async (event: Event) => {
     event.preventDefault();
     errors.clear();
-    const runId = store.state.selectedRunId;
+    const runId = state(app).selectedRunId;
     if (runId === null) return;
     const spec = errors.readOrShow(read);
     if (spec === null) return;
     submit.disabled = true;
     try {
-      const demon = await addDemon(store, runId, spec);
-      notify(store, `Added demon '${demon.name}' to the run.`);
-      name.value = freeName(store.state.demons); // the rest stays, for a variant of the same question
+      const demon = await addDemon(app, runId, spec);
+      notify(app, `Added demon '${demon.name}' to the run.`);
+      name.value = freeName(state(app).demons); // the rest stays, for a variant of the same question
     } catch (error) {
       if (error instanceof ApiError && error.problems.length > 0) errors.showProblems(error.problems);
       else errors.showGeneral(error instanceof Error ? error.message : String(error));
     } finally {
-      renderRun(store.state); // enables the button again where the run still takes demons
+      renderRun(state(app)); // enables the button again where the run still takes demons
     }
   };
 
   let touched = false;
   fill(blankDemon([]));
-  store.subscribe(renderRun, ["run", "demons"]);
-  renderRun(store.state);
+  watchState(app, scope, ["run", "demons"], renderRun);
+  renderRun(state(app));
 
   return h(
     "form",

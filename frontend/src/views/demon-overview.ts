@@ -4,7 +4,8 @@
  * counts both show. Hover names a cell's demon and its prediction; a click charts it (or stops).
  */
 import { toggleCharted } from "../app/actions";
-import type { AppStore } from "../app/state";
+import { type App, state, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import { overviewLevels } from "../lib/demons";
 import { formatNumber } from "../lib/format";
 import { h, section, setText } from "../ui/dom";
@@ -22,7 +23,7 @@ function colourOf(level: number): string {
   return `rgb(${mix(r)}, ${mix(g)}, ${mix(b)})`;
 }
 
-export function demonOverview(store: AppStore): HTMLElement {
+export function demonOverview(app: App, scope: Scope): HTMLElement {
   const canvas = h("canvas", { role: "img", "aria-label": "Every demon's prediction as a coloured cell" });
   const readout = h(
     "p",
@@ -38,8 +39,8 @@ export function demonOverview(store: AppStore): HTMLElement {
   let cell = 8;
 
   const draw = () => {
-    const { demons, live } = store.state;
-    element.hidden = demons.length <= OVERVIEW_FROM || store.state.tab !== "live";
+    const { demons, live } = state(app);
+    element.hidden = demons.length <= OVERVIEW_FROM || state(app).tab !== "live";
     if (element.hidden) return;
     const width = Math.max(100, canvas.clientWidth);
     cell = Math.max(4, Math.min(24, Math.floor(Math.sqrt((width * 240) / demons.length))));
@@ -68,23 +69,23 @@ export function demonOverview(store: AppStore): HTMLElement {
     const i =
       Math.floor(((event.clientY - box.top) * scale) / cell) * columns +
       Math.floor(((event.clientX - box.left) * scale) / cell);
-    return store.state.demons[i];
+    return state(app).demons[i];
   };
   canvas.addEventListener("mousemove", (event) => {
     const demon = demonAt(event);
     if (!demon) return;
-    const value = store.state.live?.predictions[demon.name] ?? demon.prediction;
+    const value = state(app).live?.predictions[demon.name] ?? demon.prediction;
     setText(
       readout,
-      `${demon.name}: ${formatNumber(value)}${store.state.charted.includes(demon.name) ? " (charted)" : ""}`,
+      `${demon.name}: ${formatNumber(value)}${state(app).charted.includes(demon.name) ? " (charted)" : ""}`,
     );
   });
   canvas.addEventListener("click", (event) => {
     const demon = demonAt(event);
-    if (demon) toggleCharted(store, demon.name, !store.state.charted.includes(demon.name));
+    if (demon) toggleCharted(app, demon.name, !state(app).charted.includes(demon.name));
   });
 
-  store.subscribe(draw, ["demons", "tab"]);
+  watchState(app, scope, ["demons", "tab"], draw);
   window.setInterval(() => {
     if (!document.hidden) draw();
   }, REDRAW_MS);

@@ -11,7 +11,8 @@
  */
 import { Virtualizer, elementScroll, observeElementOffset, observeElementRect } from "@tanstack/virtual-core";
 import { attempt, evaluateDemon, notify, removeDemon, toggleCharted } from "../app/actions";
-import type { AppState, AppStore } from "../app/state";
+import { type App, type AppState, state, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import type { Demon } from "../api/types";
 import { evaluationKind, gridWorld } from "../api/types";
 import { type DemonFilter, demonSummary, filterDemons } from "../lib/demons";
@@ -20,13 +21,13 @@ import { formatNumber, formatRelativeError, formatTruth, nameParts, truthOf } fr
 import { type Term, tip } from "../lib/glossary";
 import { readNumber } from "../lib/parse";
 import { startPoint } from "../lib/world";
-import { type ConfirmButton, confirmButton } from "../ui/confirm";
+import { type ConfirmButton, confirmButton } from "../ui/legacy-confirm";
 import { h, options, section, setText } from "../ui/dom";
 import { html, nothing, render as renderTemplate } from "lit-html";
 import { live } from "lit-html/directives/live.js";
 import { repeat } from "lit-html/directives/repeat.js";
 import { styleMap } from "lit-html/directives/style-map.js";
-import { field, numberInput } from "../ui/form";
+import { field, numberInput } from "../ui/legacy-form";
 
 const DEFAULT_ROLLOUTS = 100;
 /** Above this many shown demons the table scrolls in its own box and keeps only the rows in sight. */
@@ -65,7 +66,7 @@ function questionOf(demon: Demon) {
     <span class="term" title=${tip("cumulant")}>cumulant</span> ${exprText(demon.spec.cumulant)}`;
 }
 
-export function demonTable(store: AppStore): HTMLElement {
+export function demonTable(app: App, scope: Scope): HTMLElement {
   const rollouts = numberInput(DEFAULT_ROLLOUTS, { name: "rollouts" });
   const evaluateAll = h("button", { type: "button" }, "Evaluate all");
   const evaluationNote = h("p", { class: "hint evaluation-note", dataset: { testid: "evaluation-note" } });
@@ -102,27 +103,27 @@ export function demonTable(store: AppStore): HTMLElement {
   const evaluate = async (demon: string) => {
     const episodes = readNumber(rollouts.value);
     pending.add(demon);
-    render(store.state);
-    await attempt(store, async () => {
-      await evaluateDemon(store, demon, episodes);
-      notify(store, `Evaluated '${demon}' over ${episodes} rollouts.`);
+    render(state(app));
+    await attempt(app, async () => {
+      await evaluateDemon(app, demon, episodes);
+      notify(app, `Evaluated '${demon}' over ${episodes} rollouts.`);
     });
     pending.delete(demon);
-    render(store.state);
+    render(state(app));
   };
   // One after the other: the server runs at most two evaluations at once (429 beyond). "All" means the
   // demons the filter shows.
   evaluateAll.addEventListener("click", async () => {
     evaluateAll.disabled = true;
-    for (const demon of shownDemons(store.state)) if (!pending.has(demon.name)) await evaluate(demon.name);
+    for (const demon of shownDemons(state(app))) if (!pending.has(demon.name)) await evaluate(demon.name);
     evaluateAll.disabled = false;
   });
 
   const filterNow = (): DemonFilter => ({ text: search.value, show: show.value as DemonFilter["show"] });
   const shownDemons = (state: Readonly<AppState>): Demon[] =>
     filterDemons(state.demons, filterNow(), state.live?.metrics ?? {}, state.charted);
-  search.addEventListener("input", () => render(store.state));
-  show.addEventListener("change", () => render(store.state));
+  search.addEventListener("input", () => render(state(app)));
+  show.addEventListener("change", () => render(state(app)));
 
   // Only the rows in sight (plus a few) exist once the table is long.
   const virtualizer = new Virtualizer<HTMLDivElement, HTMLTableRowElement>({
@@ -135,7 +136,7 @@ export function demonTable(store: AppStore): HTMLElement {
     scrollToFn: elementScroll,
     getItemKey: (index) => currentNames[index] ?? index,
     onChange: () => {
-      if (!rendering) render(store.state);
+      if (!rendering) render(state(app));
     },
   });
   let rendering = false;
@@ -185,7 +186,7 @@ export function demonTable(store: AppStore): HTMLElement {
             type="checkbox"
             aria-label=${`Chart ${demon.name}`}
             .checked=${live(charted.includes(demon.name))}
-            @change=${(event: Event) => toggleCharted(store, demon.name, (event.target as HTMLInputElement).checked)}
+            @change=${(event: Event) => toggleCharted(app, demon.name, (event.target as HTMLInputElement).checked)}
           />chart</label
         >
       </th>
@@ -222,16 +223,16 @@ export function demonTable(store: AppStore): HTMLElement {
   };
 
   const removeNow = (demon: string) => {
-    const runId = store.state.selectedRunId;
+    const runId = state(app).selectedRunId;
     if (runId === null) return;
     removing.add(demon);
-    render(store.state);
-    void attempt(store, async () => {
-      await removeDemon(store, runId, demon);
-      notify(store, `Removed demon '${demon}' from the run.`);
+    render(state(app));
+    void attempt(app, async () => {
+      await removeDemon(app, runId, demon);
+      notify(app, `Removed demon '${demon}' from the run.`);
     }).finally(() => {
       removing.delete(demon);
-      render(store.state);
+      render(state(app));
     });
   };
 
@@ -357,8 +358,8 @@ export function demonTable(store: AppStore): HTMLElement {
   scrollBox.append(table);
 
   const rollout = field("Rollouts per evaluation", rollouts, { class: "inline-field", term: "truth" });
-  store.subscribe(render, ["run", "demons", "live", "evaluations", "charted"]);
-  render(store.state);
+  watchState(app, scope, ["run", "demons", "live", "evaluations", "charted"], render);
+  render(state(app));
 
   return section(
     {

@@ -16,7 +16,7 @@ import { InputError } from "../lib/input-error";
 import { readNumber } from "../lib/parse";
 import { GLOSSARY, type Term } from "../lib/glossary";
 import { h, options, replaceChildren, uid } from "../ui/dom";
-import { type FormErrors, termLabel } from "../ui/form";
+import { type FormErrors, termLabel } from "../ui/legacy-form";
 
 export interface ExprContext {
   sensors: string[];

@@ -5,7 +5,7 @@
 import type { FeatureSpec } from "../api/types";
 import { readNumber } from "../lib/parse";
 import { h, options } from "../ui/dom";
-import { type FormErrors, field, numberInput } from "../ui/form";
+import { type FormErrors, field, numberInput } from "../ui/legacy-form";
 
 const RUN_FEATURES = "run";
 type Kind = FeatureSpec["kind"];

@@ -2,7 +2,8 @@
  * The top bar: the title, the selected run's status, episode and step (from its stream), the notice
  * line, a "large text" switch for projectors, and the token field for servers that require one.
  */
-import type { AppState, AppStore } from "../app/state";
+import { type App, type AppState, state, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import { readToken, writeToken } from "../api/token";
 import { formatCount, formatNumber, formatStatus, runLabel } from "../lib/format";
 import { tip } from "../lib/glossary";
@@ -10,7 +11,7 @@ import { h, setText } from "../ui/dom";
 
 const LARGE_KEY = "horde-lab-large-text";
 
-export function header(store: AppStore, openHelp: () => void): HTMLElement {
+export function header(app: App, scope: Scope, openHelp: () => void): HTMLElement {
   const runName = h("span", { class: "run-name" });
   const status = h("span", { class: "badge" });
   const episode = h("span", { dataset: { testid: "episode" } });
@@ -37,7 +38,7 @@ export function header(store: AppStore, openHelp: () => void): HTMLElement {
   const setLarge = (on: boolean) => {
     document.documentElement.classList.toggle("large", on);
     large.setAttribute("aria-pressed", String(on));
-    store.update({ large: on });
+    app.ui.update({ large: on });
     try {
       localStorage.setItem(LARGE_KEY, on ? "1" : "");
     } catch {
@@ -100,8 +101,8 @@ export function header(store: AppStore, openHelp: () => void): HTMLElement {
       notice.setAttribute("role", message.kind === "error" ? "alert" : "status");
     }
   };
-  store.subscribe(render, ["run", "live", "runs", "selectedRunId", "notice"]);
-  render(store.state);
+  watchState(app, scope, ["run", "live", "runs", "selectedRunId", "notice"], render);
+  render(state(app));
 
   return h(
     "header",

@@ -6,7 +6,8 @@
  * takes, or at a speed too slow to finish, what one sees at it. "none" is an empty run, until paused.
  */
 import { attempt, launchRun, notify } from "../app/actions";
-import type { AppStore } from "../app/state";
+import { type App, state, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import { ApiError, api, unwrap } from "../api/client";
 import type { AnyWorldSpec, RunTemplate } from "../api/types";
 import { gridWorld } from "../api/types";
@@ -14,7 +15,7 @@ import { runLabel } from "../lib/format";
 import { readNumber, readOptionalNumber } from "../lib/parse";
 import { WATCHABLE_SECONDS, WATCH_HZ, launchEstimate, runDuration } from "../lib/runs";
 import { h, options, replaceChildren, setText } from "../ui/dom";
-import { FormErrors, checkbox, field, numberInput, textInput } from "../ui/form";
+import { FormErrors, checkbox, field, numberInput, textInput } from "../ui/legacy-form";
 
 const NO_SCENARIO = "";
 const SCENARIO_WORLD = "";
@@ -32,7 +33,7 @@ function worldPace(world: AnyWorldSpec | null | undefined): { maxSteps: number; 
   return { maxSteps: gridWorld(world)?.max_steps ?? 100, fullSpeed: FULL_SPEED_HZ };
 }
 
-export function launcher(store: AppStore): HTMLElement {
+export function launcher(app: App, scope: Scope): HTMLElement {
   const errors = new FormErrors();
   const scenario = h("select", { name: "scenario" });
   const description = h("p", { class: "hint scenario-description", "aria-live": "polite" });
@@ -60,11 +61,11 @@ export function launcher(store: AppStore): HTMLElement {
 
   // Launch waits for the catalogue: before it the list holds only "none", and the default is Experiment 1.
   let launching = false;
-  const allowLaunch = () => (submit.disabled = launching || !store.state.catalogLoaded);
+  const allowLaunch = () => (submit.disabled = launching || !state(app).catalogLoaded);
   const renderChoices = () => {
-    const { scenarios, worlds } = store.state;
+    const { scenarios, worlds } = state(app);
     // Experiment 1 until the user chooses.
-    const chosenScenario = store.state.scenarios.length > 0 && scenario.dataset.chosen ? scenario.value : "experiment1";
+    const chosenScenario = state(app).scenarios.length > 0 && scenario.dataset.chosen ? scenario.value : "experiment1";
     const chosenWorld = world.value;
     replaceChildren(
       scenario,
@@ -90,10 +91,10 @@ export function launcher(store: AppStore): HTMLElement {
   const describe = () => {
     showEstimate();
     const name = scenario.value;
-    const entry = store.state.scenarios.find((s) => s.name === name);
+    const entry = state(app).scenarios.find((s) => s.name === name);
     description.textContent = entry
       ? [entry.description, entry.watch_note].filter(Boolean).join(" ")
-      : store.state.catalogLoaded
+      : state(app).catalogLoaded
         ? "An empty run on the default world (or the one chosen below), until paused: add demons with the demon editor."
         : "Loading the scenarios…";
     if (name === described) return;
@@ -104,7 +105,7 @@ export function launcher(store: AppStore): HTMLElement {
       showEstimate();
       return;
     }
-    void attempt(store, async () => {
+    void attempt(app, async () => {
       const spec = await unwrap(api.GET("/api/scenarios/{name}", { params: { path: { name } } }));
       if (scenario.value !== name) return;
       seed.value = String(spec.seed);
@@ -146,9 +147,9 @@ export function launcher(store: AppStore): HTMLElement {
     launching = true;
     allowLaunch();
     try {
-      const run = await launchRun(store, template, readOptionalNumber(hz.value), startNow.checked);
-      notify(store, `Launched run ${runLabel(run)}.`);
-      store.update({ tab: "live" });
+      const run = await launchRun(app, template, readOptionalNumber(hz.value), startNow.checked);
+      notify(app, `Launched run ${runLabel(run)}.`);
+      app.ui.update({ tab: "live" });
     } catch (error) {
       if (error instanceof ApiError && error.problems.length > 0) errors.showProblems(error.problems);
       else errors.showGeneral(error instanceof Error ? error.message : String(error));
@@ -158,7 +159,7 @@ export function launcher(store: AppStore): HTMLElement {
     }
   };
 
-  store.subscribe(renderChoices, ["scenarios", "worlds", "catalogLoaded"]);
+  watchState(app, scope, ["scenarios", "worlds", "catalogLoaded"], renderChoices);
   renderChoices();
 
   return h(

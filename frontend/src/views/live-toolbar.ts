@@ -2,12 +2,13 @@
  * The Live tab's switches: classroom mode (every demon charted, one small chart each, and the guided
  * tour on offer) and the tour itself.
  */
-import type { AppStore } from "../app/state";
+import { type App, state, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import { h } from "../ui/dom";
 
 const CLASSROOM_KEY = "horde-lab-classroom";
 
-export function liveToolbar(store: AppStore, startTour: () => void): HTMLElement {
+export function liveToolbar(app: App, scope: Scope, startTour: () => void): HTMLElement {
   const classroom = h(
     "button",
     {
@@ -18,15 +19,15 @@ export function liveToolbar(store: AppStore, startTour: () => void): HTMLElement
     "Classroom mode",
   );
   const set = (on: boolean) => {
-    store.update({ classroom: on });
+    app.ui.update({ classroom: on });
     try {
       localStorage.setItem(CLASSROOM_KEY, on ? "1" : "");
     } catch {
       // storage disabled: the switch still works for this page
     }
   };
-  classroom.addEventListener("click", () => set(!store.state.classroom));
-  store.subscribe(({ classroom: on }) => classroom.setAttribute("aria-pressed", String(on)), ["classroom"]);
+  classroom.addEventListener("click", () => set(!state(app).classroom));
+  watchState(app, scope, ["classroom"], ({ classroom: on }) => classroom.setAttribute("aria-pressed", String(on)));
   let stored = false;
   try {
     stored = localStorage.getItem(CLASSROOM_KEY) === "1";

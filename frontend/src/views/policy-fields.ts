@@ -5,7 +5,7 @@
 import type { PolicySpec } from "../api/types";
 import { formatList, readNumber, readNumberList } from "../lib/parse";
 import { h, options, replaceChildren } from "../ui/dom";
-import { type FormErrors, field, numberInput, textInput } from "../ui/form";
+import { type FormErrors, field, numberInput, textInput } from "../ui/legacy-form";
 
 type PolicyKind = PolicySpec["kind"];
 

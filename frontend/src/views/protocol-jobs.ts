@@ -2,7 +2,8 @@
  * Every protocol job the server keeps, one row per demon, beside the thesis's numbers: sortable by any
  * column (click its head; again to reverse), by default only the demons the thesis reports.
  */
-import type { AppState, AppStore } from "../app/state";
+import { type App, type AppState, state, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import { formatEstimate, formatNumber } from "../lib/format";
 import { tip } from "../lib/glossary";
 import { type JobRow, type SortKey, jobRows, sortRows } from "../lib/protocol-jobs";
@@ -19,7 +20,7 @@ const COLUMNS: [SortKey, string, string][] = [
   ["finished", "finished", "when the job ended (UTC)"],
 ];
 
-export function jobsTable(store: AppStore): HTMLElement {
+export function jobsTable(app: App, scope: Scope): HTMLElement {
   let sortKey: SortKey = "finished";
   let ascending = false;
   const thesisOnly = h("input", { type: "checkbox", id: "jobs-thesis-only", checked: true });
@@ -31,7 +32,7 @@ export function jobsTable(store: AppStore): HTMLElement {
     button.addEventListener("click", () => {
       ascending = sortKey === key ? !ascending : key === "scenario" || key === "demon";
       sortKey = key;
-      render(store.state);
+      render(state(app));
     });
     return {
       key,
@@ -70,7 +71,7 @@ export function jobsTable(store: AppStore): HTMLElement {
     ),
     h("div", { class: "table-scroll" }, table),
   );
-  thesisOnly.addEventListener("change", () => render(store.state));
+  thesisOnly.addEventListener("change", () => render(state(app)));
 
   const row = (r: JobRow) =>
     h(
@@ -97,7 +98,7 @@ export function jobsTable(store: AppStore): HTMLElement {
     }
     replaceChildren(body, rows.map(row));
   };
-  store.subscribe(render, ["protocols"]);
-  render(store.state);
+  watchState(app, scope, ["protocols"], render);
+  render(state(app));
   return element;
 }

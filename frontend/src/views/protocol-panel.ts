@@ -9,7 +9,8 @@
  * table keeps the results of every job the server holds beside the thesis's numbers.
  */
 import { attempt, cancelProtocol, loadProtocols, startProtocol } from "../app/actions";
-import type { AppState, AppStore } from "../app/state";
+import { type App, type AppState, state, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import { ApiError, api, unwrap } from "../api/client";
 import type { Protocol, RunTemplate } from "../api/types";
 import { countsTable, protocolProgress, protocolSummary, protocolTitle, resultRows } from "../lib/protocol";
@@ -18,7 +19,7 @@ import { jobsTable } from "./protocol-jobs";
 import { scenarioGroups } from "../lib/protocol-jobs";
 import { readOptionalNumber } from "../lib/parse";
 import { h, options, replaceChildren, section, setText } from "../ui/dom";
-import { FormErrors, field, nothingToChoose, numberInput } from "../ui/form";
+import { FormErrors, field, nothingToChoose, numberInput } from "../ui/legacy-form";
 
 const DEFAULT_SCENARIO = "experiment1";
 const GROUP = "group:";
@@ -30,7 +31,7 @@ const HEAD_TIPS: Record<string, string | undefined> = {
 };
 const BUSY_MESSAGE = "One protocol at a time: another one is running already (shown below). Wait for it, or cancel it.";
 
-export function protocolPanel(store: AppStore): HTMLElement {
+export function protocolPanel(app: App, scope: Scope): HTMLElement {
   const errors = new FormErrors();
   const scenario = h("select", { name: "scenario" });
   const description = h("p", { class: "hint scenario-description", "aria-live": "polite" });
@@ -42,10 +43,12 @@ export function protocolPanel(store: AppStore): HTMLElement {
   // ---------------------------------------------------------------- the form
 
   const renderChoices = () => {
-    const names = store.state.scenarios.filter((s) => !s.error).map((s) => s.name);
+    const names = state(app)
+      .scenarios.filter((s) => !s.error)
+      .map((s) => s.name);
     const chosen = scenario.dataset.chosen ? scenario.value : DEFAULT_SCENARIO;
     const groups = scenarioGroups(names);
-    if (names.length === 0) replaceChildren(scenario, nothingToChoose(store.state.catalogLoaded, "scenarios"));
+    if (names.length === 0) replaceChildren(scenario, nothingToChoose(state(app).catalogLoaded, "scenarios"));
     else
       replaceChildren(
         scenario,
@@ -61,7 +64,7 @@ export function protocolPanel(store: AppStore): HTMLElement {
             )
           : null,
       );
-    render(store.state);
+    render(state(app));
     describe();
   };
 
@@ -69,7 +72,9 @@ export function protocolPanel(store: AppStore): HTMLElement {
   const chosenScenarios = (): string[] => {
     const value = scenario.value;
     if (!value.startsWith(GROUP)) return [value];
-    const names = store.state.scenarios.filter((s) => !s.error).map((s) => s.name);
+    const names = state(app)
+      .scenarios.filter((s) => !s.error)
+      .map((s) => s.name);
     return scenarioGroups(names).find((g) => `${GROUP}${g.key}` === value)?.scenarios ?? [];
   };
 
@@ -82,7 +87,7 @@ export function protocolPanel(store: AppStore): HTMLElement {
     description.textContent =
       members.length > 1
         ? `Runs ${members.join(", ")} one after another, each with its own protocol (the fields below apply to each; empty keeps each scenario's own). Keep this page open until the last one has started.`
-        : (store.state.scenarios.find((s) => s.name === name)?.description ?? "");
+        : (state(app).scenarios.find((s) => s.name === name)?.description ?? "");
     if (members.length > 1) {
       // Each keeps its own numbers unless the user types some.
       trials.value = episodes.value = seed.value = "";
@@ -91,7 +96,7 @@ export function protocolPanel(store: AppStore): HTMLElement {
     }
     if (!name || name === described) return;
     described = name;
-    void attempt(store, async () => {
+    void attempt(app, async () => {
       const spec = await unwrap(api.GET("/api/scenarios/{name}", { params: { path: { name } } }));
       if (scenario.value !== name) return;
       trials.value = String(spec.protocol?.trials ?? "");
@@ -130,7 +135,7 @@ export function protocolPanel(store: AppStore): HTMLElement {
       groupJob = null;
       return;
     }
-    const job = await attempt(store, () => startProtocol(store, templateFor(name)));
+    const job = await attempt(app, () => startProtocol(app, templateFor(name)));
     groupJob = job?.id ?? null;
     if (groupJob === null) queue = []; // refused: the group stops here, the notice says why
     showGroup();
@@ -148,16 +153,13 @@ export function protocolPanel(store: AppStore): HTMLElement {
   };
 
   // The group's job has ended (finished, failed or cancelled): the next one starts.
-  store.subscribe(
-    ({ protocol }) => {
-      if (groupJob !== null && protocol?.id === groupJob && protocol.status !== "running") {
-        if (protocol.status === "cancelled") queue = [];
-        groupJob = null;
-        void startNext().then(showGroup);
-      }
-    },
-    ["protocol"],
-  );
+  watchState(app, scope, ["protocol"], ({ protocol }) => {
+    if (groupJob !== null && protocol?.id === groupJob && protocol.status !== "running") {
+      if (protocol.status === "cancelled") queue = [];
+      groupJob = null;
+      void startNext().then(showGroup);
+    }
+  });
 
   const onSubmit = async (event: Event) => {
     event.preventDefault();
@@ -166,7 +168,7 @@ export function protocolPanel(store: AppStore): HTMLElement {
     const template = templateFor(members[0] ?? "");
     submit.disabled = true;
     try {
-      const job = await startProtocol(store, template);
+      const job = await startProtocol(app, template);
       if (members.length > 1) {
         queue = members.slice(1);
         groupJob = job.id;
@@ -177,10 +179,10 @@ export function protocolPanel(store: AppStore): HTMLElement {
       if (error instanceof ApiError && error.problems.length > 0) errors.showProblems(error.problems);
       else if (error instanceof ApiError && error.status === 429) {
         errors.showGeneral(BUSY_MESSAGE);
-        await attempt(store, () => loadProtocols(store));
+        await attempt(app, () => loadProtocols(app));
       } else errors.showGeneral(error instanceof Error ? error.message : String(error));
     } finally {
-      render(store.state);
+      render(state(app));
     }
   };
 
@@ -198,11 +200,11 @@ export function protocolPanel(store: AppStore): HTMLElement {
   let shownResults: Protocol | null = null;
 
   cancel.addEventListener("click", () => {
-    const job = store.state.protocol;
+    const job = state(app).protocol;
     if (!job) return;
     cancelling = job.id;
-    render(store.state);
-    void attempt(store, () => cancelProtocol(store));
+    render(state(app));
+    void attempt(app, () => cancelProtocol(app));
   });
 
   const job = h(
@@ -245,8 +247,8 @@ export function protocolPanel(store: AppStore): HTMLElement {
     shownResults = protocol;
     replaceChildren(results, protocol.results ? resultsTables(protocol) : null);
   };
-  store.subscribe(render, ["protocol", "protocolStartedAt"]);
-  store.subscribe(renderChoices, ["scenarios", "catalogLoaded"]);
+  watchState(app, scope, ["protocol", "protocolStartedAt"], render);
+  watchState(app, scope, ["scenarios", "catalogLoaded"], renderChoices);
   renderChoices();
 
   return section(
@@ -276,7 +278,7 @@ export function protocolPanel(store: AppStore): HTMLElement {
       errors.general,
     ),
     job,
-    jobsTable(store),
+    jobsTable(app, scope),
   );
 }
 

@@ -6,7 +6,7 @@ import type { Color, Region, RegionKind } from "../api/types";
 import { InputError } from "../lib/input-error";
 import { formatList, readNumber, readNumberList } from "../lib/parse";
 import { h, options } from "../ui/dom";
-import { type FormErrors, field, textInput } from "../ui/form";
+import { type FormErrors, field, textInput } from "../ui/legacy-form";
 
 const KINDS: readonly RegionKind[] = ["obstacle", "terminal", "zone", "indicator"];
 

@@ -4,12 +4,13 @@
  * error, and the thesis's number. The server keeps no results of the protocol's evaluation and test
  * runs for a live run, so the truth comes from the dashboard's own evaluations.
  */
-import type { AppState, AppStore } from "../app/state";
+import { type App, type AppState, state, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import { evaluationKind } from "../api/types";
 import { MISSING, formatCount, formatNumber, formatRelativeError, formatTruth, truthOf } from "../lib/format";
 import { h, replaceChildren, section } from "../ui/dom";
 
-export function runResults(store: AppStore): HTMLElement {
+export function runResults(app: App, scope: Scope): HTMLElement {
   const body = h("div", {});
   const element = section({ class: "panel results-panel", id: "results-title", title: "Results", hidden: true }, body);
 
@@ -82,7 +83,7 @@ export function runResults(store: AppStore): HTMLElement {
         : null,
     );
   };
-  store.subscribe(render, ["run", "evaluations"]);
-  render(store.state);
+  watchState(app, scope, ["run", "evaluations"], render);
+  render(state(app));
   return element;
 }

@@ -4,11 +4,12 @@
  * updated in place, so the focus stays on a button while the list refreshes.
  */
 import { attempt, commandRun, deleteRun, notify, selectRun, setRunSpeed, stepRun } from "../app/actions";
-import type { AppStore } from "../app/state";
+import { type App, state, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import type { RunBrief } from "../api/types";
 import { formatCount, formatHz, formatStatus, runLabel } from "../lib/format";
 import { FULL_SPEED, matchesFilter, speedChoice } from "../lib/runs";
-import { type ConfirmButton, confirmButton } from "../ui/confirm";
+import { type ConfirmButton, confirmButton } from "../ui/legacy-confirm";
 import { h, options, replaceChildren, section, setText } from "../ui/dom";
 
 const STEP_SIZES = ["1", "10", "100", "1000"];
@@ -28,7 +29,7 @@ interface Row {
   run: RunBrief;
 }
 
-export function runsPanel(store: AppStore): HTMLElement {
+export function runsPanel(app: App, scope: Scope): HTMLElement {
   const stepSize = h("select", { id: "step-size" }, options(STEP_SIZES, "1"));
   const list = h("ul", { class: "run-list", "aria-label": "Runs" });
   const empty = h("p", { class: "muted" }, "No runs yet: launch a scenario above.");
@@ -40,15 +41,15 @@ export function runsPanel(store: AppStore): HTMLElement {
   });
   const matching = h("p", { class: "hint", "aria-live": "polite" });
   // Deleting every finished (or failed) run takes two presses, as deleting one does.
-  const finishedRuns = () => store.state.runs.filter((r) => r.status === "finished" || r.status === "failed");
+  const finishedRuns = () => state(app).runs.filter((r) => r.status === "finished" || r.status === "failed");
   const deleteFinished = confirmButton({
     class: "danger small",
     text: (armed) => (armed ? `Really delete ${finishedRuns().length}?` : `Delete finished (${finishedRuns().length})`),
     onConfirm: () => {
       const done = finishedRuns();
-      void attempt(store, async () => {
-        for (const run of done) await deleteRun(store, run.id);
-        notify(store, `Deleted ${done.length} finished run${done.length === 1 ? "" : "s"}.`);
+      void attempt(app, async () => {
+        for (const run of done) await deleteRun(app, run.id);
+        notify(app, `Deleted ${done.length} finished run${done.length === 1 ? "" : "s"}.`);
       });
     },
   });
@@ -60,7 +61,7 @@ export function runsPanel(store: AppStore): HTMLElement {
     row.select = h("button", {
       type: "button",
       class: "run-select",
-      onclick: () => void attempt(store, () => selectRun(store, row.run.id)),
+      onclick: () => void attempt(app, () => selectRun(app, row.run.id)),
     });
     row.status = h("span", { class: "badge" });
     row.counters = h("span", { class: "counters", dataset: { testid: "run-counters" } });
@@ -68,16 +69,16 @@ export function runsPanel(store: AppStore): HTMLElement {
       type: "button",
       onclick: () => {
         const command = row.run.status === "running" ? "pause" : "start";
-        void attempt(store, () => commandRun(store, row.run.id, command));
+        void attempt(app, () => commandRun(app, row.run.id, command));
       },
     });
     row.step = h("button", {
       type: "button",
-      onclick: () => void attempt(store, () => stepRun(store, row.run.id, Number(stepSize.value))),
+      onclick: () => void attempt(app, () => stepRun(app, row.run.id, Number(stepSize.value))),
     });
     row.reset = h(
       "button",
-      { type: "button", onclick: () => void attempt(store, () => commandRun(store, row.run.id, "reset")) },
+      { type: "button", onclick: () => void attempt(app, () => commandRun(app, row.run.id, "reset")) },
       "Reset",
     );
     // Deleting takes two presses, so a stray click or key cannot throw a run away.
@@ -85,9 +86,9 @@ export function runsPanel(store: AppStore): HTMLElement {
       text: (armed) => (armed ? "Really delete?" : "Delete"),
       label: (armed) => (armed ? `Really delete run ${runLabel(row.run)}?` : `Delete run ${runLabel(row.run)}`),
       onConfirm: () =>
-        void attempt(store, async () => {
-          await deleteRun(store, row.run.id);
-          notify(store, `Deleted run ${runLabel(row.run)}.`);
+        void attempt(app, async () => {
+          await deleteRun(app, row.run.id);
+          notify(app, `Deleted run ${runLabel(row.run)}.`);
         }),
     });
     row.speed = h("select", {
@@ -95,7 +96,7 @@ export function runsPanel(store: AppStore): HTMLElement {
       title: "Steps per second: slow enough to watch each step, or as fast as the machine can learn",
       onchange: () => {
         const hz = row.speed.value === FULL_SPEED ? null : Number(row.speed.value);
-        void attempt(store, () => setRunSpeed(store, row.run.id, hz));
+        void attempt(app, () => setRunSpeed(app, row.run.id, hz));
       },
     });
     row.fullSpeed = h(
@@ -104,7 +105,7 @@ export function runsPanel(store: AppStore): HTMLElement {
         type: "button",
         class: "small",
         title: "Learn as fast as the machine can (the live view then shows a sample of the steps)",
-        onclick: () => void attempt(store, () => setRunSpeed(store, row.run.id, null)),
+        onclick: () => void attempt(app, () => setRunSpeed(app, row.run.id, null)),
       },
       "Full speed",
     );
@@ -124,7 +125,7 @@ export function runsPanel(store: AppStore): HTMLElement {
   filter.addEventListener("input", () => render());
 
   const render = () => {
-    const { runs, selectedRunId, live } = store.state;
+    const { runs, selectedRunId, live } = state(app);
     empty.hidden = runs.length > 0;
     deleteFinished.button.disabled = finishedRuns().length === 0;
     deleteFinished.refresh();
@@ -164,7 +165,7 @@ export function runsPanel(store: AppStore): HTMLElement {
       }
     }
   };
-  store.subscribe(render, ["runs", "selectedRunId", "live"]);
+  watchState(app, scope, ["runs", "selectedRunId", "live"], render);
   render();
 
   return section(

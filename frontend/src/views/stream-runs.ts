@@ -9,8 +9,9 @@
 import uPlot from "uplot";
 import "uplot/dist/uPlot.min.css";
 import { attempt, selectRun } from "../app/actions";
-import { queryClient, watchQuery } from "../app/queries";
-import type { AppStore } from "../app/state";
+import { watchQuery } from "../app/queries";
+import { type App, state, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import { ApiError, api, unwrap } from "../api/client";
 import type { Demon, StreamHistory, StreamRun } from "../api/types";
 import { formatCount, formatNumber } from "../lib/format";
@@ -45,7 +46,7 @@ interface Plot {
   kind: "sensor" | "demon";
 }
 
-export function streamRuns(store: AppStore): StreamViews {
+export function streamRuns(app: App, scope: Scope): StreamViews {
   let runs: StreamRun[] = [];
   let selected: string | null = null;
   let sensors: string[] = [];
@@ -82,7 +83,7 @@ export function streamRuns(store: AppStore): StreamViews {
               type: "button",
               class: "link",
               "aria-pressed": run.id === selected ? "true" : "false",
-              onclick: () => void attempt(store, () => choose(run.id)),
+              onclick: () => void attempt(app, () => choose(run.id)),
             },
             `${run.name || "stream"} · ${run.id.slice(0, 6)}`,
           ),
@@ -97,19 +98,19 @@ export function streamRuns(store: AppStore): StreamViews {
   };
 
   const choose = async (id: string) => {
-    if (store.state.selectedRunId !== null) await selectRun(store, null);
+    if (state(app).selectedRunId !== null) await selectRun(app, null);
     selected = id;
     const run = runs.find((r) => r.id === id);
     sensors = pickNames(run?.sensors ?? [], sensors, SHOWN, MAX_SHOWN);
     demons = pickNames(run?.demons ?? [], demons, SHOWN, MAX_SHOWN);
-    store.update({ tab: "live" });
+    app.ui.update({ tab: "live" });
     renderList();
     renderStrip();
     history.update(historyWatch());
     void history.refetch();
     demonRows.update(demonsWatch());
     void demonRows.refetch();
-    if (store.state.liveView.state === "on") {
+    if (state(app).liveView.state === "on") {
       try {
         await unwrap(api.POST("/api/view", { body: { run: id } }));
       } catch (error) {
@@ -119,7 +120,7 @@ export function streamRuns(store: AppStore): StreamViews {
   };
 
   watchQuery(
-    queryClient,
+    app.client,
     { queryKey: ["streams"], queryFn: () => unwrap(api.GET("/api/streams")), every: LIST_MS },
     (read) => {
       runs = read;
@@ -132,17 +133,14 @@ export function streamRuns(store: AppStore): StreamViews {
     },
   );
   // Selecting a grid run leaves the stream run.
-  store.subscribe(
-    (state) => {
-      if (state.selectedRunId !== null && selected !== null) {
-        selected = null;
-        renderList();
-        renderStrip();
-        history.update(historyWatch());
-      }
-    },
-    ["selectedRunId"],
-  );
+  watchState(app, scope, ["selectedRunId"], (state) => {
+    if (state.selectedRunId !== null && selected !== null) {
+      selected = null;
+      renderList();
+      renderStrip();
+      history.update(historyWatch());
+    }
+  });
 
   // ---------------------------------------------------------------- the strip chart
   const title = h("h2", { id: "stream-strip-title" }, "Stream run");
@@ -304,9 +302,9 @@ export function streamRuns(store: AppStore): StreamViews {
         }),
       ),
     every: HISTORY_MS,
-    enabled: selected !== null && sensors.length > 0 && demons.length > 0 && store.state.tab === "live",
+    enabled: selected !== null && sensors.length > 0 && demons.length > 0 && state(app).tab === "live",
   });
-  const history = watchQuery(queryClient, historyWatch(), (read) => {
+  const history = watchQuery(app.client, historyWatch(), (read) => {
     for (const [key, plot] of plots) {
       const name = key.slice(plot.kind.length + 1);
       if (plot.kind === "sensor") {
@@ -333,13 +331,13 @@ export function streamRuns(store: AppStore): StreamViews {
     queryFn: (): Promise<Demon[]> =>
       unwrap(api.GET("/api/streams/{stream_id}/demons", { params: { path: { stream_id: selected ?? "" } } })),
     every: DEMONS_MS,
-    enabled: selected !== null && store.state.tab === "live",
+    enabled: selected !== null && state(app).tab === "live",
   });
-  const demonRows = watchQuery(queryClient, demonsWatch(), renderDemons);
-  store.subscribe(() => {
+  const demonRows = watchQuery(app.client, demonsWatch(), renderDemons);
+  watchState(app, scope, ["tab"], () => {
     history.update(historyWatch());
     demonRows.update(demonsWatch());
-  }, ["tab"]);
+  });
 
   new ResizeObserver(() => {
     for (const plot of plots.values()) plot.plot?.setSize(stripSize(plot.box));

@@ -7,19 +7,20 @@
  * and protocol jobs side by side (`compare-panel.ts`).
  */
 import "./studies.css";
-import { keys, queryClient, watchQuery } from "../app/queries";
-import type { AppStore } from "../app/state";
+import { keys, watchQuery } from "../app/queries";
+import { type App, state, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import { api, errorMessage, unwrap } from "../api/client";
 import { type Study, type StudyDetail, studyProgress } from "../lib/study";
 import { h, replaceChildren, section, setText } from "../ui/dom";
-import { field } from "../ui/form";
+import { field } from "../ui/legacy-form";
 import { comparePanel } from "./compare-panel";
 import { studyForm } from "./study-form";
 import { studyResults } from "./study-results";
 
 const POLL_MS = 1000;
 
-export function studiesPanel(store: AppStore): HTMLElement {
+export function studiesPanel(app: App, scope: Scope): HTMLElement {
   let studies: Study[] = [];
   let selectedId: string | null = null;
   let detail: StudyDetail | null = null;
@@ -86,10 +87,10 @@ export function studiesPanel(store: AppStore): HTMLElement {
     queryKey: keys.studies,
     queryFn: () => unwrap(api.GET("/api/studies")),
     every: POLL_MS,
-    enabled: store.state.tab === "studies",
+    enabled: state(app).tab === "studies",
   });
-  const studyList = watchQuery(queryClient, watchOf(), (read) => void show(read));
-  store.subscribe(() => studyList.update(watchOf()), ["tab"]);
+  const studyList = watchQuery(app.client, watchOf(), (read) => void show(read));
+  watchState(app, scope, ["tab"], () => studyList.update(watchOf()));
   const refresh = () => studyList.refetch();
 
   const show = async (read: Study[]) => {
@@ -162,13 +163,13 @@ export function studiesPanel(store: AppStore): HTMLElement {
       h("code", {}, "horde study"),
       " does.",
     ),
-    studyForm(store, async (id) => {
+    studyForm(app, scope, async (id: string) => {
       selectedId = id;
       detail = null;
       await refresh();
     }),
     h("div", { class: "row" }, field("Study", list)),
     job,
-    comparePanel(store),
+    comparePanel(app, scope),
   );
 }

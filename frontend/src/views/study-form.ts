@@ -3,11 +3,12 @@
  * values each, as in a study file), runs per configuration, episodes per run and checkpoints. The server
  * checks it (POST /api/studies); its 422 problems appear at the axis or field they name.
  */
-import type { AppStore } from "../app/state";
+import { type App, state, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import { ApiError, api, errorMessage, unwrap } from "../api/client";
 import { type StudyIn, parseValues } from "../lib/study";
 import { h, options, replaceChildren } from "../ui/dom";
-import { FormErrors, field, nothingToChoose, numberInput, textInput } from "../ui/form";
+import { FormErrors, field, nothingToChoose, numberInput, textInput } from "../ui/legacy-form";
 
 const DEFAULT_SCENARIO = "classroom-offpolicy";
 const SUGGESTED_PATHS = [
@@ -29,7 +30,7 @@ interface AxisRow {
 }
 
 /** The form; `onStarted` receives the id of each study it launches. */
-export function studyForm(store: AppStore, onStarted: (id: string) => Promise<void>): HTMLElement {
+export function studyForm(app: App, scope: Scope, onStarted: (id: string) => Promise<void>): HTMLElement {
   const errors = new FormErrors();
   const scenario = h("select", { name: "scenario" });
   const runs = numberInput(3, { name: "runs", min: 1 });
@@ -71,11 +72,13 @@ export function studyForm(store: AppStore, onStarted: (id: string) => Promise<vo
   let launching = false;
   const allowLaunch = () => (submit.disabled = launching || !scenario.value);
   const renderChoices = () => {
-    const names = store.state.scenarios.filter((x) => !x.error).map((x) => x.name);
+    const names = state(app)
+      .scenarios.filter((x) => !x.error)
+      .map((x) => x.name);
     const chosen = scenario.dataset.chosen ? scenario.value : DEFAULT_SCENARIO;
     replaceChildren(
       scenario,
-      names.length > 0 ? options(names, chosen) : nothingToChoose(store.state.catalogLoaded, "scenarios"),
+      names.length > 0 ? options(names, chosen) : nothingToChoose(state(app).catalogLoaded, "scenarios"),
     );
     allowLaunch();
   };
@@ -105,7 +108,7 @@ export function studyForm(store: AppStore, onStarted: (id: string) => Promise<vo
     }
   };
 
-  store.subscribe(renderChoices, ["scenarios", "catalogLoaded"]);
+  watchState(app, scope, ["scenarios", "catalogLoaded"], renderChoices);
   renderChoices();
 
   return h(

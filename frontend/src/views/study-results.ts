@@ -23,7 +23,7 @@ import {
   varyingAxes,
 } from "../lib/study";
 import { h, options, replaceChildren, setText } from "../ui/dom";
-import { field } from "../ui/form";
+import { field } from "../ui/legacy-form";
 import { bandChart } from "./study-chart";
 
 const CURVES_SHOWN = 6;

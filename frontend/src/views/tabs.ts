@@ -1,5 +1,6 @@
 /** The main area's tabs (Live, World editor, Demon editor): real buttons, arrow keys between them. */
-import type { AppStore, Tab } from "../app/state";
+import { type App, type Tab, state, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import { h } from "../ui/dom";
 
 export interface TabPanel {
@@ -8,7 +9,7 @@ export interface TabPanel {
   panel: HTMLElement;
 }
 
-export function tabs(store: AppStore, panels: TabPanel[]): HTMLElement {
+export function tabs(app: App, scope: Scope, panels: TabPanel[]): HTMLElement {
   const buttons = panels.map(({ tab, label }) =>
     h(
       "button",
@@ -17,7 +18,7 @@ export function tabs(store: AppStore, panels: TabPanel[]): HTMLElement {
         role: "tab",
         id: `tab-${tab}`,
         "aria-controls": `panel-${tab}`,
-        onclick: () => store.update({ tab }),
+        onclick: () => app.ui.update({ tab }),
       },
       label,
     ),
@@ -31,20 +32,20 @@ export function tabs(store: AppStore, panels: TabPanel[]): HTMLElement {
     const index = buttons.indexOf(document.activeElement as HTMLButtonElement);
     if (index < 0 || (event.key !== "ArrowRight" && event.key !== "ArrowLeft")) return;
     const next = (index + (event.key === "ArrowRight" ? 1 : buttons.length - 1)) % buttons.length;
-    store.update({ tab: (panels[next] as TabPanel).tab });
+    app.ui.update({ tab: (panels[next] as TabPanel).tab });
     buttons[next]?.focus();
     event.preventDefault();
   });
 
   const render = () => {
     panels.forEach(({ tab }, i) => {
-      const selected = store.state.tab === tab;
+      const selected = state(app).tab === tab;
       buttons[i]?.setAttribute("aria-selected", String(selected));
       buttons[i]?.setAttribute("tabindex", selected ? "0" : "-1");
       (wrappers[i] as HTMLElement).hidden = !selected;
     });
   };
-  store.subscribe(render, ["tab"]);
+  watchState(app, scope, ["tab"], render);
   render();
   return h("div", { class: "tabs" }, tablist, wrappers);
 }

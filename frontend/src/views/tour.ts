@@ -6,7 +6,8 @@
  * nothing yet is left out, and the dialog is never laid over the upper part of the part it explains
  * (the live view's value-map legend stands at the world's top).
  */
-import type { AppStore } from "../app/state";
+import { type App, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import { h, setText } from "../ui/dom";
 
 const DONE_KEY = "horde-lab-tour-done";
@@ -67,7 +68,7 @@ export interface Tour {
   start: () => void;
 }
 
-export function tour(store: AppStore): Tour {
+export function tour(app: App, scope: Scope): Tour {
   const title = h("h2", { id: "tour-title" });
   const text = h("p", { id: "tour-text" });
   const count = h("span", { class: "muted" });
@@ -139,7 +140,7 @@ export function tour(store: AppStore): Tour {
   };
 
   const start = () => {
-    store.update({ tab: "live" });
+    app.ui.update({ tab: "live" });
     remember();
     stops = STOPS.filter((stop) => document.querySelector(`${stop.target} ${stop.content}`) !== null);
     if (stops.length === 0) return;
@@ -168,13 +169,10 @@ export function tour(store: AppStore): Tour {
 
   // First time a classroom run is shown, or a run in classroom mode: the tour offers itself, once the
   // panels have drawn the run (the store's subscribers run before the browser lays them out).
-  store.subscribe(
-    ({ run, classroom }) => {
-      const classroomRun = run?.spec.name?.startsWith("classroom") ?? false;
-      if (at < 0 && run !== null && !remembered() && (classroomRun || classroom))
-        requestAnimationFrame(() => at < 0 && !remembered() && start());
-    },
-    ["run", "classroom"],
-  );
+  watchState(app, scope, ["run", "classroom"], ({ run, classroom }) => {
+    const classroomRun = run?.spec.name?.startsWith("classroom") ?? false;
+    if (at < 0 && run !== null && !remembered() && (classroomRun || classroom))
+      requestAnimationFrame(() => at < 0 && !remembered() && start());
+  });
   return { element, start };
 }

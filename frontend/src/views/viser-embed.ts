@@ -3,10 +3,11 @@
  * in the dashboard (POST /api/view on every selection, see `selectRun`). Where the server runs without
  * it (`enabled: false`; only `horde serve` starts one) a short note stands instead.
  */
-import type { AppState, AppStore, LiveView } from "../app/state";
+import { type App, type AppState, type LiveView, state, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import { h, replaceChildren, section } from "../ui/dom";
 
-export function viserEmbed(store: AppStore): HTMLElement {
+export function viserEmbed(app: App, scope: Scope): HTMLElement {
   const body = h("div", { class: "viser-body" });
   const element = section({ class: "panel viser-panel", id: "viser-title", title: "Live view" }, body);
 
@@ -44,7 +45,7 @@ export function viserEmbed(store: AppStore): HTMLElement {
       );
     }
   };
-  store.subscribe(render, ["liveView"]);
-  render(store.state);
+  watchState(app, scope, ["liveView"], render);
+  render(state(app));
   return element;
 }

@@ -7,17 +7,18 @@
  * this world" saves it and starts an empty run on it (until paused, at a watching speed), selected on Live.
  */
 import { attempt, deleteWorld, launchRun, notify, refreshWorlds } from "../app/actions";
-import type { AppStore } from "../app/state";
+import { type App, type AppState, state, watchState } from "../app/app";
+import type { Scope } from "../ui/scope";
 import { ApiError, api, toApiError, unwrap } from "../api/client";
 import type { Region, WorldSpec } from "../api/types";
 import { gridWorld } from "../api/types";
 import { runLabel } from "../lib/format";
 import { formatList } from "../lib/parse";
 import { WATCH_HZ } from "../lib/runs";
-import { confirmButton } from "../ui/confirm";
+import { confirmButton } from "../ui/legacy-confirm";
 import { h, options, replaceChildren } from "../ui/dom";
-import { type FieldSpec, fieldTable } from "../ui/fields";
-import { FormErrors, field } from "../ui/form";
+import { type FieldSpec, fieldTable } from "../ui/legacy-fields";
+import { FormErrors, field } from "../ui/legacy-form";
 import { type RegionFields, type RegionText, regionFields, regionText } from "./region-fields";
 import { worldDrawing } from "./world-drawing";
 
@@ -58,7 +59,7 @@ interface Snapshot {
   regions: RegionText[];
 }
 
-export function worldEditor(store: AppStore): HTMLElement {
+export function worldEditor(app: App, scope: Scope): HTMLElement {
   const errors = new FormErrors();
   const newKind = h(
     "select",
@@ -99,9 +100,9 @@ export function worldEditor(store: AppStore): HTMLElement {
       const world = libraryChoice();
       if (world === null) return;
       remove.button.disabled = true;
-      void attempt(store, async () => {
-        await deleteWorld(store, world);
-        notify(store, `Deleted world '${world}' from the library.`);
+      void attempt(app, async () => {
+        await deleteWorld(app, world);
+        notify(app, `Deleted world '${world}' from the library.`);
       }).finally(renderRemove);
     },
   });
@@ -186,7 +187,7 @@ export function worldEditor(store: AppStore): HTMLElement {
 
   const renderSources = () => {
     const chosen = source.value;
-    const { worlds, scenarios, run } = store.state;
+    const { worlds, scenarios, run } = state(app);
     replaceChildren(
       source,
       options(
@@ -203,7 +204,7 @@ export function worldEditor(store: AppStore): HTMLElement {
   };
 
   const loadChosen = () =>
-    attempt(store, async () => {
+    attempt(app, async () => {
       const [kind, key = ""] = source.value.split(/:(.*)/s);
       if (kind === "library") {
         const record = await unwrap(api.GET("/api/worlds/{name}", { params: { path: { name: key } } }));
@@ -211,8 +212,8 @@ export function worldEditor(store: AppStore): HTMLElement {
       } else if (kind === "scenario") {
         const spec = await unwrap(api.GET("/api/scenarios/{name}", { params: { path: { name: key } } }));
         fill(gridWorld(spec.world) ?? NEW_WORLD, spec.world?.name ?? `${key}-world`);
-      } else if (kind === "run" && store.state.run) {
-        const run = store.state.run;
+      } else if (kind === "run" && state(app).run) {
+        const run = state(app).run as NonNullable<AppState["run"]>;
         fill(gridWorld(run.spec.world) ?? NEW_WORLD, run.spec.world?.name ?? `${run.spec.name ?? "run"}-world`);
       } else {
         fill(NEW_WORLD, "my-world");
@@ -241,11 +242,8 @@ export function worldEditor(store: AppStore): HTMLElement {
         body: world,
       });
       if (!response.ok || !data) throw toApiError(response.status, error);
-      notify(
-        store,
-        `${response.status === 201 ? "Saved the new" : "Replaced the"} world '${data.name}' in the library.`,
-      );
-      await refreshWorlds(store);
+      notify(app, `${response.status === 201 ? "Saved the new" : "Replaced the"} world '${data.name}' in the library.`);
+      await refreshWorlds(app);
       source.value = `library:${data.name}`;
       renderRemove();
       return data.name;
@@ -265,15 +263,15 @@ export function worldEditor(store: AppStore): HTMLElement {
   launch.addEventListener("click", async () => {
     const worldName = await saveWorld();
     if (worldName === null) return;
-    await attempt(store, async () => {
+    await attempt(app, async () => {
       const template = { name: `empty-on-${worldName}`.slice(0, 64), world: worldName, protocol: { episodes: 0 } };
-      const run = await launchRun(store, template, WATCH_HZ, true);
-      notify(store, `Launched run ${runLabel(run)} on the world '${worldName}'.`);
-      store.update({ tab: "live" });
+      const run = await launchRun(app, template, WATCH_HZ, true);
+      notify(app, `Launched run ${runLabel(run)} on the world '${worldName}'.`);
+      app.ui.update({ tab: "live" });
     });
   });
 
-  store.subscribe(renderSources, ["worlds", "scenarios", "run"]);
+  watchState(app, scope, ["worlds", "scenarios", "run"], renderSources);
   renderSources();
   fill(NEW_WORLD, "my-world");
 

@@ -7,7 +7,7 @@
 import type { Term } from "../lib/glossary";
 import { formatList, readNumber, readNumberList } from "../lib/parse";
 import { h } from "./dom";
-import { type FormErrors, field, numberInput, textInput } from "./form";
+import { type FormErrors, field, numberInput, textInput } from "./legacy-form";
 
 export type FieldKind = "number" | "text" | "numbers";
 
