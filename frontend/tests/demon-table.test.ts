@@ -69,7 +69,7 @@ describe("demonTable", () => {
     show(app, [demon("a", 1)]);
     const remove = table.querySelector<HTMLButtonElement>('button[aria-label="Remove a"]')!;
     remove.click();
-    expect(remove.textContent).toBe("Really remove?");
+    expect(remove.textContent?.trim()).toBe("Really remove?");
     // A stream message re-renders the row: the button stays armed.
     show(app, [demon("a", 1)], state({ a: 2 }));
     expect(table.querySelector('button[aria-label="Really remove a?"]')).toBe(remove);
