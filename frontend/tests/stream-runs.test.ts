@@ -60,7 +60,9 @@ describe("streamRuns", () => {
     expect(list.textContent).toContain("11 records learned of 12 received");
     list.querySelector<HTMLButtonElement>('li[data-stream="abc123def456"] button')!.click();
     await until(() => !strip.hidden);
-    expect(strip.querySelector("h2")!.textContent).toBe("Stream run robot: predictions beside realised returns");
+    expect(strip.querySelector("h2")!.textContent!.replace(/\s+/g, " ").trim()).toBe(
+      "Stream run robot: predictions beside realised returns",
+    );
     const ticked = [...strip.querySelectorAll<HTMLInputElement>("input[type=checkbox]")]
       .filter((box) => box.checked)
       .map((box) => box.parentElement!.textContent!.trim());

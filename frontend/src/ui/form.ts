@@ -6,7 +6,8 @@
  * Inputs are the browser's own (what is typed stays in them between renders): a form reads them through
  * lit-html refs and writes them only when it fills itself (a scenario chosen, a demon copied).
  */
-import { type TemplateResult, html, nothing } from "lit-html";
+import { type TemplateResult, html, noChange, nothing } from "lit-html";
+import { live } from "lit-html/directives/live.js";
 import { ifDefined } from "lit-html/directives/if-defined.js";
 import { type Ref, ref } from "lit-html/directives/ref.js";
 import type { ValidationProblem } from "../api/types";
@@ -50,6 +51,13 @@ export class FormErrors {
     for (let length = parts.length; length > 0; length--)
       cleared = this.messages.delete(parts.slice(0, length).join(".")) || cleared;
     if (cleared) this.changed();
+  }
+
+  /** Forget the messages of the fields under `prefix` (the regions were re-indexed). */
+  forget(prefix: string): void {
+    const under = [...this.messages.keys()].filter((path) => path.startsWith(`${prefix}.`));
+    for (const path of under) this.messages.delete(path);
+    if (under.length > 0) this.changed();
   }
 
   /**
@@ -199,6 +207,8 @@ export interface InputOptions<E extends Element = HTMLInputElement> {
   ref?: Ref<E>;
   /** the value it starts with (later values are written through the ref) */
   value?: string | number | null;
+  /** or the value it shows at every render (a form that keeps what is typed in its own state) */
+  current?: string;
   placeholder?: string;
   /** `data-field`, which the browser tests find it by */
   field?: string;
@@ -225,6 +235,7 @@ export function numberInput(c: Control, o: InputOptions): TemplateResult {
     aria-invalid=${ifDefined(c.invalid)}
     data-path=${ifDefined(c.path)}
     data-field=${ifDefined(o.field)}
+    .value=${o.current === undefined ? noChange : live(o.current)}
     @input=${o.onInput}
     @change=${o.onChange}
     ${ref(o.ref)}
@@ -245,10 +256,28 @@ export function textInput(c: Control, o: InputOptions): TemplateResult {
     aria-invalid=${ifDefined(c.invalid)}
     data-path=${ifDefined(c.path)}
     data-field=${ifDefined(o.field)}
+    .value=${o.current === undefined ? noChange : live(o.current)}
     @input=${o.onInput}
     @change=${o.onChange}
     ${ref(o.ref)}
   />`;
+}
+
+/** A <textarea> of `rows` lines. */
+export function textArea(c: Control, o: InputOptions<HTMLTextAreaElement>, rows: number): TemplateResult {
+  return html`<textarea
+    rows=${rows}
+    spellcheck="false"
+    id=${c.id}
+    name=${ifDefined(o.name)}
+    aria-describedby=${ifDefined(c.describedBy)}
+    aria-invalid=${ifDefined(c.invalid)}
+    data-path=${ifDefined(c.path)}
+    data-field=${ifDefined(o.field)}
+    .value=${o.current === undefined ? noChange : live(o.current)}
+    @input=${o.onInput}
+    ${ref(o.ref)}
+  ></textarea>`;
 }
 
 /** A <select> of `options` (templates of <option>s). */
@@ -260,6 +289,7 @@ export function select(c: Control, o: InputOptions<HTMLSelectElement>, options: 
     aria-invalid=${ifDefined(c.invalid)}
     data-path=${ifDefined(c.path)}
     data-field=${ifDefined(o.field)}
+    .value=${o.current === undefined ? noChange : live(o.current)}
     @change=${o.onChange}
     ${ref(o.ref)}
   >
@@ -291,6 +321,22 @@ export function nothingToChoose(loaded: boolean, what: string): TemplateResult {
   return html`<option value="" disabled selected>
     ${loaded ? `no ${what} on the server` : `loading the ${what}…`}
   </option>`;
+}
+
+/**
+ * For a form that keeps what is typed in its own state: the control shows `target[key]`, and what is typed
+ * or chosen goes there at once (then `then`, e.g. a redraw where the choice shows other fields).
+ */
+export function bound<K extends string>(
+  target: Record<K, string>,
+  key: K,
+  then?: () => void,
+): Pick<InputOptions, "current" | "onInput" | "onChange"> {
+  const take = (event: Event) => {
+    target[key] = (event.target as HTMLInputElement).value;
+    then?.();
+  };
+  return { current: target[key], onInput: take, onChange: take };
 }
 
 /** The value of an input or select behind `r` ("" before it is drawn). */
