@@ -84,6 +84,39 @@ export function domCalls(text, fileName = "probe.ts") {
   return { calls, replaceChildren };
 }
 
+/** The relative imports of a source text, as paths resolved from `fileName` (".ts" added). */
+export function importsOf(text, fileName) {
+  const source = ts.createSourceFile(fileName, text, ts.ScriptTarget.ES2022, true);
+  const found = [];
+  for (const statement of source.statements) {
+    const from =
+      ts.isImportDeclaration(statement) || ts.isExportDeclaration(statement) ? statement.moduleSpecifier : null;
+    if (from && ts.isStringLiteral(from) && from.text.startsWith(".") && !from.text.endsWith(".css")) {
+      found.push(resolve(dirname(fileName), from.text.endsWith(".ts") ? from.text : `${from.text}.ts`));
+    }
+  }
+  return found;
+}
+
+/** The import circles among `files` (each as the list of its modules, named from SRC), none when there are none. */
+export function importCycles(files = sourceFiles()) {
+  const graph = new Map(files.map((path) => [path, importsOf(readFileSync(path, "utf8"), path)]));
+  const cycles = [];
+  const state = new Map(); // path -> "open" while on the path being walked, "done" after
+  const walk = (path, trail) => {
+    state.set(path, "open");
+    for (const next of graph.get(path) ?? []) {
+      if (!graph.has(next)) continue;
+      if (state.get(next) === "open")
+        cycles.push([...trail.slice(trail.indexOf(next)), next].map((p) => relative(SRC, p)));
+      else if (!state.has(next)) walk(next, [...trail, next]);
+    }
+    state.set(path, "done");
+  };
+  for (const path of files) if (!state.has(path)) walk(path, [path]);
+  return cycles;
+}
+
 /** The figures over `files`: every function with its length, and the DOM-building counts. */
 export function measure(files = sourceFiles()) {
   const functions = [];
@@ -109,6 +142,7 @@ if (process.argv[1] && resolve(process.argv[1]) === fileURLToPath(import.meta.ur
   console.log(
     `functions: ${functions.length}; over ${MAX_FUNCTION_LINES} lines: ${functions.filter((f) => f.lines > MAX_FUNCTION_LINES).length}`,
   );
+  console.log(`import circles: ${importCycles().length}`);
   console.log("the longest:");
   for (const f of functions.slice(0, 12))
     console.log(`  ${String(f.lines).padStart(4)}  ${f.file}:${f.line} ${f.name}`);
