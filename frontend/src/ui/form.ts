@@ -3,8 +3,9 @@
  * dotted path of the request field it edits, so that a 422's problems appear next to the field they
  * concern. Validation stays on the server; a form only shows what it says.
  *
- * Inputs are the browser's own (what is typed stays in them between renders): a form reads them through
- * lit-html refs and writes them only when it fills itself (a scenario chosen, a demon copied).
+ * Either the inputs keep what is typed (it stays in them between renders): the form reads them through
+ * lit-html refs and writes them only when it fills itself (a scenario chosen); or the form keeps it in its
+ * own state (`bound`), where it fills, copies and re-indexes (the demon editor, the world's regions).
  */
 import { type TemplateResult, html, noChange, nothing } from "lit-html";
 import { live } from "lit-html/directives/live.js";

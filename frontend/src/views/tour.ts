@@ -86,7 +86,7 @@ export function tour(app: App, scope: Scope): Tour {
   });
   scope.listen(window, "resize", () => guide.at >= 0 && place(guide));
   // First time a classroom run is shown, or a run in classroom mode: the tour offers itself, once the
-  // panels have drawn the run (the store's subscribers run before the browser lays them out).
+  // panels have drawn the run (the state's listeners run before the browser lays them out).
   watchState(app, scope, ["run", "classroom"], ({ run, classroom }) => {
     const classroomRun = run?.spec.name?.startsWith("classroom") ?? false;
     if (guide.at < 0 && run !== null && !readFlag(DONE_KEY) && (classroomRun || classroom)) {
