@@ -20,12 +20,16 @@ const MAX_POINTS = 300;
 
 const link = (href: string, text: string) => html`<a href=${href} download class="button small">${text}</a>`;
 
+/** Download links side by side (no space between them: each keeps its own margin). */
+const links = (items: [string, string][]) =>
+  html`<span class="exports">${items.map(([href, text]) => link(href, text))}</span>`;
+
 export function runExports(runId: string) {
-  return html`<span class="exports"
-    >${link(`/api/runs/${runId}/export/history?format=csv`, "History CSV")}
-    ${link(`/api/runs/${runId}/export/history?format=json`, "History JSON")}
-    ${link(`/api/runs/${runId}/export/spec`, "Spec TOML")}</span
-  >`;
+  return links([
+    [`/api/runs/${runId}/export/history?format=csv`, "History CSV"],
+    [`/api/runs/${runId}/export/history?format=json`, "History JSON"],
+    [`/api/runs/${runId}/export/spec`, "Spec TOML"],
+  ]);
 }
 
 /** A run as compared: what it was, its state and its demons' histories, read at the press of Compare. */
@@ -105,10 +109,10 @@ function jobItem(job: Protocol, checked: boolean, tick: (event: Event) => void) 
       ${job.name ?? job.id} · ${job.status} · ${job.trials} x ${job.episodes} episodes</label
     >${
       ready
-        ? html`<span class="exports"
-            >${link(`/api/protocols/${job.id}/export?format=csv`, "Results CSV")}
-            ${link(`/api/protocols/${job.id}/export?format=json`, "Results JSON")}</span
-          >`
+        ? links([
+            [`/api/protocols/${job.id}/export?format=csv`, "Results CSV"],
+            [`/api/protocols/${job.id}/export?format=json`, "Results JSON"],
+          ])
         : nothing
     }
   </li>`;
