@@ -60,6 +60,7 @@ describe("streamRuns", () => {
     list.querySelector<HTMLButtonElement>('li[data-stream="abc123def456"] button')!.click();
     await until(() => !strip.hidden);
     expect(strip.querySelector("h2")!.textContent).toBe("Stream run robot: predictions beside realised returns");
+    expect(strip.textContent).toContain("No Evaluate here: a stream's records come from outside");
     const ticked = [...strip.querySelectorAll<HTMLInputElement>("input[type=checkbox]")]
       .filter((box) => box.checked)
       .map((box) => box.parentElement!.textContent!.trim());

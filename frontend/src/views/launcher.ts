@@ -129,6 +129,7 @@ export function launcher(store: AppStore): HTMLElement {
   };
   scenario.addEventListener("change", () => {
     scenario.dataset.chosen = "yes";
+    hzTouched = false; // a speed typed for one scenario is not the next one's: it starts at its own
     describe();
   });
 

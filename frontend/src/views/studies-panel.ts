@@ -41,6 +41,7 @@ export function studiesPanel(store: AppStore): HTMLElement {
   const cancel = h("button", { type: "button", class: "danger" }, "Cancel");
   const resume = h("button", { type: "button" }, "Resume");
   const exportCsv = h("a", { class: "button", download: "" }, "Export CSV");
+  const exportCurves = h("a", { class: "button", download: "" }, "Export curves CSV");
   const exportJson = h("a", { class: "button", download: "" }, "Export JSON");
   cancel.addEventListener("click", () => {
     if (!selectedId) return;
@@ -72,7 +73,7 @@ export function studiesPanel(store: AppStore): HTMLElement {
       "div",
       { class: "panel-head" },
       h("div", { class: "job-title" }, title, badge),
-      h("div", { class: "row" }, cancel, resume, exportCsv, exportJson),
+      h("div", { class: "row" }, cancel, resume, exportCsv, exportCurves, exportJson),
     ),
     progress,
     h("p", { class: "progress-text" }, counted, left),
@@ -147,6 +148,7 @@ export function studiesPanel(store: AppStore): HTMLElement {
     cancel.disabled = false;
     resume.hidden = running || detail.status === "finished";
     exportCsv.href = `/api/studies/${detail.id}/export?format=csv`;
+    exportCurves.href = `/api/studies/${detail.id}/export?format=curves`;
     exportJson.href = `/api/studies/${detail.id}/export?format=json`;
     results.show(detail);
   };

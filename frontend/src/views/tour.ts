@@ -3,10 +3,12 @@
  * run's controls and say what to watch. It offers itself once per browser (remembered in localStorage as
  * soon as it opens): the first time a classroom run is selected, or a run is selected in classroom mode,
  * never before there is a run to show; "Take the tour" starts it on demand. A stop whose panel shows
- * nothing yet is left out, and the dialog is never laid over the upper part of the part it explains
- * (the live view's value-map legend stands at the world's top).
+ * nothing yet is left out, and the dialog is never laid over the upper half of the part it explains
+ * (the live view's value-map legend stands at the world's top): below or above it, the page scrolled to
+ * make room, else beside it (lib/tour-place.ts), placed again when the part changes size.
  */
 import type { AppStore } from "../app/state";
+import { tourPlacement } from "../lib/tour-place";
 import { h, setText } from "../ui/dom";
 
 const DONE_KEY = "horde-lab-tour-done";
@@ -91,6 +93,31 @@ export function tour(store: AppStore): Tour {
   let stops: Stop[] = [];
   let lit: Element | null = null;
 
+  // The dialog beside its part (lib/tour-place.ts): `scrolling` lets the page scroll to make room (a new stop,
+  // the part resized); without it, the dialog follows the part where the page stands (the reader scrolled).
+  const position = (scrolling: boolean) => {
+    if (!lit) return;
+    const root = document.documentElement;
+    const box = lit.getBoundingClientRect();
+    const maxScroll = Math.max(0, root.scrollHeight - window.innerHeight);
+    const placed = tourPlacement(
+      { top: box.top + window.scrollY, height: box.height, left: box.left, right: box.right },
+      { width: element.offsetWidth, height: element.offsetHeight },
+      {
+        width: root.clientWidth,
+        height: window.innerHeight,
+        minScroll: scrolling ? 0 : window.scrollY,
+        maxScroll: scrolling ? maxScroll : window.scrollY,
+      },
+    );
+    if (placed.scroll !== window.scrollY) window.scrollTo(0, placed.scroll);
+    element.style.left = `${placed.left}px`;
+    element.style.top = `${placed.top}px`;
+  };
+
+  // A part that grows or shrinks while it is explained (charts arriving) has the dialog placed again.
+  const resized = new ResizeObserver(() => at >= 0 && position(true));
+
   const place = () => {
     const stop = stops[at];
     const target = stop ? document.querySelector(stop.target) : null;
@@ -98,42 +125,19 @@ export function tour(store: AppStore): Tour {
     lit?.classList.remove("tour-target");
     lit = target;
     target.classList.add("tour-target");
+    resized.disconnect();
+    resized.observe(target);
     setText(title, stop.title);
     setText(text, stop.text);
     setText(count, `${at + 1} of ${stops.length}`);
     back.disabled = at === 0;
     setText(next, at === stops.length - 1 ? "Done" : "Next");
-    // A part taller than the window is shown from its top (where the live view's legend is).
-    const tall = target.getBoundingClientRect().height > window.innerHeight;
-    target.scrollIntoView({ block: tall ? "start" : "center", behavior: "auto" });
-    const box = target.getBoundingClientRect();
-    const width = Math.min(element.offsetWidth || 360, window.innerWidth - 16);
-    const height = element.offsetHeight || 180;
-    let left = Math.max(8, Math.min(box.left + 16, window.innerWidth - width - 8));
-    // Below the part when there is room, else above it, else beside it, else over its lowest part: never over
-    // its top.
-    const below = box.bottom + 8;
-    const above = box.top - height - 8;
-    const beside =
-      box.left - width - 8 >= 8
-        ? box.left - width - 8
-        : box.right + width + 8 <= window.innerWidth
-          ? box.right + 8
-          : null;
-    let top: number;
-    if (below + height <= window.innerHeight - 8) top = below;
-    else if (above >= 8) top = above;
-    else if (beside !== null) {
-      left = beside;
-      top = Math.max(8, Math.min(box.top, window.innerHeight - height - 8));
-    } else top = Math.max(8, Math.min(box.bottom, window.innerHeight) - height - 8);
-    element.style.left = `${left}px`;
-    element.style.top = `${top}px`;
+    position(true);
   };
-
   const finish = () => {
     at = -1;
     element.hidden = true;
+    resized.disconnect();
     lit?.classList.remove("tour-target");
     lit = null;
   };
@@ -164,7 +168,8 @@ export function tour(store: AppStore): Tour {
   document.addEventListener("keydown", (event) => {
     if (event.key === "Escape" && at >= 0) finish();
   });
-  window.addEventListener("resize", () => at >= 0 && place());
+  window.addEventListener("resize", () => at >= 0 && position(true));
+  window.addEventListener("scroll", () => at >= 0 && position(false), { passive: true });
 
   // First time a classroom run is shown, or a run in classroom mode: the tour offers itself, once the
   // panels have drawn the run (the store's subscribers run before the browser lays them out).
