@@ -63,6 +63,7 @@ describe("streamRuns", () => {
     expect(strip.querySelector("h2")!.textContent!.replace(/\s+/g, " ").trim()).toBe(
       "Stream run robot: predictions beside realised returns",
     );
+    expect(strip.textContent!.replace(/\s+/g, " ")).toContain("No Evaluate here: a stream's records come from outside");
     const ticked = [...strip.querySelectorAll<HTMLInputElement>("input[type=checkbox]")]
       .filter((box) => box.checked)
       .map((box) => box.parentElement!.textContent!.trim());

@@ -92,6 +92,7 @@ export function launcher(app: App, scope: Scope): HTMLElement {
             now,
             () => {
               form.scenarioChosen = true;
+              form.hzTouched = false; // a speed typed for one scenario is not the next one's: it starts at its own
               void describe(app, form, redraw);
             },
             redraw,

@@ -155,7 +155,9 @@ function stripTemplate(strip: Strip, run: StreamRun) {
       The last ${formatCount(RECORDS)} records, by their number in the stream. Green: a sensor's reading. Blue: the
       demon's prediction, made on observing the record. Dashed black: the discounted return that actually followed,
       computed afterwards from the later records (blank for the newest records, whose return is not known yet, and
-      before a refused record; it is the behaviour's return, so it is the answer only for on-policy demons).
+      before a refused record; it is the behaviour's return, so it is the answer only for on-policy demons). No Evaluate
+      here: a stream's records come from outside, so there is no copy of its world to roll a target policy out in; the
+      realised return is the truth a stream has.
     </p>
     ${ticks(strip, "Sensors", run.sensors, "sensors")} ${ticks(strip, `Demons${more}`, run.demons, "demons")}
     <div class="chart-grid">

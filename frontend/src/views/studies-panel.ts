@@ -163,6 +163,7 @@ function jobSection(shown: Shown, detail: StudyDetail | undefined) {
           Resume
         </button>
         <a class="button" download href="/api/studies/${detail.id}/export?format=csv">Export CSV</a>
+        <a class="button" download href="/api/studies/${detail.id}/export?format=curves">Export curves CSV</a>
         <a class="button" download href="/api/studies/${detail.id}/export?format=json">Export JSON</a>
       </div>
     </div>

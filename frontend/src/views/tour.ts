@@ -3,12 +3,14 @@
  * run's controls and say what to watch. It offers itself once per browser (remembered in localStorage as
  * soon as it opens): the first time a classroom run is selected, or a run is selected in classroom mode,
  * never before there is a run to show; "Take the tour" starts it on demand. A stop whose panel shows
- * nothing yet is left out, and the dialog is never laid over the upper part of the part it explains
- * (the live view's value-map legend stands at the world's top).
+ * nothing yet is left out, and the dialog is never laid over the upper half of the part it explains
+ * (the live view's value-map legend stands at the world's top): below or above it, the page scrolled to
+ * make room, else beside it (lib/tour-place.ts), placed again when the part changes size.
  */
 import { html, render } from "lit-html";
 import { type App, watchState } from "../app/app";
 import { readFlag, writeFlag } from "../lib/stored";
+import { tourPlacement } from "../lib/tour-place";
 import { host } from "../ui/html";
 import type { Scope } from "../ui/scope";
 
@@ -60,13 +62,23 @@ interface Guide {
   stops: Stop[];
   at: number;
   lit: Element | null;
+  /** watches the part lit: one that grows or shrinks while it is explained (charts arriving) has the dialog
+   * placed again */
+  resized: ResizeObserver;
 }
 
 export function tour(app: App, scope: Scope): Tour {
   const element = host(
     html`<div class="tour" role="dialog" aria-labelledby="tour-title" aria-describedby="tour-text" hidden></div>`,
   );
-  const guide: Guide = { element, stops: [], at: -1, lit: null };
+  const guide: Guide = {
+    element,
+    stops: [],
+    at: -1,
+    lit: null,
+    resized: new ResizeObserver(() => guide.at >= 0 && position(guide, true)),
+  };
+  scope.add(() => guide.resized.disconnect());
   const show = () => {
     draw(guide, () => show());
     place(guide);
@@ -84,7 +96,8 @@ export function tour(app: App, scope: Scope): Tour {
   scope.listen<KeyboardEvent>(document, "keydown", (event) => {
     if (event.key === "Escape" && guide.at >= 0) finish(guide, show);
   });
-  scope.listen(window, "resize", () => guide.at >= 0 && place(guide));
+  scope.listen(window, "resize", () => guide.at >= 0 && position(guide, true));
+  scope.listen(window, "scroll", () => guide.at >= 0 && position(guide, false), { passive: true });
   // First time a classroom run is shown, or a run in classroom mode: the tour offers itself, once the
   // panels have drawn the run (the state's listeners run before the browser lays them out).
   watchState(app, scope, ["run", "classroom"], ({ run, classroom }) => {
@@ -128,44 +141,46 @@ function draw(guide: Guide, show: () => void): void {
 
 function finish(guide: Guide, show: () => void): void {
   guide.at = -1;
+  guide.resized.disconnect();
   guide.lit?.classList.remove("tour-target");
   guide.lit = null;
   show();
 }
 
-/** Light the stop's part, bring it into sight, and lay the dialog beside it. */
+/** Light the stop's part, watch its size, and lay the dialog beside it. */
 function place(guide: Guide): void {
-  const { element } = guide;
   const stop = guide.stops[guide.at];
   const target = stop ? document.querySelector(stop.target) : null;
   if (!stop || !target) return;
   guide.lit?.classList.remove("tour-target");
   guide.lit = target;
   target.classList.add("tour-target");
-  // A part taller than the window is shown from its top (where the live view's legend is).
-  const tall = target.getBoundingClientRect().height > window.innerHeight;
-  target.scrollIntoView({ block: tall ? "start" : "center", behavior: "auto" });
-  const box = target.getBoundingClientRect();
-  const width = Math.min(element.offsetWidth || 360, window.innerWidth - 16);
-  const height = element.offsetHeight || 180;
-  let left = Math.max(8, Math.min(box.left + 16, window.innerWidth - width - 8));
-  // Below the part when there is room, else above it, else beside it, else over its lowest part: never over
-  // its top.
-  const below = box.bottom + 8;
-  const above = box.top - height - 8;
-  const beside =
-    box.left - width - 8 >= 8
-      ? box.left - width - 8
-      : box.right + width + 8 <= window.innerWidth
-        ? box.right + 8
-        : null;
-  let top: number;
-  if (below + height <= window.innerHeight - 8) top = below;
-  else if (above >= 8) top = above;
-  else if (beside !== null) {
-    left = beside;
-    top = Math.max(8, Math.min(box.top, window.innerHeight - height - 8));
-  } else top = Math.max(8, Math.min(box.bottom, window.innerHeight) - height - 8);
-  element.style.left = `${left}px`;
-  element.style.top = `${top}px`;
+  guide.resized.disconnect();
+  guide.resized.observe(target);
+  position(guide, true);
+}
+
+/**
+ * The dialog beside its part (lib/tour-place.ts): `scrolling` lets the page scroll to make room (a new stop,
+ * the part resized); without it, the dialog follows the part where the page stands (the reader scrolled).
+ */
+function position(guide: Guide, scrolling: boolean): void {
+  const { element, lit } = guide;
+  if (!lit) return;
+  const root = document.documentElement;
+  const box = lit.getBoundingClientRect();
+  const maxScroll = Math.max(0, root.scrollHeight - window.innerHeight);
+  const placed = tourPlacement(
+    { top: box.top + window.scrollY, height: box.height, left: box.left, right: box.right },
+    { width: element.offsetWidth, height: element.offsetHeight },
+    {
+      width: root.clientWidth,
+      height: window.innerHeight,
+      minScroll: scrolling ? 0 : window.scrollY,
+      maxScroll: scrolling ? maxScroll : window.scrollY,
+    },
+  );
+  if (placed.scroll !== window.scrollY) window.scrollTo(0, placed.scroll);
+  element.style.left = `${placed.left}px`;
+  element.style.top = `${placed.top}px`;
 }

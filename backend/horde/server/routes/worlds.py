@@ -16,6 +16,7 @@ from horde.server.convert import timestamp
 from horde.server.deps import SettingsDep, StoreDep, write_router
 from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND, NOT_SAVED
 from horde.server.schemas import WorldCreate, WorldOut
+from horde.server.spec_builder import stored_world, world_of
 from horde.spec import WorldSpec
 
 router = APIRouter(prefix="/worlds", tags=["worlds"])
@@ -27,25 +28,22 @@ WorldName = Annotated[
 ]
 
 
-def _out(record: WorldRecord) -> WorldOut:
+def _out(record: WorldRecord, world: WorldSpec) -> WorldOut:
     return WorldOut(
         name=record.name,
-        world=WorldSpec.model_validate_json(record.spec),
+        world=world,
         created_at=timestamp(record.created_at),
         updated_at=timestamp(record.updated_at),
     )
 
 
-def _get(store: StoreDep, name: str) -> WorldRecord:
-    record = store.get_world(name)
-    if record is None:
-        raise NotFoundError(f"no world {name!r}")
-    return record
+def _get(store: StoreDep, name: str) -> WorldOut:
+    return _out(*stored_world(store, name))
 
 
 @router.get("", summary="List the stored worlds")
 def list_worlds(store: StoreDep) -> list[WorldOut]:
-    return [_out(r) for r in store.list_worlds()]
+    return [_out(r, world) for r in store.list_worlds() if (world := world_of(r)) is not None]
 
 
 @writes.post(
@@ -61,12 +59,12 @@ def create_world(world: WorldCreate, store: StoreDep, settings: SettingsDep) -> 
     if store.count_worlds() >= settings.max_worlds:
         raise ConflictError(f"the store holds at most {settings.max_worlds} worlds; delete one first")
     store.put_world(world.name, world.model_dump_json(by_alias=True))
-    return _out(_get(store, world.name))
+    return _get(store, world.name)
 
 
 @router.get("/{name}", summary="A stored world", responses={**NOT_FOUND})
 def get_world(name: WorldName, store: StoreDep) -> WorldOut:
-    return _out(_get(store, name))
+    return _get(store, name)
 
 
 @writes.put(
@@ -86,7 +84,7 @@ def put_world(
     created = store.put_world(name, world.model_copy(update={"name": name}).model_dump_json(by_alias=True))
     if created:
         response.status_code = status.HTTP_201_CREATED
-    return _out(_get(store, name))
+    return _get(store, name)
 
 
 @writes.delete(
