@@ -1,107 +1,27 @@
-/**
- * The Horde Lab dashboard: runs and the scenario launcher on the left; the live demon table, results,
- * charts and the viser view, the protocol runner, the world editor and the demon editor in tabs on the right.
- */
+/** The Horde Lab dashboard's entry: one app (its query cache and UI state), its views and watchers, for the page's life. */
 import "./styles.css";
 import { keepRoleStyles, loadMe } from "./app/access";
-import { attempt, loadCatalog, loadLiveView, loadProtocols, showInLiveView } from "./app/actions";
+import { attempt, loadCatalog, loadLiveView, loadProtocols } from "./app/actions";
+import { createApp } from "./app/app";
 import { keepAddress, takeInvitation } from "./app/location";
-import { createStore } from "./app/state";
 import { installShortcuts } from "./app/shortcuts";
-import { watchChartedForView, watchProtocol, watchRuns, watchSelectedRun } from "./app/watch";
-import { h } from "./ui/dom";
-import { charts } from "./views/charts";
-import { classTab } from "./views/class-tab";
-import { demonEditor } from "./views/demon-editor";
-import { demonOverview } from "./views/demon-overview";
-import { demonTable } from "./views/demon-table";
-import { header } from "./views/header";
-import { help } from "./views/help";
-import { launcher } from "./views/launcher";
-import { liveToolbar } from "./views/live-toolbar";
-import { keepPresentMode } from "./views/present";
-import { protocolPanel } from "./views/protocol-panel";
-import { runResults } from "./views/run-results";
-import { runsPanel } from "./views/runs-panel";
-import { streamRuns } from "./views/stream-runs";
-import { studiesPanel } from "./views/studies-panel";
-import { tabs } from "./views/tabs";
-import { tour } from "./views/tour";
-import { viserEmbed } from "./views/viser-embed";
-import { worldEditor } from "./views/world-editor";
+import { watchApp } from "./app/watch";
+import { Scope } from "./ui/scope";
+import { dashboard } from "./views/dashboard";
 
 takeInvitation(); // an invitation link's token, before the first request
-const store = createStore();
-const helpPanel = help();
-const guide = tour(store);
-const streams = streamRuns(store);
-
-const live = h(
-  "div",
-  { class: "live" },
-  liveToolbar(store, guide.start),
-  streams.strip,
-  demonTable(store),
-  demonOverview(store),
-  runResults(store),
-  h("div", { class: "live-bottom" }, viserEmbed(store), charts(store)),
-);
-const demonPanel = demonEditor(store);
-// The selected run's owner, for the controls that change it (app/access.ts: `needs-owner`).
-store.subscribe(
-  ({ run }) => {
-    for (const element of [live, demonPanel]) {
-      if (run) element.dataset.owner = run.owner;
-      else delete element.dataset.owner;
-    }
-  },
-  ["run"],
-);
-
-/** The page's token changed: who it is, and what its embedded view may command, follow. */
-const tokenChanged = () =>
-  void attempt(store, async () => {
-    await loadMe(store);
-    const selected = store.state.selectedRunId;
-    if (selected !== null) await showInLiveView(store, selected);
-  });
-
-const app = h(
-  "div",
-  { class: "app" },
-  h("a", { href: "#main", class: "skip-link" }, "Skip to the main view"),
-  header(store, helpPanel.open, tokenChanged),
-  h(
-    "div",
-    { class: "layout" },
-    h("aside", { class: "sidebar", "aria-label": "Runs" }, launcher(store), runsPanel(store), streams.list),
-    h(
-      "main",
-      { id: "main", tabindex: "-1" },
-      tabs(store, [
-        { tab: "live", label: "Live", panel: live },
-        { tab: "class", label: "Class", panel: classTab(store) },
-        { tab: "protocol", label: "Protocol", panel: protocolPanel(store) },
-        { tab: "world", label: "World editor", panel: worldEditor(store) },
-        { tab: "demon", label: "Demon editor", panel: demonPanel },
-        { tab: "studies", label: "Studies", panel: studiesPanel(store) },
-      ]),
-    ),
-  ),
-);
-
-document.getElementById("app")?.replaceWith(app);
-document.body.append(helpPanel.element, guide.element, keepPresentMode(store));
-keepRoleStyles(store);
-installShortcuts(store, helpPanel.open, () =>
+const app = createApp();
+const scope = new Scope();
+const { page, help, tour } = dashboard(app, scope);
+document.getElementById("app")?.replaceWith(page);
+document.body.append(help.element, tour.element);
+installShortcuts(app, scope, help.open, () =>
   Number((document.getElementById("step-size") as HTMLSelectElement | null)?.value ?? 1),
 );
-void attempt(store, () => loadMe(store));
-void loadCatalog(store);
-void attempt(store, () => loadProtocols(store));
-void loadLiveView(store);
-keepAddress(store);
-watchRuns(store);
-watchSelectedRun(store);
-watchProtocol(store);
-watchChartedForView(store);
+keepRoleStyles(app, scope);
+watchApp(app, scope);
+keepAddress(app, scope);
+void attempt(app, () => loadMe(app));
+void loadCatalog(app);
+void attempt(app, () => loadProtocols(app));
+void loadLiveView(app);

@@ -53,11 +53,16 @@ class RunManager:
     # Life cycle
 
     def start(self) -> None:
-        """Load the stored runs and start their learner threads."""
+        """Load the stored runs and start their learner threads; a run whose spec no longer reads is left in the
+        store, out of the table, and logged (the store is untrusted too)."""
         if self.store is None:
             return
         for record in self.store.list_runs():
-            run = self._revive(record)
+            try:
+                run = self._revive(record)
+            except Exception as exc:  # its spec no longer reads (an older version's, or changed by hand)
+                log.error("run %s left out: its stored spec cannot be read: %s", record.id, exc)
+                continue
             with self._lock:
                 self._runs[run.id] = run
             run.start_thread()

@@ -78,7 +78,11 @@ class ProtocolJobs:
         self._stopping = False
         if store is not None:
             for record in store.list_protocol_jobs():
-                job = self._revive(record)
+                try:
+                    job = self._revive(record)
+                except Exception as exc:  # its spec or result no longer reads (an older version's, or changed by hand)
+                    log.error("protocol job %s left out: its stored row cannot be read: %s", record.id, exc)
+                    continue
                 self._jobs[job.id] = job
 
     def _revive(self, record: JobRecord) -> ProtocolJob:

@@ -51,6 +51,16 @@ class Progress:
         return elapsed / fresh * (self.total - self.done)
 
 
+def _reads(record: StudyRecord) -> bool:
+    """Whether a stored study's spec still reads (one an older version wrote, or changed by hand, may not)."""
+    try:
+        StudySpec.model_validate_json(record.spec)
+    except ValueError as exc:
+        log.error("study %s left out: its stored spec cannot be read: %s", record.id, exc)
+        return False
+    return True
+
+
 class StudyJobs:
     """The studies of one server.
 
@@ -113,12 +123,14 @@ class StudyJobs:
                 self._running.pop(study_id, None)
 
     def records(self) -> list[StudyRecord]:
-        return [self._current(r) for r in self._store.list_studies()]
+        return [self._current(r) for r in self._store.list_studies() if _reads(r)]
 
     def get(self, study_id: str) -> StudyRecord:
         record = self._store.get_study(study_id)
         if record is None:
             raise NotFoundError(f"no study {study_id!r}")
+        if not _reads(record):
+            raise NotFoundError(f"study {study_id!r} is stored but its spec no longer reads (see the server's log)")
         return self._current(record)
 
     def _current(self, record: StudyRecord) -> StudyRecord:

@@ -273,12 +273,13 @@ def summarize_study(store: Store, study_id: str, cache: SummaryCache | None = No
     """Every configuration with at least one finished run, averaged over its runs; the best one marked.
 
     With a `cache`, only configurations whose number of finished runs changed are summarized again (a
-    running study polled by the dashboard re-averages one configuration per finished task, not all).
+    running study polled by the dashboard re-averages one configuration per finished task, not all). A
+    configuration whose stored tasks no longer read (an older version's, or changed by hand) is left out, logged.
     """
     _, _, configurations = load_study(store, study_id)
-    by_config: dict[int, list[TaskData]] = {}
+    by_config: dict[int, list[str]] = {}  # configuration -> its finished tasks' data, as stored
     for task in store.study_tasks(study_id):
-        by_config.setdefault(task.config, []).append(json.loads(task.data))
+        by_config.setdefault(task.config, []).append(task.data)
     cache = {} if cache is None else cache
     summaries = []
     for c in configurations:
@@ -287,7 +288,13 @@ def summarize_study(store: Store, study_id: str, cache: SummaryCache | None = No
             continue
         cached = cache.get(c.index)
         if cached is None or cached[0] != len(tasks):
-            cached = (len(tasks), summarize_configuration(c.index, c.axes, tasks))
+            try:
+                cached = (len(tasks), summarize_configuration(c.index, c.axes, [json.loads(t) for t in tasks]))
+            except (KeyError, TypeError, ValueError, IndexError) as exc:  # a stored task that no longer reads
+                log.error(
+                    "study %s: configuration %d left out: a stored task does not read: %r", study_id, c.index, exc
+                )
+                continue
             cache[c.index] = cached
         summaries.append(cached[1])
     mark_best(summaries)

@@ -31,7 +31,8 @@ const auth: Middleware = {
   },
 };
 
-export const api = createClient<paths>({ baseUrl: "" });
+// The global fetch is looked up at each request, not when the client is made (tests stub it).
+export const api = createClient<paths>({ baseUrl: "", fetch: (request) => globalThis.fetch(request) });
 api.use(auth);
 
 interface Answer<T> {

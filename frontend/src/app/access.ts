@@ -14,11 +14,16 @@
  *
  * A token the server refuses (revoked, or not its own) is dropped, with a notice saying so.
  */
-import { ApiError, api, unwrap } from "../api/client";
+import { html } from "lit-html";
+import { ApiError } from "../api/client";
 import { writeToken } from "../api/token";
 import type { Me } from "../api/types";
+import { host } from "../ui/html";
+import type { Scope } from "../ui/scope";
 import { notify } from "./actions";
-import type { AppStore } from "./state";
+import { type App, watchState } from "./app";
+import { readNow } from "./queries";
+import { reads } from "./reads";
 
 /** The style sheet that hides what the role may not use. */
 export function roleStyles(me: Me | null): string {
@@ -39,28 +44,33 @@ export function mayChange(me: Me | null, owner: string | undefined): boolean {
   return me.role === "student" && owner !== undefined && owner === me.name;
 }
 
-/** Ask the server who this page is; a refused token is dropped (and said so), the page then reads only. */
-export async function loadMe(store: AppStore): Promise<void> {
+/**
+ * Ask the server who this page is (into the query cache: `keys.me`); a refused token is dropped (and said
+ * so), the page then reads only.
+ */
+export async function loadMe(app: App): Promise<void> {
   try {
-    store.update({ me: await unwrap(api.GET("/api/me")) });
+    await readNow(app.client, reads.me());
   } catch (error) {
     if (!(error instanceof ApiError && error.status === 401)) throw error;
     writeToken("");
-    notify(store, `The server refused this page's token (${error.message}); it now only reads.`, "error");
-    store.update({ me: await unwrap(api.GET("/api/me")) });
+    notify(app, `The server refused this page's token (${error.message}); it now only reads.`, "error");
+    await readNow(app.client, reads.me());
   }
 }
 
-/** Keep the role's style sheet and the page's `data-role` current. */
-export function keepRoleStyles(store: AppStore): void {
-  const sheet = document.createElement("style");
-  sheet.id = "role-styles";
+/** Keep the role's style sheet (in the document's head) and the page's `data-role` current, until `scope` goes. */
+export function keepRoleStyles(app: App, scope: Scope): void {
+  const sheet = host<HTMLStyleElement>(html`<style id="role-styles"></style>`);
   document.head.append(sheet);
-  const apply = () => {
-    const { me } = store.state;
+  scope.add(() => {
+    sheet.remove();
+    delete document.documentElement.dataset.role;
+  });
+  watchState(app, scope, ["me"], ({ me }) => {
     sheet.textContent = roleStyles(me);
     document.documentElement.dataset.role = me?.role ?? "unknown";
-  };
-  store.subscribe(apply, ["me"]);
-  apply();
+  });
+  sheet.textContent = roleStyles(null);
+  document.documentElement.dataset.role = "unknown";
 }

@@ -9,8 +9,9 @@
  */
 import { ApiError } from "../api/client";
 import { writeToken } from "../api/token";
+import type { Scope } from "../ui/scope";
 import { attempt, notify, selectRun } from "./actions";
-import { type AppStore, TABS, type Tab } from "./state";
+import { type App, TABS, type Tab } from "./app";
 
 /** Take the token of an invitation link, if the address carries one, and drop it from the address. */
 export function takeInvitation(): boolean {
@@ -31,44 +32,46 @@ function addressOf(runId: string | null, tab: Tab): string {
   return `${location.pathname}?${params}`;
 }
 
-async function followAddress(store: AppStore): Promise<void> {
+async function followAddress(app: App): Promise<void> {
   const params = new URLSearchParams(location.search);
   const tab = params.get("tab");
-  if (tab !== null && (TABS as readonly string[]).includes(tab)) store.update({ tab: tab as Tab });
+  if (tab !== null && (TABS as readonly string[]).includes(tab)) app.ui.update({ tab: tab as Tab });
   const runId = params.get("run");
-  if (runId === null || runId === store.state.selectedRunId) return;
+  if (runId === null || runId === app.ui.state.selectedRunId) return;
   try {
-    await selectRun(store, runId);
+    await selectRun(app, runId);
   } catch (error) {
     if (!(error instanceof ApiError && (error.status === 404 || error.status === 422))) throw error;
     notify(
-      store,
+      app,
       `No run "${runId}" on this server: the link is old, or the run was deleted. Choose one in the list.`,
       "error",
     );
   }
 }
 
-/** Select what the address names now, then keep the address naming the selection. */
-export function keepAddress(store: AppStore): void {
+/** Select what the address names now, then keep the address naming the selection, until `scope` goes. */
+export function keepAddress(app: App, scope: Scope): void {
   let following = false; // true while the address is being applied: that is no new history entry
   const follow = async () => {
     following = true;
     try {
-      await attempt(store, () => followAddress(store));
+      await attempt(app, () => followAddress(app));
     } finally {
       following = false;
-      history.replaceState(null, "", addressOf(store.state.selectedRunId, store.state.tab));
+      if (!scope.disposed) history.replaceState(null, "", addressOf(app.ui.state.selectedRunId, app.ui.state.tab));
     }
   };
-  store.subscribe(
-    ({ selectedRunId, tab }) => {
-      const address = addressOf(selectedRunId, tab);
-      if (following || address === `${location.pathname}${location.search}`) return;
-      history.pushState(null, "", address);
-    },
-    ["selectedRunId", "tab"],
+  scope.add(
+    app.ui.subscribe(
+      ({ selectedRunId, tab }) => {
+        const address = addressOf(selectedRunId, tab);
+        if (following || address === `${location.pathname}${location.search}`) return;
+        history.pushState(null, "", address);
+      },
+      ["selectedRunId", "tab"],
+    ),
   );
-  window.addEventListener("popstate", () => void follow());
+  scope.listen(window, "popstate", () => void follow());
   void follow();
 }

@@ -3,48 +3,46 @@
  * hidden (styles.css, `html.present`). A "Present" button turns it on (the Live tab's toolbar, a Class tab
  * card); Escape or the "Exit present mode" button turns it off.
  */
-import { html, render } from "lit-html";
-import type { AppStore } from "../app/state";
+import { html } from "lit-html";
+import type { App } from "../app/app";
+import { mount } from "../app/view";
+import { host } from "../ui/html";
+import type { Scope } from "../ui/scope";
 
-/** The one element a template draws (views here are lit-html templates, mounted into an element of their own). */
-function element<T extends HTMLElement>(template: ReturnType<typeof html>): T {
-  const holder = document.createElement("div");
-  render(template, holder);
-  return holder.firstElementChild as T;
+/** The button that presents the selected run (a template, for the Live tab's toolbar). */
+export function presentButton(app: App, selectedRunId: string | null) {
+  return html`<button
+    type="button"
+    title="The live view and the charts of the selected run, large, for a projector (Escape leaves)"
+    ?disabled=${selectedRunId === null}
+    @click=${() => app.ui.update({ present: true, tab: "live" })}
+  >
+    Present
+  </button>`;
 }
 
-/** The button that presents the selected run. */
-export function presentButton(store: AppStore): HTMLButtonElement {
-  const button = element<HTMLButtonElement>(
-    html`<button
-      type="button"
-      title="The live view and the charts of the selected run, large, for a projector (Escape leaves)"
-      @click=${() => store.update({ present: true, tab: "live" })}
-    >
-      Present
-    </button>`,
-  );
-  store.subscribe(({ selectedRunId }) => (button.disabled = selectedRunId === null), ["selectedRunId"]);
-  button.disabled = store.state.selectedRunId === null;
-  return button;
-}
-
-/** Keep the page's present class current; returns the button that leaves present mode (shown only then). */
-export function keepPresentMode(store: AppStore): HTMLElement {
-  const leave = element<HTMLButtonElement>(
-    html`<button type="button" class="present-exit" @click=${() => store.update({ present: false })}>
-      Exit present mode (Esc)
-    </button>`,
-  );
-  const apply = () => {
-    const on = store.state.present && store.state.selectedRunId !== null;
-    document.documentElement.classList.toggle("present", on);
-    leave.hidden = !on;
-  };
-  store.subscribe(apply, ["present", "selectedRunId"]);
-  document.addEventListener("keydown", (event) => {
-    if (event.key === "Escape" && store.state.present) store.update({ present: false });
+/**
+ * Keep the page's present class current, until `scope` goes; returns the button that leaves present mode
+ * (shown only then).
+ */
+export function presentMode(app: App, scope: Scope): HTMLElement {
+  const element = host(html`<div class="present-bar"></div>`);
+  const root = document.documentElement;
+  scope.add(() => root.classList.remove("present"));
+  scope.listen<KeyboardEvent>(document, "keydown", (event) => {
+    if (event.key === "Escape" && app.ui.state.present) app.ui.update({ present: false });
   });
-  apply();
-  return leave;
+  mount(app, scope, element, ["present", "selectedRunId"], ({ present, selectedRunId }) => {
+    const on = present && selectedRunId !== null;
+    root.classList.toggle("present", on);
+    return html`<button
+      type="button"
+      class="present-exit"
+      ?hidden=${!on}
+      @click=${() => app.ui.update({ present: false })}
+    >
+      Exit present mode (Esc)
+    </button>`;
+  });
+  return element;
 }

@@ -18,6 +18,7 @@ from horde.server.convert import timestamp
 from horde.server.deps import AccessDep, SettingsDep, StoreDep, WriterDep, write_router
 from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND, NOT_SAVED
 from horde.server.schemas import WorldCreate, WorldOut
+from horde.server.spec_builder import stored_world, world_of
 from horde.spec import WorldSpec
 
 router = APIRouter(prefix="/worlds", tags=["worlds"])
@@ -29,26 +30,23 @@ WorldName = Annotated[
 ]
 
 
-def _out(record: WorldRecord, access: Access) -> WorldOut:
+def _out(record: WorldRecord, world: WorldSpec, access: Access) -> WorldOut:
     return WorldOut(
         name=record.name,
         owner=access.owner_name("world", record.name),
-        world=WorldSpec.model_validate_json(record.spec),
+        world=world,
         created_at=timestamp(record.created_at),
         updated_at=timestamp(record.updated_at),
     )
 
 
-def _get(store: StoreDep, name: str) -> WorldRecord:
-    record = store.get_world(name)
-    if record is None:
-        raise NotFoundError(f"no world {name!r}")
-    return record
+def _get(store: StoreDep, access: Access, name: str) -> WorldOut:
+    return _out(*stored_world(store, name), access)
 
 
 @router.get("", summary="List the stored worlds")
 def list_worlds(store: StoreDep, access: AccessDep) -> list[WorldOut]:
-    return [_out(r, access) for r in store.list_worlds()]
+    return [_out(r, world, access) for r in store.list_worlds() if (world := world_of(r)) is not None]
 
 
 @writes.post(
@@ -67,12 +65,12 @@ def create_world(
         raise ConflictError(f"the store holds at most {settings.max_worlds} worlds; delete one first")
     store.put_world(world.name, world.model_dump_json(by_alias=True))
     access.claim(me, "world", world.name)
-    return _out(_get(store, world.name), access)
+    return _get(store, access, world.name)
 
 
 @router.get("/{name}", summary="A stored world", responses={**NOT_FOUND})
 def get_world(name: WorldName, store: StoreDep, access: AccessDep) -> WorldOut:
-    return _out(_get(store, name), access)
+    return _get(store, access, name)
 
 
 @writes.put(
@@ -101,7 +99,7 @@ def put_world(
     if created:
         access.claim(me, "world", name)
         response.status_code = status.HTTP_201_CREATED
-    return _out(_get(store, name), access)
+    return _get(store, access, name)
 
 
 @writes.delete(
@@ -111,7 +109,9 @@ def put_world(
     responses={**NOT_FOUND, **NOT_SAVED},
 )
 def delete_world(name: WorldName, store: StoreDep, me: WriterDep, access: AccessDep) -> None:
-    _get(store, name)
+    # A stored world that no longer reads can still be deleted (by its owner or the teacher).
+    if store.get_world(name) is None:
+        raise NotFoundError(f"no world {name!r}")
     access.check(me, "world", name)
     if not store.delete_world(name):
         raise NotFoundError(f"no world {name!r}")
