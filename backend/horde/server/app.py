@@ -20,6 +20,7 @@ from contextlib import AbstractAsyncContextManager, asynccontextmanager
 
 from fastapi import FastAPI
 
+from horde.runs.executor import ProcessExecutor
 from horde.runs.manager import RunManager
 from horde.runs.protocols import ProtocolJobs
 from horde.runs.store import Store
@@ -69,11 +70,14 @@ def _lifespan(
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         store = Store(settings.data)
-        manager = RunManager(store, settings.limits())
+        executor = ProcessExecutor(settings.worker_stall_seconds)
+        executor.start()  # the fork server warms the kernels up meanwhile
+        manager = RunManager(store, settings.limits(), executor, hooks=settings.test_hooks)
         app.state.store = store
         app.state.manager = manager
+        app.state.streams = StreamRuns(executor, hooks=settings.test_hooks)
         app.state.hub = StreamHub(manager, rate=settings.stream_rate)
-        app.state.protocols = ProtocolJobs(store)
+        app.state.protocols = ProtocolJobs(store, executor, hooks=settings.test_hooks)
         app.state.studies = StudyJobs(store, settings.study_executor_factory())
         switch_interval = sys.getswitchinterval()
         sys.setswitchinterval(settings.switch_interval)
@@ -98,6 +102,8 @@ def _lifespan(
                 app.state.live_view.stop()
                 app.state.live_view = None
             manager.stop()
+            app.state.streams.stop()
+            executor.stop()
             store.close()
             sys.setswitchinterval(switch_interval)
 
@@ -126,7 +132,6 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
     app.state.settings = settings
     app.state.live_view = None
     app.state.catalog = ScenarioCatalog(settings.scenarios)
-    app.state.streams = StreamRuns()  # stream runs (routes/records.py), in memory
     add_error_handlers(app)
     app.add_middleware(
         BodyGuard,

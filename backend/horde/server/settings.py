@@ -77,6 +77,16 @@ class Settings(BaseSettings):
         default_factory=list,
         description="extra browser origins allowed to open WebSockets (besides the server's own), e.g. a dev server",
     )
+    worker_stall_seconds: float = Field(
+        default=30.0,
+        gt=0.0,
+        le=3600.0,
+        description="a worker whose main loop has not moved for this long is reported (its run's message, its events)"
+        " and commands for it give up",
+    )
+    test_hooks: bool = Field(
+        default=False, description="tests only: workers obey a crash command (a segfault, an abort, a hang)"
+    )
     study_executor: Literal["ray", "local"] = Field(
         default="ray", description="where study tasks run: Ray (this machine, or ray_address), or one by one here"
     )
