@@ -78,7 +78,8 @@ def _lifespan(
         app.state.streams = StreamRuns(executor, hooks=settings.test_hooks)
         app.state.hub = StreamHub(manager, rate=settings.stream_rate)
         app.state.protocols = ProtocolJobs(store, executor, hooks=settings.test_hooks)
-        app.state.studies = StudyJobs(store, settings.study_executor_factory())
+        app.state.studies = StudyJobs(store, executor, settings.study_executor, settings.ray_address,
+                                      settings.study_workers)  # fmt: skip
         switch_interval = sys.getswitchinterval()
         sys.setswitchinterval(settings.switch_interval)
         manager.start()

@@ -31,6 +31,7 @@ from horde.server.schemas import (
     StateOut,
     SummaryOut,
     ValuesOut,
+    WorkerOut,
 )
 from horde.view.palette import demon_colour
 
@@ -68,6 +69,7 @@ def _brief_fields(view: RunView) -> dict[str, object]:
         "step": view.total_steps,
         "demons": view.names,
         "evaluation": EvaluationSupportOut.model_validate(evaluation_support(view.spec), from_attributes=True),
+        "worker": WorkerOut.model_validate(view.worker, from_attributes=True),
         "created_at": timestamp(view.created_at),
         "updated_at": timestamp(view.updated_at),
     }

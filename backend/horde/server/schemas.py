@@ -238,6 +238,15 @@ class EvaluationSupportOut(Out):
     note: str = Field(description="one sentence: what an evaluation is here, or why there is none")
 
 
+class WorkerOut(Out):
+    """Where a run learns: a process of the server's machine, or a Ray actor on a node of its cluster."""
+
+    kind: Literal["process", "ray", "none"] = Field(description="none: the run has no worker (its worker died)")
+    pid: int | None = Field(description="the worker's process id, on its node")
+    node: str | None = Field(description="the Ray node the worker runs on (null for a process of this machine)")
+    alive: bool
+
+
 class RunBriefOut(Out):
     id: str
     name: str | None
@@ -248,6 +257,7 @@ class RunBriefOut(Out):
     step: int = Field(description="steps taken in all")
     demons: list[str]
     evaluation: EvaluationSupportOut
+    worker: WorkerOut
     created_at: datetime
     updated_at: datetime
 

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
 from pathlib import Path
 from typing import Literal
 
@@ -12,7 +11,6 @@ from pydantic_settings import BaseSettings, SettingsConfigDict
 
 from horde.runs.run_setup import Limits
 from horde.server.hosts import HostRule
-from horde.studies.runner import Executor, InProcess, RayExecutor
 
 
 class Settings(BaseSettings):
@@ -97,12 +95,6 @@ class Settings(BaseSettings):
     @classmethod
     def _empty_is_none(cls, value: object) -> object:
         return None if value == "" else value
-
-    def study_executor_factory(self) -> Callable[[], Executor]:
-        """Makes the executor of each study the server runs."""
-        if self.study_executor == "local":
-            return InProcess
-        return lambda: RayExecutor(self.ray_address, self.study_workers)
 
     def limits(self) -> Limits:
         """The run limits: every field of `Limits` that a setting of the same name sets (the rest keep defaults)."""
