@@ -228,3 +228,14 @@ class WorkerLink:
         if not self.ready.done():
             self.ready.set_exception(gone)
         self.ended.set()
+
+
+class Executor(Protocol):
+    """What starts workers: processes of this machine (`executor.ProcessExecutor`) or Ray actors
+    (`ray_link.RayExecutor`)."""
+
+    kind: str
+
+    def start(self) -> None: ...
+    def spawn(self, entry: Callable[[Any], None], init: Any, listener: Listener) -> WorkerLink: ...
+    def stop(self) -> None: ...

@@ -23,7 +23,7 @@ from horde.runs import messages as m
 from horde.runs.collector import keep_out_of_collector
 from horde.runs.errors import BusyError, ConflictError, NotFoundError, RunError, SaveError
 from horde.runs.executor import ProcessExecutor
-from horde.runs.link import Listener, WorkerLink
+from horde.runs.link import Executor, Listener, WorkerLink
 from horde.runs.live_run import LiveRun
 from horde.runs.readout import Evaluation
 from horde.runs.run_setup import Limits, check_limits
@@ -51,12 +51,12 @@ class RunManager:
     """
 
     def __init__(self, store: Store | None = None, limits: Limits | None = None,
-                 executor: ProcessExecutor | None = None, hooks: bool = False) -> None:  # fmt: skip
+                 executor: Executor | None = None, hooks: bool = False) -> None:  # fmt: skip
         self.store = store
         self.limits = limits or Limits()
         self.hooks = hooks
         self._owns_executor = executor is None
-        self.executor = executor if executor is not None else ProcessExecutor()
+        self.executor: Executor = executor if executor is not None else ProcessExecutor()
         self._runs: dict[str, LiveRun] = {}
         self._lock = threading.Lock()
         self._making = 0  # runs being made, their slots reserved

@@ -101,7 +101,17 @@ class StudyInit:
     env: dict[str, str] = field(default_factory=dict)
 
 
-WorkerInit = RunInit | StreamInit | ProtocolInit | StudyInit
+@dataclass(frozen=True)
+class BridgeInit:
+    """The Ray bridge: the process that joins the cluster at `address` (its driver) and hosts workers there as
+    actors of `cpus` CPUs each; `env` is set before Ray is imported (its token, ...)."""
+
+    address: str
+    cpus: float = 1.0
+    env: dict[str, str] = field(default_factory=dict)
+
+
+WorkerInit = RunInit | StreamInit | ProtocolInit | StudyInit | BridgeInit
 
 # ----------------------------------------------------------------------------------------------
 # Commands (each sent inside a Call)
@@ -273,6 +283,45 @@ class SetThreads:
 
 ToWorker = Call | Cancel | SaveDone | SetThreads
 
+
+# ----------------------------------------------------------------------------------------------
+# The Ray bridge (ray_bridge.py): the workers it hosts as actors, their messages in envelopes
+
+
+@dataclass(frozen=True)
+class Open:
+    """Host a worker running `entry` as an actor (`key` names it from now on); `init` is its first message."""
+
+    key: int
+    entry: Any
+    init: Any
+
+
+@dataclass(frozen=True)
+class Envelope:
+    """A message to or from the worker `key`."""
+
+    key: int
+    message: Any
+
+
+@dataclass(frozen=True)
+class Close:
+    """End the worker `key` (its actor is killed)."""
+
+    key: int
+
+
+@dataclass(frozen=True)
+class Ended:
+    """The worker `key` has ended (`reason`: why; empty when it ended by itself, asked to)."""
+
+    key: int
+    reason: str = ""
+
+
+ToBridge = Open | Envelope | Close
+
 # ----------------------------------------------------------------------------------------------
 # What a worker sends
 
@@ -376,7 +425,7 @@ class Finished:
     failure: Failure | None = None
 
 
-FromWorker = Reply | Update | Save | Beat | Ready | Progress | Finished
+FromWorker = Reply | Update | Save | Beat | Ready | Progress | Finished | Envelope | Ended
 
 # ----------------------------------------------------------------------------------------------
 # Exceptions across the boundary

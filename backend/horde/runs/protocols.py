@@ -24,7 +24,7 @@ from horde.core.experiment import DemonResult, ProtocolResult
 from horde.runs.errors import BusyError, NotFoundError
 from horde.runs.executor import ProcessExecutor
 from horde.runs.job_workers import serve_protocol
-from horde.runs.link import WorkerGoneError, WorkerLink
+from horde.runs.link import Executor, WorkerGoneError, WorkerLink
 from horde.runs.messages import Cancel, Command, Finished, FromWorker, Progress, ProtocolInit, Reply
 from horde.runs.store import JobRecord, Store
 from horde.spec import Counts, RunSpec
@@ -78,12 +78,12 @@ class ProtocolJobs:
         hooks: workers honour test crashes (tests only).
     """
 
-    def __init__(self, store: Store | None = None, executor: ProcessExecutor | None = None,
+    def __init__(self, store: Store | None = None, executor: Executor | None = None,
                  hooks: bool = False) -> None:  # fmt: skip
         self._jobs: dict[str, ProtocolJob] = {}
         self._lock = threading.Lock()
         self._store = store
-        self._executor = executor if executor is not None else ProcessExecutor()
+        self._executor: Executor = executor if executor is not None else ProcessExecutor()
         self._hooks = hooks
         self._stopping = False
         if store is not None:

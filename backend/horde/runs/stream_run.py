@@ -23,7 +23,7 @@ from horde.runs import messages as m
 from horde.runs.errors import BusyError, ConflictError, FieldProblem, NotFoundError, SpecError
 from horde.runs.executor import ProcessExecutor
 from horde.runs.job_workers import serve_stream
-from horde.runs.link import WorkerGoneError, WorkerLink
+from horde.runs.link import Executor, WorkerGoneError, WorkerLink
 from horde.runs.run_view import is_control
 from horde.runs.stream_learning import (
     HISTORY,
@@ -155,9 +155,9 @@ class StreamRuns:
         hooks: workers honour test crashes (tests only).
     """
 
-    def __init__(self, executor: ProcessExecutor | None = None, hooks: bool = False) -> None:
+    def __init__(self, executor: Executor | None = None, hooks: bool = False) -> None:
         self._owns_executor = executor is None
-        self.executor = executor if executor is not None else ProcessExecutor()
+        self.executor: Executor = executor if executor is not None else ProcessExecutor()
         self.hooks = hooks
         self._runs: dict[str, StreamRun] = {}
         self._making = 0

@@ -26,6 +26,7 @@ class QueueChannel:
         self._in = threading.Condition()
         self._out = threading.Condition()
         self.ended = threading.Event()
+        self.error = ""  # what the worker's entry raised, if it did
 
     # The worker's side
 
@@ -34,7 +35,9 @@ class QueueChannel:
             return self._in.wait_for(lambda: bool(self._inbox), timeout)
 
     def recv(self) -> Any:
+        """The next message, waiting for one (as a connection's `recv` does)."""
         with self._in:
+            self._in.wait_for(lambda: bool(self._inbox))
             message = self._inbox.popleft()
         if message is _CLOSED:
             raise EOFError("the channel is closed")
@@ -76,6 +79,9 @@ def run_in_thread(entry: Callable[[Any], None], channel: QueueChannel, name: str
     def run() -> None:
         try:
             entry(channel)
+        except BaseException as exc:
+            channel.error = f"{type(exc).__name__}: {exc}"
+            raise
         finally:
             channel.ended.set()
             with channel._out:

@@ -89,12 +89,22 @@ class Settings(BaseSettings):
         default="ray", description="where study tasks run: Ray (this machine, or ray_address), or one by one here"
     )
     ray_address: str | None = Field(default=None, description="a Ray cluster to join (HORDE_RAY_ADDRESS)")
+    run_workers: Literal["auto", "process", "ray"] = Field(
+        default="auto",
+        description="where live runs, stream runs and protocol jobs learn: processes of this machine, or actors of "
+        "the Ray cluster at ray_address; auto: Ray when ray_address is set",
+    )
+    ray_run_cpus: float = Field(default=1.0, gt=0.0, le=1024.0, description="CPUs a run's actor asks of the cluster")
     study_workers: int | None = Field(default=None, ge=1, le=4096, description="CPUs of the local Ray (default all)")
 
     @field_validator("token", mode="before")
     @classmethod
     def _empty_is_none(cls, value: object) -> object:
         return None if value == "" else value
+
+    def runs_on_ray(self) -> bool:
+        """Whether runs learn on the Ray cluster at `ray_address`."""
+        return self.run_workers == "ray" or (self.run_workers == "auto" and self.ray_address is not None)
 
     def limits(self) -> Limits:
         """The run limits: every field of `Limits` that a setting of the same name sets (the rest keep defaults)."""
