@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import pickle
 import threading
 import time
 from collections.abc import Callable
@@ -34,6 +35,7 @@ from typing import Any
 import numpy as np
 
 from horde.runs import messages as m
+from horde.runs.collector import building
 from horde.runs.errors import BusyError, ConflictError, NotFoundError, SaveError
 from horde.runs.events import EventLog
 from horde.runs.history import History
@@ -63,10 +65,10 @@ class LiveRun:
         hooks: workers honour test crashes (HORDE_TEST_HOOKS).
     """
 
-    def __init__(self, run_id: str, spec: RunSpec, limits: Limits, spawn: Spawn, store: Store | None = None,
+    def __init__(self, run_id: str, spec: RunSpec | None, limits: Limits, spawn: Spawn, store: Store | None = None,
                  saver: Saver | None = None, created_at: float | None = None, hooks: bool = False) -> None:  # fmt: skip
         self.id = run_id
-        self.spec = spec
+        self.spec: RunSpec = spec if spec is not None else RunSpec()  # a run built from data: its spec comes later
         self.limits = limits
         self.store = store
         self.saver = saver
@@ -83,7 +85,9 @@ class LiveRun:
         self._gone = ""  # why the worker ended (a failed run's message)
         self._snapshot_steps: int | None = None  # the step of the latest snapshot written
         self._closed = False
-        self._view = stored_view(run_id, spec, "created", "", None, self.created_at)
+        self._launched = False  # updates that come before the worker's Ready is taken in wait for it
+        self._early: list[m.Update] = []
+        self._view = stored_view(run_id, self.spec, "created", "", None, self.created_at)
 
     @property
     def names(self) -> list[str]:
@@ -118,10 +122,16 @@ class LiveRun:
         if ready.failure is not None:
             self._stop_link(link)
             m.raise_failure(ready.failure)
+        if ready.spec is not None:  # validated by the worker: loaded here without a collection on the way
+            with building():
+                spec = pickle.loads(ready.spec)
+            self.spec = spec
+            self.history = History(self.names, self.limits.history, self.limits.history_every)
         with self._lock:
             self.link, self._gone, self._stall = link, "", ""
-        if isinstance(ready.value, m.Update):
-            self._apply(ready.value)
+            early, self._early, self._launched = self._early, [], True
+        for update in [ready.value, *early] if isinstance(ready.value, m.Update) else early:
+            self._apply(update)
         if ready.save is not None:
             try:
                 self._write(ready.save, waited=True).result(COMMAND_TIMEOUT)
@@ -130,18 +140,18 @@ class LiveRun:
                 raise
         return self.view
 
-    def close(self, timeout: float = 60.0) -> None:
-        """End the worker: a running run is saved as paused first (a failed save raises SaveError, the worker
-        ended all the same). A worker that does not answer within `timeout` is killed."""
+    def close(self, timeout: float = 60.0, save: bool = True) -> None:
+        """End the worker: with `save`, a running run is saved as paused first (a failed save raises SaveError, the
+        worker ended all the same). A worker that does not answer within `timeout` is killed."""
         self._closed = True
         link = self.link
         if link is None or not link.alive:
             return
         failure: Exception | None = None
         try:
-            _, save = link.call(m.Shutdown(), timeout)
-            if save is not None:
-                save.result(COMMAND_TIMEOUT)
+            _, written = link.call(m.Shutdown(save), timeout)
+            if written is not None:
+                written.result(COMMAND_TIMEOUT)
         except SaveError as exc:
             failure = exc
         except (WorkerGoneError, BusyError) as exc:
@@ -183,6 +193,9 @@ class LiveRun:
 
     def _apply(self, update: m.Update) -> None:
         with self._lock:
+            if not self._launched:  # the worker's Ready (and the spec it brings) comes first
+                self._early.append(update)
+                return
             if update.history == "remap":  # the demons changed: the rows of those still there are kept
                 self.history = self.history.remap(self.names)
             elif update.history == "new":  # a reset run
@@ -360,7 +373,7 @@ class LiveRun:
         if self._closed or (link is not None and link.alive):
             self.call(m.Reset(), "reset")
             return self.view
-        self._published = None
+        self._published, self._launched = None, False
         self.history = History(self.names, self.limits.history, self.limits.history_every)
         init = m.RunInit(self.id, self.limits, spec=self.spec, message="reset", created_at=self.created_at,
                          persist=self.store is not None, first_save=True, hooks=self.hooks)  # fmt: skip

@@ -18,6 +18,7 @@ import threading
 import time
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
+from typing import Any
 
 from horde.runs import messages as m
 from horde.runs.collector import keep_out_of_collector
@@ -66,7 +67,7 @@ class RunManager:
     def _spawn(self, init: m.RunInit, listener: Listener) -> WorkerLink:
         return self.executor.spawn(serve_run, init, listener)
 
-    def _new_run(self, run_id: str, spec: RunSpec, created_at: float | None = None) -> LiveRun:
+    def _new_run(self, run_id: str, spec: RunSpec | None, created_at: float | None = None) -> LiveRun:
         return LiveRun(run_id, spec, self.limits, self._spawn, self.store, self.saver, created_at, self.hooks)
 
     # ------------------------------------------------------------------------------------------
@@ -167,6 +168,24 @@ class RunManager:
         ))  # fmt: skip
         return run.start() if start else run.view
 
+    def create_from(self, data: dict[str, Any], loc: tuple[str | int, ...], hz: float | None = None,
+                    start: bool = False) -> RunView:  # fmt: skip
+        """A new run of a spec given as data, validated, checked against the limits and built in its worker (a
+        Horde of thousands of demons is never validated or compiled in this process).
+
+        Raises:
+            SpecError: the data does not validate (its problems located under `loc`), or is larger than the
+                limits allow, or cannot run.
+            ConflictError: there are as many runs as the limits allow.
+            SaveError: the store refused the run; it was not made.
+        """
+        run = self._add(lambda run_id: (
+            self._new_run(run_id, None),
+            m.RunInit(run_id, self.limits, data=data, loc=loc, hz=hz, created_at=time.time(),
+                      persist=self.store is not None, first_save=True, hooks=self.hooks),
+        ))  # fmt: skip
+        return run.start() if start else run.view
+
     def import_snapshot(self, snapshot: Snapshot) -> RunView:
         """A new run that continues exactly where the snapshot's run stood (paused, or finished)."""
         check_limits(snapshot.spec, self.limits)
@@ -218,8 +237,8 @@ class RunManager:
             run = self._runs.pop(run_id, None)
         if run is None:
             raise NotFoundError(f"no run {run_id!r}")
-        with contextlib.suppress(SaveError):  # its last save failed: it is being deleted anyway
-            run.close()
+        with contextlib.suppress(SaveError):
+            run.close(save=False)  # it is being deleted: nothing of it is saved
         if self.store is not None:
             self.store.delete_run(run_id)
 

@@ -49,12 +49,16 @@ BEAT_SECONDS = 1.0  # a worker says it is alive this often, however busy
 
 @dataclass(frozen=True)
 class RunInit:
-    """A live run: built from `spec` (fresh), from `stored` (a snapshot as the store keeps it, zlib'd JSON) or
-    from `snapshot` (an imported `Snapshot` document); the run-level state comes with it."""
+    """A live run: built from `spec` (fresh), from `data` (a spec to validate here, its problems located under
+    `loc`: a Horde of thousands of demons is validated and compiled off the API process), from `stored` (a
+    snapshot as the store keeps it, zlib'd JSON) or from `snapshot` (an imported `Snapshot` document); the
+    run-level state comes with it."""
 
     run_id: str
     limits: Limits
     spec: RunSpec | None = None
+    data: dict[str, Any] | None = None
+    loc: tuple[str | int, ...] = ("body",)
     stored: bytes | None = None
     snapshot: Any = None  # horde.runs.snapshot.Snapshot (kept out of this module's imports)
     status: RunStatus = "created"
@@ -206,7 +210,9 @@ class Evaluate:
 
 @dataclass(frozen=True)
 class Shutdown:
-    """Save the run (a running one as paused) and end the worker."""
+    """Save the run (a running one as paused; not if it is being deleted) and end the worker."""
+
+    save: bool = True
 
 
 @dataclass(frozen=True)
@@ -409,6 +415,7 @@ class Ready:
     failure: Failure | None = None
     pid: int = 0
     node: str = ""
+    spec: bytes | None = None  # a run built from `data`: its validated spec, pickled (the API loads it)
 
 
 @dataclass(frozen=True)

@@ -23,6 +23,7 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
+import pickle
 import threading
 import time
 from collections.abc import Callable
@@ -30,15 +31,16 @@ from dataclasses import replace
 from typing import Any
 
 import numpy as np
+from pydantic import ValidationError
 
 from horde.core import threads
 from horde.core.world import WorldState
 from horde.runs import messages as m
 from horde.runs.collector import keep_out_of_collector
-from horde.runs.errors import ConflictError
+from horde.runs.errors import ConflictError, SpecError
 from horde.runs.readout import value_map
 from horde.runs.recorder import Recorder
-from horde.runs.run_setup import new_simulation
+from horde.runs.run_setup import check_limits, new_simulation
 from horde.runs.session import RunSession, Source
 from horde.runs.snapshot import Snapshot, capture, from_bytes, restore
 from horde.runs.weights import Readable, evaluate_in_thread, greedy_actions, phase_values, star_values
@@ -53,7 +55,20 @@ MAX_WAIT = 1.0  # hz pacing and idle: the longest single wait for a message (the
 
 
 def _build(init: m.RunInit) -> tuple[Source, RunSpec, Any]:
-    """The run's source and spec, from a spec, a stored snapshot or an imported one (then its stop reference)."""
+    """The run's source and spec, from a spec (given, or validated here from data), a stored snapshot or an
+    imported one (then its stop reference).
+
+    Raises:
+        SpecError: the data does not validate (located under `init.loc`), or the spec is larger than the server's
+            limits, or cannot run.
+    """
+    if init.data is not None:
+        try:
+            spec = RunSpec.model_validate(init.data)
+        except ValidationError as exc:
+            raise SpecError.from_validation(exc, init.loc) from None
+        check_limits(spec, init.limits)
+        return new_simulation(spec), spec, None
     if init.spec is not None:
         return new_simulation(init.spec), init.spec, None
     snapshot: Snapshot = init.snapshot if init.snapshot is not None else from_bytes(init.stored or b"")
@@ -114,9 +129,15 @@ class RunWorker:
                                  init.persist)  # fmt: skip
         self.session.recorder = self.recorder
         keep_out_of_collector()
-        first_save = self.recorder.save(self.session, snapshot=True) if init.first_save else None
+        # A new run is saved before it is listed: its row, and an imported run's snapshot (a fresh one is its spec
+        # and seed until it learns: a 9,000-demon snapshot would cost seconds to encode for nothing).
+        first_save = self.recorder.save(self.session, snapshot=init.snapshot is not None) if init.first_save else None
         self.heart.idle()
-        self.channel.send(m.Ready(self.recorder.take_update(self.session), first_save, pid=os.getpid(), node=self.node))
+        built = pickle.dumps(spec, protocol=pickle.HIGHEST_PROTOCOL) if init.data is not None else None
+        ready = m.Ready(
+            self.recorder.take_update(self.session), first_save, pid=os.getpid(), node=self.node, spec=built
+        )
+        self.channel.send(ready)
         try:
             self._loop()
         except GoneError:
@@ -215,7 +236,7 @@ class RunWorker:
             return
         command = call.command
         if isinstance(command, m.Shutdown):
-            self._shutdown(call.cid)
+            self._shutdown(call.cid, command.save)
         if isinstance(command, m.Evaluate):  # in a thread of its own, on a frozen copy of the weights
             self._cancels[call.cid] = cancel = threading.Event()
             evaluate_in_thread(self._weights(frozen=True), call.cid, command, cancel, self._reply_from_thread)
@@ -306,18 +327,19 @@ class RunWorker:
         with contextlib.suppress(Exception):  # the channel closed: the worker is ending
             self.channel.send(reply)
 
-    def _shutdown(self, cid: int) -> None:
-        """Save the run (a running one as paused), answer, and leave the loop."""
+    def _shutdown(self, cid: int, save_it: bool) -> None:
+        """Save the run (a running one as paused) unless it is being deleted, answer, and leave the loop."""
         session = self.session
-        if session.status == "running":
-            session.set_status("paused", f"paused at step {session.sim.total_steps} when the server stopped")
-        self.recorder.wait_encoded()
         failure = None
         save = None
-        try:
-            save = self.recorder.save(session, snapshot=session.status != "failed")
-        except Exception as exc:
-            failure = m.failure_of(exc)
+        if save_it:
+            if session.status == "running":
+                session.set_status("paused", f"paused at step {session.sim.total_steps} when the server stopped")
+            self.recorder.wait_encoded()
+            try:
+                save = self.recorder.save(session, snapshot=session.status != "failed")
+            except Exception as exc:
+                failure = m.failure_of(exc)
         self.channel.send(m.Reply(cid, None, failure, self.recorder.take_update(session), save))
         raise _ShutdownError
 

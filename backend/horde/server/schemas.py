@@ -85,7 +85,7 @@ class RunTemplateIn(In):
     thesis: dict[str, Any] | None = None
 
 
-def _run_form(value: Any) -> str:
+def run_form(value: Any) -> str:
     if isinstance(value, dict):
         return "RunTemplate" if "scenario" in value or isinstance(value.get("world"), str) else "RunSpec"
     return "RunTemplate" if isinstance(value, RunTemplateIn) else "RunSpec"
@@ -93,7 +93,7 @@ def _run_form(value: Any) -> str:
 
 RunCreate = Annotated[
     Annotated[RunSpec, Tag("RunSpec")] | Annotated[RunTemplateIn, Tag("RunTemplate")],
-    Discriminator(_run_form),
+    Discriminator(run_form),
 ]
 
 
