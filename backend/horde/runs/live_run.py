@@ -85,6 +85,8 @@ class LiveRun:
         self._gone = ""  # why the worker ended (a failed run's message)
         self._snapshot_steps: int | None = None  # the step of the latest snapshot written
         self._closed = False
+        self.on_status: Callable[[], None] = lambda: None  # told when the published status changes
+        self.threads: int | None = None  # the share of the cores its worker was last given
         self._launched = False  # updates that come before the worker's Ready is taken in wait for it
         self._early: list[m.Update] = []
         self._view = stored_view(run_id, self.spec, "created", "", None, self.created_at)
@@ -207,9 +209,13 @@ class LiveRun:
                 self.events.skip(update.skipped)
             for e in update.events:
                 self.events.add(e.step, e.episode, e.kind, e.message, e.value)
+            changed = update.view is not None and (self._published is None
+                                                   or update.view.status != self._published.status)  # fmt: skip
             if update.view is not None:
                 self._published = update.view
             self._refresh()
+        if changed:
+            self.on_status()
 
     def on_exit(self, reason: str) -> None:
         """The worker died: the run fails alone, saying why; its latest snapshot stays in the store."""

@@ -20,11 +20,12 @@ from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
+from horde.core import threads
 from horde.runs import messages as m
 from horde.runs.collector import keep_out_of_collector
 from horde.runs.errors import BusyError, ConflictError, NotFoundError, RunError, SaveError
 from horde.runs.executor import ProcessExecutor
-from horde.runs.link import Executor, Listener, WorkerLink
+from horde.runs.link import Executor, Listener, WorkerGoneError, WorkerLink
 from horde.runs.live_run import LiveRun
 from horde.runs.readout import Evaluation
 from horde.runs.run_setup import Limits, check_limits
@@ -68,7 +69,26 @@ class RunManager:
         return self.executor.spawn(serve_run, init, listener)
 
     def _new_run(self, run_id: str, spec: RunSpec | None, created_at: float | None = None) -> LiveRun:
-        return LiveRun(run_id, spec, self.limits, self._spawn, self.store, self.saver, created_at, self.hooks)
+        run = LiveRun(run_id, spec, self.limits, self._spawn, self.store, self.saver, created_at, self.hooks)
+        run.on_status = self._share_cores
+        return run
+
+    def _share_cores(self) -> None:
+        """Give each learning run's worker its share of this machine's cores (a run alone takes them all, two take
+        one each on two cores), as the runs of one process shared them (`core.threads.share`). Ray's actors have
+        the CPUs they asked the cluster for."""
+        if self.executor.kind != "process":
+            return
+        with self._lock:
+            runs = list(self._runs.values())
+        learning = [run for run in runs if run.view.status == "running"]
+        share = max(1, threads.cores() // max(1, len(learning)))
+        for run in learning:
+            link = run.link
+            if link is not None and link.alive and run.threads != share:
+                run.threads = share
+                with contextlib.suppress(WorkerGoneError):
+                    link.send(m.SetThreads(share))
 
     # ------------------------------------------------------------------------------------------
     # Life cycle

@@ -77,6 +77,115 @@ class _Actor:
         self.lock = threading.Lock()
 
 
+class Bridge:
+    """The bridge's state: the cluster's handle, the actors it hosts, and one outstanding long poll for each."""
+
+    def __init__(self, channel: Channel, init: m.BridgeInit, ray: Any) -> None:
+        self.channel = channel
+        self.init = init
+        self.ray = ray
+        self.host = ray.remote(RunHost)
+        self.actors: dict[int, _Actor] = {}
+        self.polls: dict[Any, int] = {}  # outstanding take -> key
+        self.lock = threading.Lock()
+        self.wake = threading.Event()
+        self.turns = 0
+
+    def read(self) -> None:
+        """The API's messages, handed to the actors; the API's end (or its Shutdown) ends the bridge."""
+        while True:
+            try:
+                message = self.channel.recv()
+            except (EOFError, OSError):
+                message = None
+            if message is None or isinstance(message, m.Call):  # Shutdown: the actors end with their driver
+                with contextlib.suppress(Exception):
+                    self.ray.shutdown()
+                os._exit(0)
+            try:
+                self.handle(message)
+            except Exception:
+                log.exception("the Ray bridge could not hand a message on")
+
+    def handle(self, message: Any) -> None:
+        if isinstance(message, m.Open):
+            threading.Thread(target=self.open, args=(message,), name="horde-bridge-open", daemon=True).start()
+        elif isinstance(message, m.Envelope):
+            with self.lock:
+                actor = self.actors.get(message.key)
+            if actor is not None:
+                self.send_to(actor, message.message)
+        elif isinstance(message, m.Close):
+            with self.lock:
+                actor = self.actors.pop(message.key, None)
+            if actor is not None:
+                self.ray.kill(actor.handle, no_restart=True)
+                self.channel.send(m.Ended(message.key))
+
+    def open(self, message: m.Open) -> None:
+        """Make the actor (in a thread of its own: it waits for room in the cluster, and for the actor's start)."""
+        handle: Any = self.host.options(num_cpus=self.init.cpus, max_concurrency=4).remote(message.entry)
+        try:
+            _, node = self.ray.get(handle.where.remote(), timeout=PLACE_SECONDS)
+        except Exception as exc:
+            self.ray.kill(handle, no_restart=True)
+            self.channel.send(m.Ended(message.key, f"no actor within {PLACE_SECONDS:g} s ({type(exc).__name__}): "
+                                                   "is there room in the cluster?"))  # fmt: skip
+            return
+        actor = _Actor(handle, node)
+        with self.lock:
+            self.actors[message.key] = actor
+        self.send_to(actor, message.init)
+        with self.lock:
+            self.polls[handle.take.remote(TAKE_SECONDS)] = message.key
+        self.wake.set()
+
+    def send_to(self, actor: _Actor, message: Any) -> None:
+        with actor.lock:
+            actor.handle.deliver.remote(actor.seq, message)
+            actor.seq += 1
+
+    def carry(self) -> None:
+        """Forward what the actors' long polls bring back, and poll again (the main thread, for ever)."""
+        while True:
+            self.turns += 1
+            with self.lock:
+                outstanding = list(self.polls)
+            if not outstanding:
+                self.wake.wait(0.5)
+                self.wake.clear()
+                continue
+            ready, _ = self.ray.wait(outstanding, num_returns=1, timeout=0.1)
+            for ref in ready:
+                self.forward(ref)
+
+    def forward(self, ref: Any) -> None:
+        with self.lock:
+            key = self.polls.pop(ref)
+            actor = self.actors.get(key)
+        if actor is None:
+            return  # closed meanwhile
+        try:
+            messages, ended, error = self.ray.get(ref)
+        except Exception as exc:  # the actor died: its process, or its node
+            with self.lock:
+                self.actors.pop(key, None)
+            self.channel.send(m.Ended(key, f"its Ray actor died: {type(exc).__name__}: {str(exc)[:300]}"))
+            return
+        for message in messages:
+            if isinstance(message, m.Ready):
+                message = replace(message, node=actor.node)
+            self.channel.send(m.Envelope(key, message))
+        if ended:
+            with self.lock:
+                self.actors.pop(key, None)
+            self.ray.kill(actor.handle, no_restart=True)
+            self.channel.send(m.Ended(key, f"its loop raised {error}" if error else ""))
+        else:
+            with self.lock:
+                self.polls[actor.handle.take.remote(TAKE_SECONDS)] = key
+
+
 def serve_bridge(channel: Channel) -> None:
     """The bridge (the fork server's entry): join the cluster, then carry messages until the API goes away."""
     init = channel.recv()
@@ -89,101 +198,8 @@ def serve_bridge(channel: Channel) -> None:
     except Exception as exc:
         channel.send(m.Ready(failure=m.failure_of(exc), pid=os.getpid()))
         return
-    host = ray.remote(RunHost)
-    actors: dict[int, _Actor] = {}
-    polls: dict[Any, int] = {}  # outstanding take -> key
-    lock = threading.Lock()
-    wake = threading.Event()
-
-    def read() -> None:
-        """The API's messages, handed to the actors; the API's end (or its Shutdown) ends the bridge."""
-        while True:
-            try:
-                message = channel.recv()
-            except (EOFError, OSError):
-                message = None
-            if message is None or isinstance(message, m.Call):  # Shutdown: the actors end with their driver
-                with contextlib.suppress(Exception):
-                    ray.shutdown()
-                os._exit(0)
-            try:
-                _handle(message)
-            except Exception:
-                log.exception("the Ray bridge could not hand a message on")
-
-    def _open(message: m.Open) -> None:
-        """Make the actor (in a thread of its own: it waits for room in the cluster, and for the actor's start)."""
-        handle: Any = host.options(num_cpus=init.cpus, max_concurrency=4).remote(message.entry)
-        try:
-            _, node = ray.get(handle.where.remote(), timeout=PLACE_SECONDS)
-        except Exception as exc:
-            ray.kill(handle, no_restart=True)
-            channel.send(m.Ended(message.key, f"no actor within {PLACE_SECONDS:g} s ({type(exc).__name__}): is "
-                                              "there room in the cluster?"))  # fmt: skip
-            return
-        actor = _Actor(handle, node)
-        with lock:
-            actors[message.key] = actor
-        _send_to(actor, message.init)
-        with lock:
-            polls[handle.take.remote(TAKE_SECONDS)] = message.key
-        wake.set()
-
-    def _handle(message: Any) -> None:
-        if isinstance(message, m.Open):
-            threading.Thread(target=_open, args=(message,), name="horde-bridge-open", daemon=True).start()
-        elif isinstance(message, m.Envelope):
-            with lock:
-                actor = actors.get(message.key)
-            if actor is not None:
-                _send_to(actor, message.message)
-        elif isinstance(message, m.Close):
-            with lock:
-                actor = actors.pop(message.key, None)
-            if actor is not None:
-                ray.kill(actor.handle, no_restart=True)
-                channel.send(m.Ended(message.key))
-
-    def _send_to(actor: _Actor, message: Any) -> None:
-        with actor.lock:
-            actor.handle.deliver.remote(actor.seq, message)
-            actor.seq += 1
-
-    threading.Thread(target=read, name="horde-bridge-reader", daemon=True).start()
-    turns = 0
-    Heart(channel, lambda: turns)
+    bridge = Bridge(channel, init, ray)
+    threading.Thread(target=bridge.read, name="horde-bridge-reader", daemon=True).start()
+    Heart(channel, lambda: bridge.turns)
     channel.send(m.Ready(pid=os.getpid()))
-    while True:
-        turns += 1
-        with lock:
-            outstanding = list(polls)
-        if not outstanding:
-            wake.wait(0.5)
-            wake.clear()
-            continue
-        ready, _ = ray.wait(outstanding, num_returns=1, timeout=0.1)
-        for ref in ready:
-            with lock:
-                key = polls.pop(ref)
-                actor = actors.get(key)
-            if actor is None:
-                continue  # closed meanwhile
-            try:
-                messages, ended, error = ray.get(ref)
-            except Exception as exc:  # the actor died: its process, or its node
-                with lock:
-                    actors.pop(key, None)
-                channel.send(m.Ended(key, f"its Ray actor died: {type(exc).__name__}: {str(exc)[:300]}"))
-                continue
-            for message in messages:
-                if isinstance(message, m.Ready):
-                    message = replace(message, node=actor.node)
-                channel.send(m.Envelope(key, message))
-            if ended:
-                with lock:
-                    actors.pop(key, None)
-                ray.kill(actor.handle, no_restart=True)
-                channel.send(m.Ended(key, f"its loop raised {error}" if error else ""))
-            else:
-                with lock:
-                    polls[actor.handle.take.remote(TAKE_SECONDS)] = key
+    bridge.carry()

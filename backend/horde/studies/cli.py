@@ -88,13 +88,7 @@ def cmd_study(args: argparse.Namespace) -> int:
     local = LocalRay(args.workers or None) if not args.local and address is None else None
     progress = None if args.quiet else ProgressBar(name, unit="tasks")
     try:
-        executor: Executor = InProcess()
-        if local is not None:  # a Ray of this process's own: loopback only, token authentication
-            os.environ.update(local.env())
-            executor = RayExecutor(local.address())
-        elif not args.local:
-            executor = RayExecutor(str(address))
-        status = run_study(store, study_id, executor, progress)
+        status = run_study(store, study_id, _executor(args.local, address, local), progress)
         summaries = summarize_study(store, study_id)
     except Exception as exc:  # a task that failed: the study keeps its finished tasks and can be resumed
         print(f"\nerror: study {study_id} failed: {type(exc).__name__}: {exc}", file=sys.stderr)
@@ -114,6 +108,17 @@ def cmd_study(args: argparse.Namespace) -> int:
     print(format_table(summaries))
     write_outputs(summaries, args)
     return 0 if status == "finished" else 1
+
+
+def _executor(here: bool, address: str | None, local: LocalRay | None) -> Executor:
+    """One task after the other here, or Ray: the cluster at `address`, else a Ray of this process's own (loopback
+    only, token authentication: its settings go to this process's environment before Ray is imported)."""
+    if here:
+        return InProcess()
+    if local is not None:
+        os.environ.update(local.env())
+        return RayExecutor(local.address())
+    return RayExecutor(str(address))
 
 
 def write_outputs(summaries: list[ConfigSummary], args: argparse.Namespace) -> None:
