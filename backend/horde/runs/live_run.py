@@ -313,7 +313,7 @@ class LiveRun:
                 self.events.add(view.total_steps, view.episode, "error", f"could not save the run: {exc}")
                 if waited:
                     self._not_saved = str(exc)
-            said = (self._published.message if self._published is not None else "") or save.record.status
+            said = save.record.message or save.record.status  # what the run said when it was saved
             self._refresh()
         link = self.link
         if save.save_id and link is not None and link.alive:
