@@ -3,8 +3,10 @@
 Starting a worker as a fresh interpreter costs seconds (importing numpy, numba and the engine, loading the
 kernels from numba's cache); forked from a process that has done it, it costs milliseconds. The API process
 itself is never forked (it has threads; a fork would copy their locks in whatever state they were in): it
-starts this server once (`subprocess`, a fresh interpreter in a session of its own, so that a Ctrl-C at the
-terminal reaches the API process, which shuts the workers down in order, and not the workers themselves),
+starts this server once (`subprocess`, a fresh interpreter in a process group of its own, so that a Ctrl-C at
+the terminal reaches the API process, which shuts the workers down in order, and not the workers themselves;
+in the API's session, so that where the kernel shares the CPU among sessions, as Linux's autogroups do, the
+server's work is one session's as it was in one process, its workers niced below the API),
 which imports the workers' modules and warms the kernels up on small runs, single-threaded, and from then on
 forks on request. The server has no threads, so its children start clean.
 
@@ -94,7 +96,7 @@ class ForkServer:
             command = f"from horde.runs.forkserver import main; main({theirs.fileno()})"
             env = {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in sys.path if p)}
             self._process = subprocess.Popen([sys.executable, "-c", command], pass_fds=[theirs.fileno()],
-                                             stdin=subprocess.DEVNULL, start_new_session=True, env=env)  # fmt: skip
+                                             stdin=subprocess.DEVNULL, process_group=0, env=env)  # fmt: skip
             theirs.close()
             self._socket = ours
             threading.Thread(target=self._read, args=(ours,), name="horde-forkserver", daemon=True).start()

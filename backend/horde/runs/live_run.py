@@ -150,6 +150,7 @@ class LiveRun:
         if link is None or not link.alive:
             return
         failure: Exception | None = None
+        link.stopping = True  # its end is no news (and fails nothing), however soon it comes
         try:
             _, written = link.call(m.Shutdown(save), timeout)
             if written is not None:

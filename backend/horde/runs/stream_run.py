@@ -141,6 +141,7 @@ class StreamRun:
         link = self.link
         if link is None:
             return
+        link.stopping = True
         if link.alive:
             with contextlib.suppress(WorkerGoneError, BusyError):
                 link.call(m.Shutdown(), 10.0)
