@@ -210,19 +210,31 @@ def shared() -> ForkServer:
 # The server
 
 
-def _reap(control: socket.socket, children: set[int], block: bool = False) -> None:
-    """Wait for every child that has ended (with `block`, for every child) and tell the API process how each did."""
-    while children:
-        try:
-            pid, status = os.waitpid(-1, 0 if block else os.WNOHANG)
-        except ChildProcessError:
-            children.clear()
-            return
-        if pid == 0:
-            return
-        children.discard(pid)
-        with contextlib.suppress(OSError):
-            control.send(pickle.dumps(("exited", pid, os.waitstatus_to_exitcode(status))))
+class _Server:
+    """The server's state: its control socket, its children, and the warm-up under way."""
+
+    def __init__(self, control: socket.socket) -> None:
+        self.control = control
+        self.children: set[int] = set()
+        self.warming: int | None = None  # the child that warms the kernels up (compiles them on a cold cache)
+
+    def reap(self, block: bool = False) -> None:
+        """Wait for every child that has ended (with `block`, for every child) and tell the API how each did."""
+        while self.children or self.warming is not None:
+            try:
+                pid, status = os.waitpid(-1, 0 if block else os.WNOHANG)
+            except ChildProcessError:
+                self.children.clear()
+                return
+            if pid == 0:
+                return
+            if pid == self.warming:  # the kernels are in numba's cache now: loading them here takes a moment
+                self.warming = None
+                sys.modules["horde.runs.warm"].warm_up()
+                continue
+            self.children.discard(pid)
+            with contextlib.suppress(OSError):
+                self.control.send(pickle.dumps(("exited", pid, os.waitstatus_to_exitcode(status))))
 
 
 def _child(sockets: list[socket.socket], selector: selectors.BaseSelector, entry: Any, fd: int) -> None:
@@ -238,7 +250,7 @@ def _child(sockets: list[socket.socket], selector: selectors.BaseSelector, entry
         signal.signal(signal.SIGTERM, signal.SIG_DFL)
         with contextlib.suppress(OSError):
             os.nice(WORKER_NICENESS)
-        entry(ProcessChannel(Connection(fd)))
+        entry(ProcessChannel(Connection(fd)) if fd >= 0 else None)
     except BaseException:
         logging.getLogger("horde.runs.worker").exception("a worker ended with an exception")
         code = 1
@@ -249,14 +261,19 @@ def _child(sockets: list[socket.socket], selector: selectors.BaseSelector, entry
 
 
 def main(fd: int) -> None:
-    """The server: preload, warm up, then fork on request until the API process goes away."""
+    """The server: preload, warm up, then fork on request until the API process goes away.
+
+    The warm-up runs first in a child of its own, so that the server forks at once even on a cold numba cache
+    (compiling every kernel takes a minute or more): a worker forked meanwhile loads or compiles what it
+    needs itself, and says so ("preparing the learning kernels"); once the child is done, the server loads the
+    kernels from the cache, and every worker forked after that starts with them loaded.
+    """
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
-    control = socket.socket(fileno=fd)
+    server = _Server(socket.socket(fileno=fd))
+    control = server.control
     began = time.perf_counter()
     for name in PRELOAD:
         __import__(name)
-    warm = sys.modules["horde.runs.warm"]
-    warm.warm_up()
     wakeup_r, wakeup_w = socket.socketpair()
     wakeup_r.setblocking(False)
     wakeup_w.setblocking(False)
@@ -266,29 +283,31 @@ def main(fd: int) -> None:
     selector = selectors.DefaultSelector()
     selector.register(control, selectors.EVENT_READ)
     selector.register(wakeup_r, selectors.EVENT_READ)
+    server.warming = os.fork()
+    if server.warming == 0:
+        _child([control, wakeup_r, wakeup_w], selector, lambda channel: sys.modules["horde.runs.warm"].warm_up(), -1)
     control.send(pickle.dumps(("ready", os.getpid(), time.perf_counter() - began)))
-    children: set[int] = set()
     while True:  # one thread: every child starts from a process with no other thread
         for key, _ in selector.select():
             if key.fileobj is wakeup_r:
                 with contextlib.suppress(BlockingIOError):
                     wakeup_r.recv(4096)
-                _reap(control, children)
+                server.reap()
                 continue
             try:
                 data, fds, _, _ = socket.recv_fds(control, MAX_MESSAGE, 1)
             except OSError:
                 data, fds = b"", []
             if not data:  # the API process has gone
-                for pid in children:
+                for pid in [*server.children, *([server.warming] if server.warming else [])]:
                     with contextlib.suppress(OSError):
                         os.kill(pid, signal.SIGKILL)
-                _reap(control, children, block=True)
+                server.reap(block=True)
                 return
             _, entry = pickle.loads(data)
             pid = os.fork()
             if pid == 0:
                 _child([control, wakeup_r, wakeup_w], selector, entry, fds[0])
             os.close(fds[0])
-            children.add(pid)
+            server.children.add(pid)
             control.send(pickle.dumps(("forked", pid)))
