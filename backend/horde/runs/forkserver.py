@@ -88,6 +88,7 @@ class ForkServer:
         self._forks: list[Future[int]] = []  # fork requests waiting for their pid, in order
         self._on_exit: dict[int, Callable[[int, int], None]] = {}  # pid -> told how its child ended
         self._exits: dict[int, int] = {}  # exit codes of children nobody listened for yet
+        self._stopping = False  # stopped by its process: the children it kills on the way out are no news
 
     @property
     def pid(self) -> int | None:
@@ -156,7 +157,7 @@ class ForkServer:
                 with self._lock:
                     future = self._forks.pop(0)
                 future.set_result(message[1])
-            elif message[0] == "exited":
+            elif message[0] == "exited" and not self._stopping:
                 with self._lock:
                     listener = self._on_exit.pop(message[1], None)
                     if listener is None:
@@ -172,12 +173,15 @@ class ForkServer:
             self._ready.set_exception(RuntimeError("the fork server ended before it was ready"))
         for future in waiting:
             future.set_exception(RuntimeError("the fork server has stopped"))
+        if self._stopping:
+            return
         for pid, listener in listeners.items():  # its children were killed with it
             listener(pid, -signal.SIGKILL)
 
     def stop(self, timeout: float = 10.0) -> None:
         """End the server (its remaining children are killed) and reap it."""
         with self._lock:
+            self._stopping = True
             process, self._process = self._process, None
             if self._socket is not None:
                 with contextlib.suppress(OSError):

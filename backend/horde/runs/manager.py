@@ -136,7 +136,10 @@ class RunManager:
             run.show_stored(record, summary)
             return run
         data = self.store.load_snapshot(record.id)
-        if data is None:
+        if data is None and status == "running":  # it died before its first snapshot: it runs again from step 0
+            init = m.RunInit(record.id, self.limits, spec=spec, status="running", hz=record.hz,
+                             created_at=record.created_at, persist=True, hooks=self.hooks, resumed=True)  # fmt: skip
+        elif data is None:  # a run saved as it was made (its spec and seed are its state)
             message = record.message if status == "created" else "no snapshot was saved; it starts afresh"
             init = m.RunInit(record.id, self.limits, spec=spec, message=message, created_at=record.created_at,
                              persist=True, hooks=self.hooks)  # fmt: skip

@@ -1,14 +1,19 @@
 """Reading a run's weights in its worker: value maps' kin (greedy actions, phase planes, Baird's star) and
-Monte-Carlo evaluations. The worker reads them between two chunks of steps on its live weights, or, for an
-evaluation (which may take seconds), on a frozen copy in a thread of its own, whose reply is sent from there.
+Monte-Carlo evaluations. The worker's loop copies the weights (a copy shared while it is fresh: `worker.py`) and
+goes on learning; the readouts are worked out on the copy in the reader's thread, an evaluation (which may take
+seconds) in a thread of its own, and their replies are sent from there. A value map of nexting's 1,710 demons
+takes a third of a second on a crowded machine: in the loop it starved the run's learning while the live view
+asked for maps.
 """
 
 from __future__ import annotations
 
+import queue
 import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -84,6 +89,30 @@ def star_values(run: Readable, demon: str) -> np.ndarray:
     sensors[:, 0] = np.arange(STAR_STATES)  # the `state` sensor
     zeros = np.zeros(STAR_STATES)
     return run.horde.forward(run.horde_state, zeros, zeros, sensors, [demon]).prediction[:, i]  # [7]
+
+
+class Reader:
+    """The worker's reader: one thread that works readouts out (value maps, greedy actions, phase planes, the star)
+    on copies of the weights, in the order they were asked, while the worker's loop learns; `reply` is called
+    from that thread with each answer."""
+
+    def __init__(self, reply: Callable[[m.Reply], None]) -> None:
+        self.reply = reply
+        self._queue: queue.SimpleQueue[tuple[int, Callable[[], Any]]] = queue.SimpleQueue()
+        self._thread = threading.Thread(target=self._run, name="horde-reader", daemon=True)
+        self._thread.start()
+
+    def submit(self, cid: int, readout: Callable[[], Any]) -> None:
+        self._queue.put((cid, readout))
+
+    def _run(self) -> None:
+        while True:
+            cid, readout = self._queue.get()
+            try:
+                answer = m.Reply(cid, readout())
+            except Exception as exc:
+                answer = m.Reply(cid, failure=m.failure_of(exc))
+            self.reply(answer)
 
 
 def evaluate_in_thread(run: Readable, cid: int, command: m.Evaluate, cancel: threading.Event,

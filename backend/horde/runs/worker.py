@@ -43,7 +43,7 @@ from horde.runs.recorder import Recorder
 from horde.runs.run_setup import check_limits, new_simulation
 from horde.runs.session import RunSession, Source
 from horde.runs.snapshot import Snapshot, capture, from_bytes, restore
-from horde.runs.weights import Readable, evaluate_in_thread, greedy_actions, phase_values, star_values
+from horde.runs.weights import Readable, Reader, evaluate_in_thread, greedy_actions, phase_values, star_values
 from horde.runs.worker_life import Channel, GoneError, Heart, crash
 from horde.spec import RunSpec
 
@@ -52,6 +52,7 @@ log = logging.getLogger(__name__)
 CHUNK_SECONDS = 0.02  # full speed: learn this long between looks at the channel
 MAX_LAG = 0.1  # hz pacing: time lost beyond this is not caught up
 MAX_WAIT = 1.0  # hz pacing and idle: the longest single wait for a message (then the loop turns again)
+READ_COPY_SECONDS = 0.5  # while a run runs, its readouts share one copy of its weights at most this old
 
 
 def _build(init: m.RunInit) -> tuple[Source, RunSpec, Any]:
@@ -92,16 +93,19 @@ class RunWorker:
         self._turns = 0
         self._next_step_at = 0.0
         self._cancels: dict[int, threading.Event] = {}
+        self._copy: tuple[tuple[int, int, int], float, Readable] | None = None  # (key, fresh until, weights)
         self._handlers: dict[type, Callable[[Any], Any]] = {
             m.Start: self._start, m.Pause: self._pause, m.Reset: self._reset, m.Step: self._step,
             m.Patch: self._patch, m.AddDemon: self._add_demon, m.RemoveDemon: self._remove_demon,
             m.Export: self._export, m.Crash: self._crash,
-            m.ValueMapOf: lambda c: value_map(self._weights(), c.demon, c.resolution),
-            m.GreedyOf: lambda c: greedy_actions(self._weights(), c.demon, c.resolution),
-            m.PhaseOf: lambda c: phase_values(self._weights(), self.session.sim.sensors, c.demon, c.x, c.y,
-                                              c.resolution),
-            m.StarOf: lambda c: star_values(self._weights(), c.demon),
         }  # fmt: skip
+        # Readouts: worked out in the reader's thread on a copy of the weights, while the loop learns on.
+        self._readouts: dict[type, Callable[[Any, Readable], Any]] = {
+            m.ValueMapOf: lambda c, w: value_map(w, c.demon, c.resolution),
+            m.GreedyOf: lambda c, w: greedy_actions(w, c.demon, c.resolution),
+            m.StarOf: lambda c, w: star_values(w, c.demon),
+        }
+        self._reader = Reader(self._reply_from_thread)
 
     # ------------------------------------------------------------------------------------------
     # Life
@@ -120,8 +124,9 @@ class RunWorker:
             self.heart.stop()
             return
         if init.resumed:
-            init = self.init = replace(init, message=f"running again from step {sim.total_steps}, its latest "
-                                                     "snapshot, after a restart")  # fmt: skip
+            where = "its latest snapshot" if init.spec is None else "its start (no snapshot had been saved)"
+            init = self.init = replace(init, message=f"running again from step {sim.total_steps}, {where}, after a "
+                                                     "restart")  # fmt: skip
         self.session = RunSession(sim, init.limits, status=init.status, hz=init.hz, message=init.message,
                                   summary=init.summary, stop_reference=reference)  # fmt: skip
         self.session.spec = spec
@@ -239,7 +244,15 @@ class RunWorker:
             self._shutdown(call.cid, command.save)
         if isinstance(command, m.Evaluate):  # in a thread of its own, on a frozen copy of the weights
             self._cancels[call.cid] = cancel = threading.Event()
-            evaluate_in_thread(self._weights(frozen=True), call.cid, command, cancel, self._reply_from_thread)
+            evaluate_in_thread(self._weights(), call.cid, command, cancel, self._reply_from_thread)
+            return
+        readout = self._readouts.get(type(command))
+        if isinstance(command, m.PhaseOf):  # the other sensors held at the agent's readings now
+            held = np.array(self.session.sim.sensors, dtype=float, copy=True)
+            readout = lambda c, w: phase_values(w, held, c.demon, c.x, c.y, c.resolution)  # noqa: E731
+        if readout is not None:
+            weights = self._weights()
+            self._reader.submit(call.cid, lambda: readout(command, weights))
             return
         self.heart.busy(type(command).__name__)
         self._save: m.Save | None = None
@@ -313,14 +326,27 @@ class RunWorker:
         self.heart.busy(f"crash {command.how}")
         crash(command.how)
 
-    def _weights(self, frozen: bool = False) -> Readable:
-        """The run's weights for a readout: the live ones (between chunks), or a copy (for another thread)."""
+    def _weights(self) -> Readable:
+        """The run's weights for a readout: a copy (`Simulation.view_state`, the primary weights only) that every
+        readout shares while the run has not stepped, or, while it runs, for at most READ_COPY_SECONDS (or 20
+        times what the copy took: for nexting's 10 M weights a copy costs tens of milliseconds, and the live
+        view asks for value maps several times a second). An evaluation's thread reads the same copy: nothing
+        changes it after it is made."""
         sim = self.session.sim
-        state = sim.view_state() if frozen else sim.horde_state
+        key = (id(sim), sim.total_steps, id(self.session.spec))
+        now = time.monotonic()
+        cached = self._copy
+        if cached is not None and (cached[0] == key or (self.session.status == "running" and cached[0][:1] == key[:1]
+                                                         and now < cached[1])):  # fmt: skip
+            return cached[2]
+        began = time.thread_time()
         world = sim.world_state
-        if frozen and isinstance(world, WorldState):
+        if isinstance(world, WorldState):
             world = WorldState(*(np.array(a, copy=True) for a in world))
-        return Readable(self.init.run_id, self.session.spec, sim.horde, state, world, sim.total_steps)
+        weights = Readable(self.init.run_id, self.session.spec, sim.horde, sim.view_state(), world, sim.total_steps)
+        cost = time.thread_time() - began
+        self._copy = (key, now + max(READ_COPY_SECONDS, 20 * cost), weights)
+        return weights
 
     def _reply_from_thread(self, reply: m.Reply) -> None:
         self._cancels.pop(reply.cid, None)
