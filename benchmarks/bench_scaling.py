@@ -25,7 +25,7 @@ from typing import Any
 import httpx
 
 from benchmarks.bench_load import start_server, tree_cpu_seconds
-from benchmarks.bench_stream import free_port
+from benchmarks.bench_stream import cpu_seconds, free_port
 
 
 def wait_healthy(client: httpx.Client, timeout: float = 120.0) -> None:
@@ -51,15 +51,17 @@ def round_(client: httpx.Client, pid: int, count: int, args: argparse.Namespace)
     run_ids = [client.post("/api/runs", json=body, params={"start": True}).json()["id"] for _ in range(count)]
     try:
         time.sleep(1.0)
-        began, before, cpu = time.monotonic(), steps(client, run_ids), tree_cpu_seconds(pid)
+        began, before = time.monotonic(), steps(client, run_ids)
+        cpu, api = tree_cpu_seconds(pid), cpu_seconds(pid)
         time.sleep(args.seconds)
         elapsed = time.monotonic() - began
         rate = (steps(client, run_ids) - before) / elapsed
-        used = (tree_cpu_seconds(pid) - cpu) / elapsed
+        used, api = (tree_cpu_seconds(pid) - cpu) / elapsed, (cpu_seconds(pid) - api) / elapsed
     finally:
         for run_id in run_ids:
             client.delete(f"/api/runs/{run_id}")
-    return {"runs": count, "steps_per_s": rate, "cpu_per_wall_s": used, "load_average": os.getloadavg()[0]}
+    return {"runs": count, "steps_per_s": rate, "cpu_per_wall_s": used, "api_cpu_per_wall_s": api,
+            "steps_per_cpu_s": rate / max(used - api, 1e-9), "load_average": os.getloadavg()[0]}  # fmt: skip
 
 
 def main() -> None:
@@ -82,9 +84,11 @@ def main() -> None:
                     for count in (1, args.runs):
                         result = round_(client, server.pid, count, args)
                         rounds.append(result)
-                        print(f"{result['runs']} run(s): {result['steps_per_s']:,.0f} steps/s, server "
-                              f"{result['cpu_per_wall_s']:.2f} CPU s per s, load average "
-                              f"{result['load_average']:.2f}", flush=True)  # fmt: skip
+                        print(f"{result['runs']} run(s): {result['steps_per_s']:,.0f} steps/s "
+                              f"({result['steps_per_cpu_s']:,.0f} per worker CPU second), server "
+                              f"{result['cpu_per_wall_s']:.2f} CPU s per s (the API process "
+                              f"{result['api_cpu_per_wall_s']:.2f}), load average {result['load_average']:.2f}",
+                              flush=True)  # fmt: skip
         finally:
             server.terminate()
             server.wait(120)

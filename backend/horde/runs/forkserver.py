@@ -19,13 +19,16 @@ The control channel is a SOCK_SEQPACKET socket pair (each message whole):
 The server reaps every child (no zombies) and reports how each ended; the API process reaps the server. One
 server serves the whole API process (`shared()`): the apps a test suite makes one after the other share it.
 
-Why a session of its own for the workers (not the API's): where the kernel shares the CPU among sessions first
-(Linux's autogroups), the API's session then competes with the workers' as one group against one, and the
-API answers however many runs learn. Measured with 8 runs, 20 streams and 20 pollers on a machine crowded by
-other sessions (load average 18 to 26, rounds alternated): `/api/health` p99 54 and 85 ms, pollers 9.7 answers
-a second, against 187 and 431 ms and 1.3 to 2.1 answers a second with the workers in the API's session. The
-price: while other sessions crowd the machine, its runs together get one session's share (on a quiet machine
-they take every core).
+Why each worker in a session of its own, niced (`_lower_priority`): where the kernel shares the CPU among
+sessions first (Linux's autogroups), a worker in the API's session competes with the API inside its group, and
+workers sharing one session of their own get one session's share however many learn. In a session of its own
+whose group is niced as the process is, each worker competes as a niced process, as without autogroups: it
+yields to the API and to the machine's other work, and N runs take N niced shares. Measured with 8 runs, 20
+streams, 20 pollers and a 9,000-demon build, on a machine crowded by other sessions (`benchmarks.bench_load`):
+`/api/health` p99 24 ms and pollers 10.2 answers a second (load 11 to 14) with these sessions; p99 187 and
+431 ms and 1.3 to 2.1 answers a second (load 20 to 26) with the workers in the API's session; 54 and 85 ms
+and 9.7 answers a second (load 18 to 24) with all workers in one session of their own, where 8 runs together
+also learned no faster than one alone (0.70 times, load 9 to 11; 1.6 times with these sessions at load 3).
 """
 
 from __future__ import annotations
@@ -45,6 +48,7 @@ import time
 from collections.abc import Callable
 from concurrent.futures import Future
 from multiprocessing.connection import Connection
+from pathlib import Path
 from typing import Any
 
 log = logging.getLogger(__name__)
@@ -241,6 +245,18 @@ class _Server:
                 self.control.send(pickle.dumps(("exited", pid, os.waitstatus_to_exitcode(status))))
 
 
+def _lower_priority() -> None:
+    """This worker yields the CPU to the API and to the machine's other work, as a niced process (WORKER_NICENESS),
+    and competes for it as a process of its own: in a session of its own whose scheduling group (Linux's
+    autogroup, where the kernel shares the CPU among sessions first) is niced the same."""
+    with contextlib.suppress(OSError):
+        os.setsid()
+    with contextlib.suppress(OSError):
+        Path("/proc/self/autogroup").write_text(str(WORKER_NICENESS))
+    with contextlib.suppress(OSError):
+        os.nice(WORKER_NICENESS)
+
+
 def _child(sockets: list[socket.socket], selector: selectors.BaseSelector, entry: Any, fd: int) -> None:
     """In the forked child: drop the server's state, lower the priority, run the worker, exit."""
     code = 0
@@ -252,8 +268,7 @@ def _child(sockets: list[socket.socket], selector: selectors.BaseSelector, entry
         signal.signal(signal.SIGCHLD, signal.SIG_DFL)
         signal.signal(signal.SIGINT, signal.SIG_DFL)
         signal.signal(signal.SIGTERM, signal.SIG_DFL)
-        with contextlib.suppress(OSError):
-            os.nice(WORKER_NICENESS)
+        _lower_priority()
         entry(ProcessChannel(Connection(fd)) if fd >= 0 else None)
     except BaseException:
         logging.getLogger("horde.runs.worker").exception("a worker ended with an exception")

@@ -35,7 +35,7 @@ log = logging.getLogger(__name__)
 # A periodic snapshot waits this many times the last one's encoding and writing: encoding holds the worker's GIL,
 # and at three times (a third of the time) a live nexting run learned 16 steps/s, not 30.
 SNAPSHOT_DUTY_RATIO = 10
-PUBLISH_INTERVAL = 1.0 / 60.0  # while running, views are published at most this often
+PUBLISH_INTERVAL = 1.0 / 30.0  # while running, views are published at most this often (the streams send 30 a second)
 MAX_PUBLISH_INTERVAL = 0.5  # ... and at least this often, however long a view takes to make
 # Bytes a second of history rows and views that one run sends at most: a Horde of 9,000 demons makes a row of
 # 360 kB, and rows at every 5 ms would be 72 MB/s for the API process to take in. Beyond the budget, rows and
