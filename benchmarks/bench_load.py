@@ -35,7 +35,7 @@ from typing import Any
 
 import httpx
 
-from benchmarks.bench_stream import Client, Poller, free_port, poll, stream, total_steps, wait_healthy
+from benchmarks.bench_stream import Client, Poller, free_port, poll, stream, total_steps, tree_cpu_seconds, wait_healthy
 from benchmarks.reproducers import HealthPoller
 
 PRIORITY = -5
@@ -64,28 +64,6 @@ def start_server(port: int, data: str) -> subprocess.Popen[bytes]:
         return subprocess.Popen(command, env=env, stdout=subprocess.DEVNULL)
 
 
-def tree_cpu_seconds(pid: int) -> float:
-    """User + system CPU seconds of a process and all its descendants (Linux /proc)."""
-    ticks = os.sysconf("SC_CLK_TCK")
-    by_parent: dict[int, list[int]] = {}
-    times: dict[int, float] = {}
-    for entry in os.listdir("/proc"):
-        if not entry.isdigit():
-            continue
-        try:
-            fields = Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()
-        except OSError:
-            continue
-        by_parent.setdefault(int(fields[1]), []).append(int(entry))
-        times[int(entry)] = (int(fields[11]) + int(fields[12])) / ticks
-    total, todo = 0.0, [pid]
-    while todo:
-        current = todo.pop()
-        total += times.get(current, 0.0)
-        todo.extend(by_parent.get(current, []))
-    return total
-
-
 def percentile(values: list[float], q: float) -> float:
     ordered = sorted(values)
     return ordered[min(len(ordered) - 1, int(q * len(ordered)))] if ordered else float("nan")
@@ -106,7 +84,7 @@ async def round_(base: str, port: int, run_ids: list[str], big: dict[str, Any], 
             p.answers, p.latencies = 0, []
         counted = [c.messages for c in clients]
         health = HealthPoller(base, idle_seconds=0.0)
-        began, cpu, steps = time.monotonic(), tree_cpu_seconds(pid), await total_steps(http, run_ids)
+        began, cpu, steps = time.monotonic(), sum(tree_cpu_seconds(pid).values()), await total_steps(http, run_ids)
         made: dict[str, Any] = {}
 
         def make() -> None:  # in a thread: its own client, so that the load's loop is not held
@@ -121,7 +99,7 @@ async def round_(base: str, port: int, run_ids: list[str], big: dict[str, Any], 
         await asyncio.sleep(args.seconds)
         elapsed = time.monotonic() - began
         _, latencies = health.stop()
-        wall_cpu = (tree_cpu_seconds(pid) - cpu) / elapsed
+        wall_cpu = (sum(tree_cpu_seconds(pid).values()) - cpu) / elapsed
         rate = (await total_steps(http, run_ids) - steps) / elapsed
         stop.set()
         await asyncio.gather(*tasks, return_exceptions=True)

@@ -24,8 +24,8 @@ from typing import Any
 
 import httpx
 
-from benchmarks.bench_load import start_server, tree_cpu_seconds
-from benchmarks.bench_stream import cpu_seconds, free_port
+from benchmarks.bench_load import start_server
+from benchmarks.bench_stream import cpu_seconds, free_port, tree_cpu_seconds
 
 
 def wait_healthy(client: httpx.Client, timeout: float = 120.0) -> None:
@@ -52,11 +52,11 @@ def round_(client: httpx.Client, pid: int, count: int, args: argparse.Namespace)
     try:
         time.sleep(1.0)
         began, before = time.monotonic(), steps(client, run_ids)
-        cpu, api = tree_cpu_seconds(pid), cpu_seconds(pid)
+        cpu, api = sum(tree_cpu_seconds(pid).values()), cpu_seconds(pid)
         time.sleep(args.seconds)
         elapsed = time.monotonic() - began
         rate = (steps(client, run_ids) - before) / elapsed
-        used, api = (tree_cpu_seconds(pid) - cpu) / elapsed, (cpu_seconds(pid) - api) / elapsed
+        used, api = (sum(tree_cpu_seconds(pid).values()) - cpu) / elapsed, (cpu_seconds(pid) - api) / elapsed
     finally:
         for run_id in run_ids:
             client.delete(f"/api/runs/{run_id}")
