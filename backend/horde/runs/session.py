@@ -115,7 +115,7 @@ class RunSession:
             while True:
                 batch = self._batch if steps is None else min(self._batch, steps - done)
                 episode, before = self.sim.episode, self.sim.total_steps
-                began = time.perf_counter()
+                began = time.thread_time()  # CPU time: a worker preempted mid-batch keeps its batches
                 self.sim.run(batch, 1, self.spec.behaviour)
                 if preparing:
                     _kernels_ready.set()
@@ -123,7 +123,7 @@ class RunSession:
                     if self.message.startswith(PREPARING):
                         self.message = told
                 taken = self.sim.total_steps - before
-                self._adapt_batch(taken, time.perf_counter() - began)
+                self._adapt_batch(taken, time.thread_time() - began)
                 done += taken
                 self._rec.maybe_record(self)
                 if self.sim.episode != episode:
