@@ -101,7 +101,9 @@ class Recorder:
     def maybe_record(self, session: RunSession) -> None:
         """A row when `history.every` steps and `limits.history_interval` seconds have passed since the last:
         every step of a run paced by hz (up to 1/interval steps per second), a sample at full speed."""
-        if session.sim.total_steps - self._last_row >= self.history.every and time.monotonic() >= self._next_row:
+        if session.sim.total_steps - self._last_row < self.history.every:
+            return
+        if session.paced_for_rows() or time.monotonic() >= self._next_row:  # a paced run's burst of catching up too
             self.record(session)
 
     def record(self, session: RunSession) -> None:
