@@ -247,6 +247,7 @@ def test_a_stream_run_is_drawn_as_a_phase_plane_in_the_same_view() -> None:
 def test_a_gymnasium_run_is_drawn_as_a_phase_plane_with_its_trail_and_commands() -> None:
     from tests.server.test_gym_runs import gym_spec
 
+    from horde.runs.snapshot import Snapshot, restore
     from horde.worlds.phase_plane import axis_of, phase_plane
 
     manager = RunManager()
@@ -275,7 +276,9 @@ def test_a_gymnasium_run_is_drawn_as_a_phase_plane_with_its_trail_and_commands()
         assert panel.commands.folder is not None, "a live Gymnasium run takes commands (no roles here)"
         # The agent sits at the run's last (position, velocity); the trail holds each frame's reading.
         segments = drawn["/phase/trail"][0].points  # [N - 1, 2, 3]
-        x, y = axis_of(manager.get(run_id).view.horde, "position"), axis_of(manager.get(run_id).view.horde, "velocity")
+        # The run's weights, out of its worker: its snapshot, restored here.
+        weights = restore(Snapshot.model_validate_json(manager.get(run_id).snapshot())).sim
+        x, y = axis_of(weights.horde, "position"), axis_of(weights.horde, "velocity")
         scene = np.array([((p - x.low) / (x.high - x.low) - 0.5, (v - y.low) / (y.high - y.low) - 0.5)
                           for p, v in positions]) * 10.0  # fmt: skip
         np.testing.assert_allclose(segments[:, 0, :2], scene[:-1])
@@ -283,9 +286,7 @@ def test_a_gymnasium_run_is_drawn_as_a_phase_plane_with_its_trail_and_commands()
         assert drawn["/phase/agent"][0].position[:2] == pytest.approx(tuple(scene[-1]))
         # The value map is the demon's prediction over the plane, the other sensors held at the agent's.
         snapshot = source.phase_snapshot(run_id, "velocity_g0.9", "position", "velocity", 8)
-        published = manager.get(run_id).view
-        expected_map = phase_plane(published.horde, published.horde_state, "velocity_g0.9", x, y,
-                                   published.sensors, 8)  # fmt: skip
+        expected_map = phase_plane(weights.horde, weights.horde_state, "velocity_g0.9", x, y, weights.sensors, 8)
         np.testing.assert_array_equal(snapshot.values, expected_map)
         assert np.ptp(snapshot.values) > 0, "a learned velocity demon varies over the plane"
     finally:

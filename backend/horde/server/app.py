@@ -21,8 +21,11 @@ from contextlib import AbstractAsyncContextManager, asynccontextmanager
 from fastapi import FastAPI
 
 from horde.runs.access import Access
+from horde.runs.executor import ProcessExecutor
+from horde.runs.link import Executor
 from horde.runs.manager import RunManager
 from horde.runs.protocols import ProtocolJobs
+from horde.runs.ray_link import RayExecutor
 from horde.runs.store import Store
 from horde.runs.stream_run import StreamRuns
 from horde.server.api_docs import add_api_docs
@@ -64,6 +67,15 @@ def _live_view(
     )
 
 
+def _run_executor(settings: Settings, processes: ProcessExecutor) -> Executor:
+    """Where runs, stream runs and protocol jobs learn: processes of this machine, or actors of the Ray cluster."""
+    if settings.runs_on_ray():
+        if settings.ray_address is None:
+            raise ValueError("HORDE_RUN_WORKERS=ray needs HORDE_RAY_ADDRESS (a cluster to run on)")
+        return RayExecutor(processes, settings.ray_address, settings.ray_run_cpus)
+    return processes
+
+
 def _lifespan(
     settings: Settings, announce: Callable[[str], None] | None
 ) -> Callable[[FastAPI], AbstractAsyncContextManager[None]]:
@@ -72,15 +84,20 @@ def _lifespan(
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         store = Store(settings.data)
-        manager = RunManager(store, settings.limits())
+        processes = ProcessExecutor(settings.worker_stall_seconds)
+        processes.start()  # the fork server warms the kernels up meanwhile
+        executor = _run_executor(settings, processes)
+        manager = RunManager(store, settings.limits(), executor, hooks=settings.test_hooks)
         app.state.store = store
         app.state.manager = manager
         token = settings.token.get_secret_value() if settings.token is not None else None
         app.state.access = Access(store, token)
         app.state.access.forget_kind("stream")  # stream runs live in memory: none survived the last stop
+        app.state.streams = StreamRuns(executor, hooks=settings.test_hooks)
         app.state.hub = StreamHub(manager, rate=settings.stream_rate)
-        app.state.protocols = ProtocolJobs(store)
-        app.state.studies = StudyJobs(store, settings.study_executor_factory())
+        app.state.protocols = ProtocolJobs(store, executor, hooks=settings.test_hooks)
+        app.state.studies = StudyJobs(store, processes, settings.study_executor, settings.ray_address,
+                                      settings.study_workers)  # fmt: skip
         switch_interval = sys.getswitchinterval()
         sys.setswitchinterval(settings.switch_interval)
         manager.start()
@@ -106,6 +123,9 @@ def _lifespan(
                 app.state.live_view.stop()
                 app.state.live_view = None
             manager.stop()
+            app.state.streams.stop()
+            executor.stop()
+            processes.stop()
             store.close()
             sys.setswitchinterval(switch_interval)
 
@@ -134,7 +154,6 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
     app.state.settings = settings
     app.state.live_view = None
     app.state.catalog = ScenarioCatalog(settings.scenarios)
-    app.state.streams = StreamRuns()  # stream runs (routes/records.py), in memory
     add_error_handlers(app)
     app.add_middleware(
         BodyGuard,

@@ -86,7 +86,7 @@ class RunTemplateIn(In):
     thesis: dict[str, Any] | None = None
 
 
-def _run_form(value: Any) -> str:
+def run_form(value: Any) -> str:
     if isinstance(value, dict):
         return "RunTemplate" if "scenario" in value or isinstance(value.get("world"), str) else "RunSpec"
     return "RunTemplate" if isinstance(value, RunTemplateIn) else "RunSpec"
@@ -94,7 +94,7 @@ def _run_form(value: Any) -> str:
 
 RunCreate = Annotated[
     Annotated[RunSpec, Tag("RunSpec")] | Annotated[RunTemplateIn, Tag("RunTemplate")],
-    Discriminator(_run_form),
+    Discriminator(run_form),
 ]
 
 
@@ -260,6 +260,15 @@ class EvaluationSupportOut(Out):
     note: str = Field(description="one sentence: what an evaluation is here, or why there is none")
 
 
+class WorkerOut(Out):
+    """Where a run learns: a process of the server's machine, or a Ray actor on a node of its cluster."""
+
+    kind: Literal["process", "ray", "none"] = Field(description="none: the run has no worker (its worker died)")
+    pid: int | None = Field(description="the worker's process id, on its node")
+    node: str | None = Field(description="the Ray node the worker runs on (null for a process of this machine)")
+    alive: bool
+
+
 class RunBriefOut(Out):
     id: str
     owner: str = Field(description="who created it: 'teacher', or the name of the student's token")
@@ -271,6 +280,7 @@ class RunBriefOut(Out):
     step: int = Field(description="steps taken in all")
     demons: list[str]
     evaluation: EvaluationSupportOut
+    worker: WorkerOut
     created_at: datetime
     updated_at: datetime
 

@@ -50,6 +50,22 @@ def merge(base: Any, override: Any) -> Any:
     return override
 
 
+def template_data(template: RunTemplateIn, catalog: ScenarioCatalog, store: Store) -> dict[str, Any]:
+    """Resolve the scenario and the world and merge the overrides into them: the RunSpec's data, not validated.
+
+    Raises:
+        NotFoundError: an unknown scenario or stored world.
+    """
+    base: dict[str, Any] = dict(catalog.data(template.scenario)) if template.scenario else {}
+    overrides = template.model_dump(exclude_unset=True, exclude={"scenario", "world"})
+    if isinstance(template.world, str):
+        base["world"] = stored_world(store, template.world)[1].model_dump(by_alias=True)
+    elif template.world is not None:
+        overrides["world"] = template.world
+    merged: dict[str, Any] = merge(base, overrides)
+    return merged
+
+
 def build_spec(template: RunTemplateIn, catalog: ScenarioCatalog, store: Store) -> RunSpec:
     """Resolve the scenario and the world, merge the overrides, and validate the result.
 
@@ -57,13 +73,7 @@ def build_spec(template: RunTemplateIn, catalog: ScenarioCatalog, store: Store) 
         NotFoundError: an unknown scenario or stored world.
         SpecError: the merged spec is invalid (locations are the RunSpec's fields, under "body").
     """
-    base: dict[str, Any] = catalog.get(template.scenario).model_dump(by_alias=True) if template.scenario else {}
-    overrides = template.model_dump(exclude_unset=True, exclude={"scenario", "world"})
-    if isinstance(template.world, str):
-        base["world"] = stored_world(store, template.world)[1].model_dump(by_alias=True)
-    elif template.world is not None:
-        overrides["world"] = template.world
-    data = merge(base, overrides)
+    data = template_data(template, catalog, store)
     try:
         return RunSpec.model_validate(data)
     except ValidationError as exc:

@@ -59,9 +59,9 @@ MAX_KEYS = 1024  # dashboard tabs whose choice is remembered (the oldest are for
 # learners' and the API's: 30 browsers on one run took 108 ms a frame at first). CPU time, not wall time: on a
 # busy machine a frame waits for a core, and that wait is no reason to rest longer.
 MAX_DUTY = 0.3
-# The view thread's OS priority: the learners' (horde.runs.live_run), below the event loop's, so that on a busy
-# machine the view's frames, not the learners' steps or the API's answers, give way: a slow view shows fewer
-# frames, it never slows a run.
+# The view thread's OS priority: the workers' (horde.runs.forkserver.WORKER_NICENESS), below the event loop's, so
+# that on a busy machine the view's frames, not the runs' steps or the API's answers, give way: a slow view shows
+# fewer frames, it never slows a run.
 VIEW_NICENESS = 10
 
 
@@ -275,7 +275,7 @@ class LiveView:
     def _loop(self) -> None:
         """Frames at most `fps` a second, and one at once after a choice changed; busy at most MAX_DUTY of a core
         (a frame that took long is followed by a longer rest, a choice then waiting for its end), at the
-        learners' priority (VIEW_NICENESS)."""
+        workers' priority (VIEW_NICENESS)."""
         with contextlib.suppress(AttributeError, OSError):  # per-thread niceness is a Linux feature
             os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), VIEW_NICENESS)
         period = 1.0 / self.fps

@@ -132,7 +132,8 @@ export interface paths {
          * Create a run
          * @description The body is a RunSpec, or a template: {scenario, world, seed, ...overrides} (a body with a `scenario` key, or
          *     whose `world` is a string naming a stored world). The run is the first trial of its protocol, seeded as `horde
-         *     run` seeds it; it belongs to the requester. 404: unknown scenario or world; 409: too many runs.
+         *     run` seeds it; it belongs to the requester. The run's worker validates and builds it (a 422 names the field as
+         *     always). 404: unknown scenario or world; 409: too many runs.
          */
         post: operations["create_run_api_runs_post"];
         delete?: never;
@@ -253,7 +254,8 @@ export interface paths {
         };
         /**
          * A demon's prediction over the world
-         * @description The prediction at the centres of a resolution x resolution grid, with the current weights.
+         * @description The prediction at the centres of a resolution x resolution grid, with the current weights (read by the run's
+         *     worker). 409 when the run's worker is gone.
          */
         get: operations["get_values_api_runs__run_id__demons__name__values_get"];
         put?: never;
@@ -389,7 +391,11 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** Export a run: weights, traces, generator state, counters, world state */
+        /**
+         * Export a run: weights, traces, generator state, counters, world state
+         * @description The run's worker writes the document (its weights never cross into the server as objects). 409 when the
+         *     run's worker is gone (a run that failed because its worker died).
+         */
         get: operations["export_snapshot_api_runs__run_id__snapshot_get"];
         put?: never;
         post?: never;
@@ -1886,6 +1892,7 @@ export interface components {
              * Format: date-time
              */
             updated_at: string;
+            worker: components["schemas"]["WorkerOut"];
         };
         /**
          * RunCardOut
@@ -1962,6 +1969,7 @@ export interface components {
              * Format: date-time
              */
             updated_at: string;
+            worker: components["schemas"]["WorkerOut"];
         };
         /**
          * RunPatchIn
@@ -3005,6 +3013,30 @@ export interface components {
              * @description the viser client's address (embed it in an iframe or open it); with `viewer`, the address whose browsers follow that tab's choice
              */
             url: string | null;
+        };
+        /**
+         * WorkerOut
+         * @description Where a run learns: a process of the server's machine, or a Ray actor on a node of its cluster.
+         */
+        WorkerOut: {
+            /** Alive */
+            alive: boolean;
+            /**
+             * Kind
+             * @description none: the run has no worker (its worker died)
+             * @enum {string}
+             */
+            kind: "process" | "ray" | "none";
+            /**
+             * Node
+             * @description the Ray node the worker runs on (null for a process of this machine)
+             */
+            node: string | null;
+            /**
+             * Pid
+             * @description the worker's process id, on its node
+             */
+            pid: number | null;
         };
         /**
          * WorldCreate
@@ -4214,6 +4246,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
             /** @description Validation Error */
             422: {
                 headers: {
@@ -4611,6 +4652,15 @@ export interface operations {
             };
             /** @description Unknown run, demon, world or scenario */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5219,6 +5269,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
             /** @description Validation Error */
             422: {
                 headers: {
@@ -5267,6 +5326,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
             /** @description Validation Error */
             422: {
                 headers: {
@@ -5308,6 +5376,15 @@ export interface operations {
             };
             /** @description Unknown run, demon, world or scenario */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5387,6 +5464,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
             /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
             413: {
                 headers: {
@@ -5430,6 +5516,15 @@ export interface operations {
             };
             /** @description Unknown run, demon, world or scenario */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
                 headers: {
                     [name: string]: unknown;
                 };

@@ -14,7 +14,6 @@ from starlette.concurrency import run_in_threadpool
 from horde.core.evaluate import StoppedError
 from horde.runs.errors import NotFoundError
 from horde.runs.evaluations import keep_evaluation, kept_evaluations
-from horde.runs.readout import value_map
 from horde.runs.run_view import RunView
 from horde.server.convert import demons_out, evaluation_out, history_out, values_out
 from horde.server.deps import ControlledRunDep, DemonName, ManagerDep, RunDep, StoreDep, write_router
@@ -76,15 +75,16 @@ def remove_demon(run: ControlledRunDep, name: DemonName) -> None:
     run.remove_demon(name)
 
 
-@router.get("/demons/{name}/values", summary="A demon's prediction over the world", responses={**NOT_FOUND})
+@router.get("/demons/{name}/values", summary="A demon's prediction over the world", responses={**NOT_FOUND, **CONFLICT})
 def get_values(
     run: RunDep,
     name: DemonName,
     resolution: Annotated[int, Query(ge=2, le=MAX_RESOLUTION)] = 32,
 ) -> ValuesOut:
-    """The prediction at the centres of a resolution x resolution grid, with the current weights."""
-    view = run.view
-    return values_out(view, name, value_map(view, name, resolution))
+    """The prediction at the centres of a resolution x resolution grid, with the current weights (read by the run's
+    worker). 409 when the run's worker is gone."""
+    values = run.value_map(name, resolution)
+    return values_out(run.view, name, values)
 
 
 @router.get(

@@ -27,7 +27,7 @@ def sparkline(run: LiveRun, demons: int = SPARK_DEMONS, points: int = SPARK_POIN
     spread from the oldest to the newest."""
     steps = np.zeros(0, dtype=np.int64)
     series: dict[str, list[float | None]] = {}
-    for name in run.view.horde.names[:demons]:
+    for name in run.view.names[:demons]:
         try:
             rows = run.history.series(name)
         except KeyError:  # the demon left the run meanwhile

@@ -29,12 +29,12 @@ from fastapi import APIRouter, Path, Query, Response, WebSocket, WebSocketDiscon
 from pydantic import Field
 
 from horde.runs.access import Access, ForbiddenError
-from horde.runs.errors import FieldProblem, NotFoundError, SpecError
+from horde.runs.errors import FieldProblem, NotFoundError, RunError, SpecError
 from horde.runs.stream_run import HISTORY, MAX_RECORDS_PER_BATCH, PushResult, StreamRun
 from horde.runs.stream_snapshot import StreamSnapshot
 from horde.server.deps import AccessDep, StreamsDep, WriterDep, write_router
 from horde.server.guard import MAX_JSON_DEPTH, json_problem
-from horde.server.responses import BAD_BODY, BUSY, NOT_FOUND
+from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND
 from horde.server.schemas import DemonMetricsOut, DemonOut, In, Out
 from horde.server.sockets import AcceptedSocket
 from horde.server.stream_protocol import StreamClose, close_reason
@@ -115,26 +115,30 @@ def get_stream(stream_id: StreamId, streams: StreamsDep, access: AccessDep) -> S
     return _out(run, run.status(), access)
 
 
-@router.get("/{stream_id}/demons", summary="A stream run's demon table", responses=NOT_FOUND)
+@router.get("/{stream_id}/demons", summary="A stream run's demon table", responses={**NOT_FOUND, **CONFLICT})
 def get_stream_demons(stream_id: StreamId, streams: StreamsDep) -> list[DemonOut]:
     """Each demon's prediction at the last observation and its error measures (null where it diverged)."""
     run = streams.get(stream_id)
     out, step_size = run.readout()
-    horde = run.learner.loop.horde
     prediction = np.where(out.diverged, np.nan, out.prediction)  # [D]
     return [
-        DemonOut(name=spec.name, spec=spec, control=horde.is_control(spec.name), prediction=prediction[i],
+        DemonOut(name=spec.name, spec=spec, control=run.control[i], prediction=prediction[i],
                  metrics=DemonMetricsOut(rupee=out.rupee[i], ude=out.ude[i], delta=out.delta[i],
                                          cumulant=out.cumulant[i], diverged=bool(out.diverged[i]),
                                          step_size=step_size[i]),
                  colour=demon_colour(i))
-        for i, spec in enumerate(horde.demon_specs)
+        for i, spec in enumerate(run.spec.demons)
     ]  # fmt: skip
 
 
-@router.get("/{stream_id}/snapshot", summary="A stream run's learner, to import elsewhere", responses=NOT_FOUND)
-def get_stream_snapshot(stream_id: StreamId, streams: StreamsDep) -> StreamSnapshot:
-    return streams.get(stream_id).snapshot()
+@router.get(
+    "/{stream_id}/snapshot",
+    summary="A stream run's learner, to import elsewhere",
+    response_model=StreamSnapshot,
+    responses={**NOT_FOUND, **CONFLICT},
+)
+def get_stream_snapshot(stream_id: StreamId, streams: StreamsDep) -> Response:
+    return Response(streams.get(stream_id).snapshot(), media_type="application/json")
 
 
 @writes.post(
@@ -163,7 +167,7 @@ def delete_stream(stream_id: StreamId, streams: StreamsDep, me: WriterDep, acces
 @writes.post(
     "/{stream_id}/records",
     summary="Learn a batch of records, in order (all or nothing)",
-    responses={**NOT_FOUND, **BAD_BODY},
+    responses={**NOT_FOUND, **BAD_BODY, **CONFLICT},
 )
 def push_records(
     stream_id: StreamId, body: RecordsIn, streams: StreamsDep, me: WriterDep, access: AccessDep
@@ -171,11 +175,11 @@ def push_records(
     run = streams.get(stream_id)
     access.check(me, "stream", stream_id)
     items = [r.model_dump() for r in body.records]
-    _, refused = run.check(items)
-    if refused:
+    result = run.push(items, whole=True)
+    if result.refused:
         raise SpecError([FieldProblem(("body", "records", r.index, *r.field.split(".")), r.message)
-                         for r in refused[:20]])  # fmt: skip
-    return _out(run, run.push(items), access)
+                         for r in result.refused[:20]])  # fmt: skip
+    return _out(run, result, access)
 
 
 class AxisOut(Out):
@@ -195,7 +199,7 @@ class PhasePlaneOut(Out):
 @router.get(
     "/{stream_id}/phase-plane",
     summary="A demon's value map over two sensors (the others held at their last readings), with the trail",
-    responses=NOT_FOUND,
+    responses={**NOT_FOUND, **CONFLICT},
 )
 def get_phase_plane(
     stream_id: StreamId,
@@ -243,7 +247,7 @@ def _floats(values: np.ndarray) -> list[float | None]:
 @router.get(
     "/{stream_id}/history",
     summary="The recent records' sensors, and each demon's prediction beside the return that followed",
-    responses=NOT_FOUND,
+    responses={**NOT_FOUND, **CONFLICT},
 )
 def get_stream_history(
     stream_id: StreamId,
@@ -311,7 +315,11 @@ async def _learn(queue: asyncio.Queue[list[Any] | None], run: StreamRun, websock
                 await queue.put(None)
                 break
             items = items + more
-        result = await asyncio.to_thread(run.push, items)
+        try:
+            result = await asyncio.to_thread(run.push, items)
+        except RunError as exc:  # its worker died: say so, and end the stream
+            await websocket.send_json({"type": "error", "index": None, "field": "run", "message": str(exc)})
+            return
         for refusal in result.refused:
             await websocket.send_json({"type": "error", "index": refusal.index, "field": refusal.field,
                                        "message": refusal.message})  # fmt: skip

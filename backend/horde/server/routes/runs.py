@@ -6,11 +6,13 @@ naming the owner otherwise), a viewer's none (runs/access.py).
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Any
 
 from fastapi import APIRouter, Body, Query, Response, status
+from pydantic import TypeAdapter, ValidationError
 
 from horde.runs.access import Access
+from horde.runs.errors import SpecError
 from horde.runs.evaluations import forget_evaluations
 from horde.runs.events import RECENT_EVENTS
 from horde.runs.run_view import RunView
@@ -35,8 +37,9 @@ from horde.server.schemas import (
     RunTemplateIn,
     StateOut,
     StepIn,
+    run_form,
 )
-from horde.server.spec_builder import build_spec
+from horde.server.spec_builder import template_data
 
 router = APIRouter(prefix="/runs", tags=["runs"])
 writes = write_router(router)
@@ -52,14 +55,29 @@ def list_runs(manager: ManagerDep, access: AccessDep) -> list[RunBriefOut]:
     return [run_brief(v, access.owner_name("run", v.id)) for v in views]
 
 
+# The body as the OpenAPI schema shows it (a RunSpec or a template); the route takes it as plain JSON and the run's
+# worker validates it, so that a Horde of thousands of demons is validated and compiled off the server's GIL.
+RUN_CREATE_BODY = {
+    "requestBody": {
+        "required": True,
+        "content": {"application/json": {"schema": {"oneOf": [{"$ref": "#/components/schemas/RunSpec-Input"},
+                                                              {"$ref": "#/components/schemas/RunTemplateIn"}],
+                                                    "title": "Body"}}},
+    }
+}  # fmt: skip
+_run_create: TypeAdapter[Any] = TypeAdapter(RunCreate)
+_template: TypeAdapter[RunTemplateIn] = TypeAdapter(RunTemplateIn)
+
+
 @writes.post(
     "",
     summary="Create a run",
     status_code=status.HTTP_201_CREATED,
     responses={**BAD_BODY, **NOT_FOUND, **CONFLICT, **NOT_SAVED},
+    openapi_extra=RUN_CREATE_BODY,
 )
 def create_run(
-    body: Annotated[RunCreate, Body()],
+    body: Annotated[Any, Body()],
     manager: ManagerDep,
     catalog: CatalogDep,
     store: StoreDep,
@@ -70,11 +88,25 @@ def create_run(
 ) -> RunOut:
     """The body is a RunSpec, or a template: {scenario, world, seed, ...overrides} (a body with a `scenario` key, or
     whose `world` is a string naming a stored world). The run is the first trial of its protocol, seeded as `horde
-    run` seeds it; it belongs to the requester. 404: unknown scenario or world; 409: too many runs."""
-    spec = build_spec(body, catalog, store) if isinstance(body, RunTemplateIn) else body
-    view = manager.create(spec, hz=hz, start=start)
+    run` seeds it; it belongs to the requester. The run's worker validates and builds it (a 422 names the field as
+    always). 404: unknown scenario or world; 409: too many runs."""
+    if not isinstance(body, dict):  # not an object: refused as the union refuses it
+        _validated(_run_create, body, ("body",))
+    loc: tuple[str | int, ...] = ("body", "RunSpec")
+    data = body
+    if run_form(body) == "RunTemplate":
+        template = _validated(_template, body, ("body", "RunTemplate"))
+        data, loc = template_data(template, catalog, store), ("body",)
+    view = manager.create_from(data, loc, hz=hz, start=start)
     access.claim(me, "run", view.id)
     return _out(view, access)
+
+
+def _validated(adapter: TypeAdapter[Any], body: Any, loc: tuple[str | int, ...]) -> Any:
+    try:
+        return adapter.validate_python(body)
+    except ValidationError as exc:
+        raise SpecError.from_validation(exc, loc) from None
 
 
 @router.get("/{run_id}", summary="A run", responses={**NOT_FOUND})

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from fastapi import APIRouter, status
+from fastapi import APIRouter, Response, status
 
 from horde.runs.snapshot import Snapshot
 from horde.server.convert import run_out
@@ -17,10 +17,13 @@ writes = write_router(router)
 @router.get(
     "/{run_id}/snapshot",
     summary="Export a run: weights, traces, generator state, counters, world state",
-    responses={**NOT_FOUND},
+    response_model=Snapshot,
+    responses={**NOT_FOUND, **CONFLICT},
 )
-def export_snapshot(run: RunDep) -> Snapshot:
-    return run.snapshot()
+def export_snapshot(run: RunDep) -> Response:
+    """The run's worker writes the document (its weights never cross into the server as objects). 409 when the
+    run's worker is gone (a run that failed because its worker died)."""
+    return Response(run.snapshot(), media_type="application/json")
 
 
 @writes.post(
