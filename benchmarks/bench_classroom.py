@@ -104,8 +104,8 @@ class Phase:
     viewed_rate: float
     total_rate: float
     health: list[float]
-    cpu: float  # server CPU seconds per wall second
-    learner_cpu: float  # of it, the learner threads' (niced)
+    cpu: float  # the API process's CPU seconds per wall second (the live view's thread included)
+    learner_cpu: float  # the runs' workers' (niced processes under the API's fork server), beside it
     client_cpu: float  # this process's (the viewers' clients), per wall second
     load: float  # 1-minute load average at the end
     stream_rates: list[float] = field(default_factory=list)
@@ -260,10 +260,10 @@ def main(argv: list[str] | None = None) -> None:
           f"{result['viser_messages_per_s']['min']:.1f} messages/s; dropped: {result['dropped']} (goal 0)")  # fmt: skip
     print(f"live view: {result['view_browsers']} browsers at {result['view_frames_per_s']} frames/s (each frame "
           "draws every browser's view)")  # fmt: skip
-    print(f"learner threads' CPU per second: {result['learner_cpu_per_s']['alone']:.2f} alone, "
+    print(f"the runs' workers' CPU per second: {result['learner_cpu_per_s']['alone']:.2f} alone, "
           f"{result['learner_cpu_per_s']['viewed']:.2f} viewed; the clients' process "
           f"{result['client_cpu_per_s']['viewed']:.2f} viewed")  # fmt: skip
-    print(f"server CPU per second: {result['server_cpu_per_s']['alone']:.2f} alone, "
+    print(f"the API process's CPU per second: {result['server_cpu_per_s']['alone']:.2f} alone, "
           f"{result['server_cpu_per_s']['viewed']:.2f} viewed; load averages {result['load_average']}")  # fmt: skip
     if args.json is not None:
         args.json.write_text(json.dumps(result, indent=2))
