@@ -186,8 +186,8 @@ async def bench(args: argparse.Namespace) -> dict[str, Any]:
                     p = phases[-1]
                     what = f"with {args.viewers} + {args.viewers} viewers" if p.viewers else "without viewers"
                     print(f"  {what:28} viewed run {p.viewed_rate:8,.0f} steps/s, all {p.total_rate:9,.0f}; "
-                          f"health p99 {1000 * percentile(p.health, 0.99):6.1f} ms; server CPU {p.cpu:.2f}/s "
-                          f"(learners {p.learner_cpu:.2f}), clients' {p.client_cpu:.2f}/s; "
+                          f"health p99 {1000 * percentile(p.health, 0.99):6.1f} ms; API process CPU {p.cpu:.2f}/s "
+                          f"(workers {p.learner_cpu:.2f}), clients' {p.client_cpu:.2f}/s; "
                           f"load {p.load:.1f}; view {p.browsers} browsers at {p.frame_rate:.1f} frames/s",
                           flush=True)  # fmt: skip
         finally:
