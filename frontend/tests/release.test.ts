@@ -1,10 +1,14 @@
 // @vitest-environment happy-dom
 // Every view releases what it holds when its scope goes (issue 29): the whole dashboard is drawn with a
-// run selected, charted and streaming, a stream run shown and a protocol job running; then its scope is
-// disposed, and nothing it took may remain: no UI-state listener, no query observed, no cache listener,
-// no timer, no listener on the window or the document, no element observed, no socket open.
+// run selected, charted and streaming, a stream run shown and a protocol job running, the Class tab read
+// (its cards and the teacher's tokens, a Revoke armed) and a run presented from a card, with the role's
+// style sheet and the address kept (issue 28); then its scope is disposed, and nothing it took may remain:
+// no UI-state listener, no query observed, no cache listener, no timer, no listener on the window or the
+// document, no element observed, no socket open, no role style sheet, no present mode.
 import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
+import { keepRoleStyles, loadMe } from "../src/app/access";
 import { createApp } from "../src/app/app";
+import { keepAddress } from "../src/app/location";
 import { keys } from "../src/app/queries";
 import { watchApp } from "../src/app/watch";
 import type { Demon, Protocol, Run } from "../src/api/types";
@@ -26,11 +30,18 @@ const brief = { id: RUN, name: "r", status: "running", step: 5, episode: 1, hz: 
 const run = { ...brief, spec: { world: {}, learning: { lambda: 0.9, alpha: 0.1, alpha_w: 0.01 } } } as unknown as Run;
 const job = { id: "job1", name: "experiment1", status: "running", episodes_done: 1, episodes_total: 10 } as Protocol;
 const history = { demon: "a", step: [1, 2, 3], prediction: [0, 1, 2], rupee: [], ude: [], delta: [], cumulant: [] };
+const card = { ...brief, owner: "teacher", sparkline: { steps: [1, 2], series: { a: [0, 1] } } };
+const token = { id: "tok1", name: "vic", role: "viewer", created_at: "2025-01-01T00:00:00Z" };
 const stream = { id: STREAM, name: "s", sensors: ["x"], actions: 2, demons: ["d"], received: 3, learned: 3 };
 
 function answer(url: string): unknown {
   const path = new URL(url, "http://x").pathname;
   if (path === "/api/runs") return [brief];
+  if (path === `/api/runs/${RUN}`) return run;
+  if (path === "/api/me") return { role: "teacher", name: "teacher", id: null, tokens: true };
+  if (path === "/api/overview") return [card];
+  if (path === "/api/tokens") return [token];
+  if (path.endsWith("/evaluations")) return [];
   if (path.endsWith("/history") && path.startsWith("/api/runs")) return history;
   if (path === "/api/streams") return [stream];
   if (path.endsWith("/history")) return { records: [0, 1, 2], sensors: { x: [1, 2, 3] }, predictions: {}, returns: {} };
@@ -138,7 +149,10 @@ describe("the dashboard's views", () => {
     const scope = new Scope();
     const { page, help, tour } = dashboard(app, scope);
     document.body.append(page, help.element, tour.element);
+    keepRoleStyles(app, scope);
     watchApp(app, scope);
+    keepAddress(app, scope);
+    await loadMe(app);
     // A run selected, charted and streaming; a protocol job running; a stream run shown.
     app.client.setQueryData(keys.run(RUN), run);
     // Enough demons for the table to keep only the rows in sight (its virtualizer watches the scroll box).
@@ -153,20 +167,40 @@ describe("the dashboard's views", () => {
     page.querySelector<HTMLButtonElement>(`li[data-stream="${STREAM}"] button`)?.click();
     await vi.advanceTimersByTimeAsync(2500);
     expect(page.querySelector('figure.chart[data-sensor="x"]')).not.toBeNull();
+    // The Class tab: the cards and the teacher's tokens read, a Revoke armed; then a card presented.
+    app.ui.update({ tab: "class" });
+    await vi.advanceTimersByTimeAsync(2500);
+    expect(page.querySelector(`li.run-card[data-run="${RUN}"] polyline`)).not.toBeNull();
+    page.querySelector<HTMLButtonElement>('tr[data-token="tok1"] button')?.click();
+    await vi.advanceTimersByTimeAsync(10);
+    expect(page.querySelector('tr[data-token="tok1"] button')?.textContent).toContain("Really revoke?");
+    page.querySelector<HTMLButtonElement>(`li.run-card[data-run="${RUN}"] button[aria-label^="Present"]`)?.click();
+    await vi.advanceTimersByTimeAsync(500);
+    expect(document.documentElement.classList.contains("present")).toBe(true);
+    expect(app.ui.state.tab).toBe("live");
+    expect(document.getElementById("role-styles")).not.toBeNull();
     expect(held.listeners).toBeGreaterThan(0);
     expect(held.observed.size).toBeGreaterThan(0);
     expect(vi.getTimerCount()).toBeGreaterThan(0);
 
     scope.dispose();
+    const cache = app.client.getQueryCache();
+    const observed = (q: { getObserversCount: () => number }) => q.getObserversCount() > 0;
+    expect(
+      cache
+        .getAll()
+        .filter(observed)
+        .map((q) => q.queryKey),
+    ).toEqual([]);
     app.client.clear(); // the cache's own timers (dropping what nobody observes) go with its entries
 
-    const cache = app.client.getQueryCache();
     expect(app.ui.listenerCount).toBe(0);
-    expect(cache.getAll().filter((q) => q.getObserversCount() > 0)).toEqual([]);
     expect(cache.hasListeners()).toBe(false);
     expect(vi.getTimerCount()).toBe(0);
     expect(held.listeners).toBe(0);
     expect([...held.observed]).toEqual([]);
     expect(held.sockets).toBe(0);
+    expect(document.documentElement.classList.contains("present")).toBe(false);
+    expect(document.getElementById("role-styles")).toBeNull();
   });
 });

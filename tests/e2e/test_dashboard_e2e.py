@@ -19,8 +19,17 @@ import pytest
 from playwright.sync_api import expect
 
 from horde.server import Settings
+from horde.view.live import VIEWER_KEY
 
-from .conftest import ON_DASHBOARD, SHOTS, collect_errors, fill_and_press, free_port, serve_in_thread
+from .conftest import (
+    ON_DASHBOARD,
+    SHOTS,
+    collect_errors,
+    fill_and_press,
+    free_port,
+    page_viewer,
+    serve_in_thread,
+)
 
 VIEWPORT = {"width": 1280, "height": 800}
 TIMEOUT_MS = 15_000
@@ -462,7 +471,7 @@ def test_the_viser_view_is_embedded_and_follows_the_selected_run(page: Page, ser
         else:
             route.fulfill(json={"enabled": True, "url": view_url, "run": None})
 
-    page.route("**/api/view", view_route)
+    page.route("**/api/view*", view_route)
     page.route("**/viser-stand-in", lambda route: route.fulfill(content_type="text/html", body="<p>viser here</p>"))
     page.reload()
     frame = page.locator("iframe.viser-frame")
@@ -471,10 +480,13 @@ def test_the_viser_view_is_embedded_and_follows_the_selected_run(page: Page, ser
     assert page.frame_locator("iframe.viser-frame").get_by_text("viser here").is_visible()
     run_id = server.create_run()
     # With the demons it charts, which the view labels too (prediction demons first).
-    wanted = {"run": run_id, "demons": ["steps_to_end", "base"]}
+    wanted = {"run": run_id, "demons": ["steps_to_end", "base"], "large": False}
 
     def tells_the_view(request: Any) -> bool:
-        return request.method == "POST" and request.url.endswith("/api/view") and request.post_data_json == wanted
+        if request.method != "POST" or not request.url.endswith("/api/view"):
+            return False
+        body = dict(request.post_data_json)
+        return bool(VIEWER_KEY.match(body.pop("viewer", ""))) and body == wanted
 
     with page.expect_request(tells_the_view):  # bounded by the page's timeout
         select_run(page, run_id)
@@ -491,7 +503,11 @@ def test_the_live_view_of_a_real_server_follows_the_selected_run(
         # The viser client itself is tested in test_view_e2e.py; here a stand-in answers at its address.
         page.route(f"{view_url}**", lambda route: route.fulfill(content_type="text/html", body="<p>viser</p>"))
         page.goto(live.url)
-        assert page.locator("iframe.viser-frame").get_attribute("src") == view_url
+        viewer = page_viewer(page)
+        assert (
+            page.locator("iframe.viser-frame").get_attribute("src")
+            == live.client.get("/api/view", params={"viewer": viewer}).json()["url"]
+        ), "the page embeds its own view's address"
         for run_id in (first, second, first):
             # The page switches the view with POST /api/view; once answered, the server shows the run.
             with page.expect_response(
@@ -503,7 +519,7 @@ def test_the_live_view_of_a_real_server_follows_the_selected_run(
             ) as switched:
                 select_run(page, run_id)
             assert switched.value.ok, f"POST /api/view for {run_id}: {switched.value.status}"
-            assert live.client.get("/api/view").json()["run"] == run_id
+            assert live.client.get("/api/view", params={"viewer": viewer}).json()["run"] == run_id
     assert console.unexpected() == [], "errors in the browser console"
 
 

@@ -20,6 +20,7 @@ from contextlib import AbstractAsyncContextManager, asynccontextmanager
 
 from fastapi import FastAPI
 
+from horde.runs.access import Access
 from horde.runs.executor import ProcessExecutor
 from horde.runs.link import Executor
 from horde.runs.manager import RunManager
@@ -47,19 +48,21 @@ Learn many predictions at once with the Horde architecture. Define worlds and ru
 runs, step or run them, read their predictions, value maps and histories, evaluate them against
 Monte-Carlo truth, and export or import snapshots. Errors: 404 unknown, 409 wrong state, 422 invalid
 spec (naming the field). When HORDE_TOKEN is set, every POST, PUT, PATCH and DELETE needs
-`Authorization: Bearer <token>`.
+`Authorization: Bearer <token>`: the teacher's HORDE_TOKEN, or a token the teacher issued (POST /api/tokens):
+a student's changes only what the student created (403 otherwise, naming the owner), a viewer's nothing.
 """
 
 
-def _live_view(settings: Settings, manager: RunManager, port: int, streams: StreamRuns | None = None) -> LiveView:
+def _live_view(
+    settings: Settings, manager: RunManager, port: int, access: Access, streams: StreamRuns | None = None
+) -> LiveView:
     """The viser live view of the manager's runs (and the stream runs, as phase planes) on `port` (or the next
-    free one), guarded by the server's token and origins."""
-    token = settings.token.get_secret_value() if settings.token is not None else None
+    free one), guarded by the server's tokens (the same rule as the API's) and origins."""
     return LiveView(
         ManagerSource(manager, streams),
         host=settings.host,
         port=port,
-        token=token,
+        access=access,
         allow_origin=lambda origin, host: origin_allowed(origin, host, settings.host_rule(), settings.origins),
     )
 
@@ -87,6 +90,9 @@ def _lifespan(
         manager = RunManager(store, settings.limits(), executor, hooks=settings.test_hooks)
         app.state.store = store
         app.state.manager = manager
+        token = settings.token.get_secret_value() if settings.token is not None else None
+        app.state.access = Access(store, token)
+        app.state.access.forget_kind("stream")  # stream runs live in memory: none survived the last stop
         app.state.streams = StreamRuns(executor, hooks=settings.test_hooks)
         app.state.hub = StreamHub(manager, rate=settings.stream_rate)
         app.state.protocols = ProtocolJobs(store, executor, hooks=settings.test_hooks)
@@ -96,7 +102,9 @@ def _lifespan(
         sys.setswitchinterval(settings.switch_interval)
         manager.start()
         if settings.viser_port is not None:
-            app.state.live_view = _live_view(settings, manager, settings.viser_port, app.state.streams)
+            app.state.live_view = _live_view(
+                settings, manager, settings.viser_port, app.state.access, app.state.streams
+            )
             app.state.live_view.start()
             if announce is not None:
                 announce(app.state.live_view.url)

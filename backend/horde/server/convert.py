@@ -49,18 +49,19 @@ def summary_out(summary: Summary) -> SummaryOut:
     return SummaryOut.model_validate(summary, from_attributes=True)
 
 
-def run_brief(view: RunView) -> RunBriefOut:
-    return RunBriefOut(**_brief_fields(view))
+def run_brief(view: RunView, owner: str) -> RunBriefOut:
+    return RunBriefOut(**_brief_fields(view, owner))
 
 
-def run_out(view: RunView) -> RunOut:
+def run_out(view: RunView, owner: str) -> RunOut:
     summary = summary_out(view.summary) if view.summary is not None else None
-    return RunOut(**_brief_fields(view), spec=view.spec, summary=summary)
+    return RunOut(**_brief_fields(view, owner), spec=view.spec, summary=summary)
 
 
-def _brief_fields(view: RunView) -> dict[str, object]:
+def _brief_fields(view: RunView, owner: str) -> dict[str, object]:
     return {
         "id": view.id,
+        "owner": owner,
         "name": view.spec.name,
         "status": view.status,
         "message": view.message,

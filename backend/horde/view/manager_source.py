@@ -21,6 +21,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from horde.runs.errors import NotFoundError, RunError, SpecError
+from horde.runs.evaluations import forget_evaluations
 from horde.runs.manager import RunManager
 from horde.runs.run_view import RunView
 from horde.runs.stream_run import StreamRun, StreamRuns
@@ -285,6 +286,8 @@ class ManagerSource:
 
     def reset(self, run_id: str) -> None:
         self._command(run_id, "reset")
+        if self.manager.store is not None:  # fresh weights: the kept evaluations no longer describe them
+            forget_evaluations(self.manager.store, run_id)
 
     def set_hz(self, run_id: str, hz: float | None) -> None:
         self._command(run_id, "patch", set_hz=True, hz=hz)

@@ -19,11 +19,14 @@ export class ApiError extends Error {
   }
 }
 
-/** Adds `Authorization: Bearer <token>` to requests that change something, when a token is set. */
+/**
+ * Adds `Authorization: Bearer <token>` to every request when a token is set: the changes need it, and
+ * GET /api/me and /api/tokens answer by it (the other reads ignore it).
+ */
 const auth: Middleware = {
   onRequest({ request }) {
     const token = readToken();
-    if (token && request.method !== "GET") request.headers.set("Authorization", `Bearer ${token}`);
+    if (token) request.headers.set("Authorization", `Bearer ${token}`);
     return request;
   },
 };

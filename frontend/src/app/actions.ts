@@ -11,6 +11,7 @@ import { startPoint } from "../lib/world";
 import { type App, chartedDemons, state } from "./app";
 import { keys, readNow } from "./queries";
 import { reads } from "./reads";
+import { VIEWER_KEY } from "./viewer-key";
 
 /** The live view labels and charts at most this many demons: the first charted ones. */
 export const VIEW_DEMONS = 12;
@@ -81,10 +82,10 @@ export async function selectRun(app: App, runId: string | null): Promise<void> {
     return;
   }
   if (runId === app.ui.state.selectedRunId) return;
-  const [, demons] = await readRun(app, runId);
-  // A run selected again starts afresh: no stream message yet, no evaluation.
+  // The run's kept evaluations (the latest of each demon) are shown again, after a reload or from a link.
+  const [[, demons]] = await Promise.all([readRun(app, runId), readNow(app.client, reads.evaluations(runId))]);
+  // A run selected again starts afresh: no stream message yet.
   app.client.setQueryData(keys.live(runId), null);
-  app.client.setQueryData(keys.evaluations(runId), {});
   app.ui.update({ selectedRunId: runId, charted: defaultCharted(demons) });
   // The embedded live view follows; selecting never waits for it.
   void attempt(app, () => showInLiveView(app, runId));
@@ -193,8 +194,9 @@ export function toggleCharted(app: App, demon: string, on: boolean): void {
 }
 
 /**
- * Whether and where the viser live view listens (GET /api/view); "off" when the server runs without it
- * (only `horde serve` starts it) or cannot say. Once on, it is switched to the selected run.
+ * Whether and where the viser live view listens (GET /api/view, at this page's own address: see
+ * `VIEWER_KEY`); "off" when the server runs without it (only `horde serve` starts it) or cannot say.
+ * Once on, it is switched to the selected run.
  */
 export async function loadLiveView(app: App): Promise<void> {
   try {
@@ -208,9 +210,10 @@ export async function loadLiveView(app: App): Promise<void> {
 }
 
 /**
- * Show a run in the live view (POST /api/view), for every browser watching it. Nothing is asked while
- * the view is off or not known yet; a 409 (the view is off after all) or a 404 (the run was just
- * deleted) is no news for the user.
+ * Show a run in this page's live view (POST /api/view with its `VIEWER_KEY`, its Large text, and the page's
+ * token, which the view then acts with); no other page's view changes. Nothing is asked while the view is
+ * off or not known yet; a 409 (the view is off after all) or a 404 (the run was just deleted) is no news for
+ * the user.
  */
 export async function showInLiveView(app: App, runId: string): Promise<void> {
   const now = state(app);
@@ -218,7 +221,12 @@ export async function showInLiveView(app: App, runId: string): Promise<void> {
   // The dashboard's choice of demons, once the run's demons are known (else the view's own first ones).
   const labelled = now.selectedRunId === runId ? chartedDemons(now).slice(0, VIEW_DEMONS) : [];
   try {
-    const body = labelled.length > 0 ? { run: runId, demons: labelled } : { run: runId };
+    const body = {
+      viewer: VIEWER_KEY,
+      run: runId,
+      large: now.large,
+      ...(labelled.length > 0 ? { demons: labelled } : {}),
+    };
     const shown = await unwrap(api.POST("/api/view", { body }));
     app.client.setQueryData<LiveViewInfo>(keys.view, (view) => view && { ...view, run: shown.run ?? null });
   } catch (error) {

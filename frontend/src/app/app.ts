@@ -9,6 +9,7 @@ import type {
   Demon,
   Evaluation,
   LiveViewInfo,
+  Me,
   Protocol,
   Run,
   RunBrief,
@@ -22,6 +23,7 @@ import { type Root, createQueryClient, keys, onData } from "./queries";
 import { type UiKey, type UiState, UiStore } from "./ui-state";
 
 export type { Notice, Tab } from "./ui-state";
+export { TABS } from "./ui-state";
 
 export interface App {
   /** the page's own state */
@@ -58,6 +60,8 @@ export interface AppState extends UiState {
   /** the protocol job the Protocol tab shows (the server's latest answer about it) */
   protocol: Protocol | null;
   liveView: LiveView;
+  /** who this page acts as (GET /api/me); null until known */
+  me: Me | null;
 }
 
 export type Topic = keyof AppState;
@@ -98,6 +102,7 @@ export function state({ ui, client }: App): AppState {
     protocols: read<Protocol[]>(keys.protocols) ?? NONE,
     protocol: u.protocolId === null ? null : (read<Protocol>(keys.protocol(u.protocolId)) ?? null),
     liveView: liveViewOf(client),
+    me: read<Me>(keys.me) ?? null,
   };
 }
 
@@ -111,6 +116,7 @@ const SOURCES: Record<Topic, { ui?: UiKey[]; data?: Root[] }> = {
   notice: { ui: ["notice"] },
   classroom: { ui: ["classroom"] },
   large: { ui: ["large"] },
+  present: { ui: ["present"] },
   runs: { data: ["runs"] },
   run: { ui: ["selectedRunId"], data: ["run"] },
   demons: { ui: ["selectedRunId"], data: ["demons"] },
@@ -122,6 +128,7 @@ const SOURCES: Record<Topic, { ui?: UiKey[]; data?: Root[] }> = {
   protocols: { data: ["protocols"] },
   protocol: { ui: ["protocolId"], data: ["protocol"] },
   liveView: { data: ["view"] },
+  me: { data: ["me"] },
 };
 
 /**

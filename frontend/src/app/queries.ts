@@ -1,7 +1,8 @@
 /**
  * The one store of server data: a @tanstack/query-core client whose cache holds every answer the
- * dashboard has read (the run list, the selected run, its demons, its live stream messages, the
- * catalogue, protocol jobs, histories, studies, stream runs), each under one key. A watcher observes a
+ * dashboard has read (the run list, the selected run, its demons, its live stream messages, its kept
+ * evaluations, the catalogue, protocol jobs, histories, studies, stream runs, who the page is, the Class
+ * tab's cards and tokens), each under one key. A watcher observes a
  * query (`watchQuery`), which reads again on its interval while observed and enabled, pauses while the
  * page is hidden, and shares one reading under way between everyone who asks; an action that changed
  * the data reads it again at once (`readNow`) or writes what the server answered (`setQueryData`); views
@@ -18,7 +19,8 @@ export const keys = {
   demons: (runId: string) => ["demons", runId] as const,
   /** the newest message of the run's WebSocket stream (written by the stream, never fetched) */
   live: (runId: string) => ["live", runId] as const,
-  /** the Monte-Carlo evaluations of the run's demons made from this page, by demon (written by Evaluate) */
+  /** the Monte-Carlo evaluations of the run's demons, by demon: those the server kept (read when the run is
+   * selected), then each one Evaluate makes */
   evaluations: (runId: string) => ["evaluations", runId] as const,
   scenarios: ["scenarios"] as const,
   worlds: ["worlds"] as const,
@@ -32,6 +34,12 @@ export const keys = {
   streamDemons: (streamId: string) => ["stream-demons", streamId] as const,
   studies: ["studies"] as const,
   study: (studyId: string) => ["study", studyId] as const,
+  /** who this page acts as (GET /api/me) */
+  me: ["me"] as const,
+  /** every run as a Class tab card (GET /api/overview) */
+  overview: ["overview"] as const,
+  /** the teacher's issued tokens (GET /api/tokens) */
+  tokens: ["tokens"] as const,
 };
 
 /** The kinds of data: the keys' first parts. */
@@ -51,7 +59,10 @@ export type Root =
   | "stream-history"
   | "stream-demons"
   | "studies"
-  | "study";
+  | "study"
+  | "me"
+  | "overview"
+  | "tokens";
 
 /** What a key reads: the key and the request that answers it. */
 export interface Query<T> {

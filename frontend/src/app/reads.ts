@@ -2,19 +2,24 @@
 import { api, unwrap } from "../api/client";
 import type {
   Demon,
+  Evaluation,
   History,
   LiveViewInfo,
+  Me,
   Protocol,
   Run,
   RunBrief,
+  RunCard,
   Scenario,
   StreamHistory,
   StreamRun,
   Study,
   StudyDetail,
+  Token,
   WorldRecord,
 } from "../api/types";
 import { type Query, keys } from "./queries";
+import { VIEWER_KEY } from "./viewer-key";
 
 const runPath = (runId: string) => ({ params: { path: { run_id: runId } } });
 
@@ -33,7 +38,19 @@ export const reads = {
     queryFn: () => unwrap(api.GET("/api/scenarios")),
   }),
   worlds: (): Query<WorldRecord[]> => ({ queryKey: keys.worlds, queryFn: () => unwrap(api.GET("/api/worlds")) }),
-  view: (): Query<LiveViewInfo> => ({ queryKey: keys.view, queryFn: () => unwrap(api.GET("/api/view")) }),
+  /** the live view, at this page's own address (`VIEWER_KEY`) */
+  view: (): Query<LiveViewInfo> => ({
+    queryKey: keys.view,
+    queryFn: () => unwrap(api.GET("/api/view", { params: { query: { viewer: VIEWER_KEY } } })),
+  }),
+  /** the evaluations the server kept with the run (the latest of each demon), by demon */
+  evaluations: (runId: string): Query<Record<string, Evaluation>> => ({
+    queryKey: keys.evaluations(runId),
+    queryFn: async () => {
+      const kept = await unwrap(api.GET("/api/runs/{run_id}/evaluations", runPath(runId)));
+      return Object.fromEntries(kept.map((evaluation) => [evaluation.demon, evaluation]));
+    },
+  }),
   /** every protocol job the server keeps, oldest first */
   protocols: (): Query<Protocol[]> => ({
     queryKey: keys.protocols,
@@ -80,4 +97,7 @@ export const reads = {
     queryKey: keys.study(studyId),
     queryFn: () => unwrap(api.GET("/api/studies/{study_id}", { params: { path: { study_id: studyId } } })),
   }),
+  me: (): Query<Me> => ({ queryKey: keys.me, queryFn: () => unwrap(api.GET("/api/me")) }),
+  overview: (): Query<RunCard[]> => ({ queryKey: keys.overview, queryFn: () => unwrap(api.GET("/api/overview")) }),
+  tokens: (): Query<Token[]> => ({ queryKey: keys.tokens, queryFn: () => unwrap(api.GET("/api/tokens")) }),
 };

@@ -1,11 +1,14 @@
 /**
  * The dashboard's own state, kept apart from what the server says (which lives in the query cache,
  * `app/queries.ts`): which run is selected and which of its demons are charted, the tab, the notice line,
- * the protocol job shown, classroom mode and large text. Small on purpose: nothing here is a copy of a
+ * the protocol job shown, classroom mode, large text and present mode. Small on purpose: nothing here is a copy of a
  * server answer. Views subscribe to the keys they show (through `app/view.ts`).
  */
 
-export type Tab = "live" | "protocol" | "world" | "demon" | "studies";
+export type Tab = "live" | "class" | "protocol" | "world" | "demon" | "studies";
+
+/** Every tab, in the order the tab list shows them (the address names one: `?tab=`). */
+export const TABS: readonly Tab[] = ["live", "class", "protocol", "world", "demon", "studies"];
 
 export interface Notice {
   text: string;
@@ -27,6 +30,8 @@ export interface UiState {
   classroom: boolean;
   /** "Large text" for a projector: the page, the charts and the embedded view scale up */
   large: boolean;
+  /** present mode for a projector: the selected run's live view and charts large, the rest hidden */
+  present: boolean;
 }
 
 export type UiKey = keyof UiState;
@@ -46,6 +51,7 @@ export class UiStore {
       notice: null,
       classroom: false,
       large: false,
+      present: false,
       ...initial,
     };
   }

@@ -3,7 +3,7 @@
  * selected run (its entries held in the cache while it is selected) and its WebSocket stream, which also
  * notices when demons join or leave (the run is read again) and when it finishes; the protocol job shown,
  * four readings a second while it runs (its progress, then its results); and the demons the live view
- * labels. The readings are queries of app/reads.ts, their answers the query cache's.
+ * labels, at the page's Large text. The readings are queries of app/reads.ts, their answers the query cache's.
  */
 import { ApiError } from "../api/client";
 import { RunStream } from "../api/stream";
@@ -20,8 +20,9 @@ const TELL_VIEW_MS = 300;
 
 /** Everything below, until `scope` goes. */
 export function watchApp(app: App, scope: Scope): void {
-  // The catalogue, the live view's address and the protocol jobs stay in the cache for the page's life.
-  for (const key of [keys.scenarios, keys.worlds, keys.view, keys.protocols]) hold(app.client, key, scope);
+  // The catalogue, the live view's address, the protocol jobs and who the page is stay in the cache for the
+  // page's life.
+  for (const key of [keys.scenarios, keys.worlds, keys.view, keys.protocols, keys.me]) hold(app.client, key, scope);
   watchRuns(app, scope);
   watchSelectedRun(app, scope);
   watchProtocol(app, scope);
@@ -111,14 +112,14 @@ export function mergeWindow(
   return { ...message, predictions, metrics };
 }
 
-/** The live view labels the demons the dashboard charts: told again when the choice changes. */
+/** The live view labels the demons the dashboard charts, at its Large text: told again when either changes. */
 export function watchChartedForView(app: App, scope: Scope): void {
   let cancel = () => {};
   let told = "";
-  watchState(app, scope, ["charted", "classroom", "demons"], (now) => {
+  watchState(app, scope, ["charted", "classroom", "demons", "large"], (now) => {
     const runId = now.selectedRunId;
     const demons = chartedDemons(now).slice(0, VIEW_DEMONS);
-    const key = `${runId}|${demons.join(",")}`;
+    const key = `${runId}|${demons.join(",")}|${now.large}`;
     if (runId === null || key === told || now.liveView.state !== "on") return;
     cancel();
     cancel = scope.after(TELL_VIEW_MS, () => {

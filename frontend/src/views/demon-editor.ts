@@ -113,7 +113,9 @@ function editorTemplate(editor: Editor, now: AppState, errors: FormErrors, redra
     </div>
     ${generalError(errors)}
     <div class="actions">
-      <button type="submit" class="primary" ?disabled=${run === null || closed || editor.busy}>Add to run</button>
+      <button type="submit" class="primary needs-owner" ?disabled=${run === null || closed || editor.busy}>
+        Add to run
+      </button>
     </div>`;
 }
 

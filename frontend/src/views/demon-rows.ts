@@ -108,7 +108,7 @@ export function demonRow(context: RowContext, demon: Demon, index: number) {
     <td class="num">${formatNumber(metrics?.ude)}</td>
     <td class="num">${formatNumber(metrics?.step_size)}</td>
     <td>
-      <div class="row-actions">
+      <div class="row-actions needs-owner">
         ${
           evaluable
             ? html`<button

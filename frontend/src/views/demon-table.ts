@@ -134,6 +134,7 @@ function evaluationTools(table: Table, { run }: AppState) {
     )}
     <button
       type="button"
+      class="needs-owner"
       ?hidden=${run === null || kind !== "grid"}
       ?disabled=${table.evaluatingAll}
       @click=${() => void evaluateAll(table)}

@@ -1,6 +1,7 @@
 /**
- * The top bar: the title, the selected run's status, episode and step (from its stream), the notice
- * line, a "large text" switch for projectors, and the token field for servers that require one.
+ * The top bar: the title, the selected run's status, episode and step (from its stream) and owner, the
+ * notice line, a "large text" switch for projectors, who the page acts as, and the token field for servers
+ * that require one (`onToken` is told when it changes).
  */
 import { html } from "lit-html";
 import type { App, AppState } from "../app/app";
@@ -14,7 +15,7 @@ import type { Scope } from "../ui/scope";
 
 const LARGE_KEY = "horde-lab-large-text";
 
-export function header(app: App, scope: Scope, openHelp: () => void): HTMLElement {
+export function header(app: App, scope: Scope, openHelp: () => void, onToken: () => void = () => {}): HTMLElement {
   const element = host(html`<header class="topbar"></header>`);
   const setLarge = (on: boolean) => {
     document.documentElement.classList.toggle("large", on);
@@ -26,7 +27,7 @@ export function header(app: App, scope: Scope, openHelp: () => void): HTMLElemen
     app,
     scope,
     element,
-    ["run", "live", "runs", "selectedRunId", "notice", "large"],
+    ["run", "live", "runs", "selectedRunId", "notice", "large", "me"],
     (state) =>
       html`<h1>Horde Lab</h1>
         ${runStatus(state)} ${notice(state)}
@@ -35,6 +36,7 @@ export function header(app: App, scope: Scope, openHelp: () => void): HTMLElemen
           <button type="button" aria-pressed=${String(state.large)} @click=${() => setLarge(!app.ui.state.large)}>
             Large text
           </button>
+          ${role(state)}
           <details class="token">
             <summary>Token</summary>
             <label for="token">Bearer token for changes</label>
@@ -43,8 +45,11 @@ export function header(app: App, scope: Scope, openHelp: () => void): HTMLElemen
               autocomplete="off"
               id="token"
               placeholder="HORDE_TOKEN"
-              value=${readToken()}
-              @change=${(event: Event) => writeToken((event.target as HTMLInputElement).value.trim())}
+              .value=${readToken()}
+              @change=${(event: Event) => {
+                writeToken((event.target as HTMLInputElement).value.trim());
+                onToken();
+              }}
             />
           </details>
         </div>`,
@@ -66,6 +71,7 @@ function runStatus({ run, live, runs, selectedRunId }: AppState) {
   // Kept, not rebuilt, as the stream updates them: a tooltip being read stays up.
   return html`<div class="run-status" aria-label="Selected run" ?hidden=${run === null}>
     <span class="run-name">${run ? runLabel(run) : ""}</span>
+    <span class="run-owner" data-testid="selected-owner">${run ? `by ${run.owner}` : ""}</span>
     <span class="badge status-${current}">${current ? formatStatus(current) : ""}</span>
     <span data-testid="episode">episode ${formatCount(live?.episode ?? brief?.episode ?? run?.episode)}</span>
     <span data-testid="step">step ${formatCount(live?.step ?? brief?.step ?? run?.step)}</span>
@@ -79,6 +85,14 @@ function runStatus({ run, live, runs, selectedRunId }: AppState) {
     >
     <span class="run-says" data-testid="run-says" ?hidden=${!preparing}>${preparing ? `${message}…` : ""}</span>
   </div>`;
+}
+
+/** Who the page acts as (GET /api/me); hidden for the teacher of a server without tokens (everyone is). */
+function role({ me }: AppState) {
+  const who = me === null ? "" : me.name === me.role ? me.role : `${me.name ?? ""} (${me.role})`;
+  return html`<span class="role" data-testid="role" ?hidden=${me === null || (me.role === "teacher" && !me.tokens)}
+    >${me?.role === "anonymous" ? "read-only (no token)" : who}</span
+  >`;
 }
 
 /** The notice line: what the last action did, or why it failed (an alert). */

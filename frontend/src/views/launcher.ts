@@ -64,7 +64,7 @@ class Launcher {
 }
 
 export function launcher(app: App, scope: Scope): HTMLElement {
-  const element = host(html`<section class="panel launcher" aria-labelledby="launcher-title"></section>`);
+  const element = host(html`<section class="panel launcher needs-change" aria-labelledby="launcher-title"></section>`);
   const form = new Launcher();
   const redraw = () => draw();
   const errors = new FormErrors(element, redraw);

@@ -1,6 +1,6 @@
 /**
  * The Live tab's switches: classroom mode (every demon charted, one small chart each, and the guided
- * tour on offer) and the tour itself.
+ * tour on offer), the tour itself, and present mode (views/present.ts).
  */
 import { html } from "lit-html";
 import type { App } from "../app/app";
@@ -8,6 +8,7 @@ import { mount } from "../app/view";
 import { readFlag, writeFlag } from "../lib/stored";
 import { host } from "../ui/html";
 import type { Scope } from "../ui/scope";
+import { presentButton } from "./present";
 
 const CLASSROOM_KEY = "horde-lab-classroom";
 
@@ -22,8 +23,8 @@ export function liveToolbar(app: App, scope: Scope, startTour: () => void): HTML
     app,
     scope,
     element,
-    ["classroom"],
-    ({ classroom }) =>
+    ["classroom", "selectedRunId"],
+    ({ classroom, selectedRunId }) =>
       html`<button
           type="button"
           aria-pressed=${String(classroom)}
@@ -32,7 +33,8 @@ export function liveToolbar(app: App, scope: Scope, startTour: () => void): HTML
         >
           Classroom mode
         </button>
-        <button type="button" @click=${startTour}>Take the tour</button>`,
+        <button type="button" @click=${startTour}>Take the tour</button>
+        ${presentButton(app, selectedRunId)}`,
   );
   return element;
 }

@@ -132,7 +132,7 @@ function formFields(form: ProtocolForm, errors: FormErrors, now: AppState, onSce
     )}
     ${numberField({ label: "Seed", path: "seed", errors }, { name: "seed", ref: form.seed })}
     <div class="submit-cell">
-      <button type="submit" class="primary" ?disabled=${running || form.submitting || names.length === 0}>
+      <button type="submit" class="primary needs-change" ?disabled=${running || form.submitting || names.length === 0}>
         ${running ? "Running…" : "Run"}
       </button>
     </div>
@@ -254,7 +254,7 @@ function jobSection(app: App, form: ProtocolForm, now: AppState, draw: () => voi
         <h3 id="protocol-job-title">${protocol ? protocolTitle(protocol) : ""}</h3>
         <span class="badge status-${status}">${status ?? ""}</span>
       </div>
-      <button type="button" class="danger" ?hidden=${!running} ?disabled=${cancelling} @click=${cancel}>
+      <button type="button" class="danger needs-teacher" ?hidden=${!running} ?disabled=${cancelling} @click=${cancel}>
         ${cancelling ? "Cancelling…" : "Cancel"}
       </button>
     </div>

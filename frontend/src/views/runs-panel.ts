@@ -1,5 +1,5 @@
 /**
- * The list of runs: status, episode and step of each, its speed, and its commands (start or pause,
+ * The list of runs: status, owner, episode and step of each, its speed, and its commands (start or pause,
  * step, reset, delete); a filter over names, scenarios and ids, and "Delete finished". Rows are kept by
  * the run's id (lit-html's `repeat`) and updated in place, so the focus stays on a button while the list
  * refreshes.
@@ -92,7 +92,7 @@ export function runsPanel(app: App, scope: Scope): HTMLElement {
 function deleteFinishedButton(app: App, confirm: Confirm, runs: readonly RunBrief[]) {
   const done = runs.filter((r) => r.status === "finished" || r.status === "failed");
   return confirmButton(confirm, {
-    class: "danger small",
+    class: "danger small needs-teacher",
     text: (armed) => (armed ? `Really delete ${done.length}?` : `Delete finished (${done.length})`),
     disabled: done.length === 0,
     onConfirm: () =>
@@ -118,7 +118,8 @@ function runRow({ app, confirmOf, stepSize }: Rows, run: RunBrief, selected: boo
   const says = run.status === "failed" || run.message.startsWith("preparing") ? run.message : "";
   const speed = speedChoice(run.hz);
   const act = (work: () => Promise<void>) => () => void attempt(app, work);
-  return html`<li class="run-item ${selected ? "selected" : ""}" data-run=${run.id}>
+  // Whose run it is: its commands show only to its owner and the teacher (app/access.ts).
+  return html`<li class="run-item ${selected ? "selected" : ""}" data-run=${run.id} data-owner=${run.owner}>
     <div class="run-head">
       <button
         type="button"
@@ -130,11 +131,12 @@ function runRow({ app, confirmOf, stepSize }: Rows, run: RunBrief, selected: boo
         ${label}</button
       ><span class="badge status-${run.status}">${formatStatus(run.status)}</span>
     </div>
+    <span class="run-owner" data-testid="run-owner">by ${run.owner}</span>
     <span class="counters" data-testid="run-counters"
       >episode ${formatCount(run.episode)} · step ${formatCount(run.step)} · ${formatHz(run.hz)}</span
     >
     <p class="run-message" role="status" ?hidden=${says === ""}>${says}</p>
-    <div class="run-speed">
+    <div class="run-speed needs-owner">
       <select
         class="speed"
         aria-label="Speed of run ${label}"
@@ -157,7 +159,7 @@ function runRow({ app, confirmOf, stepSize }: Rows, run: RunBrief, selected: boo
         Full speed
       </button>
     </div>
-    <div class="run-actions">
+    <div class="run-actions needs-owner">
       <button
         type="button"
         class=${running ? "" : "primary"}

@@ -4,15 +4,15 @@
  * chosen sensors over the last records, and each chosen demon's prediction made at the time beside the
  * discounted return that followed, computed afterwards from the stream
  * (GET /api/streams/{id}/history). Selecting a stream run leaves the grid run selection (a stream run has
- * no episodes, steps or commands) and shows its phase plane in the embedded live view (POST /api/view).
+ * no episodes, steps or commands) and shows its phase plane in the embedded live view (POST /api/view: this
+ * page's view only).
  */
 import { html, render } from "lit-html";
 import { repeat } from "lit-html/directives/repeat.js";
-import { attempt, selectRun } from "../app/actions";
+import { attempt, selectRun, showInLiveView } from "../app/actions";
 import { type App, state, watchState } from "../app/app";
 import { keys, watchQuery } from "../app/queries";
 import { reads } from "../app/reads";
-import { ApiError, api, unwrap } from "../api/client";
 import type { Demon, StreamRun } from "../api/types";
 import { formatCount, formatNumber } from "../lib/format";
 import { pickNames } from "../lib/stream-history";
@@ -98,12 +98,7 @@ async function choose(strip: Strip, run: StreamRun): Promise<void> {
   strip.demons = pickNames(run.demons, strip.demons, SHOWN, MAX_SHOWN);
   app.ui.update({ tab: "live" });
   strip.follow?.();
-  if (state(app).liveView.state !== "on") return;
-  try {
-    await unwrap(api.POST("/api/view", { body: { run: run.id } }));
-  } catch (error) {
-    if (!(error instanceof ApiError && (error.status === 404 || error.status === 409))) throw error;
-  }
+  await showInLiveView(app, run.id);
 }
 
 function listTemplate(strip: Strip, runs: StreamRun[]) {

@@ -149,7 +149,7 @@ function jobSection(shown: Shown, detail: StudyDetail | undefined) {
       <div class="row">
         <button
           type="button"
-          class="danger"
+          class="danger needs-teacher"
           ?hidden=${!running}
           @click=${act(() => unwrap(api.DELETE("/api/studies/{study_id}", path)))}
         >
@@ -157,6 +157,7 @@ function jobSection(shown: Shown, detail: StudyDetail | undefined) {
         </button>
         <button
           type="button"
+          class="needs-teacher"
           ?hidden=${running || detail.status === "finished"}
           @click=${act(() => unwrap(api.POST("/api/studies/{study_id}/resume", path)))}
         >

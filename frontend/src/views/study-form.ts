@@ -97,7 +97,9 @@ function formTemplate(text: StudyText, errors: FormErrors, now: AppState, redraw
         Add an axis
       </button>
       <div class="submit-cell">
-        <button type="submit" class="primary" ?disabled=${text.launching || names.length === 0}>Launch</button>
+        <button type="submit" class="primary needs-change" ?disabled=${text.launching || names.length === 0}>
+          Launch
+        </button>
       </div>
     </div>
     ${generalError(errors)}`;

@@ -103,8 +103,8 @@ function editorTemplate(form: WorldForm, now: AppState) {
       </div>
       ${generalError(errors)}
       <div class="actions sticky-actions">
-        <button type="submit" class="primary" ?disabled=${form.busy}>Save to library</button>
-        <button type="button" ?disabled=${form.busy} @click=${() => void launchOnWorld(form)}>
+        <button type="submit" class="primary needs-change" ?disabled=${form.busy}>Save to library</button>
+        <button type="button" class="needs-change" ?disabled=${form.busy} @click=${() => void launchOnWorld(form)}>
           Launch on this world
         </button>
       </div>
@@ -145,6 +145,7 @@ function sourceRow(form: WorldForm, { worlds, scenarios, run }: AppState) {
   ];
   // Deleting takes two presses, so a stray click cannot throw a world away.
   const remove = confirmButton(form.remove, {
+    class: "danger needs-teacher",
     text: (armed) => (armed ? "Really delete?" : "Delete"),
     label: (armed) =>
       world === null

@@ -6,6 +6,7 @@ from horde.server.routes import (
     demons,
     exports,
     health,
+    overview,
     protocols,
     records,
     runs,
@@ -13,6 +14,7 @@ from horde.server.routes import (
     snapshots,
     stream,
     studies,
+    tokens,
     view,
     worlds,
 )
@@ -31,7 +33,6 @@ ROUTERS: tuple[APIRouter, ...] = (
     demons.writes,
     stream.router,
     view.router,
-    view.writes,
     protocols.router,
     protocols.writes,
     studies.router,
@@ -39,6 +40,10 @@ ROUTERS: tuple[APIRouter, ...] = (
     exports.router,
     records.router,
     records.writes,
+    overview.router,
+    tokens.router,
+    tokens.writes,
+    tokens.me_router,
 )
 
 __all__ = ["ROUTERS"]

@@ -6,7 +6,7 @@ from fastapi import APIRouter, Response, status
 
 from horde.runs.snapshot import Snapshot
 from horde.server.convert import run_out
-from horde.server.deps import ManagerDep, RunDep, write_router
+from horde.server.deps import AccessDep, ManagerDep, RunDep, WriterDep, write_router
 from horde.server.responses import BAD_BODY, CONFLICT, NOT_FOUND, NOT_SAVED
 from horde.server.schemas import RunOut
 
@@ -32,7 +32,9 @@ def export_snapshot(run: RunDep) -> Response:
     status_code=status.HTTP_201_CREATED,
     responses={**BAD_BODY, **CONFLICT, **NOT_SAVED},
 )
-def import_snapshot(snapshot: Snapshot, manager: ManagerDep) -> RunOut:
-    """The new run continues exactly where the snapshot was taken (paused, or finished). 422 when the arrays do not fit
-    the spec; 409 when the server holds as many runs as it allows."""
-    return run_out(manager.import_snapshot(snapshot))
+def import_snapshot(snapshot: Snapshot, manager: ManagerDep, me: WriterDep, access: AccessDep) -> RunOut:
+    """The new run continues exactly where the snapshot was taken (paused, or finished); it belongs to the
+    requester. 422 when the arrays do not fit the spec; 409 when the server holds as many runs as it allows."""
+    view = manager.import_snapshot(snapshot)
+    access.claim(me, "run", view.id)
+    return run_out(view, access.owner_name("run", view.id))
