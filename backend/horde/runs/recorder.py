@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from horde.core.fast import FOREVER
+from horde.core.engine.layout import FOREVER
 from horde.core.simulation import Simulation
 from horde.core.world import WorldState
 from horde.runs.errors import SaveError

@@ -8,7 +8,7 @@ import type { AppState, AppStore } from "../app/state";
 import { ApiError } from "../api/client";
 import type { Demon, DemonSpec } from "../api/types";
 import { runLabel } from "../lib/format";
-import { LEARNER_TEXT, STEP_SIZE_TEXT, choices } from "../lib/learners";
+import { STEP_SIZE_TEXT, choices, learnerChoices, learners } from "../lib/learners";
 import { readNumber, readOptionalNumber } from "../lib/parse";
 import { regionNames, sensorNames } from "../lib/world";
 import { h, options, replaceChildren } from "../ui/dom";
@@ -37,7 +37,10 @@ export function demonEditor(store: AppStore): HTMLElement {
   const outcome = exprInput("Outcome", "outcome", errors, 0);
   const continuation = exprInput("Continuation", "continuation", errors, 1);
   const discount = numberInput(1, { name: "discount" });
-  const learner = h("select", { name: "learner" }, options(choices(LEARNER_TEXT), "gq"));
+  const learner = h("select", { name: "learner" }, options(["gq"], "gq"));
+  learners()
+    .then((infos) => replaceChildren(learner, ...options(learnerChoices(infos), learner.value)))
+    .catch(() => undefined); // the server's answer comes with the next refresh; "gq" meanwhile
   const features = featuresFields(errors);
   const lambda = numberInput(null, { name: "lambda" });
   const alpha = numberInput(null, { name: "alpha" });
