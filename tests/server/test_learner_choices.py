@@ -39,7 +39,13 @@ def test_the_demon_table_shows_each_demon_its_step_size(client: TestClient, crea
         ({"learner": "etd", "step_size": "tidbd"}, ["demons", 1], "derived for TD(lambda) only"),
         ({"learner": "td", "step_size": "sgd"}, ["demons", 1, "step_size"], "Input should be"),
         ({"learner": "td", "step_size": "autostep", "meta_step": 2.0}, ["demons", 1, "meta_step"], "less than"),
-        ({"learner": "lstd"}, ["demons", 1, "learner"], "unknown learner 'lstd' (known: etd, gq, gtd, td, true"),
+        ({"learner": "lstd"}, ["demons", 1, "learner"], "unknown learner 'lstd' (known: etd, gq, gtd, td, tdrc"),
+        (
+            {"learner": "tdrc", "parameters": {"gamma": 1}},
+            ["demons", 1, "parameters", "gamma"],
+            "takes no parameter 'gamma' (its parameters: beta, eta)",
+        ),
+        ({"learner": "tdrc", "parameters": {"beta": -1}}, ["demons", 1, "parameters", "beta"], "must lie in [0, 1000]"),
         ({"learner": "gtd", "parameters": {"beta": 1}}, ["demons", 1, "parameters", "beta"], "(its parameters: none)"),
     ],
 )
@@ -54,11 +60,20 @@ def test_undefined_combinations_and_bad_parameters_are_422_naming_the_field(
 def test_the_learners_route_lists_the_registry(client: TestClient) -> None:
     """GET /api/learners: every declared learner, with what the dashboard shows and what a demon may set."""
     learners = {item["name"]: item for item in client.get("/api/learners").json()}
-    assert sorted(learners) == sorted(learner_names())
+    assert sorted(learners) == sorted(learner_names()) and "tdrc" in learners
     assert learners["gq"]["action_values"] and not learners["gtd"]["action_values"]
     assert learners["td"]["step_sizes"] == ["constant", "autostep", "tidbd"]
+    beta = {p["name"]: p for p in learners["tdrc"]["parameters"]}["beta"]
+    assert (beta["default"], beta["low"], beta["high"]) == (1.0, 0.0, 1000.0)
     for item in learners.values():
         assert item["text"] and "\n" not in item["text"] and len(item["text"]) < 80, item
+
+
+def test_a_learners_parameter_reaches_its_demon(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_id = create_run(make_spec(demons=[BASE, demon(learner="tdrc", parameters={"beta": 0.5})]))
+    spec = client.get(f"/api/runs/{run_id}").json()["spec"]
+    assert spec["demons"][1]["parameters"] == {"beta": 0.5}
+    assert client.post(f"/api/runs/{run_id}/step", json={"steps": 50}).status_code == 200
 
 
 LEARNING_PROBLEMS = [({"autostep_tau": 0.5}, "autostep_tau"), ({"meta_step": -1}, "meta_step"),

@@ -91,6 +91,15 @@ def td_step(theta: Vector, w: Vector, e: Vector, t: Transition, alpha: float, al
 STEPS = {"gq": gq_step, "gtd": gtd_step, "td": td_step}
 
 
+def tdrc_step(theta: Vector, w: Vector, e: Vector, t: Transition, alpha: float, alpha_h: float, beta: float) -> Weights:
+    """TDRC(lambda) (Ghiassian, Patterson, Garg, Gupta, White & White 2020): GTD(lambda) whose h (here w) learns
+    at alpha_h and loses alpha_h beta h at every step:
+    theta += alpha (delta e - gamma_{t+1} (1 - lambda) (h . e) x_{t+1}),
+    h += alpha_h (delta e - (h . x_t) x_t) - alpha_h beta h. Returns (theta, h, e, delta)."""
+    new_theta, new_h, e, delta = gtd_step(theta, w, e, t, alpha, alpha_h)
+    return new_theta, new_h - alpha_h * beta * w, e, delta
+
+
 def true_online_td_step(theta: Vector, e: Vector, v_old: float, t: Transition, alpha: float) -> Carried:
     """True online TD(lambda) with a dutch trace, off-policy form (van Hasselt, Mahmood & Sutton 2014;
     van Seijen, Mahmood, Pilarski, Machado & Sutton 2016, JMLR 17(145)); rho = 1 gives van Seijen &
@@ -492,6 +501,9 @@ class ReferenceHorde:
             )
         elif learner == "etd":
             d.theta, d.e, d.followon, d.delta = etd_step(d.theta, d.e, d.followon, d.rho_prev, t, d.alpha)
+        elif learner == "tdrc":  # h at eta alpha (alpha already divided by the active count)
+            eta, beta = d.spec.parameter("eta"), d.spec.parameter("beta")
+            d.theta, d.w, d.e, d.delta = tdrc_step(d.theta, d.w, d.e, t, d.alpha, eta * d.alpha, beta)
         else:
             d.theta, d.w, d.e, d.delta = STEPS[learner](d.theta, d.w, d.e, t, d.alpha, d.alpha_w)
         d.rho_prev = t.rho_t

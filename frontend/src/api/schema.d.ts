@@ -1013,7 +1013,7 @@ export interface components {
              * @default gq
              * @enum {string}
              */
-            learner: "etd" | "gq" | "gtd" | "td" | "true_online_gtd" | "true_online_td";
+            learner: "etd" | "gq" | "gtd" | "td" | "tdrc" | "true_online_gtd" | "true_online_td";
             /**
              * Meta Step
              * @description meta step size of autostep (mu) or tidbd (theta); defaults to [learning]
@@ -1091,7 +1091,7 @@ export interface components {
              * @default gq
              * @enum {string}
              */
-            learner: "etd" | "gq" | "gtd" | "td" | "true_online_gtd" | "true_online_td";
+            learner: "etd" | "gq" | "gtd" | "td" | "tdrc" | "true_online_gtd" | "true_online_td";
             /**
              * Meta Step
              * @description meta step size of autostep (mu) or tidbd (theta); defaults to [learning]

@@ -4,7 +4,8 @@ compiled kernel for the engine.
 * `gradient`: GQ(lambda), GTD(lambda), off-policy TD(lambda);
 * `true_online`: true online TD(lambda), true online GTD(lambda);
 * `emphatic`: emphatic TD(lambda);
-* `adaptive`: TD(lambda) with Autostep / TIDBD step sizes.
+* `adaptive`: TD(lambda) with Autostep / TIDBD step sizes;
+* `tdrc`: TD with regularized corrections (GTD's kernel, h kept scaled).
 
 Importing this package registers every learner with the spec (`horde.spec.learners`), so that a demon may
 name it, the API lists it (`GET /api/learners`) and the dashboard offers it. A learner module declares
@@ -26,19 +27,20 @@ dispatched on by its code below.
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
-from horde.core.learners import adaptive, emphatic, gradient, online, true_online
+from horde.core.learners import adaptive, emphatic, gradient, online, tdrc, true_online
 from horde.core.learners.adaptive import adaptive_td_update
 from horde.core.learners.base import Kernel, OnlineState, online_zeros
 from horde.core.learners.emphatic import etd_update
 from horde.core.learners.gradient import LearnerParams, LearnerState, dot_sparse, update, zeros
+from horde.core.learners.tdrc import tdrc_update
 from horde.core.learners.true_online import true_online_gtd_update, true_online_td_update
 
-FAMILIES = (gradient, true_online, emphatic, adaptive)
+FAMILIES = (gradient, true_online, emphatic, adaptive, tdrc)
 KERNELS: dict[int, Kernel] = {k.code: k for m in FAMILIES for k in m.KERNELS}
 assert len(KERNELS) == sum(len(m.KERNELS) for m in FAMILIES), "two kernels have one code"
 GQ_CODE, GTD_CODE, TD_CODE = gradient.GQ_CODE, gradient.GTD_CODE, gradient.TD_CODE
 TOTD_CODE, TOGTD_CODE, ETD_CODE = true_online.TOTD_CODE, true_online.TOGTD_CODE, emphatic.ETD_CODE
-TIDBD_CODE, AUTOSTEP_CODE = adaptive.TIDBD_CODE, adaptive.AUTOSTEP_CODE
+TIDBD_CODE, AUTOSTEP_CODE, TDRC_CODE = adaptive.TIDBD_CODE, adaptive.AUTOSTEP_CODE, tdrc.TDRC_CODE
 
 
 def kernel_for(learner: str, step_size: str = "constant") -> Kernel:
@@ -62,6 +64,8 @@ def prepare(code, b, lay, wts, dem, cls, onl, stp, scr):
         true_online.prepare(code, b, lay, wts, dem, cls, onl, stp, scr)
     elif code == ETD_CODE:
         emphatic.prepare(b, lay, wts, dem, cls, onl, stp, scr)
+    elif code == TDRC_CODE:
+        tdrc.prepare(b, lay, wts, dem, cls, onl, stp, scr)
     else:
         adaptive.prepare(code, b, lay, wts, cls, onl, stp, scr)
 
@@ -71,6 +75,8 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
     """Block b's demons i0 <= i < i1 learn the transition (see the module)."""
     if code in (TD_CODE, GTD_CODE, GQ_CODE):
         gradient.columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr)
+    elif code == TDRC_CODE:
+        gradient.columns(GTD_CODE, b, i0, i1, lay, wts, dem, cls, stp, scr)
     elif code in (TOTD_CODE, TOGTD_CODE):
         true_online.columns(b, i0, i1, lay, wts, dem, stp, scr, onl)
     elif code == ETD_CODE:
@@ -84,6 +90,8 @@ def finish(code, b, lay, wts, cls, onl, stp, scr):
     """Block b after every column learned (see the module)."""
     if code in (TD_CODE, GTD_CODE, GQ_CODE):
         gradient.finish(code, b, lay, cls, stp, scr)
+    elif code == TDRC_CODE:
+        tdrc.finish(b, lay, wts, cls, onl, stp, scr)
     else:
         online.finish(b, lay, cls, onl)
 
@@ -99,8 +107,9 @@ def settle(b, lay, wts, x, v, n_s):
 @njit(**NO_NRT)
 def episode_start(lay, wts, onl):
     """An episode starts: the learners that keep state beyond the weights restart it where a demon forgets its
-    weights (`adaptive.reset`)."""
+    weights (`adaptive.reset`, `tdrc.episode_start`)."""
     adaptive.reset(lay, onl)
+    tdrc.episode_start(lay, wts, onl)
 
 
 __all__ = [
@@ -122,6 +131,8 @@ __all__ = [
     "online_zeros",
     "prepare",
     "settle",
+    "tdrc",
+    "tdrc_update",
     "true_online",
     "true_online_gtd_update",
     "true_online_td_update",
