@@ -234,7 +234,7 @@ def test_a_changed_set_of_demons_keeps_the_others_and_codes_the_sensors_where_th
     sim.learner.observe(sim.sensors)
     sim.run(20)
     assert fewer.position == sim.position and fewer.total_steps == sim.total_steps
-    for name, theta in before.items():
+    for name in before:
         after = fewer.horde.weights(fewer.horde_state, name)
         np.testing.assert_array_equal(after, sim.horde.weights(sim.horde_state, name), err_msg=name)
     assert any(np.abs(fewer.horde.weights(fewer.horde_state, n) - t).max() > 0 for n, t in before.items())
