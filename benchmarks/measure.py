@@ -67,7 +67,7 @@ class Bandwidth:
 
     `copy`, `update` and `read` are numpy's on one core, counting a byte once when read and once when
     written (an update moves each byte twice). `in_place[t - 1]` is an in-place update (`a += 1`, the
-    pattern of `theta += ...`) on t threads counting each byte once, the unit of `FastLoop.unique_bytes`:
+    pattern of `theta += ...`) on t threads counting each byte once, the unit of `Engine.unique_bytes`:
     the bound a step that reads and writes its bytes once can reach."""
 
     copy: float  # numpy copyto: read one array, write another

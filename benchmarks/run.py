@@ -4,7 +4,7 @@ Every workload is a `RunSpec` run by `Simulation`, the step a user's run takes (
 `thesis.py`). For each workload and size: demon-updates per second and milliseconds per step
 (wall-clock median of many steps after a warm-up; the process's CPU time beside it), the ratio to
 `reference.py` in the same run (on a subset of the demons, fed the same transitions), and the memory
-traffic of a step counting each byte of weight and trace rows touched once (`FastLoop.unique_bytes`)
+traffic of a step counting each byte of weight and trace rows touched once (`Engine.unique_bytes`)
 against the bandwidth measured at the start of the run: `bandwidth_fraction` on wall time and
 `bound_fraction` on CPU time (1.0: the step takes no longer than moving its bytes once). Scale workloads
 also report their trace supports, their memory per demon, and how far their predictions are from the
@@ -109,7 +109,7 @@ FULL = Plan(
 QUICK = Plan(
     thesis=(2,),
     thesis_seconds=0.2,
-    # nexting 600: a block past scale_fast.PARALLEL_MIN, split over the cores (the speed-up over one thread)
+    # nexting 600: a block past engine.layout.PARALLEL_MIN, split over the cores (the speed-up over one thread)
     scale=(
         ("nexting", 50, "td"),
         ("nexting", 50, "td+autostep"),
@@ -168,9 +168,9 @@ def run_thesis(demons: int, plan: Plan, bandwidth: measure.Bandwidth) -> Row:
 
 
 def _traffic(sim: Simulation) -> int:
-    """The unique bytes of one more step (`FastLoop.unique_bytes`, which needs the features at s_t)."""
-    loop = sim._loop
-    before = tuple(loop.buf.feat[g, : group.coder.k].copy() for g, group in enumerate(loop.horde.groups))
+    """The unique bytes of one more step (`Engine.unique_bytes`, which needs the features at s_t)."""
+    loop = sim.learner.engine
+    before = tuple(loop.active_features(g) for g in range(len(loop.horde.groups)))
     sim.run(1)
     return loop.unique_bytes(before)
 
@@ -224,8 +224,8 @@ def run_scale(name: str, demons: int, learner: str, plan: Plan, bandwidth: measu
     else:
         timing = single = measure.time_steps(lambda t: sim.run(chunk), 0, calls, per_call=chunk)
     rss = measure.rss_bytes() - rss_before
-    memory = sum(a.nbytes for a in sim._loop.buf if isinstance(a, np.ndarray))
-    nnz = float(sim._loop.buf.touched.mean())
+    memory = sim.learner.engine.nbytes()
+    nnz = float(sim.learner.engine.t.wts.touched.mean())
     traffic = _traffic(sim)
     updates = demons / timing.wall
     return Row(

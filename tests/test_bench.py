@@ -16,7 +16,7 @@ from benchmarks import measure, workloads
 
 from horde.cli import main
 from horde.core import threads
-from horde.core.scale_fast import PARALLEL_MIN
+from horde.core.engine.layout import PARALLEL_MIN
 from horde.core.simulation import Simulation
 
 REQUIRED = {
@@ -74,18 +74,18 @@ def test_bench_can_run_one_workload(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize("learner", ["td", "gtd"])
 def test_unique_bytes_counts_each_touched_number_once(learner: str) -> None:
-    """`FastLoop.unique_bytes` against a plain count over the rows of the last step: theta on the support
+    """`Engine.unique_bytes` against a plain count over the rows of the last step: theta on the support
     and at x_{t+1}, for GTD w on the support and at x_t, the trace's rows, each row once."""
     sim = Simulation(workloads.spec("nexting", 200, learner), np.random.default_rng(3))
     sim.run(30)
-    loop = sim._loop
-    before = tuple(loop.buf.feat[g, : group.coder.k].copy() for g, group in enumerate(loop.horde.groups))
+    loop = sim.learner.engine
+    before = tuple(loop.active_features(g) for g in range(len(loop.horde.groups)))
     sim.run(1)
     (block,) = loop.horde.blocks
-    (group,) = loop.horde.groups
-    support = set(loop.buf.support[: int(loop.buf.nnz[0])].tolist())
-    x_next, x_prev = set(loop.buf.feat[0, : group.coder.k].tolist()), set(before[0].tolist())
-    expected = len(support) * block.num_classes * loop.buf.trace.itemsize
+    assert len(loop.horde.groups) == 1
+    support = set(loop.t.wts.support[: int(loop.t.wts.nnz[0])].tolist())
+    x_next, x_prev = set(loop.active_features(0).tolist()), set(before[0].tolist())
+    expected = len(support) * block.num_classes * loop.t.wts.trace.itemsize
     for row in support | x_next | x_prev:
         expected += 8 * block.size * (row in support or row in x_next)  # theta
         expected += 8 * block.size * (learner == "gtd" and (row in support or row in x_prev))  # w

@@ -16,6 +16,7 @@ examples/08_any_world_in_python.py):
 Everything else (the server, the run store, the compiled kernels) is internal and may change.
 """
 
+import horde.core.learners  # noqa: F401  (first: the engine's learners register with the spec)
 from horde.core.check import WorldCheckError
 from horde.core.evaluate import Lattice, Truth, exact, monte_carlo
 from horde.core.experiment import DemonResult, ProtocolResult, TrialResult

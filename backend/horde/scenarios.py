@@ -17,6 +17,7 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from horde.spec import Hz, RunSpec
+from horde.worlds.gym_spaces import resolve_world
 
 
 class ScenarioError(ValueError):
@@ -117,7 +118,7 @@ def parse_watched(text: str, source: str = "<scenario>") -> tuple[RunSpec, Watch
     except ValidationError as exc:
         messages += _located(exc, text, source, ("watch",))
     try:
-        spec = RunSpec.model_validate(data)
+        spec = resolve_world(RunSpec.model_validate(data))  # a Gymnasium world: its sensors checked too
     except ValidationError as exc:
         messages += _located(exc, text, source, ())
     if messages:

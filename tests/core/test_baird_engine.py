@@ -16,13 +16,14 @@ import numpy as np
 import pytest
 
 from grids import CRIT, GOAL, PIT, WALL, grid
-from horde.core.external import ExternalLoop
 from horde.core.horde import Horde
+from horde.core.learner import Learner
 from horde.core.reference import ReferenceHorde, state_features
 from horde.core.simulation import Simulation
 from horde.scenarios import load_scenario, scenario_dir
 from horde.spec import RunSpec
 from horde.worlds.baird_env import BairdEnv
+from horde.worlds.gym_spaces import resolve_world
 from horde.worlds.gymnasium import GymAgent
 
 from .test_engine_vs_reference import compare
@@ -37,7 +38,7 @@ def baird(demons: list[dict[str, Any]], **learning: Any) -> RunSpec:
     for demon in demons:
         demon.setdefault("policy", SOLID)
         demon.setdefault("discount", 0.99)
-    return RunSpec.model_validate(
+    return resolve_world(RunSpec.model_validate(
         {
             "world": {"kind": "gymnasium", "id": "horde/Baird-v0"},
             "features": {"kind": "table", "sensor": "state", "table": TABLE},
@@ -45,7 +46,7 @@ def baird(demons: list[dict[str, Any]], **learning: Any) -> RunSpec:
             "learning": {"lambda": 0.0, **learning},
             "demons": demons,
         }
-    )
+    ))  # fmt: skip
 
 
 # Every learner that allows features of value 2, each with lambda 0 and 0.8 (traces that build up), and
@@ -72,9 +73,10 @@ def test_the_table_codes_bairds_classic_features() -> None:
             expected[6], expected[7] = 1, 2
         np.testing.assert_array_equal(phi, expected)
     coder = Horde(spec).groups[0].coder
-    np.testing.assert_array_equal(coder.active(np.zeros(2), np.zeros(2), sensors=np.array([[2.0], [6.0]])),
-                                  [[2, 2, 7], [6, 7, 7]])  # fmt: skip
-    assert coder.k == 3 and coder.n == 8
+    index, value = coder.sparse(np.zeros(2), np.zeros(2), sensors=np.array([[2.0], [6.0]]))
+    np.testing.assert_array_equal(index, [[2, 7, 0], [6, 7, 0]])  # the repeats added up, then padding
+    np.testing.assert_array_equal(value, [[2.0, 1.0, 0.0], [1.0, 2.0, 0.0]])
+    assert coder.k == 3 and coder.n == 8 and not coder.binary
 
 
 def star_stream(steps: int, seed: int) -> list[tuple[int, int]]:
@@ -93,7 +95,7 @@ def star_stream(steps: int, seed: int) -> list[tuple[int, int]]:
 @pytest.mark.parametrize("seed", [0, 1])
 def test_the_engine_equals_the_reference_on_baird_for_every_learner(seed: int) -> None:
     spec = baird([dict(d) for d in DEMONS])
-    loop = ExternalLoop(Horde(spec, cut=0.0))
+    loop = Learner(Horde(spec, cut=0.0))
     ref = ReferenceHorde(spec)
     loop.observe(np.array([3.0, 0, 0, 0]))
     ref.observe(0.0, 0.0, {"state": 3.0, "reward": 0.0, "terminated": 0.0, "truncated": 0.0})
@@ -129,7 +131,7 @@ def test_features_of_value_2_are_not_binary_ones() -> None:
     theta += 0.01 * 7 * 8.88 * x: w_0 += 1.2432, w_7 += 0.6216.
     """
     spec = baird([{"name": "td", "learner": "td", "alpha": 0.03, "initial_weights": THETA0}])
-    loop = ExternalLoop(Horde(spec, cut=0.0))
+    loop = Learner(Horde(spec, cut=0.0))
     loop.observe(np.array([0.0, 0, 0, 0]))
     assert loop.prediction()[0] == pytest.approx(3.0)
     loop.learn(np.array([6.0, 0, 0, 0]), [1], [1 / 7])
@@ -183,9 +185,9 @@ def run_scenario(seed: int, steps: int) -> tuple[list[str], np.ndarray, np.ndarr
     sizes = []
     for _ in range(steps // 500):
         agent.run(500)
-        state = agent.loop.horde_state()
+        state = agent.learner.horde_state()
         sizes.append([np.abs(agent.horde.weights(state, n)).max() for n in agent.horde.names])
-    return agent.horde.names, np.array(sizes), agent.loop.horde_state().diverged
+    return agent.horde.names, np.array(sizes), agent.learner.horde_state().diverged
 
 
 @pytest.mark.slow

@@ -14,20 +14,20 @@ import numpy as np
 import pytest
 
 from grids import CRIT, GOAL, PIT, WALL, grid
-from horde.core.adaptive_kernels import (
+from horde.core.engine.blocks import TRACE_CUT
+from horde.core.learners.adaptive import (
     EXP_ANY,
     EXP_SMALL,
     EXP_TINY,
     SMALL_EXP,
     TINY_EXP,
-    _exp_kind,
-    _exp_small,
-    _exp_tiny,
+    exp_kind,
+    exp_small,
+    exp_tiny,
 )
 from horde.core.reference import ReferenceHorde
-from horde.core.scale import TRACE_CUT
 from horde.core.simulation import Simulation
-from horde.spec import RunSpec
+from horde.spec import RunSpec, learner_info
 
 FIXED = {"kind": "fixed", "probabilities": [0.4, 0.1, 0.1, 0.4]}
 DEMONS: list[dict[str, Any]] = [
@@ -80,7 +80,7 @@ def compare(sim: Simulation, ref: ReferenceHorde, step: int, tolerance: float) -
         theta, w, e = sim.horde.demon_arrays(state, name)
         pairs = [("theta", theta, demon.theta), ("e", e, demon.e),
                  ("prediction", state.prediction[i : i + 1], np.array([demon.prediction]))]  # fmt: skip
-        if demon.spec.learner in ("true_online_gtd", "gq", "gtd"):
+        if learner_info(demon.spec.learner).secondary:  # gq, gtd, true online gtd, tdrc (its h)
             pairs.append(("w", w, demon.w))
         if demon.mode != "constant":
             pairs.append(("h", w, demon.h))
@@ -136,7 +136,7 @@ def test_engine_equals_reference_at_every_step(behaviour: Any, cut: float) -> No
 def test_autostep_equals_the_reference_with_each_kind_of_exp(meta_step: float, kind: int) -> None:
     """A block of Autostep demons whose meta step sizes are at most 0.01, 1/16 or above: its meta steps take
     `_exp_tiny`, `_exp_small` or math.exp, and each equals the oracle (np.exp) to 1e-9 with the cut at 0."""
-    assert _exp_kind(meta_step) == kind
+    assert exp_kind(meta_step) == kind
     data = spec().model_dump(by_alias=True)
     auto = [d["name"] for d in data["demons"] if d["step_size"] == "autostep"]
     data["demons"] = [{**d, "meta_step": meta_step} if d["name"] in auto else d
@@ -147,9 +147,9 @@ def test_autostep_equals_the_reference_with_each_kind_of_exp(meta_step: float, k
     assert min(moved) > 1e-6, moved  # the step sizes did adapt
 
 
-@pytest.mark.parametrize(("exp", "bound"), [(_exp_tiny, TINY_EXP), (_exp_small, SMALL_EXP)])
+@pytest.mark.parametrize(("exp", "bound"), [(exp_tiny, TINY_EXP), (exp_small, SMALL_EXP)])
 def test_the_polynomial_exps_of_the_autostep_kernel_are_exp_to_rounding(exp: Any, bound: float) -> None:
-    """Autostep's meta step evaluates exp on [-mu, mu] as a polynomial when mu <= 1/16 (adaptive_kernels)."""
+    """Autostep's meta step evaluates exp on [-mu, mu] as a polynomial when mu <= 1/16 (learners/adaptive.py)."""
     xs = np.linspace(-bound, bound, 20001)
     relative = np.array([abs(exp(x) - np.exp(x)) for x in xs]) / np.exp(xs)
     assert relative.max() < 5e-16

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 from grids import CRIT, GOAL, PIT, WALL, grid, lamp, lamp_terminal
+from horde.core.engine.blocks import TRACE_CUT
 from horde.core.reference import ReferenceHorde
-from horde.core.scale import TRACE_CUT
 from horde.core.simulation import Simulation
 from horde.spec import RunSpec
 

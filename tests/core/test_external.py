@@ -1,6 +1,6 @@
 """The engine's input path from outside (core/external.py) against the grid world's own compiled loop.
 
-Feeding `ExternalLoop` the transitions that the grid loop produced (the sensors after each move, the
+Feeding `Learner` the transitions that the grid loop produced (the sensors after each move, the
 action, b(a_t | s_t), terminated / truncated, and each episode's first sensors) must give the grid loop's
 numbers exactly: one engine, two ways in. Then N actions (not four), and the record checks.
 """
@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 from tests.core.test_fast import assert_same
 
-from horde.core.external import ExternalLoop, ExternalRecordError
 from horde.core.horde import Horde
+from horde.core.learner import ExternalRecordError, Learner
 from horde.core.simulation import Simulation
 from horde.spec import RunSpec
 
@@ -72,7 +72,7 @@ def adaptive_spec() -> RunSpec:
 def test_external_transitions_equal_the_grid_loop(make_spec: Callable[[], RunSpec]) -> None:
     spec = make_spec()
     sim = Simulation(spec, np.random.default_rng(11))
-    external = ExternalLoop(Horde(spec))
+    external = Learner(Horde(spec))
     external.observe(sim.start_sensors)
     ends = 0
     for _ in range(600):
@@ -93,7 +93,7 @@ def test_a_batch_of_rows_equals_one_row_at_a_time() -> None:
                                np.arange(200), np.zeros(200), rng.integers(0, 2, (200, 2)), np.zeros(200)])  # fmt: skip
     actions = rng.integers(0, 4, 200)
     probs = np.full(200, 0.25)
-    one, batch = ExternalLoop(Horde(spec)), ExternalLoop(Horde(spec))
+    one, batch = Learner(Horde(spec)), Learner(Horde(spec))
     one.observe(sensors[0])
     batch.observe(sensors[0])
     for t in range(1, 200):
@@ -126,7 +126,7 @@ def test_three_actions_learn_a_one_step_question_by_hand() -> None:
     3 * 0.01 * 1 = 0.03, q(s, 0) = q(s, 2) = 0, and the prediction is pi . q = 0.25 * 0.03 = 0.0075.
     """
     spec = stream_spec()
-    loop = ExternalLoop(Horde(spec))
+    loop = Learner(Horde(spec))
     assert loop.num_actions == 3
     loop.observe(np.array([1.0, 0.0]))
     loop.learn(np.array([1.0, 0.0]), [1], [1 / 3])
@@ -136,7 +136,7 @@ def test_three_actions_learn_a_one_step_question_by_hand() -> None:
 
 
 def test_bad_rows_name_the_field_and_learn_nothing() -> None:
-    loop = ExternalLoop(Horde(stream_spec()))
+    loop = Learner(Horde(stream_spec()))
     loop.observe(np.array([0.5, 0.0]))
     before = loop.horde_state()
     with pytest.raises(ExternalRecordError, match=r"^sensors: 3 readings, the world has 2"):

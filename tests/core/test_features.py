@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from horde.core import reference
 from horde.core.features import StateCoder, all_action_indices, state_action_indices
-from horde.spec import Condition, FeatureSpec
+from horde.spec import Condition, FeatureSpec, RunSpec
 
 sizes = st.floats(min_value=1.0, max_value=1000.0, allow_nan=False)
 unit = st.floats(min_value=0.0, max_value=1.0, exclude_max=True, allow_nan=False)
@@ -255,13 +255,26 @@ def test_hashed_sensor_tiles_by_hand():
 @pytest.mark.parametrize(
     ("change", "field"),
     [
-        ({"size": 1}, ("size",)),
-        ({"sensors": [{"sensor": "a", "low": 0}]}, ("sensors", 0, "high")),
-        ({"sensors": [{"sensor": "a", "high": 1}]}, ("sensors", 0, "low")),
+        ({"size": 1}, ("features", "size")),
+        ({"sensors": [{"sensor": "a", "low": 0}]}, ("features", "sensors", 0, "high")),  # the world gives none
+        ({"sensors": [{"sensor": "a", "high": 1}]}, ("features", "sensors", 0, "low")),
+        ({"sensors": [{"sensor": "a", "low": 1, "high": 1}]}, ("features", "sensors", 0)),
     ],
 )
 def test_bad_tiled_sensors_name_the_field(change, field):
+    """A range left out is the world's: a stream sensor without one is refused where the range is missing."""
     body = {"kind": "sensors", "tilings": 2, "tiles": 4, "size": 8, "sensors": [{"sensor": "a", "low": 0, "high": 1}]}
+    world = {"kind": "stream", "actions": 2, "sensors": [{"name": "a"}]}
     with pytest.raises(ValueError) as info:
-        FeatureSpec.model_validate({**body, **change})
+        RunSpec.model_validate({"world": world, "features": {**body, **change}})
     assert info.value.errors()[0]["loc"] == field  # type: ignore[attr-defined]
+
+
+def test_a_range_left_out_is_the_worlds() -> None:
+    world = {"kind": "stream", "actions": 2, "sensors": [{"name": "a", "low": -2, "high": 6}]}
+    spec = RunSpec.model_validate({"world": world, "features": {"kind": "sensors", "tilings": 2, "tiles": 4,
+                                                                "size": 8, "sensors": [{"sensor": "a"}]}})  # fmt: skip
+    coder = StateCoder(spec.features, 1, 1, ["a"], spec.world.sensor_bounds())
+    assert coder.entry.ranges == [(-2.0, 6.0)]
+    # a reading of 2 is u = 0.5 of [-2, 6], the same tiles as 5 of [0, 10] (test_hashed_sensor_tiles_by_hand)
+    assert coder.active(np.zeros(1), np.zeros(1), sensors=np.array([[2.0]]))[0].tolist() == [2, 7, 8]

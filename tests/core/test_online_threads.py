@@ -1,8 +1,8 @@
 """The learners that need less tuning on a run's threads: the same numbers whatever the count.
 
 Blocks of true online TD(lambda), emphatic TD(lambda) and TD(lambda) with Autostep / TIDBD of at least
-`scale_fast.PARALLEL_MIN` demons split their demons into runs of columns learned by threads
-(`adaptive_kernels._columns_parallel`); each column goes through the same operations in the same order
+`engine.layout.PARALLEL_MIN` demons split their demons into runs of columns learned by threads
+(`engine.step.columns_on_threads`); each column goes through the same operations in the same order
 whatever the split (and Autostep's column chunks), so every weight, trace, per-weight step size,
 normaliser and prediction must be equal to the last bit on 1, 2 and 3 threads. A few demons of the
 threaded run are also replayed into the oracle (`reference.py`), which has no threads at all.
@@ -16,12 +16,18 @@ import numba
 import numpy as np
 import pytest
 
+from horde.core.engine.layout import PARALLEL_MIN
 from horde.core.reference import ReferenceHorde
-from horde.core.scale_fast import PARALLEL_MIN
 from horde.core.simulation import Simulation
 from horde.spec import RunSpec
 
 from .test_threads import on_1_2_3_threads, tiles_spec
+
+
+def onl(sim: Simulation) -> Any:
+    """What the learners beyond the gradient family keep (`engine.layout.Online`)."""
+    return sim.learner.engine.t.onl
+
 
 D = PARALLEL_MIN + 13  # demons per block: over the threshold, not a multiple of the column alignment
 DISCOUNTS = (0, 0.5, 0.8, 0.9, 0.95)
@@ -60,11 +66,11 @@ def spec() -> RunSpec:
 @pytest.mark.slow
 def test_thread_count_does_not_change_a_single_bit(spec: RunSpec) -> None:
     one, others = on_1_2_3_threads(spec)  # and adaptive demons reset at the episodes' ends
-    scales = one._loop.onl.ascale
+    scales = onl(one).scale
     assert scales.min() < 1.0, "Autostep's bound divided some step sizes (the effective step size passed 1)"
     for other in others:
-        for field in ("v_old", "cls_f", "step_a", "step_v", "ascale"):
-            np.testing.assert_array_equal(getattr(one._loop.onl, field), getattr(other._loop.onl, field), field)
+        for field in ("v_old", "cls_f", "step_a", "step_v", "scale"):
+            np.testing.assert_array_equal(getattr(onl(one), field), getattr(onl(other), field), field)
         np.testing.assert_array_equal(one.effective_step_sizes(), other.effective_step_sizes())
     assert numba.threading_layer() in ("tbb", "omp", "workqueue"), "a threading layer ran the blocks"
 
@@ -107,7 +113,7 @@ def test_autostep_walks_alike_fused_or_not() -> None:
                "cumulant": {"mul": [{"sensor": SENSORS[i % 7]}, 1 + i // 35]}} for i in range(D)]  # fmt: skip
     one, others = on_1_2_3_threads(tiles_spec(demons))
     for other in others:
-        for field in ("step_a", "step_v", "ascale"):
-            np.testing.assert_array_equal(getattr(one._loop.onl, field), getattr(other._loop.onl, field), field)
+        for field in ("step_a", "step_v", "scale"):
+            np.testing.assert_array_equal(getattr(onl(one), field), getattr(onl(other), field), field)
     moved = np.abs(one.effective_step_sizes() - np.where(np.arange(D) % 4, 0.1, 0.4))
     assert moved.max() > 1e-6, "the step sizes adapted"

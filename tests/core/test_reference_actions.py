@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from horde.core.external import ExternalLoop
 from horde.core.horde import Horde
+from horde.core.learner import Learner
 from horde.core.reference import ReferenceHorde
 from horde.spec import RunSpec
 
@@ -41,7 +41,7 @@ def three_action_spec() -> RunSpec:
 def test_the_engine_equals_the_reference_on_a_three_action_stream(seed: int) -> None:
     spec = three_action_spec()
     assert spec.world.num_actions() == 3
-    loop = ExternalLoop(Horde(spec, cut=0.0))  # no trace cut: the exact equations
+    loop = Learner(Horde(spec, cut=0.0))  # no trace cut: the exact equations
     ref = ReferenceHorde(spec)
     rng = np.random.default_rng(seed)
     names = spec.world.sensor_names()

@@ -1,7 +1,7 @@
 """A run's threads: the same numbers whatever their count, and cores yielded to the other runs.
 
-Blocks of at least `scale_fast.PARALLEL_MIN` demons split their demons into runs of columns learned by
-threads (`scale_fast._columns_parallel`); every number is computed by the same operations in the same
+Blocks of at least `engine.layout.PARALLEL_MIN` demons split their demons into runs of columns learned by
+threads (`engine.step.columns_on_threads`); every number is computed by the same operations in the same
 order whatever the split, so the state after many steps must be equal to the last bit for 1, 2 and 3
 threads. `horde.core.threads` gives each run the process's cores divided among the runs learning.
 """
@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from horde.core import threads
-from horde.core.scale_fast import PARALLEL_MIN
+from horde.core.engine.layout import PARALLEL_MIN
 from horde.core.simulation import Simulation
 from horde.spec import RunSpec
 

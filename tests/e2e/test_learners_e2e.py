@@ -19,6 +19,8 @@ STEP_SIZE_COLUMN = 8  # prediction now, 3 of evaluation, thesis, RUPEE, UDE, the
 
 def test_an_autostep_demon_joins_and_shows_its_step_size(page: Page, server: Server) -> None:
     run_id, form = new_demon(page, server, "auto_steps")
+    learners = form.get_by_label("Learner").locator("option")
+    expect(learners.filter(has_text="tdrc: TDRC")).to_have_count(1)  # the registry's (GET /api/learners)
     form.get_by_label("Learner").select_option("td")
     options = form.get_by_label("Step size").locator("option").all_inner_texts()
     assert any(text.startswith("autostep (TD only):") for text in options), options  # one line of explanation

@@ -208,9 +208,11 @@ def test_a_family_past_the_limit_is_refused_before_anything_is_built(client: Tes
     response = client.post("/api/runs", json=make_spec(families=[huge]))
     assert response.status_code == 422
     assert ["body", "RunSpec", "families", 0, "over"] in locs(response)
-    tiled = {"kind": "sensors", "tilings": 2, "tiles": 2, "size": 8, "sensors": [{"sensor": "x", "low": 0}]}
+    # a range left out is the world's (x: [0, 500]); one that leaves nothing of it is refused, naming the end
+    tiled = {"kind": "sensors", "tilings": 2, "tiles": 2, "size": 8, "sensors": [{"sensor": "x", "low": 600}]}
     response = client.post("/api/runs", json=make_spec(features=tiled))
     assert response.status_code == 422 and ["body", "RunSpec", "features", "sensors", 0, "high"] in locs(response)
+    assert "its range [600, 500] is empty" in messages(response)
 
 
 def test_each_demon_has_its_colour_and_the_live_view_charts_it_in_that_colour(

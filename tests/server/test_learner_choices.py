@@ -9,6 +9,8 @@ from typing import Any
 import pytest
 from fastapi.testclient import TestClient
 
+from horde.spec import learner_names
+
 from .helpers import locs, make_spec, messages
 
 BASE = {"name": "base", "policy": {"kind": "softmax", "temperature": 1.0}, "cumulant": {"sensor": "reward"}}
@@ -37,7 +39,14 @@ def test_the_demon_table_shows_each_demon_its_step_size(client: TestClient, crea
         ({"learner": "etd", "step_size": "tidbd"}, ["demons", 1], "derived for TD(lambda) only"),
         ({"learner": "td", "step_size": "sgd"}, ["demons", 1, "step_size"], "Input should be"),
         ({"learner": "td", "step_size": "autostep", "meta_step": 2.0}, ["demons", 1, "meta_step"], "less than"),
-        ({"learner": "lstd"}, ["demons", 1, "learner"], "Input should be"),
+        ({"learner": "lstd"}, ["demons", 1, "learner"], "unknown learner 'lstd' (known: etd, gq, gtd, td, tdrc"),
+        (
+            {"learner": "tdrc", "parameters": {"gamma": 1}},
+            ["demons", 1, "parameters", "gamma"],
+            "takes no parameter 'gamma' (its parameters: beta, eta)",
+        ),
+        ({"learner": "tdrc", "parameters": {"beta": -1}}, ["demons", 1, "parameters", "beta"], "must lie in [0, 1000]"),
+        ({"learner": "gtd", "parameters": {"beta": 1}}, ["demons", 1, "parameters", "beta"], "(its parameters: none)"),
     ],
 )
 def test_undefined_combinations_and_bad_parameters_are_422_naming_the_field(
@@ -46,6 +55,25 @@ def test_undefined_combinations_and_bad_parameters_are_422_naming_the_field(
     response = client.post("/api/runs", json=make_spec(demons=[BASE, demon(**fields)]))
     assert any(problem[-len(loc) :] == loc for problem in locs(response)), locs(response)
     assert words in messages(response)
+
+
+def test_the_learners_route_lists_the_registry(client: TestClient) -> None:
+    """GET /api/learners: every declared learner, with what the dashboard shows and what a demon may set."""
+    learners = {item["name"]: item for item in client.get("/api/learners").json()}
+    assert sorted(learners) == sorted(learner_names()) and "tdrc" in learners
+    assert learners["gq"]["action_values"] and not learners["gtd"]["action_values"]
+    assert learners["td"]["step_sizes"] == ["constant", "autostep", "tidbd"]
+    beta = {p["name"]: p for p in learners["tdrc"]["parameters"]}["beta"]
+    assert (beta["default"], beta["low"], beta["high"]) == (1.0, 0.0, 1000.0)
+    for item in learners.values():
+        assert item["text"] and "\n" not in item["text"] and len(item["text"]) < 80, item
+
+
+def test_a_learners_parameter_reaches_its_demon(client: TestClient, create_run: Callable[..., str]) -> None:
+    run_id = create_run(make_spec(demons=[BASE, demon(learner="tdrc", parameters={"beta": 0.5})]))
+    spec = client.get(f"/api/runs/{run_id}").json()["spec"]
+    assert spec["demons"][1]["parameters"] == {"beta": 0.5}
+    assert client.post(f"/api/runs/{run_id}/step", json={"steps": 50}).status_code == 200
 
 
 LEARNING_PROBLEMS = [({"autostep_tau": 0.5}, "autostep_tau"), ({"meta_step": -1}, "meta_step"),

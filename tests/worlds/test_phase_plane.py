@@ -13,14 +13,14 @@ with warnings.catch_warnings():
 
 from tests.worlds.test_streams import stream_spec, write_log
 
-from horde.core.external import ExternalLoop
+from horde.core.learner import Learner
 from horde.server import Settings, create_app
 from horde.spec import RunSpec
 from horde.view.phase_plane import PLANE_SIZE, phase_plane_nodes, to_plane
 from horde.worlds.phase_plane import Axis, axis_of, phase_plane
 
 
-def learned_loop(tmp_path) -> tuple[ExternalLoop, np.ndarray]:  # type: ignore[no-untyped-def]
+def learned_loop(tmp_path) -> tuple[Learner, np.ndarray]:  # type: ignore[no-untyped-def]
     from horde.worlds.records import RecordLearner, read_log
 
     spec = RunSpec.model_validate(stream_spec())

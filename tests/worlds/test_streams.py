@@ -95,8 +95,8 @@ def test_rest_batches_are_all_or_nothing_and_name_the_field(client: TestClient) 
     assert client.post("/api/streams", json={"world": {"kind": "grid"}}).json()["detail"][0]["loc"] == [
         "body", "world", "kind"]  # fmt: skip
     assert client.post("/api/streams/nope/records", json={"records": [good]}).status_code == 404
-    gym = {"world": {"kind": "gymnasium", "id": "NoSuchEnv-v0"}}
-    assert client.post("/api/streams", json=gym).json()["detail"][0]["loc"] == ["body", "world", "id"]
+    gym = {"world": {"kind": "gymnasium", "id": "NoSuchEnv-v0"}}  # no stream: refused before any environment is made
+    assert client.post("/api/streams", json=gym).json()["detail"][0]["loc"] == ["body", "world", "kind"]
 
 
 def test_the_websocket_reports_bad_records_and_goes_on(client: TestClient) -> None:

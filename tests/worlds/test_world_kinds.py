@@ -9,11 +9,12 @@ import pytest
 from pydantic import ValidationError
 
 from horde.core.check import WorldCheckError
-from horde.core.external import ExternalLoop
 from horde.core.horde import Horde
+from horde.core.learner import Learner
 from horde.core.policies import sign_policy
 from horde.spec import RunSpec
 from horde.worlds.check import check_world
+from horde.worlds.gym_spaces import resolve_world
 from horde.worlds.gymnasium import GymAgent, GymWorld
 
 
@@ -31,7 +32,7 @@ GYM: dict[str, dict[str, Any]] = {
 
 def gym_spec(env_id: str, **extra: Any) -> RunSpec:
     first = GYM[env_id]["sensors"][0]["sensor"]
-    return RunSpec.model_validate(
+    return resolve_world(RunSpec.model_validate(
         {
             "world": {"kind": "gymnasium", "id": env_id, **extra.pop("world", {})},
             "features": GYM[env_id],
@@ -42,7 +43,7 @@ def gym_spec(env_id: str, **extra: Any) -> RunSpec:
             ],
             **extra,
         }
-    )  # fmt: skip
+    ))  # fmt: skip
 
 
 @pytest.mark.parametrize("env_id", GYM)
@@ -87,8 +88,9 @@ def test_sensors_are_named_with_ranges_and_actions_counted() -> None:
 
 
 def errors_of(data: dict[str, Any]) -> list[tuple[tuple[Any, ...], str]]:
+    """The errors of validating a spec and resolving its world (where a Gymnasium world's sensors are checked)."""
     with pytest.raises(ValidationError) as info:
-        RunSpec.model_validate(data)
+        resolve_world(RunSpec.model_validate(data))
     return [(e["loc"], e["msg"]) for e in info.value.errors()]
 
 
@@ -99,6 +101,30 @@ def test_an_id_not_installed_or_an_unsupported_space_is_an_error_at_world_id() -
     assert loc == ("world", "id") and "needs a Discrete one" in msg
     [(loc, _)] = errors_of({"world": {"kind": "gymnasium", "id": "os:system"}})  # never imports a module
     assert loc == ("world", "id")
+
+
+def test_validating_a_gymnasium_spec_makes_no_environment(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Validation leaves the sensors to `resolve_world` (horde.worlds), which makes the environment once."""
+    import gymnasium
+
+    from horde.worlds import gym_spaces
+
+    gym_spaces._describe.cache_clear()  # so that resolving makes it here, whatever ran before
+    made: list[str] = []
+    real = gymnasium.make
+    monkeypatch.setattr(gymnasium, "make", lambda env_id, **kw: made.append(env_id) or real(env_id, **kw))
+    spec = RunSpec.model_validate(
+        {"world": {"kind": "gymnasium", "id": "CartPole-v1"}, "features": {"kind": "constant"}}
+    )
+    assert made == [] and not spec.world.resolved
+    with pytest.raises(ValueError, match="not resolved yet"):
+        spec.world.sensor_names()
+    resolved = resolve_world(spec)
+    assert made == ["CartPole-v1"] and resolved.world.resolved and resolved.world.num_actions() == 2
+    assert resolved.world.sensor_names()[0] == "cart_position"
+    # resolving adds nothing to the spec: the same fields are the same spec (a served scenario, a snapshot's)
+    assert resolved == spec and hash(resolved.world) == hash(spec.world)
+    assert resolved.world != spec.world.model_copy(update={"max_steps": 10})
 
 
 def test_policies_and_features_must_fit_the_world() -> None:
@@ -134,7 +160,7 @@ def test_a_sign_behaviour_gives_exact_probabilities_and_the_same_seed_the_same_r
         expected = sign_policy(velocity, (0, 2), 0.3, 3)
         np.testing.assert_allclose(one.behaviour_probs(), expected)
         assert one.step().same(two.step())
-    np.testing.assert_array_equal(one.loop.prediction(), two.loop.prediction())
+    np.testing.assert_array_equal(one.learner.prediction(), two.learner.prediction())
 
 
 def test_truncation_bootstraps_and_termination_does_not() -> None:
@@ -144,7 +170,7 @@ def test_truncation_bootstraps_and_termination_does_not() -> None:
     agent = GymAgent(spec)
     assert [agent.step().truncated for _ in range(3)] == [False, False, True]
     for terminated, truncated, expected in ((False, True, 0.5), (True, False, 0.0)):
-        loop = ExternalLoop(Horde(spec))
+        loop = Learner(Horde(spec))
         loop.observe(agent.sensors)
         loop.learn(agent.sensors, [1], [1 / 3], terminated=terminated, truncated=truncated)
         assert loop.horde_state().gamma[loop.horde.index["next"]] == expected
@@ -162,8 +188,8 @@ def test_a_control_demon_drives_a_gymnasium_world_over_its_three_actions() -> No
     agent = GymAgent(spec)
     for _ in range(200):
         probs = agent.behaviour_probs()
-        q = agent.loop.q()[agent.horde.index["control"]]  # [3]
+        q = agent.learner.q()[agent.horde.index["control"]]  # [3]
         greedy = q >= q.max() - 1e-12
         np.testing.assert_allclose(probs, 0.1 + 0.7 * greedy / greedy.sum())  # epsilon / 3 + (1 - epsilon) greedy
         agent.step()
-    assert np.ptp(agent.loop.q()[agent.horde.index["control"]]) > 0, "the control demon's action values moved"
+    assert np.ptp(agent.learner.q()[agent.horde.index["control"]]) > 0, "the control demon's action values moved"

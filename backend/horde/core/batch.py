@@ -2,7 +2,7 @@
 
 Each trial of `experiment.run_trial` learns from scratch with its own generator, seeded from the run
 seed and the trial number, so trials share nothing and can run at once. The thesis-scale loop is
-already one compiled call per many episodes (`fast.py`); what is left to win is the machine's other cores.
+already one compiled call per many episodes (`engine/loop.py`); what is left to win is the machine's other cores.
 `run_trials_batched` hands the trials to a process pool and returns exactly what single-trial runs of
 `run_trial` with the same seeds return (the tests compare them); with one worker, or one trial, it
 runs them in this process. By default it takes this process's share of the cores (`threads.share`: every

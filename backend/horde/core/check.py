@@ -1,4 +1,5 @@
-"""`check_grid_world`: the environment contract of the grid world, on both engines.
+"""The environment contract, checked through the one interface every world kind keeps (`Source`, `Learner`),
+and `check_grid_world`: the grid world's, on both engines.
 
 Modelled on Gymnasium's `check_env`, which runs over every registered environment: this runs over every
 scenario (tests/test_scenarios.py) and over any spec a user writes. It checks, with a seeded generator:
@@ -9,20 +10,28 @@ scenario (tests/test_scenarios.py) and over any spec a user writes. It checks, w
 3. starts: every drawn start lies inside the world, outside obstacles and terminals;
 4. endings: `terminated` and `truncated` are never both true, truncation comes exactly at `max_steps`,
    and every episode ends;
-5. the engines agree: the compiled loop (`fast.py`, what `Simulation` runs) and `world.py` give the same
+5. the engines agree: the compiled loop (`engine/loop.py`, what `Simulation` runs) and `world.py` give the same
    reward, sensors, ending and next position for the same state and action on a short seeded trajectory.
    The moves are compared without slip and noise (the two engines draw those from the generator in a
    different order, so a stochastic move cannot be replayed); everything else of the world is kept.
 
-Each failure raises `WorldCheckError` with what went wrong and where. `require` and `check_sensors` are
-shared with `horde.worlds.check`, whose `check_world` checks every world kind (the grid's through this one).
+Any world kind, through the interface (`horde.worlds.check.check_world` makes the sources and learners):
+`check_source` (the same seed gives the same run; every sensor named, finite and in bounds; never
+terminated and truncated at once) and `check_learner_input` (the input path refuses what no world
+produces: a wrong number of sensors, a NaN, an action out of range, each naming its field).
+
+Each failure raises `WorldCheckError` with what went wrong and where.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
+from horde.core.learner import ExternalRecordError, Learner
 from horde.core.simulation import Simulation
+from horde.core.source import Source
 from horde.core.world import NUM_ACTIONS, World, WorldState
 from horde.spec import RunSpec
 
@@ -49,6 +58,43 @@ def check_sensors(spec: RunSpec, sensors: np.ndarray, where: str) -> None:
             bool(((values >= low - 1e-9) & (values <= high + 1e-9)).all()),
             f"{where}: sensor {name!r} read {values.min():g}..{values.max():g}, outside [{low:g}, {high:g}]",
         )
+
+
+def check_source(make: Callable[[int], Source], seed: int, steps: int) -> None:
+    """Two sources of one seed (`make(seed)`) step `steps` times with their behaviour: the same actions,
+    rewards, endings, sensors and predictions step by step; every sensor named, finite and within its bounds;
+    never terminated and truncated at once."""
+    one, two = make(seed), make(seed)
+    spec = one.spec
+    check_sensors(spec, one.sensors[None], "the first state")
+    for t in range(1, steps + 1):
+        first, second = one.run(1), two.run(1)
+        where = f"step {t}"
+        require(first == second, f"{where}: same seed, another step ({first} != {second})")
+        require(np.array_equal(one.sensors, two.sensors), f"{where}: same seed, other sensors")
+        require(np.array_equal(one.prediction_array(), two.prediction_array(), equal_nan=True),
+                f"{where}: same seed, other predictions")  # fmt: skip
+        check_sensors(spec, one.sensors[None], where)
+        require(not (first.terminated and first.truncated), f"{where}: terminated and truncated")
+
+
+def check_learner_input(learner: Learner, good: np.ndarray, where: str) -> None:
+    """The learner's input path refuses records no world produces, each naming its field, and learns none."""
+    bad = [
+        (np.append(good, 0.0), [0], [1.0], "sensors"),
+        (np.where(np.arange(len(good)) == 0, np.nan, good), [0], [1.0], "sensors."),
+        (good, [learner.num_actions], [1.0], "action"),
+        (good, [0], [0.0], "behaviour_probabilities"),
+    ]
+    for sensors, action, prob, field in bad:
+        steps = learner.steps
+        try:
+            learner.learn(sensors, action, prob)
+        except ExternalRecordError as exc:
+            require(str(exc).startswith(field), f"{where}: a bad record was refused without naming {field!r}: {exc}")
+        else:
+            raise WorldCheckError(f"{where}: a bad record ({field}) was learned")
+        require(learner.steps == steps, f"{where}: a refused record ({field}) was counted as learned")
 
 
 def _check_starts(world: World, state: WorldState, where: str) -> None:
@@ -129,3 +175,4 @@ def check_grid_world(spec: RunSpec, seed: int = 0, batch: int = 16, steps: int =
         )
     require(len(first) == len(second), "world.py: same seed, episodes of other lengths")
     _check_engines_agree(spec, seed, steps)
+    check_source(lambda s: Simulation(spec, np.random.default_rng(s)), seed, min(steps, 100))

@@ -12,10 +12,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from horde.core.fast import FastLoop
+from horde.core.engine.engine import Engine
 from horde.core.horde import Horde, HordeState
 from horde.core.questions import Program
-from horde.core.rollouts import run_rollouts
+from horde.core.rollouts import Question, run_rollouts
 from horde.core.world import NUM_ACTIONS, PERPENDICULAR, Transition, World, WorldState
 
 # A rollout whose remaining continuation weight falls to this or below has finished.
@@ -39,8 +39,8 @@ class Truth:
 
 
 def _question_program(horde: Horde, name: str) -> Program:
-    demon = horde.demon_specs[horde.index[name]]
-    sensor_index = {s: i for i, s in enumerate(horde.spec.world.sensor_names())}
+    demon = horde.demons[horde.index[name]]
+    sensor_index = {s: i for i, s in enumerate(horde.plan.sensors)}
     return Program([demon.cumulant, demon.outcome, demon.continuation], sensor_index, horde.index)
 
 
@@ -67,21 +67,21 @@ def monte_carlo(
     Raises:
         StoppedError: `stop()` said so before the last chunk.
     """
-    loop = FastLoop(horde, World(horde.spec.grid))
+    engine = Engine(horde, World(horde.spec.grid))
     for b in range(len(horde.blocks)):
-        loop._weights(loop.buf.theta, b)[:] = state.theta[b]
+        engine.weights(engine.t.wts.theta, b)[:] = state.theta[b]
     slot = int(horde.demon_slot[horde.index[name]])
     group = next(g for g, grp in enumerate(horde.groups) if horde.index[name] in grp.demons)
     needed = horde.needs([name])
     wanted = np.array([bool(needed[g.demons].any()) for g in horde.groups], dtype=np.bool_)
+    question = Question(slot, group, wanted, float(start[0]), float(start[1]), cap, WEIGHT_FLOOR)
     chunk = rollouts if stop is None else max(1, CHUNK_STEPS // cap)
     parts = []
     capped = 0
     for done in range(0, rollouts, chunk):
         if done and stop is not None and stop():
             raise StoppedError(f"stopped after {done} of {rollouts} rollouts")
-        part, part_capped = run_rollouts(loop.net, loop.buf, rng, slot, group, wanted, start,
-                                         min(chunk, rollouts - done), cap, WEIGHT_FLOOR)  # fmt: skip
+        part, part_capped = run_rollouts(engine.t, rng, question, min(chunk, rollouts - done))
         parts.append(part)
         capped += part_capped
     totals = np.concatenate(parts)  # [rollouts]
@@ -120,7 +120,7 @@ def exact(horde: Horde, state: HordeState, name: str) -> Lattice:
     if world.num_indicators:
         raise ValueError("exact answers do not cover indicators (their colour is hidden state)")
     demon = horde.index[name]
-    discount = horde.demon_specs[demon].discount
+    discount = horde.demons[demon].discount
     program = _question_program(horde, name)
     xs, ys = lattice_points(world)
     n = len(xs)

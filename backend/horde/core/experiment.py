@@ -14,8 +14,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from horde.core.engine.layout import FOREVER
 from horde.core.evaluate import Truth, monte_carlo
-from horde.core.fast import FOREVER
 from horde.core.simulation import Simulation
 from horde.spec import Counts, RunSpec, StopRule
 

@@ -6,21 +6,21 @@ A run's demons compile, once, into four nested levels:
   features) come from earlier stages, so that a prediction read by another demon is the one for
   s_{t+1} after its owner's update at this step;
 * **group**: demons of one stage that share a feature spec and the kind of values (state-action
-  features for GQ). A group's active features are computed once per step; the group is one
-  `scale.Layout`;
-* **block**: demons of a group with the same learner, lambda and kind of target policy (given to the
-  block, or each demon's own greedy / softmax / epsilon-greedy policy); weights are feature-major
-  `[n, Db]` (DESIGN section 6);
+  features for GQ). A group's active features are computed once per step;
+* **block**: demons of a group with the same learner (and step-size mode), lambda and kind of target
+  policy (given to the block, or each demon's own greedy / softmax / epsilon-greedy policy); weights are
+  feature-major `[n, Db]` (DESIGN section 6, `engine/blocks.py`);
 * **trace class**: demons of a given-policy block with the same target policy, continuation and
   discount have the same eligibility trace and share one column `[n, 1]` of it.
 
-Blocks and classes are numbered across groups; the engine's "slots" are the demons in block order.
-`HordeState` holds everything that changes, as arrays. The learning itself is compiled (`fast.py`, with
-the block kernels of `scale_fast.py`); `learners.py` writes its equations as readable numpy and
-`reference.py` as the plain oracle. This module also evaluates a frozen Horde at a batch of positions
-(`forward`), for value maps and Monte-Carlo truth.
+The spec is resolved once into a plan (`plan.py`); the Horde compiles from the plan alone. Blocks and classes
+are numbered across groups; the engine's "slots" are the demons in block order. `HordeState` holds
+everything that changes, as arrays. The learning itself is compiled (`engine/`, with the kernels of
+`learners/`); each learner module writes its equations as readable numpy and `reference.py` as the plain
+oracle. This module also evaluates a frozen Horde at a batch of positions (`forward`), for value maps and
+Monte-Carlo truth.
 
-Why one module of about 520 lines: compiling a spec into stages, groups, blocks and trace classes,
+Why one module of about 540 lines: compiling a plan into stages, groups, blocks and trace classes,
 the state they make and reading it out (forward, behaviour) share the layout's private lists; split, each
 part would have to reach into the others'.
 """
@@ -32,38 +32,28 @@ from typing import NamedTuple
 
 import numpy as np
 
-from horde.core import metrics, scale
+from horde.core import metrics
+from horde.core.engine.blocks import POLICY_CODES, TRACE_CUT, Block, BlockPolicy, trace_classes
+from horde.core.engine.layout import MAX_MAGNITUDE
 from horde.core.features import StateCoder
+from horde.core.plan import DemonPlan, Plan, resolve
 from horde.core.policies import FIXED, KIND_CODES, OF, OWN_VALUE, UNIFORM, value_policy
 from horde.core.questions import Program
 from horde.core.world import World, WorldState
-from horde.spec import (
-    BehaviourSpec,
-    DemonSpec,
-    FeatureSpec,
-    LearningSpec,
-    RunSpec,
-    WorldSpec,
-    check_demon_graph,
-    demon_dependencies,
-    demon_step_size,
-)
+from horde.spec import BehaviourSpec, DemonSpec, RunSpec
 
-# Beyond this, in absolute value, a demon's TD error, prediction or action values mean nothing any more (a
-# diverging GQ demon reached 1.6e307 before its numbers overflowed): the engine marks it diverged and
-# freezes it there, and the run layer reports any number beyond it as null.
-MAX_MAGNITUDE = 1e12
+__all__ = ["MAX_MAGNITUDE", "OF", "UNIFORM", "Forward", "Group", "Horde", "HordeState", "Stage"]
+POSITION_KINDS = ("stripes", "tiles", "grid", "constant")  # the kinds that code a position alone
 
 
 @dataclass(frozen=True)
 class Group:
-    """Demons of one stage over one feature set: one `scale.Layout`."""
+    """Demons of one stage over one feature set."""
 
     stage: int
     coder: StateCoder
     action_values: bool
     condition: int  # global index of the condition demon, or -1
-    layout: scale.Layout
     demons: np.ndarray  # [Dg] global demon indices, in slot order (block by block, class by class)
     blocks: range  # global block numbers
     classes: range  # global trace classes
@@ -81,7 +71,7 @@ class HordeState(NamedTuple):
     """Everything that changes while a Horde learns (one agent). Blocks and classes are global."""
 
     theta: tuple[np.ndarray, ...]  # per block [n_b, Db] primary weights, feature-major
-    w: tuple[np.ndarray, ...]  # per block [n_b, Db] secondary weights
+    w: tuple[np.ndarray, ...]  # per block [n_b, Db] secondary weights (tdrc: h)
     e: tuple[np.ndarray, ...]  # per block [n_b, C_b] one trace per class
     h: tuple[np.ndarray, ...]  # per block [n_b, Db] RUPEE's weights
     delta_e: tuple[np.ndarray, ...]  # per block [n_b, Db] RUPEE's average of delta e, divided by delta_e_scale
@@ -89,7 +79,7 @@ class HordeState(NamedTuple):
     rupee_dot: np.ndarray  # [D] h . delta_e of each demon (kept up to date; RUPEE = sqrt(|scale rupee_dot|))
     tau: np.ndarray  # [G, 2] the unbiased-start weights of RUPEE and UDE, per group
     delta_stats: np.ndarray  # [D, 3] averages of delta, delta^2 and |delta|
-    features: tuple[np.ndarray, ...]  # per group [k] active state features at s_t (sorted)
+    features: tuple[np.ndarray, ...]  # per group [k] active state features at s_t (sorted, then padding)
     class_gamma: np.ndarray  # [C] continuation of each trace class at s_t
     class_pi: np.ndarray  # [C, A] target policy of each class at s_t (own-value classes: unused)
     pi: np.ndarray  # [D, A] target policy at s_t
@@ -99,6 +89,7 @@ class HordeState(NamedTuple):
     delta: np.ndarray  # [D] last TD error
     cumulant: np.ndarray  # [D] last cumulant
     diverged: np.ndarray  # [D] bool: weights went non-finite, frozen since
+    feature_values: tuple[np.ndarray, ...]  # per group [k] the values of `features` (0 on the padding)
 
 
 class Forward(NamedTuple):
@@ -110,7 +101,7 @@ class Forward(NamedTuple):
     features: tuple[np.ndarray, ...]  # per group [B, k]
 
 
-def _policy_key(demon: DemonSpec) -> tuple[object, ...]:
+def _policy_key(demon: DemonPlan) -> tuple[object, ...]:
     policy = demon.policy
     if policy.kind == "fixed" and policy.probabilities is not None:
         return ("fixed", tuple(float(p) for p in policy.probabilities))
@@ -121,48 +112,45 @@ def _policy_key(demon: DemonSpec) -> tuple[object, ...]:
     return ("uniform",)
 
 
-def _dutch_key(demon: DemonSpec, defaults: LearningSpec) -> tuple[float, ...]:
-    """What else a trace depends on: a dutch trace (true online learners) holds alpha (and TOGTD's w trace
-    alpha_w), so only demons with the same step sizes share one."""
-    if demon.learner not in ("true_online_td", "true_online_gtd"):
-        return ()
-    alpha = demon.alpha if demon.alpha is not None else defaults.alpha
-    alpha_w = demon.alpha_w if demon.alpha_w is not None else defaults.alpha_w
-    return (float(alpha), float(alpha_w) if demon.learner == "true_online_gtd" else 0.0)
+def _trace_key(demon: DemonPlan) -> tuple[object, ...]:
+    """What a demon's trace depends on: its target policy, continuation and discount; a dutch trace (true
+    online learners) holds alpha (and true online GTD's w trace alpha_w), so only demons of one step size
+    share one."""
+    dutch = (demon.alpha, demon.alpha_w if demon.kernel.vectors > 1 else 0.0) if demon.kernel.dutch else ()
+    return (_policy_key(demon), repr(demon.continuation), demon.discount, *dutch)
 
 
 class Horde:
     """A compiled set of demons over one world.
 
     Args:
-        spec: the run spec (its world, default features, learning defaults, behaviour and demons).
+        spec: the run spec (its world, default features, learning defaults, behaviour and demons); resolved
+            once into a plan (`plan.py`), which the Horde compiles from.
         cut: the trace cut (DESIGN section 6; 0 keeps every non-zero trace entry).
     """
 
-    def __init__(self, spec: RunSpec, cut: float = scale.TRACE_CUT) -> None:
+    def __init__(self, spec: RunSpec, cut: float = TRACE_CUT) -> None:
         self.spec = spec
         self.cut = cut
+        self.plan: Plan = resolve(spec)
+        plan = self.plan
         self.demon_specs: list[DemonSpec] = list(spec.demons)
-        self.names = [d.name for d in self.demon_specs]
+        self.demons: tuple[DemonPlan, ...] = plan.demons
+        self.names = [d.name for d in plan.demons]
         self.index = {name: i for i, name in enumerate(self.names)}
         self.num_demons = len(self.names)
-        order = check_demon_graph(spec)
-        stage_of: dict[str, int] = {}
-        for name in order:
-            deps = demon_dependencies(self.demon_specs[self.index[name]], spec.features)
-            stage_of[name] = 1 + max((stage_of[d] for d in deps), default=-1)
-        self.stage_of = np.array([stage_of[n] for n in self.names], dtype=np.int64)
-        self.is_action_value = np.array([d.learner == "gq" for d in self.demon_specs], dtype=bool)
-        self.num_actions = spec.world.num_actions()  # A: four in the grid world, the space's size elsewhere
+        self.stage_of = np.array([d.stage for d in plan.demons], dtype=np.int64)
+        self.is_action_value = np.array([d.action_values for d in plan.demons], dtype=bool)
+        self.num_actions = plan.num_actions  # A: four in the grid world, the space's size elsewhere
         # Filled by _compile: per trace class, what its given target policy is.
         self._class_kind: list[int] = []
         self._class_fixed: list[np.ndarray] = []
         self._class_of: list[int] = []
         self._class_demon: list[int] = []
-        self._blocks: list[scale.Block] = []
-        self.stages = self._compile(spec, stage_of)
+        self._blocks: list[Block] = []
+        self.stages = self._compile(plan)
         self.groups: tuple[Group, ...] = tuple(g for stage in self.stages for g in stage.groups)
-        self.blocks: tuple[scale.Block, ...] = tuple(self._blocks)
+        self.blocks: tuple[Block, ...] = tuple(self._blocks)
         self.class_kind = np.array(self._class_kind, dtype=np.int64)  # [C] UNIFORM / FIXED / OF, or own kind
         self.class_fixed = np.array(self._class_fixed, dtype=float).reshape(-1, self.num_actions)  # [C, A]
         self.class_of = np.array(self._class_of, dtype=np.int64)  # [C] demon followed, or -1
@@ -174,107 +162,94 @@ class Horde:
         self.block_group = np.array(
             [i for i, g in enumerate(self.groups) for _ in g.blocks], dtype=np.int64
         )  # [B] group of each block
-        self.block_rows = np.array([g.layout.rows(b) for g in self.groups for b in g.layout.blocks], dtype=np.int64)
+        self.block_rows = np.array(
+            [g.coder.n * (self.num_actions if g.action_values else 1) for g in self.groups for _ in g.blocks],
+            dtype=np.int64,
+        )  # [B] weight rows of each block
         sizes = [b.size for b in self.blocks]
         self.block_lo = np.cumsum([0, *sizes])[:-1].astype(np.int64)  # [B] first slot of each block
+        class_lo = np.cumsum([0, *(b.num_classes for b in self.blocks)])[:-1].astype(np.int64)
         self.slot_class = (
-            np.concatenate([g.classes.start + g.layout.demon_class() for g in self.groups]).astype(np.int64)
-            if self.groups
+            np.concatenate([lo + b.classes for lo, b in zip(class_lo, self.blocks, strict=True)]).astype(np.int64)
+            if self.blocks
             else np.zeros(0, np.int64)
         )  # [D] global class of each slot
-        self.behaviour = spec.behaviour
-        self.behaviour_demon = self.index[spec.behaviour.demon] if spec.behaviour.demon else -1
+        self.behaviour = plan.behaviour
+        self.behaviour_demon = self.index[plan.behaviour.demon] if plan.behaviour.demon else -1
 
     # ------------------------------------------------------------------------------------------
     # Compilation
 
-    def _compile(self, spec: RunSpec, stage_of: dict[str, int]) -> tuple[Stage, ...]:
-        sensor_index = {name: i for i, name in enumerate(spec.world.sensor_names())}
+    def _compile(self, plan: Plan) -> tuple[Stage, ...]:
+        sensor_index = {name: i for i, name in enumerate(plan.sensors)}
         # One pass over the demons (a chain of 1,000 demons has 1,000 stages: a pass per stage held the
         # GIL long enough to delay the server's other requests), and one coder per feature set.
-        features_of: dict[str, FeatureSpec] = {}
         coders: dict[str, StateCoder] = {}
-        by_stage: list[dict[tuple[str, bool], list[int]]] = [{} for _ in range(max(stage_of.values(), default=-1) + 1)]
-        default_key = spec.features.model_dump_json()
-        for i, demon in enumerate(self.demon_specs):
-            key = demon.features.model_dump_json() if demon.features else default_key
-            features_of.setdefault(key, demon.features or spec.features)
-            by_stage[stage_of[demon.name]].setdefault((key, demon.learner == "gq"), []).append(i)
+        by_stage: list[dict[tuple[str, bool], list[int]]] = [{} for _ in range(max(self.stage_of, default=-1) + 1)]
+        for i, demon in enumerate(plan.demons):
+            by_stage[demon.stage].setdefault((demon.feature_key, demon.action_values), []).append(i)
+            if demon.feature_key not in coders:
+                coders[demon.feature_key] = StateCoder(demon.features, *plan.plane, list(plan.sensors), plan.bounds)
         stages = []
         for stage, keys in enumerate(by_stage):
-            for key, _ in keys:
-                if key not in coders:
-                    coders[key] = StateCoder(features_of[key], *self._plane(spec), spec.world.sensor_names())
             groups = tuple(
-                self._compile_group(spec, stage, coders[key], action_values, members)
+                self._compile_group(stage, coders[key], action_values, members)
                 for (key, action_values), members in keys.items()
             )
             demons = np.concatenate([g.demons for g in groups])
-            specs = [self.demon_specs[i] for i in demons]
+            members_plan = [plan.demons[i] for i in demons]
             program = Program(
-                [d.cumulant for d in specs] + [d.outcome for d in specs] + [d.continuation for d in specs],
+                [d.cumulant for d in members_plan] + [d.outcome for d in members_plan]
+                + [d.continuation for d in members_plan],
                 sensor_index,
                 self.index,
-            )
-            stages.append(Stage(groups, demons, program, np.array([d.discount for d in specs])))
+            )  # fmt: skip
+            stages.append(Stage(groups, demons, program, np.array([d.discount for d in members_plan])))
         return tuple(stages)
 
-    @staticmethod
-    def _plane(spec: RunSpec) -> tuple[float, float]:
-        world = spec.world
-        return (world.width, world.height) if isinstance(world, WorldSpec) else (1.0, 1.0)  # no plane
-
-    def _compile_group(
-        self, spec: RunSpec, stage: int, coder: StateCoder, action_values: bool, members: list[int]
-    ) -> Group:
-        """The demons of one stage over one feature set: blocks of one learner, lambda, policy kind and
-        step-size mode, their demons ordered by trace class."""
-        defaults = spec.learning
-        by_block: dict[tuple[scale.Learner, float, scale.BlockPolicy, str], list[int]] = {}
+    def _compile_group(self, stage: int, coder: StateCoder, action_values: bool, members: list[int]) -> Group:
+        """The demons of one stage over one feature set: blocks of one learner, step-size mode, lambda and policy
+        kind, their demons ordered by trace class."""
+        by_block: dict[tuple[str, float, BlockPolicy, str], list[int]] = {}
         for i in members:
-            d = self.demon_specs[i]
-            lam = d.lambda_ if d.lambda_ is not None else defaults.lambda_
-            own: scale.BlockPolicy = "given"
-            if d.learner == "gq" and d.policy.kind in ("greedy", "softmax", "epsilon_greedy"):
+            d = self.plan.demons[i]
+            own: BlockPolicy = "given"
+            if d.action_values and d.policy.kind in ("greedy", "softmax", "epsilon_greedy"):
                 own = d.policy.kind
-            by_block.setdefault((d.learner, float(lam), own, demon_step_size(d, defaults)[0]), []).append(i)
+            by_block.setdefault((d.learner, d.lam, own, d.step_size), []).append(i)
         first_block, first_class = len(self._blocks), len(self._class_kind)
-        blocks, slots = [], []
+        slots = []
         for (learner, lam, own, step_size), block_members in by_block.items():
-            ordered, block_classes = self._add_classes(block_members, own, defaults)
-            demons = [self.demon_specs[i] for i in ordered]
-            blocks.append(
-                scale.Block(
+            ordered, block_classes = self._add_classes(block_members, own)
+            demons = [self.plan.demons[i] for i in ordered]
+            self._blocks.append(
+                Block(
                     learner=learner,
-                    alpha=np.array([d.alpha if d.alpha is not None else defaults.alpha for d in demons]) / coder.k,
-                    alpha_w=np.array([d.alpha_w if d.alpha_w is not None else defaults.alpha_w for d in demons])
-                    / coder.k,
+                    alpha=np.array([d.alpha for d in demons]) / coder.k,
+                    alpha_w=np.array([d.alpha_w for d in demons]) / coder.k,
                     lam=lam,
                     policy=own,
                     classes=block_classes,
                     temperature=np.array([d.policy.temperature for d in demons]),
                     epsilon=np.array([d.policy.epsilon for d in demons]),
                     step_size=step_size,
-                    meta=np.array([demon_step_size(d, defaults)[1] for d in demons]),
+                    meta=np.array([d.meta for d in demons]),
+                    beta=np.array([d.beta for d in demons]),
                 )
             )
             slots.extend(ordered)
-        self._blocks.extend(blocks)
         condition = coder.spec.condition
         return Group(
             stage=stage,
             coder=coder,
             action_values=action_values,
             condition=self.index[condition.demon] if condition else -1,
-            layout=scale.Layout(tuple(blocks), coder.n, coder.k, cut=self.cut, num_actions=self.num_actions),
             demons=np.array(slots, dtype=np.int64),
             blocks=range(first_block, len(self._blocks)),
             classes=range(first_class, len(self._class_kind)),
         )
 
-    def _add_classes(
-        self, members: list[int], own: scale.BlockPolicy, defaults: LearningSpec
-    ) -> tuple[list[int], np.ndarray | None]:
+    def _add_classes(self, members: list[int], own: BlockPolicy) -> tuple[list[int], np.ndarray | None]:
         """Register the trace classes of one block's demons; returns the demons in class order and each
         one's class within the block (None for own-value demons: each is its own class)."""
         A = self.num_actions
@@ -285,12 +260,10 @@ class Horde:
                 self._class_of.append(-1)
                 self._class_demon.append(i)
             return members, None
-        demons = [self.demon_specs[i] for i in members]
-        keys = [(_policy_key(d), repr(d.continuation), float(d.discount), *_dutch_key(d, defaults)) for d in demons]
-        order, classes = scale.trace_classes(keys)
+        order, classes = trace_classes([_trace_key(self.plan.demons[i]) for i in members])
         ordered = [members[j] for j in order]
         for j in np.flatnonzero(np.diff(classes, prepend=-1)):
-            policy = self.demon_specs[ordered[j]].policy
+            policy = self.plan.demons[ordered[j]].policy
             kind = KIND_CODES[policy.kind]
             self._class_kind.append(kind if kind in (FIXED, OF) else UNIFORM)
             probs = policy.probabilities if kind == FIXED and policy.probabilities else [1.0 / A] * A
@@ -305,7 +278,7 @@ class Horde:
     def initial_theta(self) -> tuple[np.ndarray, ...]:
         """Per block [n_b, Db] the primary weights demons start from: their `initial_weights`, else 0."""
         weights = tuple(np.zeros((int(r), b.size)) for r, b in zip(self.block_rows, self.blocks, strict=True))
-        for demon in self.demon_specs:
+        for demon in self.demons:
             if demon.initial_weights is not None:
                 b, col = self.locate(demon.name)
                 weights[b][:, col] = demon.initial_weights  # row a * n + i of GQ's blocks: action a, feature i
@@ -336,6 +309,7 @@ class Horde:
             delta=np.zeros(d),
             cumulant=np.zeros(d),
             diverged=np.zeros(d, dtype=bool),
+            feature_values=tuple(np.zeros(g.coder.k) for g in self.groups),
         )
 
     def locate(self, name: str) -> tuple[int, int]:
@@ -376,12 +350,14 @@ class Horde:
     # ------------------------------------------------------------------------------------------
     # Frozen evaluation of a batch of positions
 
-    def _block_values(self, group: Group, b: int, theta: np.ndarray, idx: np.ndarray) -> np.ndarray:
-        """Action values [B, Db, A] (GQ) or state values [B, Db] of block b at active features idx [B, k]."""
+    def _block_values(self, group: Group, theta: np.ndarray, idx: np.ndarray, val: np.ndarray) -> np.ndarray:
+        """Action values [B, Db, A] (GQ) or state values [B, Db] of a block's weights theta [rows, Db] at the
+        active features (idx, val) [B, k]."""
         if group.action_values:
             n_s = group.coder.n
-            return np.stack([theta[idx + a * n_s].sum(axis=1) for a in range(self.num_actions)], axis=-1)
-        return theta[idx].sum(axis=1)
+            return np.stack([(theta[idx + a * n_s] * val[..., None]).sum(axis=1) for a in range(self.num_actions)],
+                            axis=-1)  # fmt: skip
+        return (theta[idx] * val[..., None]).sum(axis=1)
 
     def needs(self, names: list[str]) -> np.ndarray:
         """[D] bool: the demons named and every demon they read (predictions, policies, conditions)."""
@@ -391,7 +367,7 @@ class Horde:
             i = todo.pop()
             if not wanted[i]:
                 wanted[i] = True
-                todo.extend(self.index[d] for d in demon_dependencies(self.demon_specs[i], self.spec.features))
+                todo.extend(self.index[d] for d in self.demons[i].dependencies)
         return wanted
 
     def forward(
@@ -414,7 +390,7 @@ class Horde:
         """
         batch, A = len(x), self.num_actions
         wanted = self.needs(demons) if demons is not None else np.ones(self.num_demons, dtype=bool)
-        if sensors is None and any(g.coder.spec.kind in ("sensors", "table") for g in self.groups):
+        if sensors is None and any(g.coder.spec.kind not in POSITION_KINDS for g in self.groups):
             sensors = self._start_sensors(np.asarray(x, float), np.asarray(y, float))
         prediction = np.zeros((batch, self.num_demons))
         pi = np.full((batch, self.num_demons, A), 1.0 / A)
@@ -425,7 +401,7 @@ class Horde:
                 features.append(np.zeros((batch, group.coder.k), dtype=np.int64))
                 continue
             condition = prediction[:, group.condition] if group.condition >= 0 else None
-            idx = group.coder.active(x, y, condition, sensors)  # [B, k]
+            idx, val = group.coder.sparse(x, y, condition, sensors)  # [B, k] each
             features.append(idx)
             lo = 0
             for b in group.blocks:
@@ -437,9 +413,9 @@ class Horde:
                 if not keep.any():
                     continue
                 members, classes = members[keep], classes[keep]
-                values = self._block_values(group, b, state.theta[b] if keep.all() else state.theta[b][:, keep], idx)
+                values = self._block_values(group, state.theta[b] if keep.all() else state.theta[b][:, keep], idx, val)
                 if block.policy != "given":
-                    kinds = np.full(len(members), scale.POLICY_CODES[block.policy])
+                    kinds = np.full(len(members), POLICY_CODES[block.policy])
                     temperature, epsilon = np.asarray(block.temperature)[keep], np.asarray(block.epsilon)[keep]
                     pi_b = value_policy(values, kinds, temperature, epsilon)
                 else:
@@ -511,17 +487,14 @@ class Horde:
 
     @property
     def keeps_learner_state(self) -> bool:
-        """Whether any demon learns with true online TD / GTD, emphatic TD or an adaptive step size (the
-        others keep nothing beyond `HordeState`)."""
-        return any(b.learner in scale.ONLINE_LEARNERS or b.step_size != "constant" for b in self.blocks)
+        """Whether any demon's learner keeps numbers beyond `HordeState` (true online TD / GTD, emphatic TD, an
+        adaptive step size, tdrc's scale of h: `Kernel.keeps_state`)."""
+        return any(b.kernel.keeps_state for b in self.blocks)
 
     def is_control(self, name: str) -> bool:
-        demon = self.demon_specs[self.index[name]]
-        return demon.learner == "gq" and KIND_CODES[demon.policy.kind] in OWN_VALUE
+        demon = self.demons[self.index[name]]
+        return demon.action_values and KIND_CODES[demon.policy.kind] in OWN_VALUE
 
     def prediction_demons(self) -> list[str]:
         """Demons whose prediction is a question's answer (not the control demons)."""
         return [name for name in self.names if not self.is_control(name)]
-
-
-__all__ = ["OF", "UNIFORM", "Forward", "Group", "Horde", "HordeState", "Stage"]

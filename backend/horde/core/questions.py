@@ -3,7 +3,8 @@
 All expressions of many demons compile once into a table of nodes (shared sub-expressions stored
 once), sorted into levels by height. Evaluating the program is a fixed handful of numpy operations
 per level (one gather for the sensors, one for the predictions, one `reduceat` per operator), for any
-number of demons: no Python work per demon per step.
+number of demons: no Python work per demon per step. The engine evaluates the same node table compiled
+(`evaluate_nodes`, over `Program.table`), a stage at a time.
 """
 
 from __future__ import annotations
@@ -12,10 +13,13 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 
+from horde.core.engine.layout import NO_NRT
 from horde.spec import AddExpr, Expr, IfExpr, MaxExpr, MinExpr, MulExpr, PredictionExpr, SensorExpr, expr_children
 
 NODE_KINDS = ("const", "sensor", "prediction", "add", "mul", "min", "max", "if")
+N_CONST, N_SENSOR, N_PREDICTION, N_ADD, N_MUL, N_MIN, N_MAX, N_IF = range(8)
 _OPERATORS: dict[type, str] = {AddExpr: "add", MulExpr: "mul", MinExpr: "min", MaxExpr: "max"}
 _REDUCERS = {"add": np.add, "mul": np.multiply, "min": np.minimum, "max": np.maximum}
 
@@ -153,3 +157,34 @@ class Program:
                 nodes, cond, then, other = level.branch
                 values[:, nodes] = np.where(values[:, cond] != 0.0, values[:, then], values[:, other])
         return values[:, self.outputs]
+
+
+@njit(**NO_NRT)
+def evaluate_nodes(progs, stage, sensors, pred, values):
+    """Every node of a stage's program (`engine.layout.Programs`; children come before parents) into values,
+    from the sensors of s_{t+1} and the predictions (per slot) as they stand."""
+    kinds, args, starts, children = progs.node_kind, progs.node_arg, progs.node_start, progs.node_children
+    for n in range(progs.stage_lo[stage], progs.stage_hi[stage]):
+        kind = kinds[n]
+        if kind == N_CONST:
+            values[n] = args[n]
+        elif kind == N_SENSOR:
+            values[n] = sensors[int(args[n])]
+        elif kind == N_PREDICTION:
+            values[n] = pred[int(args[n])]
+        elif kind == N_IF:
+            c = children[starts[n]]
+            values[n] = values[children[starts[n] + 1]] if values[c] != 0.0 else values[children[starts[n] + 2]]
+        else:
+            acc = values[children[starts[n]]]
+            for j in range(starts[n] + 1, starts[n + 1]):
+                x = values[children[j]]
+                if kind == N_ADD:
+                    acc = acc + x
+                elif kind == N_MUL:
+                    acc = acc * x
+                elif kind == N_MIN:
+                    acc = min(acc, x)
+                else:
+                    acc = max(acc, x)
+            values[n] = acc

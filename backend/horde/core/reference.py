@@ -9,6 +9,7 @@ file for every learner. The learners' step functions take one `Transition` each,
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass, field
 
@@ -88,6 +89,15 @@ def td_step(theta: Vector, w: Vector, e: Vector, t: Transition, alpha: float, al
 
 
 STEPS = {"gq": gq_step, "gtd": gtd_step, "td": td_step}
+
+
+def tdrc_step(theta: Vector, w: Vector, e: Vector, t: Transition, alpha: float, alpha_h: float, beta: float) -> Weights:
+    """TDRC(lambda) (Ghiassian, Patterson, Garg, Gupta, White & White 2020): GTD(lambda) whose h (here w) learns
+    at alpha_h and loses alpha_h beta h at every step:
+    theta += alpha (delta e - gamma_{t+1} (1 - lambda) (h . e) x_{t+1}),
+    h += alpha_h (delta e - (h . x_t) x_t) - alpha_h beta h. Returns (theta, h, e, delta)."""
+    new_theta, new_h, e, delta = gtd_step(theta, w, e, t, alpha, alpha_h)
+    return new_theta, new_h - alpha_h * beta * w, e, delta
 
 
 def true_online_td_step(theta: Vector, e: Vector, v_old: float, t: Transition, alpha: float) -> Carried:
@@ -199,7 +209,9 @@ def evaluate_expr(expr: Expr, sensors: dict[str, float], predictions: dict[str, 
     return evaluate_expr(branch, sensors, predictions)
 
 
-def hashed_sensor_tiles(spec: FeatureSpec, sensors: dict[str, float]) -> list[int]:
+def hashed_sensor_tiles(
+    spec: FeatureSpec, sensors: dict[str, float], bounds: dict[str, tuple[float, float]] | None = None
+) -> list[int]:
     """Features tiled over sensors (kind "sensors"): one tile per sensor and tiling, hashed into `size`.
 
     Key (sensor s, tiling t, tile) -> (key * 2654435761 mod 2^32) mod size; a hash already taken in this
@@ -208,7 +220,10 @@ def hashed_sensor_tiles(spec: FeatureSpec, sensors: dict[str, float]) -> list[in
     size = spec.size or 0
     taken: list[int] = []
     for s, tiled in enumerate(spec.sensors or []):
-        u = (sensors[tiled.sensor] - tiled.low) / (tiled.high - tiled.low)
+        world = (bounds or {}).get(tiled.sensor, (-math.inf, math.inf))
+        low = world[0] if tiled.low is None else tiled.low
+        high = world[1] if tiled.high is None else tiled.high
+        u = (sensors[tiled.sensor] - low) / (high - low)
         for t in range(spec.tilings):
             tile = min(max(math.floor(u * spec.tiles + t / spec.tilings), 0), spec.tiles)
             index = (((s * spec.tilings + t) * (spec.tiles + 1) + tile) * 2654435761) % 2**32 % size
@@ -216,6 +231,37 @@ def hashed_sensor_tiles(spec: FeatureSpec, sensors: dict[str, float]) -> list[in
                 index = (index + 1) % size
             taken.append(index)
     return taken
+
+
+def _scaled_inputs(spec: FeatureSpec, sensors: dict[str, float], bounds: dict[str, tuple[float, float]]) -> list[float]:
+    """The sensors a basis reads, each scaled from its range (its own, else the world's) to [0, 1] and clipped."""
+    out = []
+    for read in spec.sensors or []:
+        world = bounds.get(read.sensor, (-math.inf, math.inf))
+        low = world[0] if read.low is None else read.low
+        high = world[1] if read.high is None else read.high
+        out.append(min(max((sensors[read.sensor] - low) / (high - low), 0.0), 1.0))
+    return out
+
+
+def basis_features(spec: FeatureSpec, s: list[float]) -> list[float]:
+    """The values of a polynomial, Fourier, RBF or linear basis at the scaled inputs s (Sutton & Barto 2018,
+    section 9.5): every exponent (or centre) vector c in lexicographic order."""
+    if spec.kind == "linear":
+        return [*s, 1.0]
+    if spec.kind == "rbf":
+        count = spec.centres or 1
+        grid = [0.5] if count == 1 else [j / (count - 1) for j in range(count)]
+        sigma = spec.width if spec.width is not None else (1.0 / (count - 1) if count > 1 else 1.0)
+        return [math.exp(-sum((a - b) ** 2 for a, b in zip(s, c, strict=True)) / (2 * sigma**2))
+                for c in itertools.product(grid, repeat=len(s))]  # fmt: skip
+    values = []
+    for c in itertools.product(range((spec.order or 0) + 1), repeat=len(s)):
+        if spec.kind == "polynomial":
+            values.append(math.prod(a**k for a, k in zip(s, c, strict=True)))
+        else:
+            values.append(math.cos(math.pi * sum(k * a for a, k in zip(s, c, strict=True))))
+    return values
 
 
 def state_features(
@@ -226,24 +272,30 @@ def state_features(
     height: float,
     condition: float,
     sensors: dict[str, float] | None = None,
+    bounds: dict[str, tuple[float, float]] | None = None,
 ) -> np.ndarray:
-    """The dense state feature vector of one point (and its sensors, for kinds "sensors" and "table"): binary,
-    but for a table row that lists an index twice (that feature is 2 there)."""
+    """The dense state feature vector of one state: binary for the grid's kinds and tiled sensors; a table
+    row's values (an index listed twice adds up); a basis' values over the sensors (`bounds`: the world's
+    ranges, for sensors that give none)."""
 
     def cell(u: float, parts: int) -> int:
         return min(max(math.floor(u * parts), 0), parts - 1)
 
     phi = np.zeros(spec.base_size())
     u, v = x / width, y / height
-    if spec.kind == "sensors":
+    if spec.kind in ("polynomial", "fourier", "rbf", "linear"):
+        assert sensors is not None, "a basis over sensors needs the sensors"
+        phi[:] = basis_features(spec, _scaled_inputs(spec, sensors, bounds or {}))
+    elif spec.kind == "sensors":
         assert sensors is not None, "features tiled over sensors need the sensors"
-        phi[hashed_sensor_tiles(spec, sensors)] = 1
+        phi[hashed_sensor_tiles(spec, sensors, bounds or {})] = 1
         phi[-1] = 1
     elif spec.kind == "table":
         assert sensors is not None and spec.sensor is not None and spec.table, "table features need the sensors"
         row = min(max(round(sensors[spec.sensor]), 0), len(spec.table) - 1)
-        for index in spec.table[row]:
-            phi[index] += 1
+        values = spec.values[row] if spec.values is not None else [1.0] * len(spec.table[row])
+        for index, value in zip(spec.table[row], values, strict=True):
+            phi[index] += value
     elif spec.kind == "constant":
         phi[0] = 1
     elif spec.kind == "grid":
@@ -331,11 +383,12 @@ class ReferenceHorde:
         grid = spec.world.kind == "grid"
         self.width, self.height = (spec.grid.width, spec.grid.height) if grid else (1.0, 1.0)
         self.order = check_demon_graph(spec)
+        self.bounds = spec.world.sensor_bounds()
         self._sensors: dict[str, float] | None = None
         self.demons: dict[str, ReferenceDemon] = {}
         for d in spec.demons:
             features = d.features or spec.features
-            n = features.state_size() * (self.num_actions if d.learner == "gq" else 1)
+            n = features.state_size() * (self.num_actions if d.action_values else 1)
             k = features.active_count()
             lam = d.lambda_ if d.lambda_ is not None else spec.learning.lambda_
             alpha = (d.alpha if d.alpha is not None else spec.learning.alpha) / k
@@ -351,7 +404,7 @@ class ReferenceHorde:
     def _phi_state(self, demon: ReferenceDemon, x: float, y: float) -> np.ndarray:
         condition = demon.features.condition
         cond_value = self.demons[condition.demon].prediction if condition else 0.0
-        return state_features(demon.features, x, y, self.width, self.height, cond_value, self._sensors)
+        return state_features(demon.features, x, y, self.width, self.height, cond_value, self._sensors, self.bounds)
 
     def _phi_sa(self, phi_state: np.ndarray, action: int) -> np.ndarray:
         phi = np.zeros(self.num_actions * len(phi_state))
@@ -380,7 +433,7 @@ class ReferenceHorde:
         return value_policy(policy.kind, self.q_values(demon, phi_state), policy.temperature, policy.epsilon)
 
     def _prediction(self, demon: ReferenceDemon, phi_state: np.ndarray, pi: np.ndarray) -> float:
-        if demon.spec.learner == "gq":
+        if demon.spec.action_values:
             return float(sum(pi[a] * (demon.theta @ self._phi_sa(phi_state, a)) for a in range(self.num_actions)))
         return float(demon.theta @ phi_state)
 
@@ -420,7 +473,7 @@ class ReferenceHorde:
             phi_state_tp1 = self._phi_state(demon, x, y)
             pi_tp1 = self._policy(demon, phi_state_tp1)
             rho = demon.pi_t[action] / b_prob
-            if spec.learner == "gq":
+            if spec.action_values:
                 phi_t = self._phi_sa(demon.phi_state_t, action)
                 phi_next = sum(pi_tp1[a] * self._phi_sa(phi_state_tp1, a) for a in range(self.num_actions))
             else:
@@ -448,6 +501,9 @@ class ReferenceHorde:
             )
         elif learner == "etd":
             d.theta, d.e, d.followon, d.delta = etd_step(d.theta, d.e, d.followon, d.rho_prev, t, d.alpha)
+        elif learner == "tdrc":  # h at eta alpha (alpha already divided by the active count)
+            eta, beta = d.spec.parameter("eta"), d.spec.parameter("beta")
+            d.theta, d.w, d.e, d.delta = tdrc_step(d.theta, d.w, d.e, t, d.alpha, eta * d.alpha, beta)
         else:
             d.theta, d.w, d.e, d.delta = STEPS[learner](d.theta, d.w, d.e, t, d.alpha, d.alpha_w)
         d.rho_prev = t.rho_t
@@ -458,4 +514,4 @@ class ReferenceHorde:
         sizes over the active features (adaptive modes)."""
         if demon.mode == "constant":
             return demon.alpha * demon.features.active_count()
-        return float(demon.alphas[demon.phi_state_t > 0].sum())
+        return float(demon.alphas[demon.phi_state_t != 0].sum())

@@ -20,13 +20,13 @@ from typing import Literal
 
 import numpy as np
 
-from horde.core.fast import FOREVER
+from horde.core.engine.layout import FOREVER
 from horde.core.simulation import Simulation
 from horde.core.world import WorldState
 from horde.runs.history import QUANTITIES, History
 from horde.runs.messages import EventData, FromWorker, PublishedView, Rows, Save, SaveDone, Update
 from horde.runs.run_setup import Limits
-from horde.runs.session import WEIGHT_SCAN_INTERVAL, RunSession
+from horde.runs.session import RunSession
 from horde.runs.snapshot import encode_frozen, freeze, to_bytes
 from horde.runs.store import RunRecord
 
@@ -91,7 +91,6 @@ class Recorder:
         self._encoder: threading.Thread | None = None
         self._status = ""  # of the latest view published (a change is published at once)
         self._diverged = 0  # demons diverged at the latest divergence check
-        self._next_scan = 0.0
         self._spec: object = None
         self._spec_text = ""
 
@@ -140,15 +139,12 @@ class Recorder:
     def make_view(self, session: RunSession) -> PublishedView:
         sim = session.sim
         out = sim.readout()
-        # The session's divergence check copies the Horde's state (0.4 s for 9,000 demons on a crowded machine):
-        # it runs when a demon has newly diverged, and otherwise at most every WEIGHT_SCAN_INTERVAL (its own
-        # scan of every weight runs no more often).
-        newly = int(np.count_nonzero(out.diverged)) != self._diverged
-        if newly or time.monotonic() >= self._next_scan:
+        # The engine freezes a diverged demon itself (the core's one rule); the session reports it in the events
+        # when the count of frozen demons changed (reading it is O(D)).
+        diverged = int(np.count_nonzero(out.diverged))
+        if diverged != self._diverged:
             session.mark_diverged()
-            self._next_scan = time.monotonic() + WEIGHT_SCAN_INTERVAL
-            out = sim.readout()
-            self._diverged = int(np.count_nonzero(out.diverged))
+            self._diverged = diverged
         self._seq += 1
         world = sim.world_state
         colors = tuple(int(c) for c in world.colors[0]) if isinstance(world, WorldState) else ()

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from pydantic import ValidationError
 
 from horde.runs.errors import SpecError
 from horde.spec import RunSpec
@@ -62,5 +63,7 @@ def new_simulation(spec: RunSpec) -> AnySimulation:
                                                       "create it with POST /api/streams")  # fmt: skip
     try:
         return Simulation(spec, trial_rng(spec))
+    except ValidationError as exc:  # a Gymnasium world whose sensors the spec does not fit (resolved here)
+        raise SpecError.from_validation(exc, ("body",)) from None
     except ValueError as exc:
         raise SpecError.at(("body",), f"the spec cannot run: {exc}") from None

@@ -5,9 +5,9 @@ status and message, the protocol's episode loop and stopping rule, divergence, a
 do in each status. It runs in the learner thread only (`LiveRun`), and tells the recorder (`Recorder`)
 when a history row, a save or a publication is due, through the few methods of `Recording`.
 
-The source is anything with the `Source` face: the grid world's compiled `Simulation`, or a Gymnasium
-agent (`horde.worlds.gym_simulation.GymSimulation`), both over the one engine. `new_source` picks one for
-a spec's world kind.
+The source is a `horde.core.source.Source`: the grid world's compiled `Simulation`, or a Gymnasium agent
+(`horde.worlds.gym_simulation.GymSimulation`), both over the one engine's `Learner`. `new_source` picks one
+for a spec's world kind.
 """
 
 from __future__ import annotations
@@ -21,15 +21,15 @@ from typing import Any, Protocol
 import numpy as np
 from pydantic import ValidationError
 
-from horde.core.experiment import start_point, stopping_rule
-from horde.core.simulation import Simulation
-from horde.runs.divergence import MAX_MAGNITUDE, beyond_magnitude
+from horde.core.experiment import stopping_rule
+from horde.core.source import Source
+from horde.runs.divergence import MAX_MAGNITUDE
 from horde.runs.errors import ConflictError, NotFoundError, SpecError
 from horde.runs.events import EventLog
 from horde.runs.run_setup import Limits, check_limits, new_simulation
 from horde.runs.run_view import RunStatus, Summary
 from horde.spec import MAX_HZ, MIN_HZ, BehaviourSpec, DemonSpec, RunSpec, demon_dependencies
-from horde.worlds.gym_simulation import GymSimulation
+from horde.worlds.gym_spaces import resolve_world
 
 log = logging.getLogger(__name__)
 
@@ -37,15 +37,11 @@ log = logging.getLogger(__name__)
 # bounds how long the server's event loop (requests, streams) can wait for it.
 BATCH_SECONDS = 0.002
 MAX_BATCH = 100_000
-# Every weight is scanned for MAX_MAGNITUDE at most this often (62 ms for nexting's 2 x 10 M weights); the
-# engine checks every demon's TD error, prediction and action values at every step.
-WEIGHT_SCAN_INTERVAL = 1.0
 # The compiled kernels are compiled (or loaded from numba's cache) at their first call in a process; until
 # that call returns, a run says so instead of standing at step 0 without a word.
 PREPARING = "preparing the learning kernels (compiling them takes about a minute on a machine's first run)"
 _kernels_ready = threading.Event()
 
-Source = Simulation | GymSimulation
 new_source = new_simulation  # run_setup.new_simulation picks the source for the world's kind
 
 
@@ -86,7 +82,6 @@ class RunSession:
         self.recorder: Recording | None = None
         self._diverged: set[str] = set()  # demons reported diverged in the events
         self._batch = 1
-        self._next_weight_scan = 0.0
         if status == "finished" and summary is None:
             self.summary = self.summarize(stopped_early=False)
 
@@ -165,7 +160,7 @@ class RunSession:
         sim = self.sim
         hs, horde = sim.horde_state, sim.horde
         diverged = dict(zip(horde.names, hs.diverged.tolist(), strict=True))
-        predictions = sim.predictions_at(*start_point(self.spec)) if isinstance(sim, Simulation) else sim.predictions()
+        predictions = sim.summary_predictions()
         return Summary(
             predictions={name: math.nan if diverged[name] else value for name, value in predictions.items()},
             rupee=dict(zip(horde.names, horde.rupee(hs).tolist(), strict=True)),
@@ -195,18 +190,9 @@ class RunSession:
         self.events.add(sim.total_steps, sim.episode, "error" if kind == "error" else "status", message or status)
 
     def mark_diverged(self) -> None:
-        """Report the demons the engine froze; freeze those with a weight beyond MAX_MAGNITUDE (scanned at most
-        every WEIGHT_SCAN_INTERVAL: the engine's own per-step check reads predictions, not every weight)."""
+        """Report the demons the engine froze (the core's one divergence rule: `horde.core.learner`)."""
         sim = self.sim
-        state = sim.horde_state
-        diverged = state.diverged  # [D]
-        now = time.monotonic()
-        if now >= self._next_weight_scan:
-            self._next_weight_scan = now + WEIGHT_SCAN_INTERVAL
-            beyond = beyond_magnitude(sim.horde, state) & ~state.diverged  # [D]
-            if beyond.any():
-                sim.horde_state = state._replace(diverged=state.diverged | beyond)
-            diverged = state.diverged | beyond  # [D]
+        diverged = sim.readout().diverged  # [D]
         for i in np.nonzero(diverged)[0]:
             name = sim.horde.names[i]
             if name not in self._diverged:
@@ -291,7 +277,7 @@ class RunSession:
         data = self.spec.model_dump(by_alias=True)
         data.update(changes)
         try:
-            return RunSpec.model_validate(data)
+            return resolve_world(RunSpec.model_validate(data))  # a Gymnasium world: its sensors checked too
         except ValidationError as exc:
             raise SpecError.from_validation(exc, ("body",)) from None
 

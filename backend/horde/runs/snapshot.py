@@ -22,13 +22,13 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 from horde.core.horde import Horde, HordeState
-from horde.core.simulation import AdaptiveState, Simulation
+from horde.core.simulation import AdaptiveState
+from horde.core.source import Source
 from horde.runs.errors import SpecError
 from horde.runs.run_setup import new_simulation
 from horde.runs.run_view import RunStatus
 from horde.runs.snapshot_checks import MAX_COUNT, check_horde, check_interleaved, check_world
 from horde.spec import Hz, RunSpec
-from horde.worlds.gym_simulation import GymSimulation
 
 FORMAT: Literal["horde-snapshot/1"] = "horde-snapshot/1"
 DTYPES: dict[str, str] = {"float64": "<f8", "int64": "<i8", "bool": "|b1"}
@@ -99,7 +99,7 @@ class Snapshot(BaseModel):
 class Restored:
     """A simulation rebuilt from a snapshot, with the run-level values that came with it."""
 
-    sim: Simulation | GymSimulation
+    sim: Source
     status: RunStatus
     hz: float | None
     stop_reference: list[np.ndarray] | None
@@ -223,7 +223,7 @@ class Frozen:
 
 
 def freeze(
-    sim: Simulation | GymSimulation,
+    sim: Source,
     spec: RunSpec,
     status: RunStatus,
     hz: float | None,
@@ -276,7 +276,7 @@ def encode_frozen(frozen: Frozen) -> Snapshot:
 
 
 def capture(
-    sim: Simulation | GymSimulation,
+    sim: Source,
     spec: RunSpec,
     status: RunStatus,
     hz: float | None,

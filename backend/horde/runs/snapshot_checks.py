@@ -23,9 +23,10 @@ import numpy as np
 
 from horde.core.horde import Horde, HordeState
 from horde.core.simulation import Simulation
+from horde.core.source import Source
 from horde.core.world import WorldState
 from horde.runs.errors import SpecError
-from horde.worlds.gym_simulation import GymSimulation, GymWorldState
+from horde.worlds.gym_simulation import GymWorldState
 
 WORD = 2**32  # a generator word is 32 bits
 MAX_COUNT = 2**63 - 1  # the largest count SQLite's INTEGER (signed 64-bit) holds
@@ -101,7 +102,7 @@ def check_interleaved(state: HordeState, arrays: Iterable[tuple[str, np.ndarray]
         check_finite(array, ("body", where, path), any_diverged)
 
 
-def check_world(sim: Simulation | GymSimulation, state: WorldState | GymWorldState) -> None:
+def check_world(sim: Source, state: WorldState | GymWorldState) -> None:
     """A world's state: the agent inside the world, counters not negative, colours and generator words within
     range, numbers finite.
 

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from horde.core.simulation import Readout
+from horde.core.learner import Readout
 from horde.runs.errors import FieldProblem, SpecError
 from horde.runs.stream_snapshot import StreamSnapshot, capture_stream
 from horde.spec import RunSpec
@@ -197,12 +197,8 @@ class StreamLearning:
     def readout(self) -> tuple[Readout, np.ndarray]:
         """Every demon's numbers at the last observation (the demon table's), and [D] their step sizes now."""
         with self._lock:
-            fast = self.learner.loop.fast
-            buf = fast.buf
-            out = Readout(prediction=fast.prediction(), cumulant=fast._per_demon(buf.cumulant),
-                          delta=fast._per_demon(buf.delta), rupee=fast.rupee(), ude=fast.ude(),
-                          diverged=fast._per_demon(buf.diverged).astype(bool))  # fmt: skip
-            return out, fast.effective_step_sizes()
+            loop = self.learner.loop
+            return loop.readout(), loop.engine.effective_step_sizes()
 
     def snapshot(self) -> StreamSnapshot:
         """The learner's state now, between two batches (`stream_snapshot`)."""

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from horde.core.simulation import Readout
+from horde.core.learner import Readout
 from horde.runs import messages as m
 from horde.runs.errors import BusyError, ConflictError, FieldProblem, NotFoundError, SpecError
 from horde.runs.executor import ProcessExecutor

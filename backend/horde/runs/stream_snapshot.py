@@ -14,6 +14,7 @@ from typing import Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
+from horde.core.learner import LearnerState
 from horde.runs.errors import SpecError
 from horde.runs.snapshot import Count, EncodedArray, Number, _encode_tree, decode, decode_horde, encode
 from horde.runs.snapshot_checks import check_finite
@@ -49,7 +50,7 @@ def capture_stream(learner: RecordLearner) -> StreamSnapshot:
         refused=learner.refused,
         pending_action=None if pending is None else pending[0],
         pending_probability=None if pending is None else pending[1],
-        sensors=encode(learner.loop.fast.buf.sensors),
+        sensors=encode(learner.loop.sensors),
         horde=_encode_tree(learner.loop.horde_state()),
     )
 
@@ -62,17 +63,16 @@ def restore_stream(snapshot: StreamSnapshot) -> RecordLearner:
             the pending action is outside the world's actions.
     """
     learner = RecordLearner(snapshot.spec)
-    fast = learner.loop.fast
-    state = decode_horde(learner.loop.horde, learner.loop.horde_state(), snapshot.horde)
+    loop = learner.loop
+    state = decode_horde(loop.horde, loop.horde_state(), snapshot.horde)
     sensors = decode(snapshot.sensors, ("body", "sensors"))
-    if sensors.shape != fast.buf.sensors.shape:
-        raise SpecError.at(("body", "sensors"), f"{sensors.shape[0]} readings, the world has {len(fast.buf.sensors)}")
+    if sensors.shape != (loop.num_sensors,):
+        raise SpecError.at(("body", "sensors"), f"{sensors.shape[0]} readings, the world has {loop.num_sensors}")
     check_finite(sensors, ("body", "sensors"))
     action = snapshot.pending_action
     if action is not None and (action >= learner.loop.num_actions or snapshot.pending_probability is None):
         raise SpecError.at(("body", "pending_action"), "an action of the world's, with its probability")
-    fast.load(state, fast.world_state())
-    fast.buf.sensors[:] = np.asarray(sensors, dtype=float)
+    loop.load(LearnerState(state, loop.state().adaptive), np.asarray(sensors, dtype=float))
     learner.received, learner.learned, learner.refused = snapshot.received, snapshot.learned, snapshot.refused
     if action is not None and snapshot.pending_probability is not None:
         learner._pending = (action, float(snapshot.pending_probability))

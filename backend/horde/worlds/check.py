@@ -1,4 +1,7 @@
-"""`check_world`: the environment contract that every world kind keeps (`core/check.py` checks the grid world).
+"""`check_world`: the environment contract that every world kind keeps, checked through the one interface.
+
+The core's checks take the interface (`horde.core.check.check_source` over a `Source`,
+`check_learner_input` over a `Learner`); this module makes them for each kind and adds what only a kind has.
 
 Modelled on Gymnasium's `check_env`. A grid world is checked on both engines by `core/check.py`'s
 `check_grid_world`; the kinds fed from outside are checked here.
@@ -18,25 +21,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from horde.core.check import WorldCheckError, check_grid_world, check_sensors, require
-from horde.core.external import ExternalLoop, ExternalRecordError
+from horde.core.check import check_grid_world, check_learner_input, check_sensors, check_source, require
 from horde.core.horde import Horde
+from horde.core.learner import Learner
 from horde.spec import BehaviourSpec, GymnasiumWorldSpec, RunSpec, StreamWorldSpec
-
-
-def _refuses_bad_records(loop: ExternalLoop, good: np.ndarray, where: str) -> None:
-    bad = [
-        (np.append(good, 0.0), [0], [1.0], "sensors"),
-        (np.where(np.arange(len(good)) == 0, np.nan, good), [0], [1.0], "sensors."),
-        (good, [loop.num_actions], [1.0], "action"),
-    ]
-    for sensors, action, prob, field in bad:
-        try:
-            loop.learn(sensors, action, prob)
-        except ExternalRecordError as exc:
-            require(str(exc).startswith(field), f"{where}: a bad record was refused without naming {field!r}: {exc}")
-        else:
-            raise WorldCheckError(f"{where}: a bad record ({field}) was learned")
+from horde.worlds.gym_spaces import resolve_world
 
 
 def _gym_trajectory(spec: RunSpec, seed: int, steps: int) -> list[tuple[np.ndarray, ...]]:
@@ -64,8 +53,8 @@ def _gym_trajectory(spec: RunSpec, seed: int, steps: int) -> list[tuple[np.ndarr
         if step.done:
             length = 0
             check_sensors(spec, agent.sensors[None], f"{where}: the next episode's first state")
-        trace.append((sensors, np.array([step.action]), agent.loop.prediction()))
-    _refuses_bad_records(agent.loop, agent.sensors, "gymnasium")
+        trace.append((sensors, np.array([step.action]), agent.learner.prediction()))
+    check_learner_input(agent.learner, agent.sensors, "gymnasium")
     agent.world.close()
     return trace
 
@@ -78,11 +67,11 @@ def _check_stream(spec: RunSpec, seed: int, steps: int) -> None:
     high = np.array([min(bounds[n][1], 1e3) for n in spec.world.sensor_names()])
     sensors = rng.uniform(low, high, size=(steps + 1, len(low)))  # [T + 1, S]
     check_sensors(spec, sensors, "stream records")
-    loop = ExternalLoop(Horde(spec))
+    loop = Learner(Horde(spec))
     loop.observe(sensors[0])
     loop.learn(sensors[1:], rng.integers(0, loop.num_actions, steps), np.full(steps, 1.0 / loop.num_actions))
     require(loop.steps == steps, f"stream: {loop.steps} of {steps} records learned")
-    _refuses_bad_records(loop, sensors[-1], "stream")
+    check_learner_input(loop, sensors[-1], "stream")
 
 
 def check_world(spec: RunSpec, seed: int = 0, batch: int = 16, steps: int = 300) -> None:
@@ -100,9 +89,13 @@ def check_world(spec: RunSpec, seed: int = 0, batch: int = 16, steps: int = 300)
     if spec.world.kind == "grid":
         check_grid_world(spec, seed, batch, steps)
         return
+    spec = resolve_world(spec)
     if isinstance(spec.world, StreamWorldSpec):
         _check_stream(spec, seed, steps)
         return
+    from horde.worlds.gym_simulation import GymSimulation
+
+    check_source(lambda s: GymSimulation(spec, np.random.default_rng(s)), seed, min(steps, 100))
     first = _gym_trajectory(spec, seed, steps)
     second = _gym_trajectory(spec, seed, steps)
     for t, (a, b) in enumerate(zip(first, second, strict=True)):

@@ -1,11 +1,11 @@
-"""A Gymnasium agent behind the face a live run steps: `GymSimulation`, the grid `Simulation`'s twin.
+"""A Gymnasium agent as a source a live run steps: `GymSimulation`, the grid `Simulation`'s twin.
 
-A live run (`horde.runs.session`) steps a source of transitions through one small interface: `run` some
-steps, read the Horde's state, swap the demons (`with_spec`), freeze and restore. The grid world's
-`Simulation` is one source; this is another, a `GymAgent` (the environment stepped in Python, the Horde
-learning each transition through `ExternalLoop`). What the grid keeps in a `WorldState` (the agent's
-position), a Gymnasium world keeps in a `GymWorldState`: the environment's internal state, the steps of
-the episode under way, the sensors there, and the environment's own generator, so that a restored run
+A live run (`horde.runs.session`) steps a source of transitions through one interface (`horde.core.source.
+Source`): `run` some steps, read the Horde's state, swap the demons (`with_spec`), freeze and restore. The
+grid world's `Simulation` is one source; this is another, a `GymAgent` (the environment stepped in Python,
+the Horde learning each transition through its `Learner`). What the grid keeps in a `WorldState` (the
+agent's position), a Gymnasium world keeps in a `GymWorldState`: the environment's internal state, the steps
+of the episode under way, the sensors there, and the environment's own generator, so that a restored run
 goes on bit for bit. Snapshots need an environment that keeps its state in `unwrapped.state` (every
 classic-control one does); others run, but cannot be restored (`GymStateError`: such a run comes back failed,
 saying why).
@@ -17,12 +17,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from horde.core.horde import Horde, HordeState
-from horde.core.simulation import AdaptiveState, Readout, StepResult
+from horde.core.engine.layout import FOREVER
+from horde.core.source import Source, StepResult
 from horde.spec import BehaviourSpec, RunSpec
 from horde.worlds.gymnasium import GymAgent
 
-FOREVER = 2**62
 _WORD = (1 << 32) - 1
 
 
@@ -52,7 +51,7 @@ def _rng_state(words: np.ndarray) -> dict:
             "has_uint32": value[8], "uinteger": value[9]}  # fmt: skip
 
 
-class GymSimulation:
+class GymSimulation(Source):
     """The agent on a Gymnasium world, stepped by a live run.
 
     Args:
@@ -63,13 +62,9 @@ class GymSimulation:
 
     def __init__(self, spec: RunSpec, rng: np.random.Generator | None = None, agent: GymAgent | None = None) -> None:
         self.agent = agent if agent is not None else GymAgent(spec, rng)
-        self.spec = spec
+        self.spec = self.agent.spec  # its world's sensors resolved (`horde.worlds.gym_spaces.resolve_world`)
         self.rng = self.agent.rng
-        self.horde: Horde = self.agent.horde
-        self.with_metrics = True
-
-    # ------------------------------------------------------------------------------------------
-    # Counters and state
+        self.learner = self.agent.learner
 
     @property
     def episode(self) -> int:
@@ -86,42 +81,6 @@ class GymSimulation:
     @total_steps.setter
     def total_steps(self, value: int) -> None:
         self.agent.total_steps = value
-
-    @property
-    def episode_return(self) -> float:
-        return float(self.agent.returns[0])
-
-    @property
-    def last_return(self) -> float:
-        return float(self.agent.returns[1])
-
-    def set_returns(self, episode_return: float, last_return: float) -> None:
-        self.agent.returns = [float(episode_return), float(last_return)]
-
-    @property
-    def sensors(self) -> np.ndarray:
-        """[S] the sensors at the agent's state (a copy)."""
-        return np.array(self.agent.sensors, dtype=float)
-
-    @property
-    def horde_state(self) -> HordeState:
-        return self.agent.loop.horde_state()
-
-    @horde_state.setter
-    def horde_state(self, state: HordeState) -> None:
-        fast = self.agent.loop.fast
-        fast.load(state, fast.world_state())
-
-    def learner_state(self) -> AdaptiveState:
-        """What the adaptive and online learners keep beyond `horde_state` (as `Simulation.learner_state`)."""
-        return AdaptiveState.copy_of(self.agent.loop.fast.onl)
-
-    def load_learner_state(self, state: AdaptiveState) -> None:
-        state.load_into(self.agent.loop.fast.onl)
-
-    def view_state(self) -> HordeState:
-        """A copy for readers: the primary weights only (as `Simulation.view_state`)."""
-        return self.agent.loop.fast.horde_state(weights_only=True)
 
     @property
     def world_state(self) -> GymWorldState:
@@ -154,8 +113,7 @@ class GymSimulation:
         if hasattr(env, "set_wrapper_attr"):
             env.set_wrapper_attr("_elapsed_steps", int(state.steps[0]))
         self.agent.sensors = np.array(state.sensors, dtype=float)
-        buf = self.agent.loop.fast.buf
-        buf.sensors[:] = state.sensors
+        self.learner.engine.t.agent.sensors[:] = state.sensors
 
     @property
     def episode_step(self) -> int:
@@ -167,23 +125,20 @@ class GymSimulation:
         traces restart at the current state (as `Simulation.with_spec`)."""
         old = self.agent
         agent = GymAgent(spec, old.rng, world=old.world, sensors=old.sensors)
-        agent.loop.fast.load(agent.horde.carry_over(old.horde, old.loop.horde_state()), agent.loop.fast.world_state())
-        agent.loop.observe(old.sensors)
-        agent.episode, agent.total_steps, agent.returns = old.episode, old.total_steps, list(old.returns)
         new = GymSimulation(spec, agent=agent)
+        new._carry_over(self)
+        agent.learner.observe(old.sensors)
+        agent.episode, agent.total_steps = old.episode, old.total_steps
+        new.set_returns(self.episode_return, self.last_return)
         new.with_metrics = self.with_metrics
         return new
-
-    # ------------------------------------------------------------------------------------------
-    # Acting
 
     def run(self, max_steps: int, max_episodes: int = FOREVER, behaviour: BehaviourSpec | None = None,
             learning: np.ndarray | None = None) -> StepResult:  # fmt: skip
         """Step until `max_steps` steps or until `max_episodes` episodes have ended; return the last step."""
         agent = self.agent
-        agent.loop.with_metrics = self.with_metrics
         if learning is not None:
-            agent.loop.set_learning(learning)
+            agent.learner.set_learning(learning)
         ended, last = 0, None
         try:
             for _ in range(max_steps):
@@ -194,33 +149,11 @@ class GymSimulation:
                         break
         finally:
             if learning is not None:
-                agent.loop.set_learning(None)
+                agent.learner.set_learning(None)
         if last is None:
             return StepResult(-1, 0.0, False, False, 0.0)
         return StepResult(last.action, last.reward, last.terminated, last.truncated, 0.0)
 
-    # ------------------------------------------------------------------------------------------
-    # Reading out
-
-    def thetas(self) -> list[np.ndarray]:
-        return self.agent.loop.fast.thetas()
-
-    def effective_step_sizes(self) -> np.ndarray:
-        return self.agent.loop.fast.effective_step_sizes()
-
-    def step_sizes(self, name: str) -> np.ndarray:
-        return self.agent.loop.fast.step_sizes(name)
-
-    def prediction_array(self) -> np.ndarray:
-        return self.agent.loop.prediction()
-
-    def predictions(self) -> dict[str, float]:
-        return self.agent.predictions()
-
-    def readout(self) -> Readout:
-        """What the run layer records every step or so, in O(D) (as `Simulation.readout`)."""
-        fast = self.agent.loop.fast
-        buf = fast.buf
-        return Readout(prediction=fast.prediction(), cumulant=fast._per_demon(buf.cumulant),
-                       delta=fast._per_demon(buf.delta), rupee=fast.rupee(), ude=fast.ude(),
-                       diverged=fast._per_demon(buf.diverged))  # fmt: skip
+    def summary_predictions(self) -> dict[str, float]:
+        """Each demon's prediction at the agent's state."""
+        return self.predictions()

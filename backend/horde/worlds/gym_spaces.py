@@ -7,6 +7,9 @@ classic-control environments (which ship with `gymnasium`) get the names and ran
 documentation; where a bound is infinite the range given is the documented typical range (the tile
 coder clips beyond it). Any other environment's components are `obs0`, `obs1`, ... with the space's
 bounds where finite.
+
+`resolve_world(spec)` hands a run spec's Gymnasium world its sensors and actions (validation makes no
+environment: `horde.spec.worlds`), then checks what needs them (`horde.spec.run.check_world_fit`).
 """
 
 from __future__ import annotations
@@ -15,8 +18,10 @@ import math
 from functools import lru_cache
 
 import numpy as np
+from pydantic import ValidationError
+from pydantic_core import InitErrorDetails, PydanticCustomError
 
-from horde.spec import SensorRange
+from horde.spec import GymnasiumWorldSpec, RunSpec, SensorRange, validate_world_fit
 
 # Documented names and ranges of the classic-control observations, and each environment's reward range
 # (an episode's first state reads reward 0).
@@ -120,3 +125,22 @@ def describe(env_id: str) -> tuple[list[SensorRange], int]:
     """
     sensors, actions = _describe(env_id)
     return list(sensors), actions
+
+
+def resolve_world(spec: RunSpec) -> RunSpec:
+    """The spec with its Gymnasium world's sensors and actions resolved and checked (other worlds: as it is).
+
+    Raises:
+        ValidationError: at `world.id` when the environment is not installed or its spaces are not supported;
+            else as RunSpec validation names it (a demon reading an unknown sensor, a policy over other actions).
+    """
+    world = spec.world
+    if not isinstance(world, GymnasiumWorldSpec) or world.resolved:
+        return spec
+    try:
+        sensors, actions = describe(world.id)
+    except GymSpaceError as exc:  # a ValidationError at `world.id`, so that the 422 names the field
+        detail = InitErrorDetails(type=PydanticCustomError("gymnasium_id", str(exc)), loc=("world", "id"),
+                                  input=world.id)  # fmt: skip
+        raise ValidationError.from_exception_data("RunSpec", [detail]) from None
+    return validate_world_fit(spec.model_copy(update={"world": world.with_sensors(sensors, actions)}))

@@ -8,7 +8,7 @@ are drawn with the run's generator, so the same seed gives the same run.
 
 `GymAgent` is the loop: the behaviour acts (probabilities b(.|s_t) exact: uniform, fixed, a sign rule or
 a policy over a control demon's action values), the environment steps, the Horde learns the transition
-(`ExternalLoop.learn`), and an ended episode (terminated, or truncated at the time limit) starts afresh.
+(`Learner.learn`), and an ended episode (terminated, or truncated at the time limit) starts afresh.
 """
 
 from __future__ import annotations
@@ -18,10 +18,11 @@ from typing import Any
 
 import numpy as np
 
-from horde.core.external import ExternalLoop
 from horde.core.horde import Horde
+from horde.core.learner import Learner
 from horde.core.policies import sign_policy
 from horde.spec import BehaviourSpec, GymnasiumWorldSpec, PolicySpec, RunSpec
+from horde.worlds.gym_spaces import resolve_world
 
 
 class GymWorld:
@@ -128,24 +129,24 @@ class GymAgent:
                  sensors: np.ndarray | None = None) -> None:  # fmt: skip
         if not isinstance(spec.world, GymnasiumWorldSpec):
             raise ValueError(f"a GymAgent needs a gymnasium world, not {spec.world.kind!r}")
-        self.spec = spec
+        self.spec = spec = resolve_world(spec)  # its sensors and actions known, the spec checked against them
         self.rng = rng if rng is not None else np.random.default_rng(spec.seed)
-        self.world = world if world is not None else GymWorld(spec.world)
+        self.world = world if world is not None else GymWorld(spec.world)  # type: ignore[arg-type]
         self.horde = Horde(spec)
-        self.loop = ExternalLoop(self.horde)
+        self.learner = Learner(self.horde)
         self.episode = 0
         self.total_steps = 0
-        self.returns = [0.0, 0.0]  # the episode under way, the last finished one
+        self.returns = self.learner.engine.t.agent.returns  # [2] the episode under way, the last finished one
         if world is not None and sensors is not None:
             self.sensors = np.array(sensors, dtype=float)
         else:
             self.sensors = self.world.reset(seed=int(self.rng.integers(2**31)))
-        self.loop.observe(self.sensors)
+        self.learner.observe(self.sensors)
 
     def behaviour_probs(self, behaviour: BehaviourSpec | None = None) -> np.ndarray:
         """[A] b(. | s_t) at the agent's state."""
         behaviour = behaviour or self.spec.behaviour
-        q = self.loop.q() if behaviour.demon is not None else None
+        q = self.learner.q() if behaviour.demon is not None else None
         return policy_probs(behaviour, self.sensors, self.world.sensor_names, self.world.num_actions, q, self.horde)
 
     def step(self, behaviour: BehaviourSpec | None = None) -> GymStep:
@@ -154,16 +155,16 @@ class GymAgent:
         action = int(np.searchsorted(np.cumsum(probs), self.rng.random() * probs.sum(), side="right"))
         action = min(action, len(probs) - 1)
         sensors, terminated, truncated = self.world.step(action)
-        self.loop.learn(sensors, [action], [probs[action]], terminated, truncated)
+        self.learner.learn(sensors, [action], [probs[action]], terminated, truncated)
         reward = float(sensors[-3])
         self.returns[0] += reward
         self.total_steps += 1
         self.sensors = sensors
         if terminated or truncated:
             self.episode += 1
-            self.returns = [0.0, self.returns[0]]
+            self.returns[:] = (0.0, self.returns[0])
             self.sensors = self.world.reset()
-            self.loop.observe(self.sensors)
+            self.learner.observe(self.sensors)
         return GymStep(action, reward, terminated, truncated, sensors)
 
     def run(self, steps: int, behaviour: BehaviourSpec | None = None) -> None:
@@ -171,4 +172,4 @@ class GymAgent:
             self.step(behaviour)
 
     def predictions(self) -> dict[str, float]:
-        return dict(zip(self.horde.names, self.loop.prediction().tolist(), strict=True))
+        return dict(zip(self.horde.names, self.learner.prediction().tolist(), strict=True))

@@ -14,11 +14,12 @@ import numpy as np
 from horde.core.experiment import Progress, ProtocolResult
 from horde.core.experiment import run_protocol as run_grid_protocol
 from horde.core.simulation import Simulation as GridSimulation
+from horde.core.source import Source
 from horde.spec import RunSpec
 from horde.worlds.gym_simulation import GymSimulation
 from horde.worlds.protocol import GymProtocolResult, run_gym_protocol
 
-AnySimulation = GridSimulation | GymSimulation
+AnySimulation = Source  # every source's one face (horde.core.source)
 STREAM_HAS_NO_SIMULATION = (
     "a stream world has no simulation: its records come from outside; learn a recorded log with "
     "horde.learn_log(spec, path), or push records to a server's POST /api/streams"

@@ -39,9 +39,10 @@ def axis_of(horde: Horde, sensor: str) -> Axis:
     low, high = bounds[sensor]
     if not (np.isfinite(low) and np.isfinite(high)):
         tiled = [t for g in horde.groups for t in (g.coder.spec.sensors or []) if t.sensor == sensor]
-        if not tiled:
+        ranged = [(t.low, t.high) for t in tiled if t.low is not None and t.high is not None]
+        if not ranged:
             raise ValueError(f"sensor {sensor!r} has no finite range to draw")
-        low, high = tiled[0].low, tiled[0].high
+        low, high = ranged[0]
     return Axis(sensor, float(low), float(high))
 
 

@@ -120,8 +120,8 @@ def rollout_returns(spec: RunSpec, world: GymWorld, state: np.ndarray, sensors: 
 def run_gym_protocol(spec: RunSpec, progress: Progress | None = None) -> GymProtocolResult:
     """Learn for `protocol.episodes` episodes, then compare predictions with realised returns (see the module)."""
     began = time.perf_counter()
-    protocol, evaluation = spec.protocol, spec.protocol.evaluation
     agent = GymAgent(spec, np.random.default_rng([spec.seed, 0]))
+    spec, protocol, evaluation = agent.spec, spec.protocol, spec.protocol.evaluation  # its sensors resolved
     steps = 0
     while agent.episode < protocol.episodes:
         agent.step()
@@ -129,7 +129,7 @@ def run_gym_protocol(spec: RunSpec, progress: Progress | None = None) -> GymProt
         if progress is not None and agent.total_steps % 1000 == 0:
             progress(agent.episode, protocol.episodes + evaluation.states)
     # Test states: the behaviour goes on without learning; one state every `spacing` steps.
-    agent.loop.set_learning(np.zeros(agent.horde.num_demons, dtype=bool))
+    agent.learner.set_learning(np.zeros(agent.horde.num_demons, dtype=bool))
     spacing = 25
     states: list[tuple[np.ndarray, np.ndarray]] = []
     while len(states) < evaluation.states:
@@ -140,8 +140,8 @@ def run_gym_protocol(spec: RunSpec, progress: Progress | None = None) -> GymProt
     index = [agent.horde.index[name] for name in wanted]
     predictions = np.empty((len(states), len(index)))
     for s, (_, sensors) in enumerate(states):
-        agent.loop.observe(sensors)
-        predictions[s] = agent.loop.prediction()[index]
+        agent.learner.observe(sensors)
+        predictions[s] = agent.learner.prediction()[index]
     groups: dict[str, list[int]] = {}
     for j, i in enumerate(index):
         demon = spec.demons[i]
@@ -164,7 +164,7 @@ def run_gym_protocol(spec: RunSpec, progress: Progress | None = None) -> GymProt
             progress(protocol.episodes + s + 1, protocol.episodes + evaluation.states)
     world.close()
     rows = []
-    diverged = agent.loop.horde_state().diverged  # [D]
+    diverged = agent.learner.readout().diverged  # [D]
     for j, name in enumerate(wanted):
         prediction = float(predictions[:, j].mean())
         if diverged[index[j]] or np.isnan(truths[:, j]).any():  # diverged: frozen at 0 weights, nothing to compare

@@ -31,8 +31,8 @@ from typing import Any
 
 import numpy as np
 
-from horde.core.external import ExternalLoop
 from horde.core.horde import Horde
+from horde.core.learner import Learner
 from horde.spec import RunSpec, StreamWorldSpec
 
 Layout = tuple[list[int], int, list[int] | None]  # a log's sensor columns, action column, probability columns
@@ -123,7 +123,7 @@ class RecordLearner:
     """The Horde of a stream world, learning records in order (see the module for the semantics)."""
 
     spec: RunSpec
-    loop: ExternalLoop = field(init=False)
+    loop: Learner = field(init=False)  # the Horde learning the records
     received: int = 0  # records seen, good or refused
     learned: int = 0  # good records taken in (the first of a run of good records is observed, the rest learned)
     refused: int = 0
@@ -131,7 +131,7 @@ class RecordLearner:
 
     def __post_init__(self) -> None:
         self.world = stream_world(self.spec)
-        self.loop = ExternalLoop(Horde(self.spec))
+        self.loop = Learner(Horde(self.spec))
 
     def check(self, items: list[Any]) -> tuple[Records, list[Refusal]]:
         """Check raw records (numbered from `received` on); returns the good ones and the refusals."""

@@ -24,6 +24,26 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/learners": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * The learners a demon may name, with their parameters and needs
+         * @description Declared by the engine's learner modules (`horde.core.learners`), in the order of their names.
+         */
+        get: operations["list_learners_api_learners_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/me": {
         parameters: {
             query?: never;
@@ -1097,11 +1117,11 @@ export interface components {
             lambda?: number | null;
             /**
              * Learner
-             * @description gq: action values (GQ(lambda)); gtd, td, true_online_td, true_online_gtd, etd: state values
+             * @description gq: action values (GQ(lambda)); the others learn state values (GET /api/learners lists them)
              * @default gq
              * @enum {string}
              */
-            learner: "gq" | "gtd" | "td" | "true_online_td" | "true_online_gtd" | "etd";
+            learner: "etd" | "gq" | "gtd" | "td" | "tdrc" | "true_online_gtd" | "true_online_td";
             /**
              * Meta Step
              * @description meta step size of autostep (mu) or tidbd (theta); defaults to [learning]
@@ -1114,6 +1134,13 @@ export interface components {
              * @default 0
              */
             outcome: number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Input"] | components["schemas"]["MulExpr-Input"] | components["schemas"]["MinExpr-Input"] | components["schemas"]["MaxExpr-Input"] | components["schemas"]["IfExpr-Input"];
+            /**
+             * Parameters
+             * @description the learner's own numbers beyond alpha, alpha_w and lambda, as it declares them (GET /api/learners); each defaults to its declared value
+             */
+            parameters?: {
+                [key: string]: number;
+            } | null;
             policy?: components["schemas"]["PolicySpec"];
             /**
              * Reset
@@ -1168,11 +1195,11 @@ export interface components {
             lambda?: number | null;
             /**
              * Learner
-             * @description gq: action values (GQ(lambda)); gtd, td, true_online_td, true_online_gtd, etd: state values
+             * @description gq: action values (GQ(lambda)); the others learn state values (GET /api/learners lists them)
              * @default gq
              * @enum {string}
              */
-            learner: "gq" | "gtd" | "td" | "true_online_td" | "true_online_gtd" | "etd";
+            learner: "etd" | "gq" | "gtd" | "td" | "tdrc" | "true_online_gtd" | "true_online_td";
             /**
              * Meta Step
              * @description meta step size of autostep (mu) or tidbd (theta); defaults to [learning]
@@ -1185,6 +1212,13 @@ export interface components {
              * @default 0
              */
             outcome: number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Output"] | components["schemas"]["MulExpr-Output"] | components["schemas"]["MinExpr-Output"] | components["schemas"]["MaxExpr-Output"] | components["schemas"]["IfExpr-Output"];
+            /**
+             * Parameters
+             * @description the learner's own numbers beyond alpha, alpha_w and lambda, as it declares them (GET /api/learners); each defaults to its declared value
+             */
+            parameters?: {
+                [key: string]: number;
+            } | null;
             policy?: components["schemas"]["PolicySpec"];
             /**
              * Reset
@@ -1353,15 +1387,28 @@ export interface components {
             /** Value */
             value?: number | null;
         };
-        /** FeatureSpec */
+        /**
+         * FeatureSpec
+         * @description How a state is coded into sparse features, each with a value (DESIGN section 3).
+         */
         FeatureSpec: {
+            /**
+             * Centres
+             * @description rbf: radial basis functions per input, evenly spaced over [0, 1]: centres^inputs features
+             */
+            centres?: number | null;
             condition?: components["schemas"]["Condition"] | null;
             /**
              * Kind
              * @default stripes
              * @enum {string}
              */
-            kind: "stripes" | "tiles" | "grid" | "constant" | "sensors" | "table";
+            kind: "stripes" | "tiles" | "grid" | "constant" | "sensors" | "table" | "polynomial" | "fourier" | "rbf" | "linear";
+            /**
+             * Order
+             * @description polynomial, fourier: the highest exponent (or frequency) of each input: (order + 1)^inputs features
+             */
+            order?: number | null;
             /**
              * Parts
              * @description stripes: columns, rows, diagonals
@@ -1375,7 +1422,7 @@ export interface components {
             sensor?: string | null;
             /**
              * Sensors
-             * @description sensors: each tiled on its own, with its range
+             * @description sensors: each tiled on its own; polynomial, fourier, rbf, linear: the basis' inputs, each scaled from its range [low, high] to [0, 1]
              */
             sensors?: components["schemas"]["TiledSensor"][] | null;
             /**
@@ -1400,13 +1447,24 @@ export interface components {
              * @default 8
              */
             tilings: number;
+            /**
+             * Values
+             * @description table: the value of each index listed, row by row (default 1): Boyan's chain, Sutton et al. 2009's inverted and dependent features
+             */
+            values?: number[][] | null;
+            /**
+             * Width
+             * @description rbf: sigma of each Gaussian, in units of the scaled inputs (default: the spacing of the centres)
+             */
+            width?: number | null;
         };
         /**
          * GymnasiumWorldSpec
          * @description An installed Gymnasium environment with a `Box` (or `Discrete`) observation and a `Discrete` action space.
          *
          *     Its sensors are the observation's components (named and ranged by `horde.worlds.gym_spaces`), then
-         *     `reward`, `terminated` and `truncated`, read after every step (0 at an episode's first state).
+         *     `reward`, `terminated` and `truncated`, read after every step (0 at an episode's first state). They are
+         *     resolved outside validation (`horde.worlds.gym_spaces.resolve_world`): `resolved` says whether they are.
          */
         GymnasiumWorldSpec: {
             /**
@@ -1513,6 +1571,41 @@ export interface components {
             values: {
                 [key: string]: number;
             };
+        };
+        /** LearnerOut */
+        LearnerOut: {
+            /**
+             * Action Values
+             * @description learns action values: may follow its own greedy / softmax policy
+             */
+            action_values: boolean;
+            /**
+             * Name
+             * @description what a demon writes: learner = NAME
+             */
+            name: string;
+            /** Paper */
+            paper: string;
+            /**
+             * Parameters
+             * @description its own numbers, set in a demon's `parameters`
+             */
+            parameters: components["schemas"]["ParameterOut"][];
+            /**
+             * Secondary
+             * @description keeps a second weight vector learned at alpha_w
+             */
+            secondary: boolean;
+            /**
+             * Step Sizes
+             * @description the step-size modes it is defined for
+             */
+            step_sizes: string[];
+            /**
+             * Text
+             * @description one line for people choosing it
+             */
+            text: string;
         };
         /**
          * LearningSpec
@@ -1640,6 +1733,19 @@ export interface components {
         "MulExpr-Output": {
             /** Mul */
             mul: (number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Output"] | components["schemas"]["MulExpr-Output"] | components["schemas"]["MinExpr-Output"] | components["schemas"]["MaxExpr-Output"] | components["schemas"]["IfExpr-Output"])[];
+        };
+        /** ParameterOut */
+        ParameterOut: {
+            /** Default */
+            default: number;
+            /** High */
+            high: number;
+            /** Low */
+            low: number;
+            /** Name */
+            name: string;
+            /** Text */
+            text: string;
         };
         /** PhasePlaneOut */
         PhasePlaneOut: {
@@ -2835,19 +2941,21 @@ export interface components {
         };
         /**
          * TiledSensor
-         * @description One sensor of `kind = "sensors"` features: its readings in [low, high] are tiled (and clipped).
+         * @description One sensor that features read (tiled by `sensors`, the input of a basis): its readings in [low, high] are
+         *     scaled to [0, 1] (and clipped). A range left out is the world's (`horde.spec.run.check_world_fit` refuses a
+         *     sensor without one).
          */
         TiledSensor: {
             /**
              * High
-             * @description the highest reading the tiling resolves
+             * @description the highest reading resolved (default: the world's range)
              */
-            high: number;
+            high?: number | null;
             /**
              * Low
-             * @description the lowest reading the tiling resolves
+             * @description the lowest reading resolved (default: the world's range)
              */
-            low: number;
+            low?: number | null;
             /**
              * Sensor
              * @description a sensor name, e.g. in:zone3
@@ -3188,6 +3296,26 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["HealthOut"];
+                };
+            };
+        };
+    };
+    list_learners_api_learners_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["LearnerOut"][];
                 };
             };
         };

@@ -39,7 +39,11 @@ export async function attempt<T>(app: App, work: () => Promise<T>): Promise<T | 
  */
 export async function loadCatalog(app: App, retryMs = 3000): Promise<void> {
   const load = async () => {
-    await Promise.all([readNow(app.client, reads.scenarios()), readNow(app.client, reads.worlds())]);
+    await Promise.all([
+      readNow(app.client, reads.scenarios()),
+      readNow(app.client, reads.worlds()),
+      readNow(app.client, reads.learners()),
+    ]);
     return true;
   };
   while ((await attempt(app, load)) === undefined) await new Promise((resolve) => setTimeout(resolve, retryMs));

@@ -19,6 +19,7 @@ import type {
 } from "../api/types";
 import { errorMessage } from "../api/client";
 import type { Scope } from "../ui/scope";
+import type { LearnerInfo } from "../lib/learners";
 import { type Root, createQueryClient, keys, onData } from "./queries";
 import { type UiKey, type UiState, UiStore } from "./ui-state";
 
@@ -53,6 +54,8 @@ export interface AppState extends UiState {
   evaluations: Record<string, Evaluation>;
   scenarios: Scenario[];
   worlds: WorldRecord[];
+  /** the learners a demon can choose, as the server's registry declares them (GET /api/learners) */
+  learners: LearnerInfo[];
   /** whether the scenarios and worlds have arrived: until then the forms that launch from them wait */
   catalogLoaded: boolean;
   /** every protocol job the server keeps, oldest first (the Protocol tab's table of results) */
@@ -97,6 +100,7 @@ export function state({ ui, client }: App): AppState {
     live: runId === null ? null : (read<RunState | null>(keys.live(runId)) ?? null),
     evaluations: runId === null ? NO_EVALUATIONS : (read(keys.evaluations(runId)) ?? NO_EVALUATIONS),
     scenarios: scenarios ?? NONE,
+    learners: read<LearnerInfo[]>(keys.learners) ?? NONE,
     worlds: worlds ?? NONE,
     catalogLoaded: scenarios !== undefined && worlds !== undefined,
     protocols: read<Protocol[]>(keys.protocols) ?? NONE,
@@ -123,6 +127,7 @@ const SOURCES: Record<Topic, { ui?: UiKey[]; data?: Root[] }> = {
   live: { ui: ["selectedRunId"], data: ["live"] },
   evaluations: { ui: ["selectedRunId"], data: ["evaluations"] },
   scenarios: { data: ["scenarios"] },
+  learners: { data: ["learners"] },
   worlds: { data: ["worlds"] },
   catalogLoaded: { data: ["scenarios", "worlds"] },
   protocols: { data: ["protocols"] },

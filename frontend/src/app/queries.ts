@@ -23,6 +23,8 @@ export const keys = {
    * selected), then each one Evaluate makes */
   evaluations: (runId: string) => ["evaluations", runId] as const,
   scenarios: ["scenarios"] as const,
+  /** the learners the server's registry declares (GET /api/learners) */
+  learners: ["learners"] as const,
   worlds: ["worlds"] as const,
   view: ["view"] as const,
   protocols: ["protocols"] as const,
@@ -50,6 +52,7 @@ export type Root =
   | "live"
   | "evaluations"
   | "scenarios"
+  | "learners"
   | "worlds"
   | "view"
   | "protocols"

@@ -18,6 +18,7 @@ import type {
   Token,
   WorldRecord,
 } from "../api/types";
+import type { LearnerInfo } from "../lib/learners";
 import { type Query, keys } from "./queries";
 import { VIEWER_KEY } from "./viewer-key";
 
@@ -33,6 +34,7 @@ export const reads = {
     queryKey: keys.demons(runId),
     queryFn: () => unwrap(api.GET("/api/runs/{run_id}/demons", runPath(runId))),
   }),
+  learners: (): Query<LearnerInfo[]> => ({ queryKey: keys.learners, queryFn: () => unwrap(api.GET("/api/learners")) }),
   scenarios: (): Query<Scenario[]> => ({
     queryKey: keys.scenarios,
     queryFn: () => unwrap(api.GET("/api/scenarios")),

@@ -1,22 +1,15 @@
 /**
- * The learners and step-size modes a demon can choose, each with its one-line explanation (README
- * "Learners and step sizes"). Keyed by the API's own types, so a learner the server adds and the
- * dashboard does not explain fails to compile. Which combinations are defined stays the server's to say
- * (a 422 names the field and the papers).
+ * The learners a demon can choose, as the server's registry declares them (GET /api/learners: each
+ * learner module of the engine registers its name, one-line explanation, parameters and needs; the
+ * query cache holds them, `reads.learners`), and the step-size modes with their explanations (README
+ * "Learners and step sizes"). Which combinations are defined stays the server's to say (a 422 names
+ * the field and the papers).
  */
+import type { components } from "../api/schema";
 import type { DemonSpec } from "../api/types";
 
-type Learner = DemonSpec["learner"] & string;
 type StepSize = NonNullable<DemonSpec["step_size"]>;
-
-export const LEARNER_TEXT: Record<Learner, string> = {
-  gq: "GQ(λ): action values",
-  gtd: "GTD(λ): state values",
-  td: "TD(λ): state values, no correction",
-  true_online_td: "true online TD(λ): the forward view exactly, less step-size sensitive",
-  true_online_gtd: "true online GTD(λ): the same, with GTD's correction",
-  etd: "emphatic TD(λ): stable off-policy, no second weight vector",
-};
+export type LearnerInfo = components["schemas"]["LearnerOut"];
 
 export const STEP_SIZE_TEXT: Record<StepSize, string> = {
   constant: "constant: α as given",
@@ -24,7 +17,13 @@ export const STEP_SIZE_TEXT: Record<StepSize, string> = {
   tidbd: "tidbd (TD only): per-weight, tuned online by meta-descent",
 };
 
-/** [value, label] pairs for a select, in the order above. */
+/** [value, label] pairs of the registry's learners, for a select ("gq" alone until they arrive). */
+export function learnerChoices(infos: readonly LearnerInfo[]): (readonly [string, string])[] {
+  if (infos.length === 0) return [["gq", "gq"]];
+  return infos.map((info) => [info.name, `${info.name}: ${info.text}`] as const);
+}
+
+/** [value, label] pairs for a select, in the order of the texts. */
 export function choices<K extends string>(texts: Record<K, string>): (readonly [K, string])[] {
   return (Object.keys(texts) as K[]).map((key) => [key, texts[key]] as const);
 }

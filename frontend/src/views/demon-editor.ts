@@ -10,7 +10,7 @@ import { mount } from "../app/view";
 import { ApiError, errorMessage } from "../api/client";
 import type { DemonSpec } from "../api/types";
 import { runLabel } from "../lib/format";
-import { LEARNER_TEXT, STEP_SIZE_TEXT, choices as choicesOf } from "../lib/learners";
+import { STEP_SIZE_TEXT, choices as choicesOf, learnerChoices } from "../lib/learners";
 import { regionNames, sensorNames } from "../lib/world";
 import { FormErrors, bound, generalError, numberField, selectField, textField } from "../ui/form";
 import { choices, host } from "../ui/html";
@@ -48,7 +48,9 @@ export function demonEditor(app: App, scope: Scope): HTMLElement {
     editor.touched = true;
     errors.onInput(event);
   };
-  const draw = mount(app, scope, element, ["run", "demons"], (now) => editorTemplate(editor, now, errors, redraw));
+  const draw = mount(app, scope, element, ["run", "demons", "learners"], (now) =>
+    editorTemplate(editor, now, errors, redraw),
+  );
   element.addEventListener("submit", onSubmit);
   element.addEventListener("input", onInput);
   element.addEventListener("change", errors.onInput);
@@ -109,7 +111,7 @@ function editorTemplate(editor: Editor, now: AppState, errors: FormErrors, redra
     </div>
     ${textField({ label: "Name", path: "name", errors, term: "demon" }, { name: "name", ...bound(editor.text, "name") })}
     <div class="editor-columns">
-      ${questionFields(editor.text, now, errors, redraw)} ${answerFields(editor.text, run, errors, redraw)}
+      ${questionFields(editor.text, now, errors, redraw)} ${answerFields(editor.text, now, errors, redraw)}
     </div>
     ${generalError(errors)}
     <div class="actions">
@@ -134,7 +136,8 @@ function questionFields(text: DemonText, now: AppState, errors: FormErrors, redr
   </fieldset>`;
 }
 
-function answerFields(text: DemonText, run: AppState["run"], errors: FormErrors, redraw: () => void) {
+function answerFields(text: DemonText, now: AppState, errors: FormErrors, redraw: () => void) {
+  const { run } = now;
   const learning = run?.spec.learning;
   // Empty fields take the run's values, shown greyed.
   const number = (
@@ -152,7 +155,7 @@ function answerFields(text: DemonText, run: AppState["run"], errors: FormErrors,
     ${selectField(
       { label: "Learner", path: "learner", errors, term: "learner" },
       { name: "learner", ...bound(text, "learner") },
-      choices(choicesOf(LEARNER_TEXT), text.learner),
+      choices(learnerChoices(now.learners), text.learner),
     )}
     ${featuresFields(text.features, errors, redraw)}
     <div class="row">

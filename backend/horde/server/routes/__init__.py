@@ -6,6 +6,7 @@ from horde.server.routes import (
     demons,
     exports,
     health,
+    learners,
     overview,
     protocols,
     records,
@@ -22,6 +23,7 @@ from horde.server.routes import (
 # Each resource's reads (`router`), then its writes (`writes`, which need the token: deps.write_router).
 ROUTERS: tuple[APIRouter, ...] = (
     health.router,
+    learners.router,
     scenarios.router,
     worlds.router,
     worlds.writes,

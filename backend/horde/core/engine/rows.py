@@ -1,0 +1,199 @@
+"""The row primitives every learner's kernel shares: sums of weight rows, sparse dot products, the TD error.
+
+A block's weights are `[rows, Db]` row-major (feature-major): the weights of one feature for all the block's
+demons are one contiguous row, so a sum over active features `theta . x` for every demon is a sum of whole
+rows, and a kernel that learns a run of columns (demons i0 <= i < i1, `step.columns_on_threads`) reads a
+run of each row. Features are sparse: sorted distinct indices `x` with values `v`.
+
+Offsets into the flat buffers are unsigned (`at`): numba wraps a signed index that may be negative, and that
+check turns a row loop's loads into gathers (2 to 8 times slower); with unsigned offsets the loops load
+contiguous vectors.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from horde.core.engine.layout import NO_NRT
+
+
+@njit(**NO_NRT, inline="always")
+def at(offset):
+    """An offset into a flat buffer as an unsigned integer (never wrapped around: see the module)."""
+    return np.uint64(offset)
+
+
+@njit(**NO_NRT, inline="always")
+def td_error(r_tp1, z_tp1, gamma_tp1, v_tp1, v_t):
+    """delta_t = r_tp1 + (1 - gamma_tp1) z_tp1 + gamma_tp1 v_tp1 - v_t: the one TD error of every learner."""
+    return r_tp1 + (1.0 - gamma_tp1) * z_tp1 + gamma_tp1 * v_tp1 - v_t
+
+
+@njit(**NO_NRT)
+def sum_rows(flat, start, x, v, db, acc):
+    """acc += sum_j v[j] * row x[j] of the [n, db] array at flat[start:], four rows at a time.
+
+    acc may be a run of columns: start then points at its first column, and db stays the row length. A
+    value of 1 multiplies exactly, so binary features give the sums of the rows bit for bit."""
+    width = acc.shape[0]
+    k = x.shape[0]
+    j = 0
+    while j + 4 <= k:
+        o0 = at(start + x[j] * db)
+        o1 = at(start + x[j + 1] * db)
+        o2 = at(start + x[j + 2] * db)
+        o3 = at(start + x[j + 3] * db)
+        v0, v1, v2, v3 = v[j], v[j + 1], v[j + 2], v[j + 3]
+        for i in range(width):
+            u = at(i)
+            acc[i] += ((v0 * flat[o0 + u] + v1 * flat[o1 + u]) + v2 * flat[o2 + u]) + v3 * flat[o3 + u]
+        j += 4
+    while j < k:
+        o0 = at(start + x[j] * db)
+        v0 = v[j]
+        for i in range(width):
+            acc[i] += v0 * flat[o0 + at(i)]
+        j += 1
+
+
+@njit(**NO_NRT)
+def read_in_pairs(flat, start, x, v, db, acc):
+    """acc = sum_j v[j] * row x[j], two rows at a time (a run of columns, as in `sum_rows`).
+
+    TD's read of its new values: `sum_rows`' four rows at a time made TD 13 to 15 % faster (alternated runs),
+    which would take Autostep under the third of TD's speed that the learners issue asks
+    (docs/performance.md, "Sixth session")."""
+    width = acc.shape[0]
+    for i in range(width):
+        acc[i] = 0.0
+    k = x.shape[0]
+    j = 0
+    while j + 1 < k:
+        u0 = at(start + x[j] * db)
+        u1 = at(start + x[j + 1] * db)
+        v0, v1 = v[j], v[j + 1]
+        for i in range(width):
+            acc[i] += v0 * flat[u0 + at(i)] + v1 * flat[u1 + at(i)]
+        j += 2
+    if j < k:
+        u0 = at(start + x[j] * db)
+        v0 = v[j]
+        for i in range(width):
+            acc[i] += v0 * flat[u0 + at(i)]
+
+
+@njit(**NO_NRT)
+def read_range(woff, db, actions, n_s, theta, x, v, i0, i1, out):
+    """Values at the active state features (x, v) of the block at woff ([actions n_s, db] weights) for its
+    demons i0 <= i < i1: out[a, i0:i1] for every action a of action values, or a = 0."""
+    for a in range(actions):
+        acc = out[a, i0:i1]
+        acc[:] = 0.0
+        sum_rows(theta, woff + a * n_s * db + i0, x, v, db, acc)
+
+
+@njit(**NO_NRT)
+def dot(x, vx, y, vy):
+    """x . y for two sparse vectors (sorted distinct indices with values)."""
+    total = 0.0
+    i = 0
+    j = 0
+    while i < x.shape[0] and j < y.shape[0]:
+        if x[i] < y[j]:
+            i += 1
+        elif y[j] < x[i]:
+            j += 1
+        else:
+            total += vx[i] * vy[j]
+            i += 1
+            j += 1
+    return total
+
+
+@njit(**NO_NRT)
+def square(v):
+    """sum_j v[j]^2: x . x of a sparse vector with values v."""
+    total = 0.0
+    for j in range(v.shape[0]):
+        total += v[j] * v[j]
+    return total
+
+
+@njit(**NO_NRT)
+def pay_and_read(theta, start, x_t, v_t, x_tp1, v_tp1, db, owed, acc):
+    """theta pays `owed` on the rows of x_t (times x_t's value there), then acc = theta . x_tp1: one walk over
+    the union of the two sorted lists. As in `sum_rows`, acc may be a run of columns (start at its first
+    column, db the row length); `owed` (the same run) is 0 afterwards."""
+    width = acc.shape[0]
+    for i in range(width):
+        acc[i] = 0.0
+    nt = x_t.shape[0]
+    nn = x_tp1.shape[0]
+    j_t = 0
+    j_n = 0
+    while j_t < nt or j_n < nn:
+        on_t = j_t < nt and (j_n >= nn or x_t[j_t] <= x_tp1[j_n])
+        on_n = j_n < nn and (j_t >= nt or x_tp1[j_n] <= x_t[j_t])
+        row = x_t[j_t] if on_t else x_tp1[j_n]
+        u = at(start + row * db)
+        if not on_t:
+            m_n = v_tp1[j_n]
+            for i in range(width):
+                acc[i] += m_n * theta[u + at(i)]
+        elif not on_n:
+            m_t = v_t[j_t]
+            for i in range(width):
+                theta[u + at(i)] -= m_t * owed[i]
+        else:
+            m_t, m_n = v_t[j_t], v_tp1[j_n]
+            for i in range(width):
+                value = theta[u + at(i)] - m_t * owed[i]
+                theta[u + at(i)] = value
+                acc[i] += m_n * value
+        j_t += 1 if on_t else 0
+        j_n += 1 if on_n else 0
+    for i in range(width):
+        owed[i] = 0.0
+
+
+@njit(**NO_NRT)
+def spread(trace, start, ncls, class_lo, class_hi, coff, i0, i1, out):
+    """out[i - i0] = the trace value (trace[start + c]) of the class of demon i, for i0 <= i < i1."""
+    for c in range(ncls):
+        c0 = max(class_lo[coff + c], i0)
+        c1 = min(class_hi[coff + c], i1)
+        if c0 < c1:
+            out[c0 - i0 : c1 - i0] = trace[start + c]
+
+
+@njit(**NO_NRT, inline="always")
+def add_row(i0, i1, base, theta, acc, value):
+    """acc += value * the weight row at base, columns i0 <= i < i1 (values at x_tp1, read row by row)."""
+    for i in range(i0, i1):
+        u = at(i)
+        acc[u] += value * theta[base + u]
+
+
+@njit(**NO_NRT, inline="always")
+def walk(rows, kept, s, x_t, v_t, j, x_tp1, v_tp1, m):
+    """The next row of a walk over the support (rows[:kept]), x_t and x_tp1, all sorted, from positions s, j
+    and m: (the row, or -1 at the end; whether it is in the support; x_t's and x_tp1's values on it, 0
+    where it is not theirs; the three positions past it)."""
+    row = -1
+    if s < kept:
+        row = rows[s]
+    if j < x_t.shape[0] and (row < 0 or x_t[j] < row):
+        row = x_t[j]
+    if m < x_tp1.shape[0] and (row < 0 or x_tp1[m] < row):
+        row = x_tp1[m]
+    in_support = s < kept and rows[s] == row
+    on_x = 0.0
+    if j < x_t.shape[0] and x_t[j] == row:
+        on_x = v_t[j]
+        j += 1
+    on_next = 0.0
+    if m < x_tp1.shape[0] and x_tp1[m] == row:
+        on_next = v_tp1[m]
+        m += 1
+    return row, in_support, on_x, on_next, s + (1 if in_support else 0), j, m

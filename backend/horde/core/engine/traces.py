@@ -1,0 +1,117 @@
+"""The one trace kernel every learner shares: each class's trace decayed, x_t added, the support merged and cut.
+
+A block keeps one trace column per trace class (demons with the same target policy, continuation, discount
+and lambda, and for dutch traces the same alpha, have the same trace: DESIGN section 6). A trace is zero
+outside the rows seen in the last few dozen steps; a block's support is the rows where any of its classes is
+non-zero, sorted, and only those rows are touched by an update. Entries below the cut are set to zero
+(`cut = 0` keeps every non-zero entry and equals `reference.py` to 1e-9).
+
+What differs between learners is only what the trace decays by and what x_t adds (`decay[c]`, `add[c]`,
+which each learner's `prepare` writes: gamma_t lambda rho_t and rho_t for TD and GTD, 1 for GQ, a dutch
+trace's alpha (1 - rho gamma lambda e . x_t), emphatic TD's rho M_t).
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+from horde.core.engine.layout import NO_NRT
+
+
+@njit(**NO_NRT)
+def decay_classes(tr, on_x, decay, add, cut, value):
+    """New trace values of one row, one per class, in place (x_t's value on the row: `value`); entries below the
+    cut become 0. Branch-free, so that it vectorizes. Returns whether any entry is left."""
+    left = 0
+    if on_x:
+        for c in range(tr.shape[0]):
+            t = tr[c] * decay[c] + add[c] * value
+            t = t if abs(t) >= cut else 0.0
+            tr[c] = t
+            left += 1 if t != 0.0 else 0
+    else:
+        for c in range(tr.shape[0]):
+            t = tr[c] * decay[c]
+            t = t if abs(t) >= cut else 0.0
+            tr[c] = t
+            left += 1 if t != 0.0 else 0
+    return left > 0
+
+
+@njit(**NO_NRT, inline="always")
+def merge(b, lay, wts, scr, x_t, v_t, shift, keep_dropped):
+    """Block b's traces for this step: e_c <- decay[c] e_c + add[c] x_t (x_t's rows shifted by `shift`, the
+    action's block of state-action features), then the cut; x_t's rows merged into the support (both sorted).
+    Nothing per demon is touched, so that the block's columns can then be learned apart.
+
+    Returns (kept, dropped): the rows left with a trace, in `scr.rows[:kept]` in increasing order (the new
+    support; `scr.rows_f` x_t's value on each, 0 off x_t; `scr.rows_e` the trace value of a one-class block);
+    with `keep_dropped`, the rows of x_t left with none at the end of `scr.rows` (from its last entry down,
+    their values in `scr.rows_f`): GTD's w still moves there.
+    """
+    toff, voff, ncls, cut = lay.toff[b], lay.voff[b], lay.ncls[b], lay.cut
+    trace, support, rows, rows_e, rows_f = wts.trace, wts.support, scr.rows, scr.rows_e, scr.rows_f
+    decay, add = scr.decay, scr.add
+    k = x_t.shape[0]
+    end = rows.shape[0] - 1
+    old = wts.nnz[b]
+    i_old = 0
+    j_new = 0
+    out = 0
+    dropped = 0
+    while i_old < old or j_new < k:
+        if j_new >= k or (i_old < old and support[toff + i_old] < shift + x_t[j_new]):
+            row = support[toff + i_old]
+            on_x = False
+            value = 0.0
+            i_old += 1
+        else:
+            row = shift + x_t[j_new]
+            on_x = True
+            value = v_t[j_new]
+            if i_old < old and support[toff + i_old] == row:
+                i_old += 1
+            j_new += 1
+        if ncls == 1:
+            t = trace[voff + row] * decay[0]
+            if on_x:
+                t += add[0] * value
+            trace[voff + row] = t if abs(t) >= cut else 0.0
+            left = trace[voff + row] != 0.0
+            rows_e[out] = trace[voff + row]  # the stored value
+        else:
+            left = decay_classes(trace[voff + row * ncls : voff + (row + 1) * ncls], on_x, decay, add, cut, value)
+        if not left:
+            if on_x and keep_dropped:
+                rows[end - dropped] = row
+                rows_f[end - dropped] = value
+                dropped += 1
+            continue
+        rows[out] = row
+        rows_f[out] = value
+        out += 1
+    for s in range(out):  # element by element: a slice copy may allocate (kernels run without NRT)
+        support[toff + s] = rows[s]
+    wts.nnz[b] = out
+    wts.touched[b] = out
+    return out, dropped
+
+
+@njit(**NO_NRT)
+def clear(b, lay, wts):
+    """Block b's traces to zero (an episode starts): only its support rows are non-zero."""
+    toff, voff, ncls = lay.toff[b], lay.voff[b], lay.ncls[b]
+    for s in range(wts.nnz[b]):
+        row = wts.support[toff + s]
+        for c in range(ncls):
+            wts.trace[voff + row * ncls + c] = 0.0
+    wts.nnz[b] = 0
+
+
+@njit(**NO_NRT)
+def trace_dot(trace, voff, ncls, c, x, v):
+    """Class c's trace . x over the rows x (values v)."""
+    total = 0.0
+    for j in range(x.shape[0]):
+        total += v[j] * trace[voff + x[j] * ncls + c]
+    return total

@@ -1,0 +1,141 @@
+"""The learners: one module per learner family, each with its registration, its readable numpy form and its
+compiled kernel for the engine.
+
+* `gradient`: GQ(lambda), GTD(lambda), off-policy TD(lambda);
+* `true_online`: true online TD(lambda), true online GTD(lambda);
+* `emphatic`: emphatic TD(lambda);
+* `adaptive`: TD(lambda) with Autostep / TIDBD step sizes;
+* `tdrc`: TD with regularized corrections (GTD's kernel, h kept scaled).
+
+Importing this package registers every learner with the spec (`horde.spec.learners`), so that a demon may
+name it, the API lists it (`GET /api/learners`) and the dashboard offers it. A learner module declares
+`register(LearnerInfo(...))` (the spec's view: name, text, parameters, needs) and `KERNELS` (the engine's
+view: one `Kernel` per code, `base.Kernel`), and has `prepare`, `columns` and `finish`, which the engine's
+step calls through the dispatchers below for every block of that learner:
+
+* `prepare(...)`: before the block's columns, what is shared by its demons: each class's trace decay and what
+  x_t adds, the trace merge (`engine.traces.merge`), whatever else the block does once;
+* `columns(..., b, i0, i1, ...)`: demons i0 <= i < i1 learn the transition, touching only their columns (a
+  block of at least `PARALLEL_MIN` demons splits them over threads: `engine.step.columns_on_threads`), and
+  store their values, policies and predictions at s_{t+1};
+* `finish(...)`: after every column learned (each class's continuation moves to s_{t+1}).
+
+A new learner is a new module (and its tests and oracle function in `reference.py`), imported here and
+dispatched on by its code below.
+"""
+
+from numba import njit
+
+from horde.core.engine.layout import NO_NRT
+from horde.core.learners import adaptive, emphatic, gradient, online, tdrc, true_online
+from horde.core.learners.adaptive import adaptive_td_update
+from horde.core.learners.base import Kernel, OnlineState, online_zeros
+from horde.core.learners.emphatic import etd_update
+from horde.core.learners.gradient import LearnerParams, LearnerState, dot_sparse, update, zeros
+from horde.core.learners.tdrc import tdrc_update
+from horde.core.learners.true_online import true_online_gtd_update, true_online_td_update
+
+FAMILIES = (gradient, true_online, emphatic, adaptive, tdrc)
+KERNELS: dict[int, Kernel] = {k.code: k for m in FAMILIES for k in m.KERNELS}
+assert len(KERNELS) == sum(len(m.KERNELS) for m in FAMILIES), "two kernels have one code"
+GQ_CODE, GTD_CODE, TD_CODE = gradient.GQ_CODE, gradient.GTD_CODE, gradient.TD_CODE
+TOTD_CODE, TOGTD_CODE, ETD_CODE = true_online.TOTD_CODE, true_online.TOGTD_CODE, emphatic.ETD_CODE
+TIDBD_CODE, AUTOSTEP_CODE, TDRC_CODE = adaptive.TIDBD_CODE, adaptive.AUTOSTEP_CODE, tdrc.TDRC_CODE
+
+
+def kernel_for(learner: str, step_size: str = "constant") -> Kernel:
+    """The kernel that learns `learner` with `step_size`.
+
+    Raises:
+        ValueError: no kernel learns that combination (the spec refuses it first: `step_size_problem`).
+    """
+    for kernel in KERNELS.values():
+        if kernel.learner == learner and kernel.step_size == step_size:
+            return kernel
+    raise ValueError(f"no kernel learns {learner!r} with step size {step_size!r}")
+
+
+@njit(**NO_NRT, inline="always")
+def prepare(code, b, lay, wts, dem, cls, onl, stp, scr):
+    """Block b's shared work before its columns (see the module)."""
+    if code in (TD_CODE, GTD_CODE, GQ_CODE):
+        gradient.prepare(code, b, lay, wts, dem, cls, stp, scr)
+    elif code in (TOTD_CODE, TOGTD_CODE):
+        true_online.prepare(code, b, lay, wts, dem, cls, onl, stp, scr)
+    elif code == ETD_CODE:
+        emphatic.prepare(b, lay, wts, dem, cls, onl, stp, scr)
+    elif code == TDRC_CODE:
+        tdrc.prepare(b, lay, wts, dem, cls, onl, stp, scr)
+    else:
+        adaptive.prepare(code, b, lay, wts, cls, onl, stp, scr)
+
+
+@njit(**NO_NRT, inline="always")
+def columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
+    """Block b's demons i0 <= i < i1 learn the transition (see the module)."""
+    if code in (TD_CODE, GTD_CODE, GQ_CODE):
+        gradient.columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr)
+    elif code == TDRC_CODE:
+        gradient.columns(GTD_CODE, b, i0, i1, lay, wts, dem, cls, stp, scr)
+    elif code in (TOTD_CODE, TOGTD_CODE):
+        true_online.columns(b, i0, i1, lay, wts, dem, stp, scr, onl)
+    elif code == ETD_CODE:
+        emphatic.columns(b, i0, i1, lay, wts, dem, stp, scr, onl)
+    else:
+        adaptive.columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr)
+
+
+@njit(**NO_NRT, inline="always")
+def finish(code, b, lay, wts, cls, onl, stp, scr):
+    """Block b after every column learned (see the module)."""
+    if code in (TD_CODE, GTD_CODE, GQ_CODE):
+        gradient.finish(code, b, lay, cls, stp, scr)
+    elif code == TDRC_CODE:
+        tdrc.finish(b, lay, wts, cls, onl, stp, scr)
+    else:
+        online.finish(b, lay, cls, onl)
+
+
+@njit(**NO_NRT)
+def settle(b, lay, wts, x, v, n_s):
+    """Pay what block b owes (the gradient family's correction at the last x_{t+1}: `gradient.columns`) on the
+    rows x (values v), so that theta can be read whole."""
+    if lay.owes[b]:
+        gradient.settle_owed(b, lay, wts, x, v, n_s)
+
+
+@njit(**NO_NRT)
+def episode_start(lay, wts, onl):
+    """An episode starts: the learners that keep state beyond the weights restart it where a demon forgets its
+    weights (`adaptive.reset`, `tdrc.episode_start`)."""
+    adaptive.reset(lay, onl)
+    tdrc.episode_start(lay, wts, onl)
+
+
+__all__ = [
+    "KERNELS",
+    "Kernel",
+    "LearnerParams",
+    "LearnerState",
+    "OnlineState",
+    "adaptive",
+    "adaptive_td_update",
+    "columns",
+    "dot_sparse",
+    "emphatic",
+    "episode_start",
+    "etd_update",
+    "finish",
+    "gradient",
+    "kernel_for",
+    "online_zeros",
+    "prepare",
+    "settle",
+    "tdrc",
+    "tdrc_update",
+    "true_online",
+    "true_online_gtd_update",
+    "true_online_td_update",
+    "update",
+    "zeros",
+]

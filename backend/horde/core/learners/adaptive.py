@@ -1,0 +1,419 @@
+"""TD(lambda) with a step size per weight, adapted online: TIDBD(lambda) and Autostep (AutoTIDBD).
+
+TIDBD(lambda) (Kearney, Veeriah, Travnik, Pilarski & Sutton 2019) and Autostep (Mahmood, Sutton, Degris &
+Pilarski 2012) in its TD form (AutoTIDBD, Kearney et al. 2019): step-size modes of the `td` learner
+(`step_size = "tidbd" | "autostep"`). Readable numpy form below (`adaptive_td_update`);
+`reference.adaptive_td_step` is the oracle.
+
+The compiled kernel keeps TD's shared trace and adds, per demon and weight, a step size (`Online.step_a`,
+times a per-demon scale `Online.scale`, so that Autostep's division of every step size by M costs O(1)),
+its h (in the block's w, which TD leaves unused) and, for Autostep, its normaliser v (`Online.step_v`).
+Feature values enter where the papers' phi_i does: the meta-gradient sample delta phi_i h_i, Autostep's
+normaliser step alpha_i phi_i e_i, the effective step size alpha . e (phi - gamma phi'), h's decay
+[1 - alpha_i phi_i e_i]^+.
+
+A step is three passes over few rows: the values at x_tp1 under the weights before the step (read on the
+threads, then the TD errors); the meta step on the rows of x_t only (phi_i = 0 elsewhere: the papers' update
+leaves alpha_i and v_i of other weights as they are); theta and h on the support's rows (every weight with a
+nonzero trace), fused with reading the new values at x_tp1. Autostep's effective step size is summed within
+the first two passes. The paper's order divides every step size by M, a sum over all the rows of x_t, before
+theta moves; for a run of demons whose M provably stays 1 (an upper bound from the step sizes before the
+meta step, read in the first pass, as |the meta step's argument| <= mu) the meta step and the update go in
+one walk (`fused_columns`, the same operations in the same order: the same numbers). Autostep's exp is a
+polynomial when the block's meta step sizes allow (`exp_tiny`, `exp_small`), chosen once per block;
+`_adaptive_kernel` compiles the kernel once per kind of exp.
+
+Why one module of about 420 lines: the kernel factory is the three passes written once, with their numpy form
+and registration beside them.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from horde.core.engine.layout import NO_NRT
+from horde.core.engine.rows import add_row, at, walk
+from horde.core.engine.traces import merge
+from horde.core.learners.base import Kernel, OnlineState, check_online, target
+from horde.core.learners.online import class_bounds, errors, store_values
+
+TIDBD_CODE, AUTOSTEP_CODE = 6, 7  # the engine's kernel codes
+KERNELS = (
+    Kernel(TIDBD_CODE, "td", step_size="tidbd", vectors=3, keeps_state=True),
+    Kernel(AUTOSTEP_CODE, "td", step_size="autostep", vectors=4, keeps_state=True),
+)
+TINY_EXP = 0.01  # Autostep's meta steps with mu at most this use exp_tiny (|argument| <= mu), the default mu
+SMALL_EXP = 1.0 / 16  # ... with mu at most this exp_small, above it math.exp
+EXP_ANY, EXP_SMALL, EXP_TINY = 0, 1, 2  # which exp a block's meta steps take (`prepare`)
+SCALE_FLOOR = 1e-150  # a demon's lazily kept step-size scale is folded back into its step sizes below this
+
+
+def adaptive_td_update(
+    state: OnlineState, lam: np.ndarray, autostep: np.ndarray, meta: np.ndarray, tau: float, x_t: np.ndarray,
+    x_tp1: np.ndarray, r_tp1: np.ndarray, z_tp1: np.ndarray, gamma_t: np.ndarray, gamma_tp1: np.ndarray,
+    rho_t: np.ndarray,
+) -> tuple[OnlineState, np.ndarray]:  # fmt: skip
+    """TD(lambda) with per-weight step sizes (state.e_w) adapted online: TIDBD(lambda) (Kearney, Veeriah,
+    Travnik, Pilarski & Sutton 2019) where autostep is 0, Autostep (Mahmood, Sutton, Degris & Pilarski
+    2012) in its TD form (AutoTIDBD, Kearney et al. 2019) where autostep is 1; see
+    `reference.adaptive_td_step` for the equations. h lives in state.w, autostep's v in state.e_grad.
+
+    Args: autostep [D] 1.0 or 0.0; meta [D] mu (autostep) or theta (tidbd); tau autostep's time scale.
+    Returns: (new state, delta_t [D]).
+    """
+    check_online(state, x_t, lam, autostep, meta, r_tp1, z_tp1, gamma_t, gamma_tp1, rho_t)
+    _, _, delta = target(state, x_t, x_tp1, r_tp1, z_tp1, gamma_tp1)
+    e = rho_t[:, None] * (x_t + (gamma_t * lam)[:, None] * state.e)  # [D, n]
+    h, v, alphas = state.w, state.e_grad, state.e_w
+    sample = delta[:, None] * x_t * h  # [D, n]
+    auto = autostep[:, None] > 0.0
+    v = np.where(auto, np.maximum(np.abs(sample), v + alphas * x_t * e * (np.abs(sample) - v) / tau), v)
+    ratio = np.where(auto, np.divide(sample, v, out=np.zeros_like(v), where=v != 0.0), sample)
+    alphas = alphas * np.exp(meta[:, None] * ratio)
+    effective = (alphas * e * (x_t - gamma_tp1[:, None] * x_tp1)).sum(axis=1)  # [D]
+    alphas = alphas / np.where(autostep > 0.0, np.maximum(effective, 1.0), 1.0)[:, None]
+    theta = state.theta + alphas * delta[:, None] * e
+    h = h * np.maximum(1.0 - alphas * x_t * e, 0.0) + alphas * delta[:, None] * e
+    return state._replace(theta=theta, w=h, e=e, e_grad=v, e_w=alphas, rho_prev=rho_t), delta
+
+
+# ----------------------------------------------------------------------------------------------
+# The compiled kernel
+
+
+@njit(**NO_NRT)
+def prepare(code, b, lay, wts, cls, onl, stp, scr):
+    """Block b before its columns: each class's trace decays by gamma_t lambda rho_t and x_t adds rho_t (TD's
+    trace); the block's meta step sizes choose the kind of exp (in scr.counts[1])."""
+    lo, ncls, coff = lay.block_lo[b], lay.ncls[b], lay.coff[b]
+    for c in range(ncls):
+        rho = cls.rho[coff + c]
+        scr.decay[c] = cls.gamma[coff + c] * lay.lam[b] * rho
+        scr.add[c] = rho
+    class_bounds(b, lay, onl)
+    kept, _ = merge(b, lay, wts, scr, stp.x_t, stp.v_t, 0, False)
+    scr.counts[0] = kept
+    bound = 0.0  # the largest meta step size of the block: which exp its meta steps take (one kind for the block)
+    for i in range(lay.block_hi[b] - lo if code == AUTOSTEP_CODE else 0):
+        bound = max(bound, onl.meta[lo + i])
+    scr.counts[1] = exp_kind(bound)
+
+
+@njit(**NO_NRT)
+def exp_kind(bound):
+    """Which exp Autostep's meta steps take when no meta step size of the block is above `bound` (|the
+    argument| <= mu, as |delta phi h| <= v)."""
+    return EXP_TINY if bound <= TINY_EXP else (EXP_SMALL if bound <= SMALL_EXP else EXP_ANY)
+
+
+@njit(**NO_NRT)
+def columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
+    """Block b's demons i0 <= i < i1 learn the transition with the kind of exp `prepare` chose."""
+    kind = scr.counts[1]
+    if kind == EXP_TINY:
+        _adaptive_tiny(code == AUTOSTEP_CODE, b, i0, i1, lay, wts, dem, cls, onl, stp, scr)
+    elif kind == EXP_SMALL:
+        _adaptive_small(code == AUTOSTEP_CODE, b, i0, i1, lay, wts, dem, cls, onl, stp, scr)
+    else:
+        _adaptive_any(code == AUTOSTEP_CODE, b, i0, i1, lay, wts, dem, cls, onl, stp, scr)
+    store_values(b, i0, i1, lay, dem, scr)
+
+
+def _adaptive_kernel(exp):
+    """TIDBD / Autostep for TD(lambda) (reference.adaptive_td_step), compiled once per kind of exp for
+    Autostep's meta step (`exp`: `exp_tiny`, `exp_small` or `exp_any`; chosen once per block by `prepare`),
+    so that the source is written once and each hot loop has one kind of exp.
+
+    Why about 170 lines: the factory is the compiled kernels themselves (the meta step, the fused walk and
+    the two-pass columns, each short): they are closures over `exp`, so that numba binds the exp when it
+    compiles them, and closures must be written inside the function that makes them."""
+
+    @njit(inline="always")
+    def meta_step(at_, u, mu, e, p, inv_tau, a, v, h, rate, dlv):
+        """Autostep's meta step of one weight (x_t's value p there) from h_i as it was: v_i, then the argument
+        of exp (|sample| <= v_i), then alpha_i; returns the new alpha_i."""
+        sample = dlv[u] * p * h[at_]
+        size = abs(sample)
+        vi = max(size, v[at_] + a[at_] * rate[u] * e * p * (size - v[at_]) * inv_tau)
+        v[at_] = vi
+        a[at_] *= exp(mu * (sample / vi if vi > 0.0 else 0.0))
+        return a[at_]
+
+    @njit
+    def fused_columns(b, i0, i1, lay, wts, onl, stp, scr):
+        """Autostep's meta step and update in one walk over the rows of the support, x_t and x_tp1, for a run of
+        demons none of which has M > 1: on a row of x_t each weight's meta step, then at once its theta and h
+        (theta += alpha delta e; h = h [1 - alpha phi e]^+ + alpha delta e, from h as the meta step read it),
+        the same operations in the same order as the two passes, so the same numbers; eight numbers per weight
+        of x_t read or written instead of ten."""
+        lo, woff, voff, ncls = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b]
+        db = lay.block_hi[b] - lo
+        theta, h, trace, rows, kept = wts.theta, wts.w, wts.trace, scr.rows, scr.counts[0]
+        a, v, meta, bounds, inv_tau = onl.step_a, onl.step_v, onl.meta, onl.bounds, 1.0 / onl.tau
+        rate, dlv, acc = scr.work[5], scr.work[6], scr.values[0]
+        x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
+        s = j = m = 0  # positions in the support, x_t and x_tp1
+        while True:
+            row, in_support, on_x, on_next, s, j, m = walk(rows, kept, s, x_t, v_t, j, x_tp1, v_tp1, m)
+            if row < 0:
+                break
+            base = at(woff + row * db)
+            tr = voff + row * ncls
+            for c in range(ncls if on_x != 0.0 or in_support else 0):
+                c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
+                e = trace[tr + c]
+                if on_x != 0.0 and e != 0.0:
+                    for i in range(c0, c1):
+                        u = at(i)
+                        k = base + u
+                        h_i = h[k]
+                        step = meta_step(k, u, meta[at(lo + i)], e, on_x, inv_tau, a, v, h, rate, dlv) * rate[u] * e
+                        change = step * dlv[u]
+                        theta[k] += change
+                        h[k] = h_i * max(1.0 - step * on_x, 0.0) + change
+                elif on_x != 0.0:  # a row of x_t whose trace was cut: the meta step only
+                    for i in range(c0, c1):
+                        u = at(i)
+                        meta_step(base + u, u, meta[at(lo + i)], e, on_x, inv_tau, a, v, h, rate, dlv)
+                elif e != 0.0:
+                    _trace_update(c0, c1, base, e, a, rate, dlv, theta, h)
+            if on_next != 0.0:
+                add_row(i0, i1, base, theta, acc, on_next)
+
+    @njit
+    def _meta_steps(autostep, b, i0, i1, lay, wts, cls, onl, stp, scr):
+        """The meta step on the rows of x_t (where phi_i != 0): alpha_i *= exp(meta delta phi_i h_i [/ v_i]);
+        Autostep adds alpha_i e_i (phi_i - gamma_tp1 phi'_i) to the effective step size there, then divides
+        every step size by M = max(1, the effective step size). A scale below SCALE_FLOOR is folded back."""
+        lo, woff, voff, ncls, coff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b]
+        db = lay.block_hi[b] - lo
+        h, trace = wts.w, wts.trace
+        a, v, scale, meta, bounds, inv_tau = onl.step_a, onl.step_v, onl.scale, onl.meta, onl.bounds, 1.0 / onl.tau
+        rate, dlv, effective = scr.work[5], scr.work[6], scr.work[7]
+        x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
+        m = 0
+        for j in range(x_t.shape[0]):
+            row = x_t[j]
+            p = v_t[j]
+            base = at(woff + row * db)
+            tr = voff + row * ncls
+            while m < x_tp1.shape[0] and x_tp1[m] < row:
+                m += 1
+            on_next = v_tp1[m] if m < x_tp1.shape[0] and x_tp1[m] == row else 0.0
+            for c in range(ncls):
+                c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
+                e = trace[tr + c]
+                if not autostep:
+                    for i in range(c0, c1):
+                        u = at(i)
+                        k = base + u
+                        a[k] *= math.exp(meta[at(lo + i)] * dlv[u] * p * h[k])
+                    continue
+                coeff = e * (p - cls.gamma_tp1[coff + c] * on_next)
+                for i in range(c0, c1):
+                    u = at(i)
+                    effective[u] += meta_step(base + u, u, meta[at(lo + i)], e, p, inv_tau, a, v, h, rate, dlv) * coeff
+        if autostep:  # every step size divided by M = max(1, the effective step size)
+            for i in range(i0, i1):
+                m_i = effective[i] * rate[i]
+                if m_i > 1.0:
+                    scale[lo + i] /= m_i
+                    rate[i] /= m_i
+        for i in range(i0, i1):
+            if scale[lo + i] < SCALE_FLOOR:
+                _fold_scale(a, scale, woff, db, i, lo + i, woff + lay.rows[b] * db)
+                rate[i] = 1.0 if rate[i] != 0.0 else 0.0  # (0 where frozen)
+
+    @njit
+    def adaptive_columns(autostep, b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
+        """Columns i0 <= i < i1 of a TIDBD / Autostep block; h lives in w.
+
+        Each class's demons in one contiguous, branch-free run (feature-major, as the other kernels): a
+        frozen demon enters with rate 0 and delta 0, which leaves its weights, h, v and step sizes as they
+        are. First the values at x_tp1 under the weights before the step (then the TD errors); then either
+        the meta step on the rows of x_t and the update over the support fused with reading the new values
+        at x_tp1, or, when no demon of the run can have M > 1, both in one walk (`fused_columns`). Autostep's
+        effective step size alpha . e (x_t - gamma x_tp1) is summed on a row of x_tp1 alone (whose step
+        sizes do not move) in the first pass, on a row of x_t after its step sizes moved.
+        """
+        lo, woff, voff, ncls, coff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b]
+        db = lay.block_hi[b] - lo
+        theta, trace = wts.theta, wts.trace
+        a, meta, bounds = onl.step_a, onl.meta, onl.bounds
+        upper, rate, effective, acc = scr.work[4], scr.work[5], scr.work[7], scr.values[0]
+        x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
+        for i in range(i0, i1):
+            acc[i] = 0.0
+            effective[i] = 0.0
+            upper[i] = 0.0
+        # The values at x_tp1; Autostep: the effective step size on rows of x_tp1 alone, and on the rows of x_t
+        # sum alpha_i |e (phi - gamma phi')| with the step sizes before the meta step (`upper`).
+        j = 0
+        m = 0
+        while j < x_t.shape[0] or m < x_tp1.shape[0]:
+            row = x_t[j] if j < x_t.shape[0] else x_tp1[m]
+            if m < x_tp1.shape[0] and x_tp1[m] < row:
+                row = x_tp1[m]
+            on_x = j < x_t.shape[0] and x_t[j] == row
+            on_next = m < x_tp1.shape[0] and x_tp1[m] == row
+            p = v_t[j] if on_x else 0.0
+            p_next = v_tp1[m] if on_next else 0.0
+            j += 1 if on_x else 0
+            m += 1 if on_next else 0
+            base = at(woff + row * db)
+            if on_next:
+                add_row(i0, i1, base, theta, acc, p_next)
+            for c in range(ncls if autostep else 0):
+                e = trace[voff + row * ncls + c]
+                if e != 0.0:
+                    g = cls.gamma_tp1[coff + c]
+                    c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
+                    if on_x:
+                        _effective_run(c0, c1, base, abs(e * (p - g * p_next)), a, upper)
+                    else:
+                        _effective_run(c0, c1, base, e * (-g * p_next), a, effective)
+        errors(b, i0, i1, lay, dem, cls, onl, acc, scr)
+        for i in range(i0, i1):
+            acc[i] = 0.0  # the new values at x_tp1, summed in the last pass
+        # M_i = rate_i alpha . e (x_t - gamma x_tp1) <= rate_i (exp(mu_i) upper_i + max(effective_i, 0)), as
+        # |the meta step's argument| <= mu_i; with a margin for the rounding of the sums, no step size of such a
+        # demon is divided by M.
+        fused = autostep
+        for i in range(i0, i1):
+            positive = max(effective[i], 0.0)
+            bound = rate[i] * (math.exp(meta[lo + i]) * upper[i] * (1.0 + 1e-9) + positive + abs(effective[i]) * 1e-9)
+            fused = fused and bound <= 1.0
+        if fused:
+            fused_columns(b, i0, i1, lay, wts, onl, stp, scr)
+            return
+        _meta_steps(autostep, b, i0, i1, lay, wts, cls, onl, stp, scr)
+        _update(b, i0, i1, lay, wts, onl, stp, scr)
+
+    return adaptive_columns
+
+
+@njit(**NO_NRT)
+def _update(b, i0, i1, lay, wts, onl, stp, scr):
+    """theta += alpha delta e; h = h [1 - alpha phi e]^+ + alpha delta e, over the trace's rows; then the new
+    values at x_tp1 from each row right after it moved."""
+    lo, woff, voff, ncls = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b]
+    db = lay.block_hi[b] - lo
+    theta, h, trace, rows, kept = wts.theta, wts.w, wts.trace, scr.rows, scr.counts[0]
+    a, bounds = onl.step_a, onl.bounds
+    rate, dlv, acc = scr.work[5], scr.work[6], scr.values[0]
+    x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
+    s = 0
+    j = 0
+    m = 0
+    while True:
+        row = -1
+        if s < kept:
+            row = rows[s]
+        if m < x_tp1.shape[0] and (row < 0 or x_tp1[m] < row):
+            row = x_tp1[m]
+        if row < 0:
+            break
+        in_support = s < kept and rows[s] == row
+        on_next = m < x_tp1.shape[0] and x_tp1[m] == row
+        p_next = v_tp1[m] if on_next else 0.0
+        s += 1 if in_support else 0
+        m += 1 if on_next else 0
+        base = at(woff + row * db)
+        if in_support:
+            while j < x_t.shape[0] and x_t[j] < row:
+                j += 1
+            p = v_t[j] if j < x_t.shape[0] and x_t[j] == row else 0.0
+            tr = voff + row * ncls
+            for c in range(ncls):
+                e = trace[tr + c]
+                if e == 0.0:
+                    continue
+                c0 = max(bounds[c], i0)
+                c1 = min(bounds[c + 1], i1)
+                if p != 0.0:
+                    for i in range(c0, c1):
+                        u = at(i)
+                        k = base + u
+                        step = a[k] * rate[u] * e
+                        change = step * dlv[u]
+                        theta[k] += change
+                        h[k] = h[k] * max(1.0 - step * p, 0.0) + change
+                else:
+                    _trace_update(c0, c1, base, e, a, rate, dlv, theta, h)
+        if on_next:
+            add_row(i0, i1, base, theta, acc, p_next)
+
+
+@njit(**NO_NRT, inline="always")
+def _trace_update(c0, c1, base, e, a, rate, dlv, theta, h):
+    """theta += alpha delta e and h += alpha delta e over one class's run of demons at a row outside x_t."""
+    for i in range(c0, c1):
+        u = at(i)
+        k = base + u
+        change = a[k] * rate[u] * e * dlv[u]
+        theta[k] += change
+        h[k] += change
+
+
+@njit(**NO_NRT, inline="always")
+def _effective_run(c0, c1, base, coeff, a, effective):
+    """effective += alpha coeff over one class's run of demons at one row (coeff: e (phi - gamma_tp1 phi'))."""
+    for i in range(c0, c1):
+        u = at(i)
+        effective[u] += a[base + u] * coeff
+
+
+@njit(cache=True, inline="always")
+def exp_small(x):
+    """exp(x) for |x| <= SMALL_EXP: its Taylor polynomial of degree 9 (the remainder is below 3e-19 relative,
+    far under the double's rounding), in multiply-adds that vectorize where math.exp is a call per number."""
+    return 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6 + x * (1.0 / 24 + x * (1.0 / 120 + x * (
+        1.0 / 720 + x * (1.0 / 5040 + x * (1.0 / 40320 + x * (1.0 / 362880)))))))))  # fmt: skip
+
+
+@njit(cache=True, inline="always")
+def exp_tiny(x):
+    """exp(x) for |x| <= TINY_EXP: its Taylor polynomial of degree 6 (the remainder is below 2e-18 relative, under
+    the double's rounding), three multiply-adds fewer than `exp_small`."""
+    return 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6 + x * (1.0 / 24 + x * (1.0 / 120 + x * (1.0 / 720))))))
+
+
+@njit(cache=True, inline="always")
+def exp_any(x):
+    """math.exp, as a jitted function that the kernel factory can take."""
+    return math.exp(x)
+
+
+_adaptive_tiny = _adaptive_kernel(exp_tiny)
+_adaptive_small = _adaptive_kernel(exp_small)
+_adaptive_any = _adaptive_kernel(exp_any)
+
+
+@njit(**NO_NRT)
+def _fold_scale(step_a, scale, woff, db, i, d, end):
+    """Multiply demon d's scale into its stored step sizes (column i of the block at woff..end), scale 1."""
+    for k in range(woff + i, end, db):
+        step_a[k] *= scale[d]
+    scale[d] = 1.0
+
+
+@njit(**NO_NRT)
+def reset(lay, onl):
+    """An episode starts: adaptive demons that forget their weights (reset = "episode") restart their step
+    sizes at alpha and their normalisers at 0, as `reference.ReferenceHorde.observe` does (the engine's
+    `observe` zeroes their weights and h)."""
+    for b in range(lay.learner.shape[0]):
+        if lay.learner[b] != TIDBD_CODE and lay.learner[b] != AUTOSTEP_CODE:
+            continue
+        lo, rows, woff = lay.block_lo[b], lay.rows[b], lay.woff[b]
+        db = lay.block_hi[b] - lo
+        for i in range(db):
+            if not lay.reset[lo + i]:
+                continue
+            for row in range(rows):
+                onl.step_a[woff + row * db + i] = lay.alpha[lo + i]
+                onl.step_v[woff + row * db + i] = 0.0
+            onl.scale[lo + i] = 1.0

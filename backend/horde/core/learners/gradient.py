@@ -1,0 +1,463 @@
+"""GQ(lambda), GTD(lambda) and off-policy TD(lambda): the gradient-TD family (Maei & Sutton 2010; Maei 2011).
+
+The family shares one trace per class and one pass over its support: GQ learns action values over
+state-action features, GTD state values, TD is GTD without the correction and w.
+
+Per demon (`update` below is the readable numpy form; `reference.gq_step`, `gtd_step`, `td_step` the oracle):
+    delta_t = r_tp1 + (1 - gamma_tp1) z_tp1 + gamma_tp1 theta . x_bar_tp1 - theta . x_t
+    e_t     = x_t + gamma_t lambda rho_t e_{t-1}             (GQ: rho_t weighs the past only)
+    e_t     = rho_t (x_t + gamma_t lambda e_{t-1})           (GTD, TD)
+    theta  += alpha   (delta_t e_t - gamma_tp1 (1 - lambda) (w . e_t) x_bar_tp1)    (no correction for TD)
+    w      += alpha_w (delta_t e_t - (w . x_t) x_t)                                 (GTD and GQ)
+GTD(lambda)'s x_bar_tp1 is phi(s_{t+1}). The thesis printed the w update with phi_{t+1} and one shared step
+size: both are errors.
+
+The compiled kernel (`prepare`, `columns`, `finish`, called by the engine's step through
+`horde.core.learners`): `prepare` writes each class's trace decay and what x_t adds, and merges the traces
+(`engine.traces.merge`); `columns` learns a run of the block's demons, touching only their columns, in one
+pass over the support's weight rows (each read and written once; rows read two at a time: more memory streams
+in flight made sparse rows 1.3 to 1.6 times faster). The correction at x_{t+1} is owed to the next step (see
+`columns`), which `settle_owed` pays before anyone else reads theta. The secondary weights may be kept
+scaled per demon (`Scratch.scales`, 1 but for tdrc, whose h decays by its regulariser at every step).
+
+Why one module of about 480 lines: the family's three learners share one kernel, and its numpy form and
+registration sit beside it.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from horde.core.engine.layout import NO_NRT
+from horde.core.engine.rows import at, dot, pay_and_read, read_in_pairs, read_range, spread, square, sum_rows
+from horde.core.engine.rows import td_error as td_error_at
+from horde.core.engine.traces import merge
+from horde.core.engine.values import observe_range, value_policy
+from horde.core.learners.base import Kernel, check, td_error
+from horde.core.policies import FIXED
+from horde.spec.learners import LearnerInfo, register
+
+GQ = register(LearnerInfo(
+    name="gq", text="GQ(λ): action values", paper="Maei & Sutton 2010", action_values=True, secondary=True,
+))  # fmt: skip
+GTD = register(LearnerInfo(name="gtd", text="GTD(λ): state values", paper="Maei 2011", secondary=True))
+TD = register(LearnerInfo(
+    name="td", text="TD(λ): state values, no correction", paper="Sutton 1988; off-policy: Precup et al. 2000",
+    step_sizes=("constant", "autostep", "tidbd"),
+))  # fmt: skip
+TD_CODE, GTD_CODE, GQ_CODE = 0, 1, 2  # the engine's kernel codes
+KERNELS = (
+    Kernel(TD_CODE, "td"),
+    Kernel(GTD_CODE, "gtd", vectors=2, owes=True),
+    Kernel(GQ_CODE, "gq", vectors=2, owes=True),
+)
+
+
+class LearnerState(NamedTuple):
+    """Weights of D demons over n features."""
+
+    theta: np.ndarray  # [D, n] primary weights
+    w: np.ndarray  # [D, n] secondary weights (gradient correction)
+    e: np.ndarray  # [D, n] eligibility traces
+
+
+class LearnerParams(NamedTuple):
+    """Per-demon constants of the answer."""
+
+    lam: np.ndarray  # [D] trace decay lambda
+    alpha: np.ndarray  # [D] step size of theta (already divided by the number of active features)
+    alpha_w: np.ndarray  # [D] step size of w
+    rho_in_trace: np.ndarray  # [D] 1.0 for GTD/TD (e = rho (x + ...)), 0.0 for GQ (e = x + rho ...)
+    correct: np.ndarray  # [D] 1.0 for GQ/GTD, 0.0 for TD (no gradient correction)
+
+
+def zeros(num_demons: int, num_features: int) -> LearnerState:
+    shape = (num_demons, num_features)
+    return LearnerState(np.zeros(shape), np.zeros(shape), np.zeros(shape))
+
+
+def dot_sparse(weights: np.ndarray, idx: np.ndarray, val: np.ndarray) -> np.ndarray:
+    """weights . x for a sparse x: [D, n], [m], [m] or [D, m] -> [D]."""
+    return (weights[:, idx] * val).sum(axis=1)
+
+
+def update(
+    state: LearnerState,
+    params: LearnerParams,
+    x_t: tuple[np.ndarray, np.ndarray],
+    x_bar_tp1: tuple[np.ndarray, np.ndarray],
+    r_tp1: np.ndarray,
+    z_tp1: np.ndarray,
+    gamma_t: np.ndarray,
+    gamma_tp1: np.ndarray,
+    rho_t: np.ndarray,
+) -> tuple[LearnerState, np.ndarray]:
+    """One GQ(lambda) / GTD(lambda) / TD(lambda) step for every demon of the stack.
+
+    Args:
+        state: weights and traces, [D, n] each.
+        params: per-demon constants, [D] each.
+        x_t: (indices [k], values [k]) of phi_t, shared by all demons, indices distinct.
+        x_bar_tp1: (indices [m], values [D, m] or [m]) of the expected next features, indices distinct.
+        r_tp1, z_tp1: [D] cumulant and outcome at s_{t+1}.
+        gamma_t, gamma_tp1: [D] continuations at s_t and s_{t+1}.
+        rho_t: [D] importance ratio pi(a_t | s_t) / b(a_t | s_t).
+
+    Returns:
+        (new state, delta_t [D]).
+    """
+    theta, w, e = state
+    num_demons = theta.shape[0]
+    idx, val = x_t
+    bar_idx, bar_val = x_bar_tp1
+    for name, array in (("r_tp1", r_tp1), ("z_tp1", z_tp1), ("gamma_t", gamma_t), ("gamma_tp1", gamma_tp1)):
+        check(name, array, (num_demons,))
+    check("rho_t", rho_t, (num_demons,))
+    check("x_t values", val, idx.shape)
+
+    delta = td_error(r_tp1, z_tp1, gamma_tp1, dot_sparse(theta, bar_idx, bar_val), dot_sparse(theta, idx, val))  # [D]
+    trace_scale = np.where(params.rho_in_trace > 0.0, rho_t, 1.0)  # [D]
+    e = e * (gamma_t * params.lam * rho_t)[:, None]  # [D, n]
+    e[:, idx] += trace_scale[:, None] * val
+    w_dot_e = (w * e).sum(axis=1)  # [D]
+    w_dot_x = dot_sparse(w, idx, val)  # [D]
+
+    theta = theta + (params.alpha * delta)[:, None] * e
+    correction = params.alpha * params.correct * gamma_tp1 * (1.0 - params.lam) * w_dot_e  # [D]
+    theta[:, bar_idx] -= correction[:, None] * bar_val
+
+    step_w = params.alpha_w * params.correct  # [D]
+    w = w + (step_w * delta)[:, None] * e
+    w[:, idx] -= (step_w * w_dot_x)[:, None] * val
+    return LearnerState(theta, w, e), delta
+
+
+# ----------------------------------------------------------------------------------------------
+# Learners that need less tuning (README "Learners and step sizes"): true online TD(lambda), true online
+# GTD(lambda), emphatic TD(lambda), and TD(lambda) with per-weight step sizes (TIDBD, Autostep). Dense
+# feature values x_t, x_tp1 of shape [n] (shared by the stack) and everything else with a leading demon
+# axis [D]; `reference.py` writes the same equations for one demon.
+
+
+# ----------------------------------------------------------------------------------------------
+# The compiled kernel
+
+
+@njit(**NO_NRT, inline="always")
+def prepare(code, b, lay, wts, dem, cls, stp, scr):
+    """Block b's traces for this step (nothing per demon): each class decays by gamma_t lambda rho_t, x_t adds
+    rho_t (TD, GTD) or 1 (GQ, whose x_t is of the action taken); then `merge`. GQ marks x_bar's rows at s_{t+1}
+    (every action's block) with x_tp1's values, for its support pass (`columns`)."""
+    lo, ncls, coff = lay.block_lo[b], lay.ncls[b], lay.coff[b]
+    gq = code == GQ_CODE
+    own = lay.policy[b] != FIXED
+    for c in range(ncls):
+        rho = dem.pi[lo + c, stp.action] / stp.b_prob if own else cls.rho[coff + c]
+        scr.decay[c] = cls.gamma[coff + c] * lay.lam[b] * rho
+        scr.add[c] = 1.0 if gq else rho
+    shift = stp.action * stp.n_s if gq else 0
+    kept, dropped = merge(b, lay, wts, scr, stp.x_t, stp.v_t, shift, code != TD_CODE)
+    scr.counts[0] = kept
+    scr.counts[1] = dropped
+    if gq and ncls > 1:
+        for a in range(lay.actions[b]):
+            for j in range(stp.x_tp1.shape[0]):
+                scr.mark[a * stp.n_s + stp.x_tp1[j]] = stp.v_tp1[j]
+    db = lay.block_hi[b] - lo
+    for i in range(db):  # how w is kept: as it is (tdrc's `prepare` writes its scales after this)
+        scr.scales[0, i] = 1.0
+        scr.scales[1, i] = 1.0
+        scr.scales[2, i] = 1.0
+
+
+@njit(**NO_NRT, inline="always")
+def finish(code, b, lay, cls, stp, scr):
+    """After every column learned: GQ's marks cleared; each class's continuation moves to s_{t+1}."""
+    if code == GQ_CODE and lay.ncls[b] > 1:
+        for a in range(lay.actions[b]):
+            for j in range(stp.x_tp1.shape[0]):
+                scr.mark[a * stp.n_s + stp.x_tp1[j]] = 0.0
+    coff = lay.coff[b]
+    for c in range(lay.ncls[b]):
+        cls.gamma[coff + c] = cls.gamma_tp1[coff + c]
+
+
+@njit(**NO_NRT)
+def columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr):
+    """Block b's demons i0 <= i < i1 learn the transition, after `prepare`: only their columns of the weights
+    and of the per-demon scratch (values, pi_next, work, ex, ev) are touched.
+
+    The gradient correction at x_{t+1} (theta -= alpha gamma (1 - lambda) (w . e) x_bar_{t+1}; for GQ on
+    every action's rows, weighted by the target policy there) is owed rather than applied: `owed[a, d]`
+    holds it, and the next step pays it on its x_t's rows (the same rows). GTD pays in its pass over the
+    support, which visits them anyway; GQ while it reads its values at x_{t+1} (the other actions' rows
+    are in no support). The new values at s_{t+1} then come from the update's algebra instead of a pass
+    that corrects and reads those rows again: theta' . x = theta . x + alpha delta (e . x) - owed (x . x),
+    with e . x one sum per trace class, or per demon from the support pass (`mark`, `ex`)."""
+    lo = lay.block_lo[b]
+    woff, voff, ncls, coff = lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b]
+    db = lay.block_hi[b] - lo
+    width = i1 - i0
+    gq = code == GQ_CODE
+    td = code == TD_CODE
+    own = lay.policy[b] != FIXED
+    x_t, v_t, x_tp1, v_tp1, n_s = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1, stp.n_s
+    theta, w, trace, owed = wts.theta, wts.w, wts.trace, wts.owed
+    values, pi_next, ex = scr.values, scr.pi_next, scr.ex
+    ad, awd, w_dot_e, w_dot_x = scr.work[0], scr.work[1], scr.work[2], scr.work[3]
+    rows, rows_f, dropped = scr.rows, scr.rows_f, scr.counts[1]
+    A = dem.q.shape[1]
+    shift = stp.action * n_s if gq else 0
+    owing = code != TD_CODE and not gq  # pays on the support (GTD, tdrc: given policies only); GQ pays below
+
+    # Values at s_{t+1} under the weights before this update, the target policy there, delta.
+    if gq:
+        for a in range(lay.actions[b]):
+            pay_and_read(theta, woff + a * n_s * db + i0, x_t, v_t, x_tp1, v_tp1, db, owed[a, lo + i0 : lo + i1],
+                         values[a, i0:i1])  # fmt: skip
+            for i in range(i0, i1):
+                ex[a, i] = 0.0
+    else:
+        read_range(woff, db, 1, n_s, theta, x_tp1, v_tp1, i0, i1, values)
+    if owing:  # theta still owes the last step's correction on x_t's rows
+        shared = dot(x_t, v_t, x_tp1, v_tp1)
+        for i in range(i0, i1):
+            values[0, i] -= owed[0, lo + i] * shared
+    for i in range(i0, i1):
+        d = lo + i
+        g1 = cls.gamma_tp1[lay.slot_class[d]]
+        if gq:
+            if own:
+                value_policy(lay.policy[b], values[:, i], lay.temperature[d], lay.epsilon[d], pi_next[:, i])
+            else:
+                for a in range(A):
+                    pi_next[a, i] = cls.pi_given[lay.slot_class[d], a]
+            v_next = 0.0
+            for a in range(A):
+                v_next += pi_next[a, i] * values[a, i]
+            v_t_d = dem.q[d, stp.action]
+        else:
+            v_next = values[0, i]
+            v_t_d = dem.q[d, 0]
+        dl = td_error_at(dem.r[d], dem.z[d], g1, v_next, v_t_d)
+        dem.delta[d] = dl
+        # a frozen demon (step size 0) stays exactly as it is, even when its delta is not finite
+        ad[i] = dem.alpha[d] * dl if dem.alpha[d] != 0.0 else 0.0
+        awd[i] = dem.alpha_w[d] * dl * scr.scales[0, i] if dem.alpha_w[d] != 0.0 else 0.0
+        w_dot_e[i] = 0.0
+        w_dot_x[i] = 0.0
+
+    # alpha_w (w . x_t) under the old w; the rows of x_t left without a trace lose it here.
+    step_x = w_dot_x[i0:i1]
+    if not td:
+        sum_rows(w, woff + shift * db + i0, x_t, v_t, db, step_x)
+        for i in range(width):
+            a_w = dem.alpha_w[lo + i0 + i]
+            step_x[i] = step_x[i] * a_w * scr.scales[1, i0 + i] if a_w != 0.0 else 0.0
+        end = rows.shape[0] - 1
+        owed_ = owed[0, lo + i0 : lo + i1]  # (GQ has paid already: 0)
+        for j in range(dropped):
+            start = at(woff + rows[end - j] * db + i0)
+            f = rows_f[end - j]
+            for i in range(width):
+                w[start + at(i)] -= f * step_x[i]
+                theta[start + at(i)] -= f * owed_[i]
+
+    if ncls == 1:
+        _one_class_pass(td, b, i0, i1, lay, wts, scr, step_x)
+    else:
+        _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, td, gq, own)
+
+    # The correction at x_bar_{t+1} (owed: see above) and the new values at s_{t+1}.
+    if not td:
+        for i in range(i0, i1):
+            a_i = dem.alpha[lo + i]
+            g1 = cls.gamma_tp1[lay.slot_class[lo + i]]
+            w_dot_e[i] = a_i * g1 * (1.0 - lay.lam[b]) * w_dot_e[i] * scr.scales[2, i] if a_i != 0.0 else 0.0
+    if gq:
+        # As for GTD below, for each action's rows at s_{t+1}; e . x_bar(s_{t+1}, a) from the support pass
+        # (`gather`; one class: one sum per action).
+        own_dot = square(v_tp1)
+        for a in range(lay.actions[b]):
+            if ncls == 1:
+                e_dot_x = 0.0
+                for j in range(x_tp1.shape[0]):
+                    e_dot_x += v_tp1[j] * np.float64(trace[voff + a * n_s + x_tp1[j]])
+                for i in range(i0, i1):
+                    ex[a, i] = e_dot_x
+            for i in range(i0, i1):
+                o = w_dot_e[i] * pi_next[a, i]
+                values[a, i] += ad[i] * ex[a, i] - o * own_dot
+                owed[a, lo + i] = o
+    elif owing:
+        # theta' . x_{t+1} = theta . x_{t+1} + alpha delta (e . x_{t+1}) - owed (x_{t+1} . x_{t+1}): the update
+        # added alpha delta e to every row (a row cut from the support has trace 0 and was not updated), and
+        # x_t's rows paid what they owed (already taken from the values above).
+        own_dot = square(v_tp1)
+        for c in range(ncls):
+            c0 = max(lay.class_lo[coff + c], i0) if ncls > 1 else i0
+            c1 = min(lay.class_hi[coff + c], i1) if ncls > 1 else i1
+            if c0 >= c1:
+                continue
+            e_dot_x = 0.0
+            for j in range(x_tp1.shape[0]):
+                e_dot_x += v_tp1[j] * np.float64(trace[voff + x_tp1[j] * ncls + c])
+            for i in range(c0, c1):
+                values[0, i] += ad[i] * e_dot_x - w_dot_e[i] * own_dot
+                owed[0, lo + i] = w_dot_e[i]
+    else:  # TD: the new values at s_{t+1}, read
+        read_in_pairs(theta, woff + i0, x_tp1, v_tp1, db, values[0, i0:i1])
+    observe_range(b, i0, i1, lay, dem, cls, values)
+
+
+@njit(**NO_NRT)
+def _one_class_pass(td, b, i0, i1, lay, wts, scr, step_x):
+    """The weight pass of a one-class block over its support, in row order, two rows at a time: theta += ad e;
+    GTD / GQ: w . e, w += awd e - f step_x, theta pays f owed (f: x_t's value on the row, e the class's trace).
+
+    Its arrays are read into locals once: the pass is the hot loop of a thesis-scale step."""
+    lo, woff = lay.block_lo[b], lay.woff[b]
+    db = lay.block_hi[b] - lo
+    theta, w, owed = wts.theta, wts.w, wts.owed[0]
+    rows, rows_e, rows_f, kept = scr.rows, scr.rows_e, scr.rows_f, scr.counts[0]
+    ad, awd, w_dot_e = scr.work[0], scr.work[1], scr.work[2]
+    width = i1 - i0
+    s = 0
+    while s < kept:
+        e0 = rows_e[s]
+        f0 = rows_f[s]
+        u0 = at(woff + rows[s] * db + i0)
+        if s + 1 < kept:
+            e1 = rows_e[s + 1]
+            f1 = rows_f[s + 1]
+            u1 = at(woff + rows[s + 1] * db + i0)
+            if td:
+                for i in range(width):
+                    a = ad[i0 + i]
+                    theta[u0 + at(i)] += a * e0
+                    theta[u1 + at(i)] += a * e1
+            else:
+                for i in range(width):
+                    a = ad[i0 + i]
+                    aw = awd[i0 + i]
+                    sx = step_x[i]
+                    o = owed[lo + i0 + i]
+                    j0 = u0 + at(i)
+                    j1 = u1 + at(i)
+                    v0 = w[j0]
+                    v1 = w[j1]
+                    w_dot_e[i0 + i] += v0 * e0 + v1 * e1
+                    theta[j0] += a * e0 - f0 * o
+                    theta[j1] += a * e1 - f1 * o
+                    w[j0] = v0 + aw * e0 - f0 * sx
+                    w[j1] = v1 + aw * e1 - f1 * sx
+            s += 2
+        else:  # the last row alone
+            if td:
+                for i in range(width):
+                    theta[u0 + at(i)] += ad[i0 + i] * e0
+            else:
+                for i in range(width):
+                    j0 = u0 + at(i)
+                    wv = w[j0]
+                    w_dot_e[i0 + i] += wv * e0
+                    theta[j0] += ad[i0 + i] * e0 - f0 * owed[lo + i0 + i]
+                    w[j0] = wv + awd[i0 + i] * e0 - f0 * step_x[i]
+            s += 1
+
+
+@njit(**NO_NRT)
+def _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, td, gq, own):
+    """The weight pass of a block of several classes: each support row's trace values spread over the classes'
+    demons (own-value blocks: the trace row itself), two rows at a time; GQ gathers e . x_bar per demon."""
+    lo, woff, voff, ncls, coff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b]
+    db = lay.block_hi[b] - lo
+    width = i1 - i0
+    theta, w, trace, owed = wts.theta, wts.w, wts.trace, wts.owed[0, lo + i0 : lo + i1]
+    rows, rows_f, kept = scr.rows, scr.rows_f, scr.counts[0]
+    ad, awd, dot_e = scr.work[0, i0:i1], scr.work[1, i0:i1], scr.work[2, i0:i1]
+    e0 = scr.ev[0, i0:i1]
+    e1 = scr.ev[1, i0:i1]
+    s = 0
+    while s < kept:
+        pair = s + 1 < kept
+        r0 = rows[s]
+        r1 = rows[s + 1] if pair else r0
+        if own:
+            e0 = trace[voff + r0 * ncls + i0 : voff + r0 * ncls + i1]
+            e1 = trace[voff + r1 * ncls + i0 : voff + r1 * ncls + i1]
+        else:
+            spread(trace, voff + r0 * ncls, ncls, lay.class_lo, lay.class_hi, coff, i0, i1, e0)
+            if pair:
+                spread(trace, voff + r1 * ncls, ncls, lay.class_lo, lay.class_hi, coff, i0, i1, e1)
+        u0 = at(woff + r0 * db + i0)
+        u1 = at(woff + r1 * db + i0)
+        f0 = rows_f[s]
+        f1 = rows_f[s + 1] if pair else 0.0
+        if td and pair:
+            for i in range(width):
+                a = ad[i]
+                theta[u0 + at(i)] += a * np.float64(e0[i])
+                theta[u1 + at(i)] += a * np.float64(e1[i])
+        elif td:
+            for i in range(width):
+                theta[u0 + at(i)] += ad[i] * np.float64(e0[i])
+        elif pair:
+            for i in range(width):
+                a = ad[i]
+                aw = awd[i]
+                sx = step_x[i]
+                a0 = np.float64(e0[i])
+                a1 = np.float64(e1[i])
+                j0 = u0 + at(i)
+                j1 = u1 + at(i)
+                v0 = w[j0]
+                v1 = w[j1]
+                dot_e[i] += v0 * a0 + v1 * a1
+                theta[j0] += a * a0 - f0 * owed[i]
+                theta[j1] += a * a1 - f1 * owed[i]
+                w[j0] = v0 + aw * a0 - f0 * sx
+                w[j1] = v1 + aw * a1 - f1 * sx
+        else:
+            for i in range(width):
+                a0 = np.float64(e0[i])
+                j0 = u0 + at(i)
+                v0 = w[j0]
+                dot_e[i] += v0 * a0
+                theta[j0] += ad[i] * a0 - f0 * owed[i]
+                w[j0] = v0 + awd[i] * a0 - f0 * step_x[i]
+        if gq:  # (the second row first: the order of the sums, as before the engine's layout changed)
+            if pair:
+                _gather(scr.mark, r1, stp.n_s, e1, scr.ex, i0)
+            _gather(scr.mark, r0, stp.n_s, e0, scr.ex, i0)
+        s += 2 if pair else 1
+
+
+@njit(**NO_NRT)
+def _gather(mark, row, n_s, e, ex, i0):
+    """ex[a, i0 + i] += e[i] times x_bar's value on the support row `row` at s_{t+1} for action a (`mark`)."""
+    m = mark[row]
+    if m != 0.0:
+        a = row // n_s
+        for i in range(e.shape[0]):
+            ex[a, i0 + i] += m * np.float64(e[i])
+
+
+@njit(**NO_NRT)
+def settle_owed(b, lay, wts, x, v, n_s):
+    """Pay block b's owed gradient correction (`columns`) on the rows x it is owed on (values v; each action's,
+    for action values), and owe nothing more."""
+    lo, woff = lay.block_lo[b], lay.woff[b]
+    db = lay.block_hi[b] - lo
+    theta, owed = wts.theta, wts.owed
+    for a in range(lay.actions[b]):
+        for j in range(x.shape[0]):
+            u = at(woff + (a * n_s + x[j]) * db)
+            value = v[j]
+            for i in range(db):
+                theta[u + at(i)] -= value * owed[a, lo + i]
+        for i in range(db):
+            owed[a, lo + i] = 0.0

@@ -1,0 +1,120 @@
+"""What the compiled learners beyond the gradient family share: their classes' runs of demons, the TD errors read
+before any weight moves, the walk that updates theta over the trace's rows, and the end of a step.
+
+True online TD / GTD and emphatic TD read the values at s_{t+1} before the traces move (`read_errors`), then
+walk the rows of the new support, x_t and x_tp1 in increasing order (`dutch_columns`): each weight row read
+and written once, the new values at s_{t+1} summed from it right after it moved. Within a row, class by
+class, each class's demons in one contiguous run (`Online.bounds`).
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+from horde.core.engine.layout import NO_NRT
+from horde.core.engine.rows import add_row, at, read_range, td_error, walk
+
+
+@njit(**NO_NRT)
+def class_bounds(b, lay, onl):
+    """onl.bounds[c] = the first demon (within block b) of its class c, then Db: the demons of a class are
+    consecutive and the classes in order."""
+    lo, coff = lay.block_lo[b], lay.coff[b]
+    db = lay.block_hi[b] - lo
+    onl.bounds[0] = 0
+    for i in range(db):
+        onl.bounds[lay.slot_class[lo + i] - coff + 1] = i + 1
+
+
+@njit(**NO_NRT)
+def errors(b, i0, i1, lay, dem, cls, onl, v_next, scr):
+    """The TD errors of block b's demons i0 <= i < i1 from their values v_next[i] at s_{t+1} under the weights
+    before the step; what the weight passes take of them: rate (work[5]: the demon's step-size scale, 0 where
+    frozen) and delta where live (work[6]). Each demon's v_old becomes its value at s_{t+1}."""
+    lo = lay.block_lo[b]
+    rate, dlv = scr.work[5], scr.work[6]
+    for i in range(i0, i1):
+        d = lo + i
+        dl = td_error(dem.r[d], dem.z[d], cls.gamma_tp1[lay.slot_class[d]], v_next[i], dem.q[d, 0])
+        dem.delta[d] = dl
+        live = dem.alpha[d] != 0.0
+        rate[i] = onl.scale[d] if live else 0.0  # a frozen demon moves nothing (rate and delta 0)
+        dlv[i] = dl if live else 0.0
+        if live:
+            onl.v_old[d] = v_next[i]
+
+
+@njit(**NO_NRT)
+def read_errors(b, lay, wts, dem, cls, onl, stp, scr):
+    """Block b's values at s_{t+1} before any weight moves (in scr.values[0]) and its TD errors (`errors`)."""
+    db = lay.block_hi[b] - lay.block_lo[b]
+    v_old = scr.work[3]  # each demon's theta_{t-1} . x_t, kept before `errors` moves v_old on
+    for i in range(db):
+        v_old[i] = onl.v_old[lay.block_lo[b] + i]
+    read_range(lay.woff[b], db, 1, stp.n_s, wts.theta, stp.x_tp1, stp.v_tp1, 0, db, scr.values)
+    errors(b, 0, db, lay, dem, cls, onl, scr.values[0], scr)
+
+
+@njit(**NO_NRT)
+def dutch_columns(dutch, b, i0, i1, lay, wts, stp, scr, onl):
+    """theta += coef e over the support (dutch traces: and -= x_t's value times fix on the rows of x_t), then the
+    new values at x_tp1 for columns i0 <= i < i1 (in scr.values[0]). coef is work[0], fix work[1]."""
+    woff, voff, ncls = lay.woff[b], lay.voff[b], lay.ncls[b]
+    db = lay.block_hi[b] - lay.block_lo[b]
+    theta, trace, rows, kept, bounds = wts.theta, wts.trace, scr.rows, scr.counts[0], onl.bounds
+    coef, fix, acc = scr.work[0], scr.work[1], scr.values[0]
+    x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
+    for i in range(i0, i1):
+        acc[i] = 0.0
+    s = 0
+    j = 0
+    m = 0
+    while True:
+        row, in_support, on_x, on_next, s, j, m = walk(rows, kept, s, x_t, v_t, j, x_tp1, v_tp1, m)
+        if row < 0:
+            break
+        base = at(woff + row * db)
+        if in_support:
+            tr = voff + row * ncls
+            for c in range(ncls):
+                c0 = max(bounds[c], i0)
+                c1 = min(bounds[c + 1], i1)
+                e = trace[tr + c]
+                if dutch and on_x == 1.0:
+                    for i in range(c0, c1):
+                        u = at(i)
+                        t = theta[base + u] + coef[u] * e
+                        theta[base + u] = t - fix[u]
+                elif dutch and on_x != 0.0:
+                    for i in range(c0, c1):
+                        u = at(i)
+                        t = theta[base + u] + coef[u] * e
+                        theta[base + u] = t - on_x * fix[u]
+                else:
+                    for i in range(c0, c1):
+                        u = at(i)
+                        theta[base + u] += coef[u] * e
+        elif dutch and on_x != 0.0:  # a row of x_t whose trace was cut
+            for i in range(i0, i1):
+                u = at(i)
+                theta[base + u] -= on_x * fix[u]
+        if on_next != 0.0:
+            add_row(i0, i1, base, theta, acc, on_next)
+
+
+@njit(**NO_NRT)
+def store_values(b, i0, i1, lay, dem, scr):
+    """Block b's demons i0 <= i < i1 read their new values at s_{t+1} (scr.values[0]) as value and prediction."""
+    lo = lay.block_lo[b]
+    for i in range(i0, i1):
+        dem.q[lo + i, 0] = scr.values[0, i]
+        dem.pred[lo + i] = scr.values[0, i]
+
+
+@njit(**NO_NRT)
+def finish(b, lay, cls, onl):
+    """After every column learned: each class's continuation moves to s_{t+1}, and its rho_t becomes rho_{t-1}."""
+    coff = lay.coff[b]
+    for c in range(lay.ncls[b]):
+        cls.gamma[coff + c] = cls.gamma_tp1[coff + c]
+        onl.cls_rho_prev[coff + c] = cls.rho[coff + c]
