@@ -674,7 +674,9 @@ def test_one_protocol_at_a_time_and_cancel(page: Page, server: Server, console: 
         return int(count.inner_text().split(" / ")[0].replace(",", ""))
 
     first = episodes_done()
-    expect(count, "the progress moves").not_to_have_text(count.inner_text())
+    # The job's first episodes come once its worker has started (forked, its kernels loaded): a few seconds
+    # on a busy machine, so the first move is awaited longer than the page's default.
+    expect(count, "the progress moves").not_to_have_text(count.inner_text(), timeout=60_000)
     assert episodes_done() > first
     assert " / 100,000 episodes · " in count.inner_text()
     expect(panel.get_by_test_id("protocol-timing"), "the time left is told").to_contain_text("left")
