@@ -129,7 +129,7 @@ class RunWorker:
                                                      "restart")  # fmt: skip
         self.session = RunSession(sim, init.limits, status=init.status, hz=init.hz, message=init.message,
                                   summary=init.summary, stop_reference=reference)  # fmt: skip
-        self.session.spec = spec
+        self.session.spec = sim.spec  # a Gymnasium world's sensors resolved
         self.recorder = Recorder(init.run_id, init.limits, self.channel.send, init.created_at, sim.horde.names,
                                  init.persist)  # fmt: skip
         self.session.recorder = self.recorder
@@ -138,7 +138,10 @@ class RunWorker:
         # and seed until it learns: a 9,000-demon snapshot would cost seconds to encode for nothing).
         first_save = self.recorder.save(self.session, snapshot=init.snapshot is not None) if init.first_save else None
         self.heart.idle()
-        built = pickle.dumps(spec, protocol=pickle.HIGHEST_PROTOCOL) if init.data is not None else None
+        # The API process holds the spec it sent; it needs the one built here when it sent data, or a Gymnasium
+        # world whose sensors only the environment (made here) can resolve.
+        told = init.data is not None or not spec.world.resolved
+        built = pickle.dumps(sim.spec, protocol=pickle.HIGHEST_PROTOCOL) if told else None
         ready = m.Ready(
             self.recorder.take_update(self.session), first_save, pid=os.getpid(), node=self.node, spec=built
         )
