@@ -169,10 +169,19 @@ def spread(trace, start, ncls, class_lo, class_hi, coff, i0, i1, out):
 
 @njit(**NO_NRT, inline="always")
 def add_row(i0, i1, base, theta, acc, value):
-    """acc += value * the weight row at base, columns i0 <= i < i1 (values at x_tp1, read row by row)."""
-    for i in range(i0, i1):
-        u = at(i)
-        acc[u] += value * theta[base + u]
+    """acc += value * the weight row at base, columns i0 <= i < i1 (values at x_tp1, read row by row).
+
+    A binary feature's row (value 1) is added without the multiplication, the same numbers: the row was just
+    written by the walk and is in cache, so the loop is bound by its arithmetic, and numba does not fuse a
+    multiply and an add (docs/performance.md, issue 29)."""
+    if value == 1.0:
+        for i in range(i0, i1):
+            u = at(i)
+            acc[u] += theta[base + u]
+    else:
+        for i in range(i0, i1):
+            u = at(i)
+            acc[u] += value * theta[base + u]
 
 
 @njit(**NO_NRT, inline="always")
