@@ -81,7 +81,9 @@ def cmd_study(args: argparse.Namespace) -> int:
         print(f"error: {args.study}: {exc}", file=sys.stderr)
         store.close()
         return 2
-    for warning in study_warnings(load_study(store, study_id)[2]):
+    _, stored, configurations = load_study(store, study_id)
+    caption = stored.caption
+    for warning in study_warnings(configurations):
         print(f"warning: {warning}", file=sys.stderr)
     executor: Executor = InProcess() if args.local else RayExecutor(args.address, args.workers or None)
     progress = None if args.quiet else ProgressBar(name, unit="tasks")
@@ -101,11 +103,11 @@ def cmd_study(args: argparse.Namespace) -> int:
     if not summaries:
         return 1
     print(format_table(summaries))
-    write_outputs(summaries, args)
+    write_outputs(summaries, args, caption)
     return 0 if status == "finished" else 1
 
 
-def write_outputs(summaries: list[ConfigSummary], args: argparse.Namespace) -> None:
+def write_outputs(summaries: list[ConfigSummary], args: argparse.Namespace, caption: str = "") -> None:
     """--json, --csv and --plots: the results as files."""
     if args.json:
         Path(args.json).write_text(json.dumps(results_json(summaries), indent=2) + "\n")
@@ -118,7 +120,7 @@ def write_outputs(summaries: list[ConfigSummary], args: argparse.Namespace) -> N
     if args.plots:
         from horde.studies.plots import write_plots
 
-        files = write_plots(summaries, Path(args.plots), args.x, args.group)
+        files = write_plots(summaries, Path(args.plots), args.x, args.group, caption)
         print(f"plots: {', '.join(str(f) for f in files)}", file=sys.stderr)
 
 

@@ -108,6 +108,10 @@ def run_task(spec: RunSpec, run: int, measure: MeasureSpec) -> TaskData:
          "diverged": [measured demons the engine froze], "counts": {"positive", "negative", "none"} (control
          protocols only)}: C checkpoints.
     """
+    if spec.world.kind == "gymnasium":  # a chain or Baird's star: every state's exact value (chain_task.py)
+        from horde.studies.chain_task import run_model_task
+
+        return run_model_task(spec, run, measure, checkpoint_episodes(spec.protocol.episodes, measure.checkpoints))
     began, began_cpu = time.perf_counter(), time.process_time()
     rng = np.random.default_rng([spec.seed, run])
     sim = Simulation(spec, rng)
