@@ -119,6 +119,17 @@ def rollout_returns(spec: RunSpec, world: GymWorld, state: np.ndarray, sensors: 
     return out, capped
 
 
+def _test_states(agent: GymAgent, count: int, spacing: int = 25) -> list[tuple[np.ndarray, np.ndarray]]:
+    """`count` test states (the environment's state and the sensors there), one every `spacing` steps of the
+    behaviour going on (learning off)."""
+    states: list[tuple[np.ndarray, np.ndarray]] = []
+    while len(states) < count:
+        agent.step()
+        if agent.total_steps % spacing == 0:
+            states.append((agent.world.get_state(), agent.sensors.copy()))
+    return states
+
+
 def run_gym_protocol(spec: RunSpec, progress: Progress | None = None) -> GymProtocolResult:
     """Learn for `protocol.episodes` episodes, then compare predictions with realised returns (see the module)."""
     began = time.perf_counter()
@@ -132,12 +143,7 @@ def run_gym_protocol(spec: RunSpec, progress: Progress | None = None) -> GymProt
     agent.learner.set_learning(np.zeros(agent.horde.num_demons, dtype=bool))
     wanted = evaluation.demons or agent.horde.prediction_demons()
     every_state = values_report(agent.horde, agent.learner.horde_state(), wanted)
-    spacing = 25
-    states: list[tuple[np.ndarray, np.ndarray]] = []
-    while len(states) < evaluation.states:
-        agent.step()
-        if agent.total_steps % spacing == 0:
-            states.append((agent.world.get_state(), agent.sensors.copy()))
+    states = _test_states(agent, evaluation.states)
     index = [agent.horde.index[name] for name in wanted]
     predictions = np.empty((len(states), len(index)))
     for s, (_, sensors) in enumerate(states):
