@@ -49,6 +49,9 @@ CHAINS: dict[str, ChainInfo] = {
     "horde/BoyanChain-v0": ChainInfo("BoyanChainEnv", {}, False, (-3.0, 0.0)),
 }
 BOYAN_STATES = 12
+# The registered time limit: far beyond any episode these walks take (the 1000-state walk's mean is about 70
+# steps, the 19-state walk's 100), there so that a live run's snapshots find the step count a limit keeps.
+EPISODE_LIMIT = 1_000_000
 
 
 def register() -> None:
@@ -60,7 +63,8 @@ def register() -> None:
     register_baird()
     for env_id, info in CHAINS.items():
         if env_id not in gym.registry:
-            gym.register(id=env_id, entry_point=f"horde.worlds.chain_env:{info.entry}", kwargs=dict(info.kwargs))
+            gym.register(id=env_id, entry_point=f"horde.worlds.chain_env:{info.entry}", kwargs=dict(info.kwargs),
+                         max_episode_steps=EPISODE_LIMIT)  # fmt: skip
 
 
 def chain_kwargs(env_id: str, states: int | None) -> dict[str, Any]:

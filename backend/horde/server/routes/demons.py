@@ -11,9 +11,9 @@ from starlette.concurrency import run_in_threadpool
 
 from horde.core.evaluate import StoppedError
 from horde.runs.errors import NotFoundError
-from horde.runs.readout import value_map
+from horde.runs.readout import state_values, value_map
 from horde.runs.run_view import RunView
-from horde.server.convert import demons_out, evaluation_out, history_out, values_out
+from horde.server.convert import demons_out, evaluation_out, history_out, state_values_out, values_out
 from horde.server.deps import DemonName, ManagerDep, RunDep, write_router
 from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND, NOT_SAVED
 from horde.server.schemas import (
@@ -79,8 +79,13 @@ def get_values(
     name: DemonName,
     resolution: Annotated[int, Query(ge=2, le=MAX_RESOLUTION)] = 32,
 ) -> ValuesOut:
-    """The prediction at the centres of a resolution x resolution grid, with the current weights."""
+    """The prediction at the centres of a resolution x resolution grid, with the current weights; on a world of
+    discrete states with known transitions (the chains, Baird's star), at every state beside the true values and the
+    TD fixed point (`kind` "states"; `resolution` is not used)."""
     view = run.view
+    report = state_values(view, name)
+    if report is not None:
+        return state_values_out(view, name, report)
     return values_out(view, name, value_map(view, name, resolution))
 
 
