@@ -158,7 +158,7 @@ def state_values_out(view: RunView, demon: str, report: dict[str, object]) -> Va
         values=[values.tolist()],
         min=float(finite.min()) if finite.size else None,
         max=float(finite.max()) if finite.size else None,
-        **truths,  # type: ignore[arg-type]
+        **truths,
     )
 
 
