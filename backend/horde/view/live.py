@@ -29,6 +29,7 @@ from horde.spec import RunSpec
 from horde.view import camera, scene
 from horde.view.apply import SceneApplier
 from horde.view.gui import ControlPanel
+from horde.view.nodes import Node
 from horde.view.phase_plane import phase_camera, phase_plane_nodes
 from horde.view.source import ViewSnapshot, ViewSource
 from horde.view.star import star_nodes
@@ -272,7 +273,7 @@ class LiveView:
                 self.applier.clear()
             self._shown_run, self._demon_names, self._map_key, self._spec = run_id, demons, None, None
             panel.set_demons(demons, with_shown=not is_stream)
-            if getattr(self.source, "star", lambda run, demon: None)(run_id, None) is None:  # the star has no axes
+            if self._picture(run_id, None) is None:  # the star and the chains have no axes
                 panel.set_sensors(sensors)
             self._point_camera(phase_camera())
         if is_stream:
@@ -288,10 +289,10 @@ class LiveView:
             return
         if self._map_key is not None and key[:4] == self._map_key[:4] and now - self._map_time < 1.0 / self.map_hz:
             return
-        star = getattr(self.source, "star", lambda run, demon: None)(run_id, panel.value_demon)
-        if star is not None:  # Baird's star: its seven states and the agent's, in place of a phase plane
+        picture = self._picture(run_id, panel.value_demon)
+        if picture is not None:  # Baird's star or a chain: its states, the agent's, in place of a phase plane
             with self.server.atomic():
-                self.applier.apply(star_nodes(*star), "phase")
+                self.applier.apply(picture, "phase")
             self._map_key, self._map_time = key, now
             return
         phase = self.source.phase_snapshot(run_id, panel.value_demon, panel.phase_x, panel.phase_y,  # type: ignore[attr-defined]
@@ -299,6 +300,15 @@ class LiveView:
         with self.server.atomic():
             self.applier.apply(phase_plane_nodes(phase.x, phase.y, phase.demon, phase.values, phase.trail), "phase")
         self._map_key, self._map_time = key, now
+
+    def _picture(self, run_id: str, demon: str | None) -> list[Node] | None:
+        """The nodes of a world drawn state by state (Baird's star, a chain: `star_nodes`, `ChainPicture`), or
+        None for a world drawn as a phase plane."""
+        star = getattr(self.source, "star", lambda run, demon: None)(run_id, demon)
+        if star is not None:
+            return star_nodes(*star)
+        chain = getattr(self.source, "chain", lambda run, demon: None)(run_id, demon)
+        return None if chain is None else chain.nodes()
 
     # ------------------------------------------------------------------------------------------
     # Camera

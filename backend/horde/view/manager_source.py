@@ -22,11 +22,13 @@ import numpy as np
 
 from horde.runs.errors import NotFoundError, RunError, SpecError
 from horde.runs.manager import RunManager
-from horde.runs.readout import cell_centres, value_map
+from horde.runs.readout import cell_centres, state_values, value_map
 from horde.runs.run_view import RunView
 from horde.runs.stream_run import StreamRun, StreamRuns
+from horde.view.chain import ChainPicture
 from horde.view.source import CommandRefusedError, History, PhaseSnapshot, ViewSnapshot
 from horde.worlds.baird import BAIRD_ID, UPPER
+from horde.worlds.chains import CHAINS
 from horde.worlds.phase_plane import axis_of, phase_plane
 
 TRAIL_POINTS = 500  # most positions kept of one episode's trail
@@ -140,6 +142,23 @@ class ManagerSource:
         state = int(view.sensors[0]) if view.sensors is not None else 0
         i = view.horde.index[demon]
         return demon, values[:, i], state, bool(view.horde_state.diverged[i])
+
+    def chain(self, run_id: str, demon: str | None) -> ChainPicture | None:
+        """A live run on a chain (`horde.worlds.chains`): the demon shown, every state's value and truth, the
+        agent's state; None for any other run. Raises KeyError for an unknown run or demon."""
+        if self.is_stream(run_id):
+            return None
+        view = self._view(run_id)
+        if getattr(view.spec.world, "id", None) not in CHAINS:
+            return None
+        demon = demon or view.horde.names[0]
+        if demon not in view.horde.index:
+            raise KeyError(demon)
+        report = state_values(view, demon)
+        if report is None:
+            return None
+        state = int(view.sensors[0]) if view.sensors is not None else 0
+        return ChainPicture.of(demon, report, state, bool(view.horde_state.diverged[view.horde.index[demon]]))
 
     def _stream(self, run_id: str) -> StreamRun:
         if self.streams is None:
