@@ -37,3 +37,18 @@ def test_a_basis_order_or_a_state_count_past_its_bound_is_a_422_naming_the_field
     world = {"kind": "gymnasium", "id": "horde/BoyanChain-v0", "states": 20}
     response = client.post("/api/runs", json={"scenario": "boyan-chain", "world": world})
     assert response.status_code == 422 and ["body", "world", "states"] in locs(response), response.text
+
+
+def test_the_lab_lists_its_experiments_and_prepares_them_with_a_set_up(client: TestClient) -> None:
+    lab = {e["id"]: e for e in client.get("/api/lab").json()}
+    assert {"walk-19", "fig-12-3", "fig-11-5", "boyan-learners"} <= set(lab) and lab["walk-19"]["kind"] == "run"
+    assert {s["name"] for s in lab["fig-12-3"]["setup"]} == {"alpha", "lambda", "runs"} and lab["fig-12-3"]["see"]
+    prepared = client.post("/api/lab/walk-19/prepare", json={"setup": {"alpha": "0.05"}}).json()
+    assert prepared["kind"] == "run" and prepared["spec"]["learning"]["alpha"] == 0.05
+    created = client.post("/api/runs", json=prepared["spec"])
+    assert created.status_code == 201, created.text
+    study = client.post("/api/lab/boyan-learners/prepare", json={"setup": {"runs": "2"}}).json()
+    assert study["kind"] == "study" and study["spec"]["runs"] == 2 and study["spec"]["caption"]
+    bad = client.post("/api/lab/walk-1000/prepare", json={"setup": {"order": "40"}})
+    assert bad.status_code == 422 and ["body", "setup", "order"] in locs(bad), bad.text
+    assert client.post("/api/lab/nothing/prepare", json={}).status_code == 404
