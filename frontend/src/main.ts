@@ -14,6 +14,7 @@ import { demonOverview } from "./views/demon-overview";
 import { demonTable } from "./views/demon-table";
 import { header } from "./views/header";
 import { help } from "./views/help";
+import { labPanel } from "./views/lab-panel";
 import { launcher } from "./views/launcher";
 import { liveToolbar } from "./views/live-toolbar";
 import { protocolPanel } from "./views/protocol-panel";
@@ -60,6 +61,7 @@ const app = h(
         { tab: "world", label: "World editor", panel: worldEditor(store) },
         { tab: "demon", label: "Demon editor", panel: demonEditor(store) },
         { tab: "studies", label: "Studies", panel: studiesPanel(store) },
+        { tab: "lab", label: "Lab", panel: labPanel(store) },
       ]),
     ),
   ),

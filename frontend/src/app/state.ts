@@ -2,7 +2,7 @@
 import type { Demon, Evaluation, Protocol, Run, RunBrief, RunState, Scenario, WorldRecord } from "../api/types";
 import { Store } from "./store";
 
-export type Tab = "live" | "protocol" | "world" | "demon" | "studies";
+export type Tab = "live" | "protocol" | "world" | "demon" | "studies" | "lab";
 
 /** The viser live view: not asked yet, off (the server has none, or it failed: why), or on. */
 export type LiveView =
