@@ -17,7 +17,7 @@ from horde.server import Settings
 from .conftest import ON_DASHBOARD, SHOTS, RunningServer, collect_errors, serve_in_thread
 
 if TYPE_CHECKING:
-    from playwright.sync_api import Browser, Page
+    from playwright.sync_api import Browser
 
 TIMEOUT_MS = 20_000
 
