@@ -11,7 +11,7 @@ from horde.scenarios import load_scenario, scenario_dir
 from horde.view.chain import HEIGHT, chain_nodes
 from horde.view.manager_source import ManagerSource
 
-from .test_live import started_by_hand
+from .viewers import RawClient, started_by_hand
 
 
 def test_the_chain_draws_the_values_the_truth_and_the_agent() -> None:
@@ -34,12 +34,14 @@ def test_a_chain_run_is_drawn_state_by_state_in_the_live_view() -> None:
     view = started_by_hand(source)
     try:
         manager.get(run).step(300)
-        view.show(run)
-        view.panel.value_demon = "tdrc"
+        client = RawClient(view, "dashboard-tab-1")
+        view.show("dashboard-tab-1", run)
         view.refresh()
-        drawn = view.applier.drawn
+        client.viewer.panel.value_demon = "tdrc"
+        view.refresh()
+        drawn = client.viewer.applier.drawn
         assert {"/chain/values", "/chain/truth", "/chain/agent"} <= set(drawn) and "/phase/map" not in drawn
-        assert view.panel.phase_x is None, "no phase-plane axes to choose for a chain"
+        assert client.viewer.panel.phase_x is None, "no phase-plane axes to choose for a chain"
         title = drawn["/chain/title"][0].text
         assert title.startswith("tdrc: the value of each state") and "RMSVE" in title
         picture = source.chain(run, "tdrc")

@@ -81,6 +81,43 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/me": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Who this request acts as (its token's role)
+         * @description 401 for a token that is not this server's or was revoked (the dashboard then drops it).
+         */
+        get: operations["who_am_i_api_me_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/overview": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Every run as a card: owner, status, counters, a sparkline of its first demons */
+        get: operations["overview_api_overview_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/protocols": {
         parameters: {
             query?: never;
@@ -152,7 +189,8 @@ export interface paths {
          * Create a run
          * @description The body is a RunSpec, or a template: {scenario, world, seed, ...overrides} (a body with a `scenario` key, or
          *     whose `world` is a string naming a stored world). The run is the first trial of its protocol, seeded as `horde
-         *     run` seeds it. 404: unknown scenario or world; 409: too many runs.
+         *     run` seeds it; it belongs to the requester. The run's worker validates and builds it (a 422 names the field as
+         *     always). 404: unknown scenario or world; 409: too many runs.
          */
         post: operations["create_run_api_runs_post"];
         delete?: never;
@@ -172,8 +210,8 @@ export interface paths {
         put?: never;
         /**
          * Import a snapshot as a new run
-         * @description The new run continues exactly where the snapshot was taken (paused, or finished). 422 when the arrays do not fit
-         *     the spec; 409 when the server holds as many runs as it allows.
+         * @description The new run continues exactly where the snapshot was taken (paused, or finished); it belongs to the
+         *     requester. 422 when the arrays do not fit the spec; 409 when the server holds as many runs as it allows.
          */
         post: operations["import_snapshot_api_runs_import_post"];
         delete?: never;
@@ -273,9 +311,10 @@ export interface paths {
         };
         /**
          * A demon's prediction over the world
-         * @description The prediction at the centres of a resolution x resolution grid, with the current weights; on a world of
-         *     discrete states with known transitions (the chains, Baird's star), at every state beside the true values and the
-         *     TD fixed point (`kind` "states"; `resolution` is not used).
+         * @description The prediction at the centres of a resolution x resolution grid, with the current weights (read by the run's
+         *     worker); on a world of discrete states with known transitions (the chains, Baird's star), at every state beside
+         *     the true values and the TD fixed point (`kind` "states"; `resolution` is not used). 409 when the run's worker is
+         *     gone.
          */
         get: operations["get_values_api_runs__run_id__demons__name__values_get"];
         put?: never;
@@ -303,9 +342,26 @@ export interface paths {
          *     given on a world without points, or the demon's question cannot be rolled out there, or when the rollouts do
          *     not finish within HORDE_EVALUATION_SECONDS (at `episodes`: ask for fewer, or a smaller `cap`); 429 when two
          *     evaluations are running already. A client that hangs up ends its evaluation (the grid's rollouts stop at
-         *     their next chunk).
+         *     their next chunk). The answer is kept with the run (the latest of each demon; a reset drops them).
          */
         post: operations["evaluate_api_runs__run_id__evaluate_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/runs/{run_id}/evaluations": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The run's kept evaluations, the latest of each demon */
+        get: operations["evaluations_api_runs__run_id__evaluations_get"];
+        put?: never;
+        post?: never;
         delete?: never;
         options?: never;
         head?: never;
@@ -377,7 +433,8 @@ export interface paths {
         put?: never;
         /**
          * Reset a run to its first step
-         * @description Fresh weights and generator, the current demons; the status becomes created.
+         * @description Fresh weights and generator, the current demons; the status becomes created. The run's kept evaluations
+         *     are dropped (they described the old weights).
          */
         post: operations["reset_run_api_runs__run_id__reset_post"];
         delete?: never;
@@ -393,7 +450,11 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** Export a run: weights, traces, generator state, counters, world state */
+        /**
+         * Export a run: weights, traces, generator state, counters, world state
+         * @description The run's worker writes the document (its weights never cross into the server as objects). 409 when the
+         *     run's worker is gone (a run that failed because its worker died).
+         */
         get: operations["export_snapshot_api_runs__run_id__snapshot_get"];
         put?: never;
         post?: never;
@@ -719,6 +780,53 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/tokens": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * The tokens in use (the teacher's)
+         * @description Their ids, names and roles, never their secrets. 401 without a token, 403 for a student's or viewer's.
+         */
+        get: operations["list_tokens_api_tokens_get"];
+        put?: never;
+        /**
+         * Issue a token for a student or a viewer (the teacher's)
+         * @description 403 unless the requester holds HORDE_TOKEN; 409 on a server without HORDE_TOKEN, or when a token of that
+         *     name was issued before (a name names one holder, as the owner of what they make, even once revoked); 422 for
+         *     an unknown role or a name that is empty, too long or 'teacher'.
+         */
+        post: operations["issue_token_api_tokens_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/tokens/{token_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        post?: never;
+        /**
+         * Revoke a token (the teacher's)
+         * @description Its holder is refused from now on (401), on the API, its WebSockets and the live view; what they made
+         *     stays, under their name. 404 for an unknown or already revoked token.
+         */
+        delete: operations["revoke_token_api_tokens__token_id__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/view": {
         parameters: {
             query?: never;
@@ -726,10 +834,10 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** Whether and where the live view listens */
+        /** Whether and where the live view listens (for one dashboard tab, with `viewer`) */
         get: operations["get_view_api_view_get"];
         put?: never;
-        /** Show a run in the live view (every connected browser) */
+        /** Show a run in one dashboard tab's live view */
         post: operations["show_run_api_view_post"];
         delete?: never;
         options?: never;
@@ -1678,6 +1786,30 @@ export interface components {
             max: (number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Output"] | components["schemas"]["MulExpr-Output"] | components["schemas"]["MinExpr-Output"] | components["schemas"]["MaxExpr-Output"] | components["schemas"]["IfExpr-Output"])[];
         };
         /**
+         * MeOut
+         * @description Who the request acts as, so that the dashboard shows only the controls that role may use.
+         */
+        MeOut: {
+            /**
+             * Id
+             * @description the token's id ('teacher' for HORDE_TOKEN's holder), null when anonymous
+             */
+            id: string | null;
+            /** Name */
+            name: string | null;
+            /**
+             * Role
+             * @description anonymous: no token on a server with HORDE_TOKEN (reads only)
+             * @enum {string}
+             */
+            role: "teacher" | "student" | "viewer" | "anonymous";
+            /**
+             * Tokens
+             * @description whether the server has roles (HORDE_TOKEN is set); without, all are teacher
+             */
+            tokens: boolean;
+        };
+        /**
          * MeasureSpec
          * @description What each run measures, at `checkpoints` evenly spaced points of its training (and before it).
          */
@@ -1843,6 +1975,11 @@ export interface components {
             max_steps: number;
             /** Name */
             name: string | null;
+            /**
+             * Owner
+             * @description who started it: 'teacher', or the name of the student's token
+             */
+            owner: string;
             /** Results */
             results: components["schemas"]["DemonResultOut"][] | null;
             /** Rollouts */
@@ -1977,6 +2114,11 @@ export interface components {
             /** Name */
             name: string | null;
             /**
+             * Owner
+             * @description who created it: 'teacher', or the name of the student's token
+             */
+            owner: string;
+            /**
              * Status
              * @enum {string}
              */
@@ -1985,6 +2127,37 @@ export interface components {
              * Step
              * @description steps taken in all
              */
+            step: number;
+            /**
+             * Updated At
+             * Format: date-time
+             */
+            updated_at: string;
+            worker: components["schemas"]["WorkerOut"];
+        };
+        /**
+         * RunCardOut
+         * @description A run as the Class tab's card shows it.
+         */
+        RunCardOut: {
+            /** Episode */
+            episode: number;
+            /** Id */
+            id: string;
+            /**
+             * Name
+             * @description the run spec's name (its scenario's, unless renamed)
+             */
+            name: string | null;
+            /** Owner */
+            owner: string;
+            sparkline: components["schemas"]["SparklineOut"];
+            /**
+             * Status
+             * @enum {string}
+             */
+            status: "created" | "running" | "paused" | "finished" | "failed";
+            /** Step */
             step: number;
             /**
              * Updated At
@@ -2015,6 +2188,11 @@ export interface components {
             message: string;
             /** Name */
             name: string | null;
+            /**
+             * Owner
+             * @description who created it: 'teacher', or the name of the student's token
+             */
+            owner: string;
             spec: components["schemas"]["RunSpec-Output"];
             /**
              * Status
@@ -2032,6 +2210,7 @@ export interface components {
              * Format: date-time
              */
             updated_at: string;
+            worker: components["schemas"]["WorkerOut"];
         };
         /**
          * RunPatchIn
@@ -2331,6 +2510,21 @@ export interface components {
             };
         };
         /**
+         * SparklineOut
+         * @description A run's first demons' predictions over its recent history, thinned to a few dozen points.
+         */
+        SparklineOut: {
+            /**
+             * Series
+             * @description demon name -> prediction at each of `steps`
+             */
+            series: {
+                [key: string]: (number | null)[];
+            };
+            /** Steps */
+            steps: number[];
+        };
+        /**
          * StateOut
          * @description The live state of a run; also the message of its WebSocket stream.
          */
@@ -2419,10 +2613,10 @@ export interface components {
         };
         /**
          * StreamClose
-         * @description How the server closes a WebSocket stream: 1000 NORMAL: the stream is over (a study stopped); 1001 GOING_AWAY: the server is stopping; 1008 ORIGIN_REFUSED: a page of another site may not open the stream; 1013 TOO_SLOW: the client fell too far behind, or a send timed out ('try again later'); 4401 UNAUTHORIZED: the server requires its HORDE_TOKEN (pushing records to a stream run); 4404 NOT_FOUND: no such run (or study, or stream run); 4410 RUN_DELETED: the run (or stream run) was deleted while streamed
+         * @description How the server closes a WebSocket stream: 1000 NORMAL: the stream is over (a study stopped); 1001 GOING_AWAY: the server is stopping; 1008 ORIGIN_REFUSED: a page of another site may not open the stream; 1013 TOO_SLOW: the client fell too far behind, or a send timed out ('try again later'); 4401 UNAUTHORIZED: the server requires a token (pushing records to a stream run), or the token given is not the server's or was revoked; 4403 FORBIDDEN: the token's role may not do this (a viewer's, or a student's on another's stream run); 4404 NOT_FOUND: no such run (or study, or stream run); 4410 RUN_DELETED: the run (or stream run) was deleted while streamed
          * @enum {integer}
          */
-        StreamClose: 1000 | 1001 | 1008 | 1013 | 4401 | 4404 | 4410;
+        StreamClose: 1000 | 1001 | 1008 | 1013 | 4401 | 4403 | 4404 | 4410;
         /** StreamHistoryOut */
         StreamHistoryOut: {
             /**
@@ -2471,6 +2665,11 @@ export interface components {
              * @default
              */
             name: string;
+            /**
+             * Owner
+             * @description who started it: 'teacher', or the name of the student's token
+             */
+            owner: string;
             /**
              * Predictions
              * @description each demon's prediction at the last observation
@@ -2684,6 +2883,11 @@ export interface components {
             /** Name */
             name: string | null;
             /**
+             * Owner
+             * @description who started it: 'teacher', or the name of the student's token
+             */
+            owner: string;
+            /**
              * Runs
              * @description runs per configuration
              */
@@ -2741,6 +2945,11 @@ export interface components {
             message: string;
             /** Name */
             name: string | null;
+            /**
+             * Owner
+             * @description who started it: 'teacher', or the name of the student's token
+             */
+            owner: string;
             /** Results */
             results: components["schemas"]["StudyConfigOut"][];
             /**
@@ -2894,6 +3103,73 @@ export interface components {
              */
             sensor: string;
         };
+        /**
+         * TokenIn
+         * @description A token to issue (POST /api/tokens, the teacher's).
+         */
+        TokenIn: {
+            /**
+             * Name
+             * @description who holds it (a student's name): shown as the owner of what they make
+             */
+            name: string;
+            /**
+             * Role
+             * @description student: creates runs, worlds, studies and changes only those; viewer: changes nothing
+             * @enum {string}
+             */
+            role: "student" | "viewer";
+        };
+        /** TokenIssuedOut */
+        TokenIssuedOut: {
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /**
+             * Id
+             * @description the token's id (DELETE /api/tokens/{id} revokes it); never the secret
+             */
+            id: string;
+            /**
+             * Link
+             * @description an invitation: the dashboard's address carrying the token (?token=...)
+             */
+            link: string;
+            /** Name */
+            name: string;
+            /**
+             * Role
+             * @enum {string}
+             */
+            role: "student" | "viewer";
+            /**
+             * Token
+             * @description the secret, shown this once (the server keeps only its SHA-256)
+             */
+            token: string;
+        };
+        /** TokenOut */
+        TokenOut: {
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /**
+             * Id
+             * @description the token's id (DELETE /api/tokens/{id} revokes it); never the secret
+             */
+            id: string;
+            /** Name */
+            name: string;
+            /**
+             * Role
+             * @enum {string}
+             */
+            role: "student" | "viewer";
+        };
         /** ValidationError */
         ValidationError: {
             /** Context */
@@ -2961,31 +3237,77 @@ export interface components {
              */
             demons?: string[] | null;
             /**
+             * Large
+             * @description Large text: the view's labels and panel larger (for a projector); null: unchanged
+             */
+            large?: boolean | null;
+            /**
              * Run
-             * @description the run the live view should show
+             * @description the run the tab's live view should show
              */
             run: string;
+            /**
+             * Viewer
+             * @description a dashboard tab's own random key (8 to 64 letters, digits, - or _): the browsers that opened the view at GET /api/view?viewer=<key>'s url follow this tab's choice, no others
+             */
+            viewer: string;
         };
         /**
          * ViewOut
-         * @description Whether the viser live view runs, where it listens, and which run it shows.
+         * @description Whether the viser live view runs, where it listens, and which run it shows one dashboard tab.
          */
         ViewOut: {
+            /**
+             * Browsers
+             * @description browsers connected to the live view now, each with its own view
+             * @default 0
+             */
+            browsers: number;
             /**
              * Enabled
              * @description false when the server runs without the live view (`horde serve --no-view`)
              */
             enabled: boolean;
             /**
+             * Frame Rate
+             * @description frames drawn a second over the last 5 s (a frame draws every browser's view)
+             * @default 0
+             */
+            frame_rate: number;
+            /**
              * Run
-             * @description the run it shows now, if any
+             * @description the run shown to the browsers of `viewer`, if it chose one
              */
             run: string | null;
             /**
              * Url
-             * @description the viser client's address (embed it in an iframe or open it)
+             * @description the viser client's address (embed it in an iframe or open it); with `viewer`, the address whose browsers follow that tab's choice
              */
             url: string | null;
+        };
+        /**
+         * WorkerOut
+         * @description Where a run learns: a process of the server's machine, or a Ray actor on a node of its cluster.
+         */
+        WorkerOut: {
+            /** Alive */
+            alive: boolean;
+            /**
+             * Kind
+             * @description none: the run has no worker (its worker died)
+             * @enum {string}
+             */
+            kind: "process" | "ray" | "none";
+            /**
+             * Node
+             * @description the Ray node the worker runs on (null for a process of this machine)
+             */
+            node: string | null;
+            /**
+             * Pid
+             * @description the worker's process id, on its node
+             */
+            pid: number | null;
         };
         /**
          * WorldCreate
@@ -3048,6 +3370,11 @@ export interface components {
             created_at: string;
             /** Name */
             name: string;
+            /**
+             * Owner
+             * @description who stored it: 'teacher', or the name of the student's token
+             */
+            owner: string;
             /**
              * Updated At
              * Format: date-time
@@ -3190,8 +3517,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3248,6 +3584,55 @@ export interface operations {
             };
         };
     };
+    who_am_i_api_me_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MeOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+        };
+    };
+    overview_api_overview_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RunCardOut"][];
+                };
+            };
+        };
+    };
     list_protocols_api_protocols_get: {
         parameters: {
             query?: never;
@@ -3299,8 +3684,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3408,8 +3802,17 @@ export interface operations {
                     "application/json": components["schemas"]["ProtocolOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3546,8 +3949,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3633,8 +4045,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3740,8 +4161,17 @@ export interface operations {
                 };
                 content?: never;
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3812,8 +4242,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3934,8 +4373,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4054,8 +4502,17 @@ export interface operations {
                 };
                 content?: never;
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4181,6 +4638,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
             /** @description Validation Error */
             422: {
                 headers: {
@@ -4226,8 +4692,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4269,6 +4744,47 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+        };
+    };
+    evaluations_api_runs__run_id__evaluations_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["EvaluationOut"][];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
         };
@@ -4381,8 +4897,17 @@ export interface operations {
                     "application/json": components["schemas"]["RunOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4449,8 +4974,17 @@ export interface operations {
                     "application/json": components["schemas"]["RunOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4517,6 +5051,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
             /** @description Validation Error */
             422: {
                 headers: {
@@ -4549,8 +5092,17 @@ export interface operations {
                     "application/json": components["schemas"]["RunOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4671,8 +5223,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4847,8 +5408,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4916,8 +5486,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5014,8 +5593,17 @@ export interface operations {
                 };
                 content?: never;
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5073,6 +5661,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
             /** @description Validation Error */
             422: {
                 headers: {
@@ -5114,6 +5711,15 @@ export interface operations {
             };
             /** @description Unknown run, demon, world or scenario */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5169,6 +5775,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
             /** @description Validation Error */
             422: {
                 headers: {
@@ -5214,8 +5829,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5225,6 +5849,15 @@ export interface operations {
             };
             /** @description Unknown run, demon, world or scenario */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5275,6 +5908,15 @@ export interface operations {
             };
             /** @description Unknown run, demon, world or scenario */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5344,8 +5986,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5453,8 +6104,17 @@ export interface operations {
                     "application/json": components["schemas"]["StudyOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5548,8 +6208,17 @@ export interface operations {
                     "application/json": components["schemas"]["StudyOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5595,7 +6264,7 @@ export interface operations {
             };
         };
     };
-    get_view_api_view_get: {
+    list_tokens_api_tokens_get: {
         parameters: {
             query?: never;
             header?: never;
@@ -5610,7 +6279,211 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
+                    "application/json": components["schemas"]["TokenOut"][];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+        };
+    };
+    issue_token_api_tokens_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["TokenIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["TokenIssuedOut"];
+                };
+            };
+            /** @description The body cannot be parsed (not JSON, not UTF-8) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    revoke_token_api_tokens__token_id__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the token's id */
+                token_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["TokenOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    get_view_api_view_get: {
+        parameters: {
+            query?: {
+                viewer?: string | null;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
                     "application/json": components["schemas"]["ViewOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
         };
@@ -5646,7 +6519,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
                 headers: {
                     [name: string]: unknown;
@@ -5744,8 +6617,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5875,8 +6757,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5941,8 +6832,17 @@ export interface operations {
                 };
                 content?: never;
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };

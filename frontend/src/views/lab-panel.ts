@@ -5,16 +5,21 @@
  * draws the chain with every state's value beside the truth); a figure runs as a study on the server and is
  * drawn here under its caption as its runs finish: learning curves with their 95 % bootstrap bands,
  * sensitivity curves and the table (the Studies tab's results). A set-up the server refuses shows its 422 at
- * the field it names. A lit-html template over the tab's own small state.
+ * the field it names.
  */
-import { html, render } from "lit-html";
+import { html } from "lit-html";
 import { attempt, launchRun } from "../app/actions";
-import type { AppStore } from "../app/state";
+import type { App } from "../app/app";
+import { keys, readNow } from "../app/queries";
+import { reads } from "../app/reads";
+import { mount } from "../app/view";
 import { api, errorMessage, unwrap } from "../api/client";
 import type { LabExperiment, RunTemplate, StudyDetail, StudyIn } from "../api/types";
 import { setupProblems } from "../lib/lab";
 import { studyProgress } from "../lib/study";
-import { studyResults } from "./study-results";
+import { heading, host } from "../ui/html";
+import type { Scope } from "../ui/scope";
+import { StudyResults } from "./study-results";
 
 const POLL_MS = 1000;
 
@@ -22,11 +27,11 @@ interface Figure {
   experiment: string;
   study: string;
   caption: string;
-  detail: StudyDetail | null;
 }
 
 /** The tab's own state. */
 interface Lab {
+  app: App;
   experiments: LabExperiment[];
   /** per experiment, per set-up field: the text typed */
   typed: Record<string, Record<string, string>>;
@@ -34,30 +39,42 @@ interface Lab {
   problems: Record<string, Record<string, string>>;
   busy: string | null;
   figure: Figure | null;
+  results: StudyResults;
+  draw: () => void;
 }
 
-export function labPanel(store: AppStore): HTMLElement {
-  const element = document.createElement("section");
-  element.className = "panel lab-panel";
-  element.setAttribute("aria-labelledby", "lab-title");
-  const lab: Lab = { experiments: [], typed: {}, problems: {}, busy: null, figure: null };
-  const results = studyResults();
-  const draw = () => render(template(store, lab, results.element, draw), element);
-  void attempt(store, async () => {
+export function labPanel(app: App, scope: Scope): HTMLElement {
+  const element = host(html`<section class="panel lab-panel" aria-labelledby="lab-title"></section>`);
+  const lab: Lab = {
+    app,
+    experiments: [],
+    typed: {},
+    problems: {},
+    busy: null,
+    figure: null,
+    results: new StudyResults(() => lab.draw()),
+    draw: () => {},
+  };
+  lab.draw = mount(app, scope, element, ["tab"], () => template(lab));
+  void attempt(app, async () => {
     lab.experiments = await unwrap(api.GET("/api/lab"));
-    draw();
+    lab.draw();
   });
-  window.setInterval(() => {
-    const figure = lab.figure;
-    const running = figure && (!figure.detail || ["created", "running"].includes(figure.detail.status));
-    if (running && store.state.tab === "lab" && !document.hidden) void readFigure(lab, results.show, draw);
+  const timer = window.setInterval(() => {
+    const detail = figureDetail(lab);
+    const running = lab.figure && (!detail || detail.status === "created" || detail.status === "running");
+    if (running && app.ui.state.tab === "lab" && !document.hidden) void readFigure(lab);
   }, POLL_MS);
-  draw();
+  scope.add(() => window.clearInterval(timer));
   return element;
 }
 
-function template(store: AppStore, lab: Lab, results: HTMLElement, draw: () => void) {
-  return html`<h2 id="lab-title">Lab</h2>
+function figureDetail(lab: Lab): StudyDetail | undefined {
+  return lab.figure ? lab.app.client.getQueryData<StudyDetail>(keys.study(lab.figure.study)) : undefined;
+}
+
+function template(lab: Lab) {
+  return html`${heading({ id: "lab-title", title: "Lab" })}
     <p class="hint intro">
       Sutton and Barto's prediction experiments and the gradient-TD papers' chains. A run learns live: the Live tab
       shows its demons, and the view draws the chain with every state's value beside the truth. A figure runs as a study
@@ -65,12 +82,12 @@ function template(store: AppStore, lab: Lab, results: HTMLElement, draw: () => v
       again.
     </p>
     <ul class="lab-list">
-      ${lab.experiments.map((experiment) => item(store, lab, experiment, draw))}
+      ${lab.experiments.map((experiment) => item(lab, experiment))}
     </ul>
-    ${lab.figure ? figureSection(lab.figure, results) : ""}`;
+    ${lab.figure ? figureSection(lab, lab.figure, figureDetail(lab)) : ""}`;
 }
 
-function item(store: AppStore, lab: Lab, experiment: LabExperiment, draw: () => void) {
+function item(lab: Lab, experiment: LabExperiment) {
   lab.typed[experiment.id] ??= {};
   const typed = lab.typed[experiment.id] as Record<string, string>;
   const problems = lab.problems[experiment.id] ?? {};
@@ -97,7 +114,7 @@ function item(store: AppStore, lab: Lab, experiment: LabExperiment, draw: () => 
     <p class="lab-see">${experiment.see}</p>
     <div class="row lab-setup">
       ${experiment.setup.map((s) => field(s.name, s.value))}
-      <button type="button" ?disabled=${lab.busy !== null} @click=${() => void start(store, lab, experiment, draw)}>
+      <button type="button" ?disabled=${lab.busy !== null} @click=${() => void start(lab, experiment)}>
         ${experiment.kind === "run" ? "Run live" : "Run the figure"}
       </button>
     </div>
@@ -105,10 +122,10 @@ function item(store: AppStore, lab: Lab, experiment: LabExperiment, draw: () => 
   </li>`;
 }
 
-async function start(store: AppStore, lab: Lab, experiment: LabExperiment, draw: () => void): Promise<void> {
+async function start(lab: Lab, experiment: LabExperiment): Promise<void> {
   lab.busy = experiment.id;
   lab.problems[experiment.id] = {};
-  draw();
+  lab.draw();
   try {
     const prepared = await unwrap(
       api.POST("/api/lab/{experiment_id}/prepare", {
@@ -117,35 +134,33 @@ async function start(store: AppStore, lab: Lab, experiment: LabExperiment, draw:
       }),
     );
     if (prepared.kind === "run") {
-      await launchRun(store, prepared.spec as unknown as RunTemplate, undefined, true);
-      store.update({ tab: "live" });
+      await launchRun(lab.app, prepared.spec as unknown as RunTemplate, undefined, true);
+      lab.app.ui.update({ tab: "live" });
     } else {
       const study = await unwrap(api.POST("/api/studies", { body: prepared.spec as unknown as StudyIn }));
       const caption = typeof prepared.spec.caption === "string" ? prepared.spec.caption : "";
-      lab.figure = { experiment: experiment.id, study: study.id, caption, detail: null };
+      lab.figure = { experiment: experiment.id, study: study.id, caption };
+      await readFigure(lab);
     }
   } catch (error) {
     lab.problems[experiment.id] = setupProblems(error);
   }
   lab.busy = null;
-  draw();
+  lab.draw();
 }
 
-async function readFigure(lab: Lab, show: (detail: StudyDetail) => void, draw: () => void): Promise<void> {
+async function readFigure(lab: Lab): Promise<void> {
   const figure = lab.figure;
   if (!figure) return;
   try {
-    const path = { params: { path: { study_id: figure.study } } };
-    figure.detail = await unwrap(api.GET("/api/studies/{study_id}", path));
-    if (figure.detail.results.length > 0) show(figure.detail);
+    await readNow(lab.app.client, reads.study(figure.study));
   } catch (error) {
     lab.problems[figure.experiment] = { "": errorMessage(error) };
   }
-  draw();
+  lab.draw();
 }
 
-function figureSection(figure: Figure, results: HTMLElement) {
-  const detail = figure.detail;
+function figureSection(lab: Lab, figure: Figure, detail: StudyDetail | undefined) {
   const progress = detail ? studyProgress(detail) : null;
   return html`<section class="lab-figure" aria-labelledby="lab-figure-title">
     <div class="panel-head">
@@ -161,6 +176,6 @@ function figureSection(figure: Figure, results: HTMLElement) {
     </p>
     <progress max=${Math.max(1, detail?.tasks ?? 1)} .value=${detail?.tasks_done ?? 0}></progress>
     <p class="progress-text">${progress?.counted ?? ""}</p>
-    <div ?hidden=${!detail || detail.results.length === 0}>${results}</div>
+    ${detail && detail.results.length > 0 ? lab.results.template(detail) : ""}
   </section>`;
 }

@@ -8,6 +8,7 @@ from horde.server.routes import (
     health,
     lab,
     learners,
+    overview,
     protocols,
     records,
     runs,
@@ -15,6 +16,7 @@ from horde.server.routes import (
     snapshots,
     stream,
     studies,
+    tokens,
     view,
     worlds,
 )
@@ -34,7 +36,6 @@ ROUTERS: tuple[APIRouter, ...] = (
     demons.writes,
     stream.router,
     view.router,
-    view.writes,
     protocols.router,
     protocols.writes,
     studies.router,
@@ -44,6 +45,10 @@ ROUTERS: tuple[APIRouter, ...] = (
     exports.router,
     records.router,
     records.writes,
+    overview.router,
+    tokens.router,
+    tokens.writes,
+    tokens.me_router,
 )
 
 __all__ = ["ROUTERS"]
