@@ -72,10 +72,11 @@ def _build(init: m.RunInit) -> tuple[Source, RunSpec, Any]:
         sim = new_simulation(spec)
         return sim, sim.spec, None  # a Gymnasium world's sensors resolved by its simulation (the API reads them)
     if init.spec is not None:
-        return new_simulation(init.spec), init.spec, None
+        sim = new_simulation(init.spec)
+        return sim, sim.spec, None
     snapshot: Snapshot = init.snapshot if init.snapshot is not None else from_bytes(init.stored or b"")
     restored = restore(snapshot)
-    return restored.sim, snapshot.spec, restored.stop_reference
+    return restored.sim, restored.sim.spec, restored.stop_reference
 
 
 class RunWorker:
@@ -140,7 +141,10 @@ class RunWorker:
         # and seed until it learns: a 9,000-demon snapshot would cost seconds to encode for nothing).
         first_save = self.recorder.save(self.session, snapshot=init.snapshot is not None) if init.first_save else None
         self.heart.idle()
-        built = pickle.dumps(spec, protocol=pickle.HIGHEST_PROTOCOL) if init.data is not None else None
+        # The spec as built goes back when the API has none, or has a Gymnasium world's without its sensors resolved
+        # (they are resolved here, where the environment is made).
+        unresolved = spec.world.kind == "gymnasium"
+        built = pickle.dumps(spec, protocol=pickle.HIGHEST_PROTOCOL) if init.data is not None or unresolved else None
         ready = m.Ready(
             self.recorder.take_update(self.session), first_save, pid=os.getpid(), node=self.node, spec=built
         )
