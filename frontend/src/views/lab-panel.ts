@@ -57,7 +57,8 @@ export function labPanel(app: App, scope: Scope): HTMLElement {
   };
   lab.draw = mount(app, scope, element, ["tab"], () => template(lab));
   void attempt(app, async () => {
-    lab.experiments = await unwrap(api.GET("/api/lab"));
+    const experiments = await unwrap(api.GET("/api/lab"));
+    lab.experiments = Array.isArray(experiments) ? experiments : []; // a server without the lab lists none
     lab.draw();
   });
   const timer = window.setInterval(() => {
