@@ -425,6 +425,11 @@ class LiveRun:
         values: np.ndarray = self.call(m.StarOf(demon), "read the star of")
         return values
 
+    def state_values(self, demon: str) -> dict[str, object] | None:
+        """The demon's value at every state of a chain (or Baird's star) beside the truth; None elsewhere."""
+        report: dict[str, object] | None = self.call(m.StateValuesOf(demon), "read the state values of")
+        return report
+
     def evaluate(self, command: m.Evaluate, abandoned: Callable[[], bool]) -> Any:
         return self.call(command, "evaluate", COMMAND_TIMEOUT, abandoned)
 

@@ -7,8 +7,8 @@ either way). The API process sends a command as `Call(cid, command)` and waits f
 `cid`; the worker publishes on its own, as it learns:
 
     API -> worker   Call(cid, Start | Pause | Reset | Step | Patch | AddDemon | RemoveDemon | Export | ValueMapOf
-                              | GreedyOf | PhaseOf | StarOf | Evaluate | Shutdown | Push | StreamHistoryOf
-                              | StreamReadoutOf | Crash)
+                              | GreedyOf | PhaseOf | StarOf | StateValuesOf | Evaluate | Shutdown | Push
+                              | StreamHistoryOf | StreamReadoutOf | Crash)
                     Cancel(cid)          stop an evaluation whose client has gone
                     SaveDone(...)        the API process wrote a save (or could not): the worker paces its saves by it
                     SetThreads(n)        the share of the machine's cores the worker's step may take
@@ -197,6 +197,14 @@ class StarOf:
 
 
 @dataclass(frozen=True)
+class StateValuesOf:
+    """A demon's value at every state of a world with known transitions (a chain, Baird's star), beside the truth
+    (`readout.state_values`): replies a dict, or None on any other world."""
+
+    demon: str
+
+
+@dataclass(frozen=True)
 class Evaluate:
     """Monte-Carlo truth of a demon's question (`readout.evaluate`), within `seconds`: replies an `Evaluation`."""
 
@@ -256,7 +264,7 @@ class Crash:
 
 Command = (
     Start | Pause | Reset | Step | Patch | AddDemon | RemoveDemon | Export | ValueMapOf | GreedyOf | PhaseOf | StarOf
-    | Evaluate | Shutdown | Push | StreamHistoryOf | StreamReadoutOf | StreamPhaseOf | Crash
+    | StateValuesOf | Evaluate | Shutdown | Push | StreamHistoryOf | StreamReadoutOf | StreamPhaseOf | Crash
 )  # fmt: skip
 
 

@@ -23,6 +23,7 @@ from horde.spec import GymnasiumWorldSpec, RunSpec, WorldSpec, expr_predictions
 from horde.worlds.gym_simulation import GymWorldState
 from horde.worlds.gymnasium import GymWorld
 from horde.worlds.protocol import rollout_returns
+from horde.worlds.state_values import model_of, values_report
 
 
 class Readable(Protocol):
@@ -147,6 +148,17 @@ def value_map(view: Readable, name: str, resolution: int) -> ValueMap:
             view.horde_state, px[begin:end], py[begin:end], demons=[name]
         ).prediction[:, demon]
     return ValueMap(xs, ys, values.reshape(resolution, resolution))
+
+
+def state_values(view: Readable, name: str) -> dict[str, object] | None:
+    """The demon's prediction at every state of a world with known transitions (the chains, Baird's star), beside
+    the exact values, the TD fixed point and the errors (`horde.worlds.state_values.values_report`); None on any
+    other world."""
+    _demon_index(view, name)
+    if model_of(view.horde.spec) is None:
+        return None
+    with np.errstate(all="ignore"):
+        return values_report(view.horde, view.horde_state, [name])[name]
 
 
 def evaluate(

@@ -38,7 +38,7 @@ from horde.core.world import WorldState
 from horde.runs import messages as m
 from horde.runs.collector import keep_out_of_collector
 from horde.runs.errors import ConflictError, SpecError
-from horde.runs.readout import value_map
+from horde.runs.readout import state_values, value_map
 from horde.runs.recorder import Recorder
 from horde.runs.run_setup import check_limits, new_simulation
 from horde.runs.session import RunSession, Source
@@ -69,12 +69,14 @@ def _build(init: m.RunInit) -> tuple[Source, RunSpec, Any]:
         except ValidationError as exc:
             raise SpecError.from_validation(exc, init.loc) from None
         check_limits(spec, init.limits)
-        return new_simulation(spec), spec, None
+        sim = new_simulation(spec)
+        return sim, sim.spec, None  # a Gymnasium world's sensors resolved by its simulation (the API reads them)
     if init.spec is not None:
-        return new_simulation(init.spec), init.spec, None
+        sim = new_simulation(init.spec)
+        return sim, sim.spec, None
     snapshot: Snapshot = init.snapshot if init.snapshot is not None else from_bytes(init.stored or b"")
     restored = restore(snapshot)
-    return restored.sim, snapshot.spec, restored.stop_reference
+    return restored.sim, restored.sim.spec, restored.stop_reference
 
 
 class RunWorker:
@@ -104,6 +106,7 @@ class RunWorker:
             m.ValueMapOf: lambda c, w: value_map(w, c.demon, c.resolution),
             m.GreedyOf: lambda c, w: greedy_actions(w, c.demon, c.resolution),
             m.StarOf: lambda c, w: star_values(w, c.demon),
+            m.StateValuesOf: lambda c, w: state_values(w, c.demon),
         }
         self._reader = Reader(self._reply_from_thread)
 
@@ -129,7 +132,7 @@ class RunWorker:
                                                      "restart")  # fmt: skip
         self.session = RunSession(sim, init.limits, status=init.status, hz=init.hz, message=init.message,
                                   summary=init.summary, stop_reference=reference)  # fmt: skip
-        self.session.spec = sim.spec  # a Gymnasium world's sensors resolved
+        self.session.spec = spec
         self.recorder = Recorder(init.run_id, init.limits, self.channel.send, init.created_at, sim.horde.names,
                                  init.persist)  # fmt: skip
         self.session.recorder = self.recorder
@@ -138,10 +141,10 @@ class RunWorker:
         # and seed until it learns: a 9,000-demon snapshot would cost seconds to encode for nothing).
         first_save = self.recorder.save(self.session, snapshot=init.snapshot is not None) if init.first_save else None
         self.heart.idle()
-        # The API process holds the spec it sent; it needs the one built here when it sent data, or a Gymnasium
-        # world whose sensors only the environment (made here) can resolve.
-        told = init.data is not None or not spec.world.resolved
-        built = pickle.dumps(sim.spec, protocol=pickle.HIGHEST_PROTOCOL) if told else None
+        # The spec as built goes back when the API has none, or has a Gymnasium world's without its sensors resolved
+        # (they are resolved here, where the environment is made).
+        unresolved = spec.world.kind == "gymnasium"
+        built = pickle.dumps(spec, protocol=pickle.HIGHEST_PROTOCOL) if init.data is not None or unresolved else None
         ready = m.Ready(
             self.recorder.take_update(self.session), first_save, pid=os.getpid(), node=self.node, spec=built
         )

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from datetime import UTC, datetime
+from typing import cast
 
 import numpy as np
 
@@ -136,6 +137,31 @@ def demons_out(view: RunView) -> list[DemonOut]:
         )
         for i, spec in enumerate(view.spec.demons)
     ]
+
+
+def state_values_out(view: RunView, demon: str, report: dict[str, object]) -> ValuesOut:
+    """A demon's prediction at every state of a world with known transitions (`readout.state_values`); its values
+    null when the demon has diverged."""
+    diverged = bool(view.diverged[view.index[demon]])
+    states = cast(list[float], report["states"])
+    values = np.full(len(states), np.nan) if diverged else np.asarray(report["values"], dtype=float)
+    finite = values[np.abs(values) <= MAX_MAGNITUDE]
+    truths = {k: report.get(k) for k in ("exact", "fixed_point", "rmsve", "rms_error", "rmspbe", "weighting")}
+    if diverged:
+        truths.update(rmsve=None, rms_error=None, rmspbe=None)
+    return ValuesOut(
+        kind="states",
+        demon=demon,
+        resolution=len(states),
+        width=float(len(states)),
+        height=1.0,
+        x=[float(s) for s in states],
+        y=[],
+        values=[values.tolist()],
+        min=float(finite.min()) if finite.size else None,
+        max=float(finite.max()) if finite.size else None,
+        **truths,
+    )
 
 
 def values_out(view: RunView, demon: str, values: ValueMap) -> ValuesOut:

@@ -6,6 +6,9 @@ non-finite (a diverged demon's prediction) travel as null: a `MaybeFloat` field 
 numbers beyond MAX_MAGNITUDE null as the model is built, so outputs are built by validation
 (`Model.model_validate(obj, from_attributes=True)`, or the fields given as they are) and no caller maps
 numbers one by one.
+
+Why one module of about 420 lines: the models reference one another (runs, demons, metrics, values), and the
+dashboard's generated types follow this one file; split, each part would re-import the others.
 """
 
 from __future__ import annotations
@@ -355,8 +358,14 @@ class DemonOut(Out):
 
 
 class ValuesOut(Out):
-    """values[j][i] is the demon's prediction at (x[i], y[j]), the centres of an N x N grid."""
+    """On the grid (`kind` "grid"): values[j][i] is the demon's prediction at (x[i], y[j]), the centres of an N x N
+    grid. On a world of discrete states with known transitions (`kind` "states": the chains, Baird's star):
+    values[0][i] is the prediction at state x[i] (y is empty, N the number of states), beside `exact` (the true
+    values), `fixed_point` (the TD fixed point's values), and the errors over the states: `rmsve` and `rmspbe`
+    weighted by the behaviour's distribution (`weighting`), `rms_error` every state alike (horde.worlds.state_values).
+    """
 
+    kind: Literal["grid", "states"] = "grid"
     demon: str
     resolution: int
     width: float
@@ -366,6 +375,12 @@ class ValuesOut(Out):
     values: list[list[MaybeFloat]]
     min: MaybeFloat
     max: MaybeFloat
+    exact: list[float] | None = None
+    fixed_point: list[float] | None = None
+    rmsve: MaybeFloat = None
+    rms_error: MaybeFloat = None
+    rmspbe: MaybeFloat = None
+    weighting: str | None = None
 
 
 class HistoryOut(Out):

@@ -17,6 +17,8 @@ from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from horde.spec.base import MAX_FEATURES, Finite, Model, Name, SensorName, field_error
 
+MAX_TABLE_VALUES = 4096  # readings of a table's discrete sensor
+
 
 class Condition(Model):
     demon: Name
@@ -28,6 +30,26 @@ class Condition(Model):
         if any(b <= a for a, b in itertools.pairwise(thresholds)):
             raise ValueError("thresholds must be strictly increasing")
         return thresholds
+
+
+class Aggregate(Model):
+    """State aggregation (Sutton & Barto 2018, section 9.3) as a table: the readings first..last of the table's
+    sensor in groups of `size` consecutive ones, one feature per group (readings outside: the nearest group)."""
+
+    first: int = Field(ge=0, lt=MAX_TABLE_VALUES, description="the first reading of the first group")
+    last: int = Field(ge=0, lt=MAX_TABLE_VALUES, description="the last reading of the last group")
+    size: int = Field(ge=1, lt=MAX_TABLE_VALUES, description="readings per group")
+
+    @model_validator(mode="after")
+    def _ordered(self) -> Aggregate:
+        if self.last < self.first:
+            raise ValueError("last must not be below first")
+        return self
+
+    def table(self) -> list[list[int]]:
+        """One row per reading 0..last + 1: its group's index."""
+        groups = -(-(self.last - self.first + 1) // self.size)
+        return [[min(max((r - self.first) // self.size, 0), groups - 1)] for r in range(self.last + 2)]
 
 
 class TiledSensor(Model):
@@ -47,7 +69,6 @@ class TiledSensor(Model):
 
 
 MAX_TILED_SENSORS = 256
-MAX_TABLE_VALUES = 4096  # readings of a table's discrete sensor
 MAX_TABLE_ACTIVE = 64  # indices listed per reading
 MAX_ORDER = 32  # polynomial and Fourier bases
 MAX_CENTRES = 64  # radial basis functions per sensor
@@ -108,7 +129,22 @@ class FeatureSpec(Model):
         description="table: the value of each index listed, row by row (default 1): Boyan's chain, Sutton et "
         "al. 2009's inverted and dependent features",
     )
+    aggregate: Aggregate | None = Field(
+        default=None, description="table: state aggregation, written for the table (which is then made from it)"
+    )
     condition: Condition | None = None
+
+    @model_validator(mode="before")
+    @classmethod
+    def _aggregated(cls, data: object) -> object:
+        """A table with `aggregate` gets its rows from it (a dump's table is made again, the same)."""
+        if isinstance(data, dict) and data.get("kind") == "table" and isinstance(data.get("aggregate"), dict):
+            try:
+                table = Aggregate.model_validate(data["aggregate"]).table()
+            except ValueError:
+                return data  # the field's own validation names the problem
+            return {**data, "table": table, "values": None}
+        return data
 
     @field_validator("size")
     @classmethod
@@ -146,8 +182,8 @@ class FeatureSpec(Model):
 
     def _check_table(self) -> None:
         if self.kind != "table":
-            if self.sensor is not None or self.table is not None or self.values is not None:
-                raise ValueError("sensor, table and values belong to kind = 'table' features")
+            if self.sensor is not None or self.table is not None or self.values is not None or self.aggregate:
+                raise ValueError("sensor, table, values and aggregate belong to kind = 'table' features")
             return
         if self.sensor is None or not self.table:
             raise ValueError("table features need a sensor and a table: one row of active indices per reading")

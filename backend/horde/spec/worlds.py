@@ -291,6 +291,9 @@ class StreamWorldSpec(Model):
         return self.actions
 
 
+MAX_CHAIN_STATES = 4000  # horde.worlds.chains: a random walk's non-terminal states
+
+
 class UnresolvedWorldError(ValueError):
     """A Gymnasium world's sensors were asked for before `horde.worlds` resolved them."""
 
@@ -313,6 +316,12 @@ class GymnasiumWorldSpec(Model):
     )
     max_steps: int | None = Field(
         default=None, ge=1, le=MAX_STEPS, description="truncate episodes here (default: the environment's own limit)"
+    )
+    states: int | None = Field(
+        default=None,
+        ge=3,
+        le=MAX_CHAIN_STATES,
+        description="a random walk's number of non-terminal states (horde/RandomWalk*-v0; default the id's own)",
     )
     _sensors: list[SensorRange] | None = PrivateAttr(default=None)
     _actions: int = PrivateAttr(default=0)

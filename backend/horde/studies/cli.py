@@ -82,7 +82,9 @@ def cmd_study(args: argparse.Namespace) -> int:
         print(f"error: {args.study}: {exc}", file=sys.stderr)
         store.close()
         return 2
-    for warning in study_warnings(load_study(store, study_id)[2]):
+    _, stored, configurations = load_study(store, study_id)
+    caption = stored.caption
+    for warning in study_warnings(configurations):
         print(f"warning: {warning}", file=sys.stderr)
     address = args.address or os.environ.get("HORDE_RAY_ADDRESS") or None
     local = LocalRay(args.workers or None) if not args.local and address is None else None
@@ -106,7 +108,7 @@ def cmd_study(args: argparse.Namespace) -> int:
     if not summaries:
         return 1
     print(format_table(summaries))
-    write_outputs(summaries, args)
+    write_outputs(summaries, args, caption)
     return 0 if status == "finished" else 1
 
 
@@ -121,7 +123,7 @@ def _executor(here: bool, address: str | None, local: LocalRay | None) -> Execut
     return RayExecutor(str(address))
 
 
-def write_outputs(summaries: list[ConfigSummary], args: argparse.Namespace) -> None:
+def write_outputs(summaries: list[ConfigSummary], args: argparse.Namespace, caption: str = "") -> None:
     """--json, --csv and --plots: the results as files."""
     if args.json:
         Path(args.json).write_text(json.dumps(results_json(summaries), indent=2) + "\n")
@@ -134,7 +136,7 @@ def write_outputs(summaries: list[ConfigSummary], args: argparse.Namespace) -> N
     if args.plots:
         from horde.studies.plots import write_plots
 
-        files = write_plots(summaries, Path(args.plots), args.x, args.group)
+        files = write_plots(summaries, Path(args.plots), args.x, args.group, caption)
         print(f"plots: {', '.join(str(f) for f in files)}", file=sys.stderr)
 
 

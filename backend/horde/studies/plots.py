@@ -18,6 +18,7 @@ import math
 import textwrap
 from collections.abc import Iterable, Sequence
 from pathlib import Path
+from typing import cast
 
 import matplotlib
 
@@ -26,7 +27,7 @@ import matplotlib.pyplot as plt
 from matplotlib import ticker
 
 from horde.studies.spec import AxisValue, label
-from horde.studies.stats import ConfigSummary
+from horde.studies.stats import Band, ConfigSummary
 
 MAX_LINES = 8
 YLABEL = "relative error (RMSE / RMS of the exact answers)"
@@ -158,26 +159,83 @@ def _plain_numbers(ax: plt.Axes) -> None:
         axis.set_minor_formatter(plain if short else ticker.NullFormatter())
 
 
+def state_values(summaries: list[ConfigSummary], path: Path) -> None:
+    """Every state's final value (a world with known transitions): the mean over runs with its 95 % band, one line
+    per configuration and measured demon (at most MAX_LINES), and the exact values in black (the book's figures
+    9.1 and 9.2)."""
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    shown = 0
+    states = cast(list[int], summaries[0].extra["states"])
+    for s in summaries:
+        bands = cast(dict[str, Band], s.extra["values"])
+        for name, band in bands.items():
+            if shown >= MAX_LINES:
+                break
+            shown += 1
+            tag = (label(s.axes) + " " if s.axes else "") + (name if len(bands) > 1 else "")
+            (line,) = ax.plot(states, band.mean, label=f"{tag.strip() or 'prediction'}, {s.runs} runs", linewidth=1.2)
+            ax.fill_between(states, band.low, band.high, color=line.get_color(), alpha=0.25, linewidth=0)
+    exact = summaries[0].extra["exact"]
+    assert isinstance(exact, dict)
+    ax.plot(states, cast(list[float], next(iter(exact.values()))), color="black", linewidth=1.0, label="true values")
+    ax.set_xlabel("state")
+    ax.set_ylabel("value after training")
+    ax.set_title("Every state's value: mean over runs, 95\u00a0% bootstrap band; the truth in black", fontsize=10)
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+    _save(fig, path)
+
+
+def _caption(fig: plt.Figure, caption: str) -> None:
+    """The study's caption under the figure (the figure grows to hold it)."""
+    if not caption:
+        return
+    text = textwrap.fill(caption, 110)
+    lines = text.count("\n") + 1
+    width, height = fig.get_size_inches()
+    extra = 0.16 * lines + 0.2
+    fig.set_size_inches(width, height + extra)
+    fig.tight_layout(rect=(0, extra / (height + extra), 1, 1))
+    fig.text(0.01, 0.01, text, fontsize=7, va="bottom", ha="left", wrap=False)
+
+
+CAPTION = ""  # the study's caption, set by write_plots for every figure it draws
+
+
 def _save(fig: plt.Figure, path: Path) -> None:
     for ax in fig.axes:
         _plain_numbers(ax)
     fig.tight_layout()
+    _caption(fig, CAPTION)
     for suffix in (".png", ".svg"):
         fig.savefig(path.with_suffix(suffix), dpi=120)
     plt.close(fig)
 
 
 def write_plots(
-    summaries: list[ConfigSummary], directory: Path, x: str | None = None, group: str | None = None
+    summaries: list[ConfigSummary],
+    directory: Path,
+    x: str | None = None,
+    group: str | None = None,
+    caption: str = "",
 ) -> list[Path]:
-    """Write every figure into `directory`; return the files written."""
+    """Write every figure into `directory`, each with the study's caption under it; return the files written."""
+    global CAPTION
     directory.mkdir(parents=True, exist_ok=True)
-    if not summaries[0].axes:  # one configuration: its learning curve is the whole story
-        learning_curves(summaries, None, directory / "learning-curves")
-        return [directory / f"learning-curves{suffix}" for suffix in (".png", ".svg")]
-    x, group = choose_axes(summaries, x, group)
-    learning_curves(summaries, group, directory / "learning-curves")
-    sensitivity(summaries, x, group, "final", directory / "sensitivity-final")
-    sensitivity(summaries, x, group, "auc", directory / "sensitivity-auc")
-    stems = ("learning-curves", "sensitivity-final", "sensitivity-auc")
+    CAPTION = caption
+    stems = ["learning-curves"]
+    try:
+        if "values" in summaries[0].extra:  # a world with known transitions: every state's value (figures 9.1, 9.2)
+            state_values(summaries, directory / "values")
+            stems.append("values")
+        if not summaries[0].axes or all(len({repr(s.axes[p]) for s in summaries}) == 1 for p in summaries[0].axes):
+            learning_curves(summaries, None, directory / "learning-curves")  # one configuration: its curve
+        else:
+            x, group = choose_axes(summaries, x, group)
+            learning_curves(summaries, group, directory / "learning-curves")
+            sensitivity(summaries, x, group, "final", directory / "sensitivity-final")
+            sensitivity(summaries, x, group, "auc", directory / "sensitivity-auc")
+            stems += ["sensitivity-final", "sensitivity-auc"]
+    finally:
+        CAPTION = ""
     return [directory / f"{stem}{suffix}" for stem in stems for suffix in (".png", ".svg")]

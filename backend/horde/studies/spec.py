@@ -72,6 +72,11 @@ class MeasureSpec(Model):
         default=300, ge=1, le=100_000, description="Monte-Carlo rollouts per checkpoint where no exact answer exists"
     )
     cap: int = Field(default=10_000, ge=1, le=1_000_000, description="rollout length limit")
+    weighting: Literal["on-policy", "uniform"] = Field(
+        default="on-policy",
+        description="worlds with known transitions (the chains, Baird's star): the RMS error over the states "
+        "weighted by the behaviour's distribution (the book's VE) or every state alike (its 19-state walk figures)",
+    )
 
 
 class StudySpec(Model):
@@ -79,6 +84,9 @@ class StudySpec(Model):
 
     name: Name | None = None
     description: str = Field(default="", max_length=2000)
+    caption: str = Field(
+        default="", max_length=2000, description="written under every figure: which figure, the set-up, what to see"
+    )
     scenario: Name | None = Field(default=None, description="the base scenario's name (or give `base`)")
     base: RunSpec | None = Field(default=None, description="the base run spec (or name a `scenario`)")
     axes: list[AxisSpec] = Field(

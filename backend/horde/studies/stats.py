@@ -173,8 +173,18 @@ def summarize_configuration(index: int, axes: dict[str, AxisValue], tasks: list[
         returns=returns_band,
         diverged=diverged,
         seconds=float(sum(t["seconds"] for t in tasks)),
-        extra={"positive": columns.band(positive)} if positive is not None else {},
+        extra=({"positive": columns.band(positive)} if positive is not None else {}) | _state_values(tasks),
     )
+
+
+def _state_values(tasks: list[TaskData]) -> dict[str, object]:
+    """Tasks on a world with known transitions (`chain_task.py`): every state's final value per demon, the mean
+    over runs with its band, beside the exact values."""
+    if not all("values" in t for t in tasks):
+        return {}
+    names = list(tasks[0]["values"])
+    bands = {name: Band.of(np.array([t["values"][name] for t in tasks])) for name in names}
+    return {"states": tasks[0]["states"], "values": bands, "exact": tasks[0]["exact"]}
 
 
 def _area(curves: np.ndarray) -> np.ndarray:

@@ -94,7 +94,17 @@ def _frozen(sim: Simulation, names: list[str]) -> list[str]:
 
 
 def run_task(spec: RunSpec, run: int, measure: MeasureSpec) -> TaskData:
-    """Train the spec's Horde once from scratch and measure it at checkpoints.
+    """Train the spec's Horde once from scratch and measure it at checkpoints: on the grid (below), or on a
+    Gymnasium world with known transitions, a chain or Baird's star (`chain_task.run_model_task`)."""
+    if spec.world.kind == "gymnasium":
+        from horde.studies.chain_task import run_model_task
+
+        return run_model_task(spec, run, measure, checkpoint_episodes(spec.protocol.episodes, measure.checkpoints))
+    return _grid_task(spec, run, measure)
+
+
+def _grid_task(spec: RunSpec, run: int, measure: MeasureSpec) -> TaskData:
+    """Train the spec's Horde on the grid once from scratch and measure it at checkpoints.
 
     Args:
         spec: the configuration's run spec (its protocol's `episodes` is the training length).

@@ -25,8 +25,10 @@ from horde.runs.evaluations import forget_evaluations
 from horde.runs.manager import RunManager
 from horde.runs.run_view import RunView
 from horde.runs.stream_run import StreamRun, StreamRuns
+from horde.view.chain import ChainPicture
 from horde.view.source import CommandRefusedError, History, PhaseSnapshot, ViewSnapshot
 from horde.worlds.baird import BAIRD_ID, UPPER
+from horde.worlds.chains import CHAINS
 from horde.worlds.phase_plane import Axis
 
 TRAIL_POINTS = 500  # most positions kept of one episode's trail
@@ -155,6 +157,28 @@ class ManagerSource:
             values = np.full(UPPER + 1, np.nan)
         state = int(view.sensors[0]) if view.sensors is not None else 0
         return demon, values, state, bool(view.diverged[view.index[demon]])
+
+    def chain(self, run_id: str, demon: str | None) -> ChainPicture | None:
+        """A live run on a chain (`horde.worlds.chains`): the demon shown, every state's value and truth, the
+        agent's state; None for any other run. Raises KeyError for an unknown run or demon."""
+        if self.is_stream(run_id):
+            return None
+        view = self._view(run_id)
+        if getattr(view.spec.world, "id", None) not in CHAINS:
+            return None
+        demon = demon or view.names[0]
+        if demon not in view.index:
+            raise KeyError(demon)
+        try:
+            report = self.manager.get(run_id).state_values(demon)  # read by the run's worker
+        except NotFoundError:
+            raise KeyError(run_id) from None
+        except RunError:  # its worker is gone (a failed run) or busy: nothing to draw
+            return None
+        if report is None:
+            return None
+        state = int(view.sensors[0]) if view.sensors is not None else 0
+        return ChainPicture.of(demon, report, state, bool(view.diverged[view.index[demon]]))
 
     def _stream(self, run_id: str) -> StreamRun:
         if self.streams is None:

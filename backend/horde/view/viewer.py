@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections import OrderedDict
 from collections.abc import Callable, Sequence
+from functools import partial
 from typing import Any, TypeVar
 
 import numpy as np
@@ -23,6 +24,7 @@ from horde.spec import RunSpec
 from horde.view import camera, scene
 from horde.view.apply import SceneApplier
 from horde.view.gui import LARGE_SCALE, ControlPanel
+from horde.view.nodes import Node
 from horde.view.phase_plane import phase_camera, phase_plane_nodes
 from horde.view.source import ViewSnapshot, ViewSource
 from horde.view.star import star_nodes
@@ -70,6 +72,16 @@ class Frame:
 
     def has(self, name: str) -> bool:
         return hasattr(self.source, name)
+
+
+def _picture(frame: Frame, run_id: str, demon: str | None) -> list[Node] | None:
+    """The nodes of a world drawn state by state: Baird's star (`star_nodes`), a chain (`view.chain`); None for a
+    world drawn as a phase plane."""
+    star = frame.read("star", run_id, demon) if frame.has("star") else None
+    if star is not None:
+        return star_nodes(*star)
+    chain = frame.read("chain", run_id, demon) if frame.has("chain") else None
+    return None if chain is None else chain.nodes()
 
 
 class Viewer:
@@ -227,13 +239,13 @@ class Viewer:
         panel = self.panel
         sensors, demons, received, learned = frame.read("phase_status", run_id)
         is_stream = frame.read("is_stream", run_id) if frame.has("is_stream") else True
-        star_of = (lambda demon: frame.read("star", run_id, demon)) if frame.has("star") else (lambda demon: None)
+        star_of = partial(_picture, frame, run_id)  # Baird's star or a chain: drawn state by state
         if run_id != self._shown_run or demons != self._demon_names:
             if run_id != self._shown_run:
                 self.applier.clear()
             self._shown_run, self._demon_names, self._map_key, self._spec = run_id, demons, None, None
             panel.set_demons(demons, with_shown=not is_stream)
-            if star_of(None) is None:  # the star has no axes
+            if star_of(None) is None:  # the star and the chains have no axes
                 panel.set_sensors(sensors)
             self._point_camera(phase_camera())
         panel.sync_demons()
@@ -252,9 +264,9 @@ class Viewer:
             return
         if self._map_key is not None and key[:4] == self._map_key[:4] and now - self._map_time < 1.0 / self.map_hz:
             return
-        star = star_of(panel.value_demon)
-        if star is not None:  # Baird's star: its seven states and the agent's, in place of a phase plane
-            self.applier.apply(star_nodes(*star), "phase")
+        picture = star_of(panel.value_demon)
+        if picture is not None:  # Baird's star or a chain: its states and the agent's, in place of a phase plane
+            self.applier.apply(picture, "phase")
             self._map_key, self._map_time = key, now
             return
         phase = frame.read("phase_snapshot", run_id, panel.value_demon, panel.phase_x, panel.phase_y, self.resolution)

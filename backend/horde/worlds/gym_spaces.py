@@ -16,12 +16,14 @@ from __future__ import annotations
 
 import math
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 from pydantic import ValidationError
 from pydantic_core import InitErrorDetails, PydanticCustomError
 
 from horde.spec import GymnasiumWorldSpec, RunSpec, SensorRange, validate_world_fit
+from horde.worlds.chains import CHAINS, chain_kwargs
 
 # Documented names and ranges of the classic-control observations, and each environment's reward range
 # (an episode's first state reads reward 0).
@@ -60,16 +62,16 @@ def _family(env_id: str) -> str:
 
 
 @lru_cache(maxsize=64)
-def _describe(env_id: str) -> tuple[tuple[SensorRange, ...], int]:
+def _describe(env_id: str, kwargs: tuple[tuple[str, int], ...] = ()) -> tuple[tuple[SensorRange, ...], int]:
     import gymnasium as gym
     from gymnasium import spaces
 
-    from horde.worlds.baird import register
+    from horde.worlds.chains import register
 
-    register()  # horde/Baird-v0
+    register()  # horde/Baird-v0 and the chains
 
     try:
-        env = gym.make(env_id)
+        env = gym.make(env_id, **dict[str, Any](kwargs))
     except Exception as exc:  # gymnasium raises several kinds: unknown name, version, missing dependency
         raise GymSpaceError(f"no installed Gymnasium environment {env_id!r}: {exc}") from None
     try:
@@ -87,7 +89,9 @@ def _describe(env_id: str) -> tuple[tuple[SensorRange, ...], int]:
             raise GymSpaceError(f"{env_id!r} has {int(obs.n)} discrete states, more than 4096")
         first = int(obs.start)
         state = SensorRange(name="state", low=first, high=first + max(int(obs.n) - 1, 1))
-        return (state, *_endings(_DOCUMENTED.get(_family(env_id), ([], (-math.inf, math.inf)))[1])), int(act.n)
+        rewards = CHAINS[env_id].rewards if env_id in CHAINS else None
+        rewards = rewards or _DOCUMENTED.get(_family(env_id), ([], (-math.inf, math.inf)))[1]
+        return (state, *_endings(rewards)), int(act.n)
     if not isinstance(obs, spaces.Box) or len(obs.shape) != 1:
         raise GymSpaceError(f"{env_id!r} has observation space {obs}; Horde Lab needs a flat Box or a Discrete")
     if obs.shape[0] > 1000:
@@ -117,13 +121,14 @@ def _endings(rewards: tuple[float, float]) -> tuple[SensorRange, ...]:
     )  # fmt: skip
 
 
-def describe(env_id: str) -> tuple[list[SensorRange], int]:
-    """The sensors (observation components, then reward, terminated, truncated) and the number of actions.
+def describe(env_id: str, states: int | None = None) -> tuple[list[SensorRange], int]:
+    """The sensors (observation components, then reward, terminated, truncated) and the number of actions;
+    `states`: a random walk's number of states (`horde.worlds.chains`).
 
     Raises:
         GymSpaceError: the environment is not installed or its spaces are not supported (the message says which).
     """
-    sensors, actions = _describe(env_id)
+    sensors, actions = _describe(env_id, tuple(chain_kwargs(env_id, states).items()))
     return list(sensors), actions
 
 
@@ -138,7 +143,13 @@ def resolve_world(spec: RunSpec) -> RunSpec:
     if not isinstance(world, GymnasiumWorldSpec) or world.resolved:
         return spec
     try:
-        sensors, actions = describe(world.id)
+        chain_kwargs(world.id, world.states)
+    except ValueError as exc:  # states set where the world's number of states is fixed
+        detail = InitErrorDetails(type=PydanticCustomError("world_states", str(exc)), loc=("world", "states"),
+                                  input=world.states)  # fmt: skip
+        raise ValidationError.from_exception_data("RunSpec", [detail]) from None
+    try:
+        sensors, actions = describe(world.id, world.states)
     except GymSpaceError as exc:  # a ValidationError at `world.id`, so that the 422 names the field
         detail = InitErrorDetails(type=PydanticCustomError("gymnasium_id", str(exc)), loc=("world", "id"),
                                   input=world.id)  # fmt: skip

@@ -37,17 +37,18 @@ class GymWorld:
     def __init__(self, spec: GymnasiumWorldSpec, time_limit: bool = True) -> None:
         import gymnasium as gym
 
-        from horde.worlds.baird import register
+        from horde.worlds.chains import chain_kwargs, register
 
-        register()  # horde/Baird-v0
+        register()  # horde/Baird-v0 and the chains
 
         self.spec = spec
+        kwargs = chain_kwargs(spec.id, spec.states)
         if not time_limit:
-            self.env: Any = gym.make(spec.id).unwrapped
+            self.env: Any = gym.make(spec.id, **kwargs).unwrapped
         elif spec.max_steps is not None:
-            self.env = gym.make(spec.id, max_episode_steps=spec.max_steps)
+            self.env = gym.make(spec.id, max_episode_steps=spec.max_steps, **kwargs)
         else:
-            self.env = gym.make(spec.id)
+            self.env = gym.make(spec.id, **kwargs)
         self.sensor_names = spec.sensor_names()
         self.num_actions = spec.num_actions()
         self._obs = len(self.sensor_names) - 3
@@ -166,6 +167,38 @@ class GymAgent:
             self.sensors = self.world.reset()
             self.learner.observe(self.sensors)
         return GymStep(action, reward, terminated, truncated, sensors)
+
+    def run_episode(self) -> int:
+        """Step to the end of the episode under way (terminated or truncated); returns the steps taken.
+
+        Under a behaviour that reads neither the state nor a demon (uniform, fixed) the episode's transitions
+        are stepped first and learned in one call (the same draws, actions and weights as `step` gives one at a
+        time, several times faster: the engine's cost per call is paid once)."""
+        behaviour = self.spec.behaviour
+        if behaviour.kind not in ("uniform", "fixed"):
+            episode, steps = self.episode, 0
+            while self.episode == episode:
+                self.step()
+                steps += 1
+            return steps
+        probs = self.behaviour_probs()
+        cumulative = np.cumsum(probs)
+        rows, actions = [], []
+        terminated = truncated = False
+        while not (terminated or truncated):
+            action = min(int(np.searchsorted(cumulative, self.rng.random() * probs.sum(), side="right")),
+                         len(probs) - 1)  # fmt: skip
+            sensors, terminated, truncated = self.world.step(action)
+            rows.append(sensors)
+            actions.append(action)
+        self.learner.learn(np.array(rows), actions, probs[actions], terminated, truncated)
+        rewards = float(np.sum([row[-3] for row in rows]))
+        self.total_steps += len(rows)
+        self.episode += 1
+        self.returns[:] = (0.0, self.returns[0] + rewards)
+        self.sensors = self.world.reset()
+        self.learner.observe(self.sensors)
+        return len(rows)
 
     def run(self, steps: int, behaviour: BehaviourSpec | None = None) -> None:
         for _ in range(steps):

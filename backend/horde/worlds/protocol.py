@@ -31,6 +31,7 @@ import numpy as np
 from horde.core.questions import Program
 from horde.spec import RunSpec, expr_predictions
 from horde.worlds.gymnasium import GymAgent, GymWorld, policy_probs
+from horde.worlds.state_values import values_report
 
 Progress = Callable[[int, int], None]
 CONTINUATION_FLOOR = 1e-3  # a rollout ends once the product of continuations falls below this
@@ -46,6 +47,7 @@ class GymDemonResult:
     rmse: float | None  # over the test states
     scale: float | None  # RMS of the realised returns: the error's yardstick for questions whose mean is near 0
     diverged: bool = False  # frozen by the engine (its weights set to 0): not compared with the returns
+    values: dict[str, object] | None = None  # a world with known transitions: every state's value and truth
 
     @property
     def relative(self) -> float | None:
@@ -58,7 +60,7 @@ class GymDemonResult:
     def as_dict(self) -> dict[str, object]:
         return {"name": self.name, "prediction": self.prediction, "truth": self.truth,
                 "truth_stderr": self.truth_stderr, "error": self.error, "rmse": self.rmse, "scale": self.scale,
-                "relative_error": self.relative, "diverged": self.diverged}  # fmt: skip
+                "relative_error": self.relative, "diverged": self.diverged, **(self.values or {})}  # fmt: skip
 
 
 @dataclass
@@ -117,26 +119,31 @@ def rollout_returns(spec: RunSpec, world: GymWorld, state: np.ndarray, sensors: 
     return out, capped
 
 
+def _test_states(agent: GymAgent, count: int, spacing: int = 25) -> list[tuple[np.ndarray, np.ndarray]]:
+    """`count` test states (the environment's state and the sensors there), one every `spacing` steps of the
+    behaviour going on (learning off)."""
+    states: list[tuple[np.ndarray, np.ndarray]] = []
+    while len(states) < count:
+        agent.step()
+        if agent.total_steps % spacing == 0:
+            states.append((agent.world.get_state(), agent.sensors.copy()))
+    return states
+
+
 def run_gym_protocol(spec: RunSpec, progress: Progress | None = None) -> GymProtocolResult:
     """Learn for `protocol.episodes` episodes, then compare predictions with realised returns (see the module)."""
     began = time.perf_counter()
     agent = GymAgent(spec, np.random.default_rng([spec.seed, 0]))
     spec, protocol, evaluation = agent.spec, spec.protocol, spec.protocol.evaluation  # its sensors resolved
-    steps = 0
     while agent.episode < protocol.episodes:
-        agent.step()
-        steps += 1
-        if progress is not None and agent.total_steps % 1000 == 0:
+        agent.run_episode()
+        if progress is not None:
             progress(agent.episode, protocol.episodes + evaluation.states)
     # Test states: the behaviour goes on without learning; one state every `spacing` steps.
     agent.learner.set_learning(np.zeros(agent.horde.num_demons, dtype=bool))
-    spacing = 25
-    states: list[tuple[np.ndarray, np.ndarray]] = []
-    while len(states) < evaluation.states:
-        agent.step()
-        if agent.total_steps % spacing == 0:
-            states.append((agent.world.get_state(), agent.sensors.copy()))
     wanted = evaluation.demons or agent.horde.prediction_demons()
+    every_state = values_report(agent.horde, agent.learner.horde_state(), wanted)
+    states = _test_states(agent, evaluation.states)
     index = [agent.horde.index[name] for name in wanted]
     predictions = np.empty((len(states), len(index)))
     for s, (_, sensors) in enumerate(states):
@@ -168,13 +175,15 @@ def run_gym_protocol(spec: RunSpec, progress: Progress | None = None) -> GymProt
     for j, name in enumerate(wanted):
         prediction = float(predictions[:, j].mean())
         if diverged[index[j]] or np.isnan(truths[:, j]).any():  # diverged: frozen at 0 weights, nothing to compare
-            rows.append(GymDemonResult(name, prediction, None, None, None, None, None, bool(diverged[index[j]])))
+            rows.append(GymDemonResult(name, prediction, None, None, None, None, None, bool(diverged[index[j]]),
+                                       every_state.get(name)))  # fmt: skip
             continue
         truth = float(truths[:, j].mean())
         stderr = float(math.sqrt(variances[:, j].sum()) / len(states))
         rmse = float(np.sqrt(np.mean((predictions[:, j] - truths[:, j]) ** 2)))
         scale = float(np.sqrt(np.mean(truths[:, j] ** 2)))
-        rows.append(GymDemonResult(name, prediction, truth, stderr, prediction - truth, rmse, scale))
+        rows.append(GymDemonResult(name, prediction, truth, stderr, prediction - truth, rmse, scale, False,
+                                   every_state.get(name)))  # fmt: skip
     return GymProtocolResult(rows, time.perf_counter() - began, agent.total_steps, len(states), evaluation.rollouts,
                              evaluation.cap)  # fmt: skip
 

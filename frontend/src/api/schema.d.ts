@@ -24,6 +24,43 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/lab": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The textbook lab's experiments */
+        get: operations["list_lab_api_lab_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/lab/{experiment_id}/prepare": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * An experiment with a set-up applied
+         * @description The spec to launch: 422 naming the set-up field (`body.setup.<name>`) whose value the field refuses.
+         */
+        post: operations["prepare_api_lab__experiment_id__prepare_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/learners": {
         parameters: {
             query?: never;
@@ -275,7 +312,9 @@ export interface paths {
         /**
          * A demon's prediction over the world
          * @description The prediction at the centres of a resolution x resolution grid, with the current weights (read by the run's
-         *     worker). 409 when the run's worker is gone.
+         *     worker); on a world of discrete states with known transitions (the chains, Baird's star), at every state beside
+         *     the true values and the TD fixed point (`kind` "states"; `resolution` is not used). 409 when the run's worker is
+         *     gone.
          */
         get: operations["get_values_api_runs__run_id__demons__name__values_get"];
         put?: never;
@@ -870,6 +909,28 @@ export interface components {
             /** Y */
             y: number;
         };
+        /**
+         * Aggregate
+         * @description State aggregation (Sutton & Barto 2018, section 9.3) as a table: the readings first..last of the table's
+         *     sensor in groups of `size` consecutive ones, one feature per group (readings outside: the nearest group).
+         */
+        Aggregate: {
+            /**
+             * First
+             * @description the first reading of the first group
+             */
+            first: number;
+            /**
+             * Last
+             * @description the last reading of the last group
+             */
+            last: number;
+            /**
+             * Size
+             * @description readings per group
+             */
+            size: number;
+        };
         /** AxisOut */
         AxisOut: {
             /** High */
@@ -1392,6 +1453,8 @@ export interface components {
          * @description How a state is coded into sparse features, each with a value (DESIGN section 3).
          */
         FeatureSpec: {
+            /** @description table: state aggregation, written for the table (which is then made from it) */
+            aggregate?: components["schemas"]["Aggregate"] | null;
             /**
              * Centres
              * @description rbf: radial basis functions per input, evenly spaced over [0, 1]: centres^inputs features
@@ -1484,6 +1547,11 @@ export interface components {
             max_steps?: number | null;
             /** Name */
             name?: string | null;
+            /**
+             * States
+             * @description a random walk's number of non-terminal states (horde/RandomWalk*-v0; default the id's own)
+             */
+            states?: number | null;
         };
         /** HTTPValidationError */
         HTTPValidationError: {
@@ -1570,6 +1638,66 @@ export interface components {
              */
             values: {
                 [key: string]: number;
+            };
+        };
+        /** LabExperimentOut */
+        LabExperimentOut: {
+            /** Id */
+            id: string;
+            /**
+             * Kind
+             * @description run: a scenario launched live; study: a figure
+             * @enum {string}
+             */
+            kind: "run" | "study";
+            /**
+             * See
+             * @description what the class should see
+             */
+            see: string;
+            /** Setup */
+            setup: components["schemas"]["LabSettingOut"][];
+            /**
+             * Source
+             * @description the scenario's or the study file's name
+             */
+            source: string;
+            /** Title */
+            title: string;
+        };
+        /** LabPreparedOut */
+        LabPreparedOut: {
+            /**
+             * Kind
+             * @enum {string}
+             */
+            kind: "run" | "study";
+            /**
+             * Spec
+             * @description a RunSpec (POST /api/runs) or a StudySpec (POST /api/studies)
+             */
+            spec: {
+                [key: string]: unknown;
+            };
+        };
+        /** LabSettingOut */
+        LabSettingOut: {
+            /** Name */
+            name: string;
+            /**
+             * Value
+             * @description as shipped: one number for a run, numbers separated by commas for a figure
+             */
+            value: string;
+        };
+        /** LabSetupIn */
+        LabSetupIn: {
+            /**
+             * Setup
+             * @description alpha, lambda, order, runs: as typed
+             */
+            setup?: {
+                [key: string]: string;
             };
         };
         /** LearnerOut */
@@ -1713,6 +1841,13 @@ export interface components {
              * @default 300
              */
             rollouts: number;
+            /**
+             * Weighting
+             * @description worlds with known transitions (the chains, Baird's star): the RMS error over the states weighted by the behaviour's distribution (the book's VE) or every state alike (its 19-state walk figures)
+             * @default on-policy
+             * @enum {string}
+             */
+            weighting: "on-policy" | "uniform";
         };
         /** MinExpr */
         "MinExpr-Input": {
@@ -2868,6 +3003,12 @@ export interface components {
             /** @description the base run spec (or name a `scenario`) */
             base?: components["schemas"]["RunSpec-Input"] | null;
             /**
+             * Caption
+             * @description written under every figure: which figure, the set-up, what to see
+             * @default
+             */
+            caption: string;
+            /**
              * Description
              * @default
              */
@@ -3044,21 +3185,43 @@ export interface components {
         };
         /**
          * ValuesOut
-         * @description values[j][i] is the demon's prediction at (x[i], y[j]), the centres of an N x N grid.
+         * @description On the grid (`kind` "grid"): values[j][i] is the demon's prediction at (x[i], y[j]), the centres of an N x N
+         *     grid. On a world of discrete states with known transitions (`kind` "states": the chains, Baird's star):
+         *     values[0][i] is the prediction at state x[i] (y is empty, N the number of states), beside `exact` (the true
+         *     values), `fixed_point` (the TD fixed point's values), and the errors over the states: `rmsve` and `rmspbe`
+         *     weighted by the behaviour's distribution (`weighting`), `rms_error` every state alike (horde.worlds.state_values).
          */
         ValuesOut: {
             /** Demon */
             demon: string;
+            /** Exact */
+            exact?: number[] | null;
+            /** Fixed Point */
+            fixed_point?: number[] | null;
             /** Height */
             height: number;
+            /**
+             * Kind
+             * @default grid
+             * @enum {string}
+             */
+            kind: "grid" | "states";
             /** Max */
             max: number | null;
             /** Min */
             min: number | null;
             /** Resolution */
             resolution: number;
+            /** Rms Error */
+            rms_error?: number | null;
+            /** Rmspbe */
+            rmspbe?: number | null;
+            /** Rmsve */
+            rmsve?: number | null;
             /** Values */
             values: (number | null)[][];
+            /** Weighting */
+            weighting?: string | null;
             /** Width */
             width: number;
             /** X */
@@ -3296,6 +3459,107 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["HealthOut"];
+                };
+            };
+        };
+    };
+    list_lab_api_lab_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["LabExperimentOut"][];
+                };
+            };
+        };
+    };
+    prepare_api_lab__experiment_id__prepare_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the experiment's id */
+                experiment_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["LabSetupIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["LabPreparedOut"];
+                };
+            };
+            /** @description The body cannot be parsed (not JSON, not UTF-8) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
         };

@@ -54,6 +54,9 @@ export type StudyDetail = Schemas["StudyResultsOut"];
 export type StudyConfig = Schemas["StudyConfigOut"];
 export type StudyIn = Schemas["StudySpec"];
 export type Band = Schemas["BandOut"];
+/** The textbook lab's experiments (GET /api/lab) and one prepared with a set-up (POST /api/lab/{id}/prepare). */
+export type LabExperiment = Schemas["LabExperimentOut"];
+export type LabPrepared = Schemas["LabPreparedOut"];
 /** A stream run (a world of kind `stream`): its counters and every demon's latest prediction. */
 export type StreamRun = Schemas["StreamOut"];
 /** The strip chart's data: recent sensors, predictions made at the time, realised returns computed afterwards. */

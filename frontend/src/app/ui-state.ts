@@ -5,7 +5,7 @@
  * server answer. Views subscribe to the keys they show (through `app/view.ts`).
  */
 
-export type Tab = "live" | "class" | "protocol" | "world" | "demon" | "studies";
+export type Tab = "live" | "class" | "protocol" | "world" | "demon" | "studies" | "lab";
 
 /** Every tab, in the order the tab list shows them (the address names one: `?tab=`). */
 export const TABS: readonly Tab[] = ["live", "class", "protocol", "world", "demon", "studies"];

@@ -17,6 +17,7 @@ import { demonOverview } from "./demon-overview";
 import { demonTable } from "./demon-table";
 import { header } from "./header";
 import { type Help, help } from "./help";
+import { labPanel } from "./lab-panel";
 import { launcher } from "./launcher";
 import { liveToolbar } from "./live-toolbar";
 import { presentMode } from "./present";
@@ -67,6 +68,7 @@ export function dashboard(app: App, scope: Scope): Dashboard {
             { tab: "world", label: "World editor", panel: worldEditor(app, scope) },
             { tab: "demon", label: "Demon editor", panel: demonPanel },
             { tab: "studies", label: "Studies", panel: studiesPanel(app, scope) },
+            { tab: "lab", label: "Lab", panel: labPanel(app, scope) },
           ])}
         </main>
       </div>`,

@@ -15,7 +15,7 @@ from horde.core.evaluate import StoppedError
 from horde.runs.errors import NotFoundError
 from horde.runs.evaluations import keep_evaluation, kept_evaluations
 from horde.runs.run_view import RunView
-from horde.server.convert import demons_out, evaluation_out, history_out, values_out
+from horde.server.convert import demons_out, evaluation_out, history_out, state_values_out, values_out
 from horde.server.deps import ControlledRunDep, DemonName, ManagerDep, RunDep, StoreDep, write_router
 from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND, NOT_SAVED
 from horde.server.schemas import (
@@ -82,7 +82,12 @@ def get_values(
     resolution: Annotated[int, Query(ge=2, le=MAX_RESOLUTION)] = 32,
 ) -> ValuesOut:
     """The prediction at the centres of a resolution x resolution grid, with the current weights (read by the run's
-    worker). 409 when the run's worker is gone."""
+    worker); on a world of discrete states with known transitions (the chains, Baird's star), at every state beside
+    the true values and the TD fixed point (`kind` "states"; `resolution` is not used). 409 when the run's worker is
+    gone."""
+    report = run.state_values(name)
+    if report is not None:
+        return state_values_out(run.view, name, report)
     values = run.value_map(name, resolution)
     return values_out(run.view, name, values)
 

@@ -1,0 +1,54 @@
+"""GET /api/runs/{id}/demons/{name}/values on a chain world: every state's value beside the truth (issue 25)."""
+
+from __future__ import annotations
+
+import pytest
+from fastapi.testclient import TestClient
+
+from .helpers import locs
+
+
+def test_a_chain_runs_values_are_every_states_prediction_beside_the_truth(client: TestClient) -> None:
+    run = client.post("/api/runs", json={"scenario": "boyan-chain"}).json()["id"]
+    before = client.get(f"/api/runs/{run}/demons/td/values")
+    assert before.status_code == 200, before.text
+    body = before.json()
+    assert body["kind"] == "states" and body["x"] == list(range(12, 0, -1)) and body["y"] == []
+    assert body["values"] == [[0.0] * 12]  # the weights start at 0
+    assert body["exact"] == pytest.approx([-2.0 * s for s in range(12, 0, -1)])
+    assert body["fixed_point"] == pytest.approx(body["exact"], abs=1e-9)  # Boyan's features represent -2 s
+    assert body["rmsve"] > 5 and body["rms_error"] > 5 and body["rmspbe"] > 0.1 and "behaviour" in body["weighting"]
+    client.post(f"/api/runs/{run}/step", json={"steps": 4000})
+    after = client.get(f"/api/runs/{run}/demons/td/values").json()
+    assert after["rmsve"] < 0.5 * body["rmsve"] and after["rmspbe"] < body["rmspbe"]
+    assert after["values"][0][0] < -10  # state 12 on its way to -24
+    grid = client.post("/api/runs", json={"scenario": "experiment1"}).json()["id"]
+    demon = client.get(f"/api/runs/{grid}/demons").json()[0]["name"]
+    assert client.get(f"/api/runs/{grid}/demons/{demon}/values?resolution=4").json()["kind"] == "grid"
+
+
+def test_a_basis_order_or_a_state_count_past_its_bound_is_a_422_naming_the_field(client: TestClient) -> None:
+    features = {"kind": "fourier", "order": 33, "sensors": [{"sensor": "state"}]}
+    response = client.post("/api/runs", json={"scenario": "random-walk-19", "features": features})
+    assert response.status_code == 422 and ["body", "features", "order"] in locs(response)
+    world = {"kind": "gymnasium", "id": "horde/RandomWalk19-v0", "states": 4001}
+    response = client.post("/api/runs", json={"scenario": "random-walk-19", "world": world})
+    assert response.status_code == 422 and any(loc[-1] == "states" for loc in locs(response)), locs(response)
+    world = {"kind": "gymnasium", "id": "horde/BoyanChain-v0", "states": 20}
+    response = client.post("/api/runs", json={"scenario": "boyan-chain", "world": world})
+    assert response.status_code == 422 and ["body", "world", "states"] in locs(response), response.text
+
+
+def test_the_lab_lists_its_experiments_and_prepares_them_with_a_set_up(client: TestClient) -> None:
+    lab = {e["id"]: e for e in client.get("/api/lab").json()}
+    assert {"walk-19", "fig-12-3", "fig-11-5", "boyan-learners"} <= set(lab) and lab["walk-19"]["kind"] == "run"
+    assert {s["name"] for s in lab["fig-12-3"]["setup"]} == {"alpha", "lambda", "runs"} and lab["fig-12-3"]["see"]
+    prepared = client.post("/api/lab/walk-19/prepare", json={"setup": {"alpha": "0.05"}}).json()
+    assert prepared["kind"] == "run" and prepared["spec"]["learning"]["alpha"] == 0.05
+    created = client.post("/api/runs", json=prepared["spec"])
+    assert created.status_code == 201, created.text
+    study = client.post("/api/lab/boyan-learners/prepare", json={"setup": {"runs": "2"}}).json()
+    assert study["kind"] == "study" and study["spec"]["runs"] == 2 and study["spec"]["caption"]
+    bad = client.post("/api/lab/walk-1000/prepare", json={"setup": {"order": "40"}})
+    assert bad.status_code == 422 and ["body", "setup", "order"] in locs(bad), bad.text
+    assert client.post("/api/lab/nothing/prepare", json={}).status_code == 404
