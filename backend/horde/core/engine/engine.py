@@ -204,7 +204,7 @@ class Engine:
         w = self.weights(self.t.wts.w, b).copy()
         if self.horde.blocks[b].kernel.scaled_w:
             lo = int(self.horde.block_lo[b])
-            w *= self.t.onl.scale[lo : lo + self.horde.blocks[b].size]
+            w = (w * self.t.onl.scale[lo : lo + self.horde.blocks[b].size]).astype(self.horde.dtype)
         return w
 
     def horde_state(self, weights_only: bool = False) -> HordeState:
