@@ -28,7 +28,7 @@ from typing import TextIO
 
 import numpy as np
 
-from benchmarks import measure, thesis, workloads
+from benchmarks import bound, measure, thesis, workloads
 from horde.core.reference import ReferenceHorde
 from horde.core.simulation import Simulation
 from horde.core.threads import cores
@@ -409,9 +409,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quick", action="store_true", help="a tiny run (a few seconds), for smoke tests")
     parser.add_argument("--json", metavar="PATH", help="also write the figures as JSON")
     parser.add_argument("--only", action="append", choices=WORKLOADS, help="run only this workload (repeatable)")
+    parser.add_argument("--workload", metavar="NAME-LEARNER",
+                        help="instead of the table: one workload (nexting-td, nexting-gtd, nexting-td+autostep, "
+                        "off_policy-gtd, control-gq, ...) against the memory bound (benchmarks/bound.py)")  # fmt: skip
+    parser.add_argument("--demons", type=int, default=8000, help="with --workload: its demons (default 8000)")
+    parser.add_argument("--threads", default="1,2", help="with --workload: thread counts, comma-separated")
+    parser.add_argument("--dtype", default="float64,float32", help="with --workload: dtypes, comma-separated")
 
 
 def bench(args: argparse.Namespace) -> int:
+    if getattr(args, "workload", None):
+        rows, rates = bound.run(args.workload, args.demons, [int(t) for t in args.threads.split(",")],
+                                args.dtype.split(","))  # fmt: skip
+        print(bound.table(rows, rates))
+        if args.json:
+            Path(args.json).write_text(json.dumps([asdict(r) for r in rows], indent=2) + "\n")
+        return 0
     report = run(QUICK if args.quick else FULL, tuple(args.only or WORKLOADS))
     print(format_table(report))
     if args.json:

@@ -65,7 +65,7 @@ def learn_block(b, t, stp, threads):
         columns_on_threads(threads, code_, b, lay, t.wts, t.dem, t.cls, t.onl, t.met, stp, t.scr)
     else:
         learners.columns(code_, b, 0, db, lay, t.wts, t.dem, t.cls, t.onl, stp, t.scr)
-    learners.finish(code_, b, lay, t.wts, t.cls, t.onl, stp, t.scr)
+    learners.finish(code_, b, lay, t.wts, t.dem, t.cls, t.onl, stp, t.scr)
 
 
 @njit(**NO_NRT, inline="always")
@@ -127,7 +127,9 @@ def group_metrics(g, t, stp, threads):
 @njit(**NO_NRT)
 def observe(t, x, y, sensors):
     """An episode starts at (x, y) with these sensors: demons that forget their weights (reset = "episode") do,
-    traces go to zero, and every group reads its demons' values, policies and predictions there."""
+    traces go to zero, and every group reads its demons' values, policies and predictions there. What the
+    learners owe is paid first (on the traces and features it is owed on, which this clears)."""
+    settle(t)
     lay, grp, dem, cls, coded, wts = t.lay, t.grp, t.dem, t.cls, t.coded, t.wts
     for b in range(lay.learner.shape[0]):
         lo, rows, woff = lay.block_lo[b], lay.rows[b], lay.woff[b]
