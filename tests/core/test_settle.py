@@ -91,6 +91,7 @@ def test_a_snapshot_holds_whole_weights() -> None:
     sim, ref = learned(10_000, 157)
     frozen = snapshot.capture(sim, sim.spec, "paused", None, None)
     restored = snapshot.restore(snapshot.from_bytes(snapshot.to_bytes(frozen))).sim
+    assert isinstance(restored, Simulation)
     assert_weights(restored, ref)
 
 
