@@ -4,8 +4,8 @@ The workload of the engine issue's second must-hold: TD(lambda), GTD(lambda) and
 policies, five discounts, over 8 tilings of 9 x 9 tiles of the world's (x, y), written as demon families (the
 way a user writes a Horde this size). The server runs as users run it (`python -m horde.server` in its own
 process, with its viser view); this script posts the spec to `POST /api/runs?start=true` at full speed, lets
-it warm up (compilation, first steps), then reads the run's step count and the server process's CPU time
-(`/proc/PID/stat`) over `--seconds`, `--repeat` times. It prints steps per wall second, steps per CPU second
+it warm up (compilation, first steps), then reads the run's step count and the CPU time of the server and its
+workers (`/proc`) over `--seconds`, `--repeat` times. It prints steps per wall second, steps per CPU second
 and the load average beside them (the machine is shared: read the CPU figure when the load is high).
 
 Run: `python -m benchmarks.bench_rest [--seconds 10] [--repeat 3] [--json PATH]`.
@@ -24,7 +24,7 @@ from typing import Any
 import httpx
 
 from benchmarks.bench_health import start_server, wait_healthy
-from benchmarks.bench_stream import free_port
+from benchmarks.bench_stream import free_port, tree_cpu_seconds
 
 SENSORS = ["x", "y", "bump", *(f"in:z{i}{j}" for i in range(6) for j in (0, 3, 5))][:20]
 GAMMAS = [0.0, 0.5, 0.8, 0.9, 0.95]
@@ -118,10 +118,8 @@ class Window:
 
 
 def process_cpu_seconds(pid: int) -> float:
-    """User plus system CPU time of a process and its threads so far (Linux)."""
-    with open(f"/proc/{pid}/stat") as f:
-        fields = f.read().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    """User plus system CPU time so far of the server and the processes under it (its runs' workers; Linux)."""
+    return sum(tree_cpu_seconds(pid).values())
 
 
 def measure(client: httpx.Client, run: str, pid: int, seconds: float) -> Window:

@@ -116,26 +116,34 @@ async def poll(http: httpx.AsyncClient, poller: Poller, hz: float, stop: asyncio
 
 
 def cpu_seconds(pid: int, learners_only: bool = False) -> float:
-    """User + system CPU time so far of a process, or of its learner threads (Linux /proc, else 0).
+    """User + system CPU time so far of a process (Linux /proc, else 0); with `learners_only`, of the processes
+    under it instead (the runs' workers, forked by its fork server) and not of the process itself."""
+    tree = tree_cpu_seconds(pid)
+    own = tree.get(pid, 0.0)
+    return sum(tree.values()) - own if learners_only else own
 
-    Learner threads are the niced ones (`horde.runs.live_run.LEARNER_NICENESS`): Python does not name OS threads.
-    """
 
-    def read(path: str) -> tuple[float, int]:
+def tree_cpu_seconds(pid: int) -> dict[int, float]:
+    """User + system CPU seconds so far of a process and each of its descendants, by pid (Linux /proc)."""
+    ticks = os.sysconf("SC_CLK_TCK")
+    by_parent: dict[int, list[int]] = {}
+    times: dict[int, float] = {}
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
         try:
-            with open(path) as stat:
+            with open(f"/proc/{entry}/stat") as stat:
                 fields = stat.read().rsplit(")", 1)[1].split()
-            return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK"), int(fields[16])
-        except (OSError, IndexError, ValueError):
-            return 0.0, 0
-
-    if not learners_only:
-        return read(f"/proc/{pid}/stat")[0]
-    try:
-        tasks = os.listdir(f"/proc/{pid}/task")
-    except OSError:
-        return 0.0
-    return sum(seconds for seconds, nice in (read(f"/proc/{pid}/task/{tid}/stat") for tid in tasks) if nice >= 10)
+        except OSError:
+            continue
+        by_parent.setdefault(int(fields[1]), []).append(int(entry))
+        times[int(entry)] = (int(fields[11]) + int(fields[12])) / ticks
+    found, todo = {}, [pid]
+    while todo:
+        current = todo.pop()
+        found[current] = times.get(current, 0.0)
+        todo.extend(by_parent.get(current, []))
+    return found
 
 
 @dataclass
@@ -230,8 +238,8 @@ async def bench(args: argparse.Namespace) -> float:
     if learner["alone"] > 0 and learner["loaded"] > 0:
         per_cpu = (with_clients / learner["loaded"]) / (without / learner["alone"])
         print(
-            f"  learner threads' CPU seconds per wall second: alone {learner['alone']:.2f}, loaded "
-            f"{learner['loaded']:.2f}; steps per learner CPU second, loaded / alone: {per_cpu:.3f}"
+            f"  the workers' CPU seconds per wall second: alone {learner['alone']:.2f}, loaded "
+            f"{learner['loaded']:.2f}; steps per worker CPU second, loaded / alone: {per_cpu:.3f}"
         )
     if rates:
         print(

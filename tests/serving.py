@@ -27,6 +27,7 @@ def free_port() -> int:
 class RunningServer:
     url: str
     client: httpx.Client
+    app: Any = None  # the FastAPI app served (its `state`: the live view, the runs), for tests that look inside
 
 
 @contextmanager
@@ -34,8 +35,8 @@ def serve_in_thread(settings: Settings, **config: Any) -> Iterator[RunningServer
     """The real app (lifespan and all), served by uvicorn (with `config`, e.g. ws_max_size) in a background
     thread on a free loopback port; stopped on the way out."""
     port = free_port()
-    server = uvicorn.Server(uvicorn.Config(create_app(settings), host="127.0.0.1", port=port, log_level="warning",
-                                           **config))  # fmt: skip
+    app = create_app(settings)
+    server = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning", **config))
     thread = threading.Thread(target=server.run, name="uvicorn-test", daemon=True)
     thread.start()
 
@@ -47,7 +48,7 @@ def serve_in_thread(settings: Settings, **config: Any) -> Iterator[RunningServer
     url = f"http://127.0.0.1:{port}"
     try:
         with httpx.Client(base_url=url, timeout=30) as client:
-            yield RunningServer(url, client)
+            yield RunningServer(url, client, app)
     finally:
         server.should_exit = True
         thread.join(timeout=20)

@@ -172,8 +172,8 @@ def list_scenarios(directory: Path | None = None) -> list[ScenarioInfo]:
     return found
 
 
-def find_scenario(name: str, directory: Path | None = None) -> RunSpec:
-    """Load scenario `name` (a file stem) from the folder.
+def scenario_path(name: str, directory: Path | None = None) -> Path:
+    """The file of scenario `name` (a file stem) in the folder.
 
     Raises:
         KeyError: no such scenario.
@@ -184,4 +184,13 @@ def find_scenario(name: str, directory: Path | None = None) -> RunSpec:
     path = directory / f"{name}.toml"
     if not path.is_file():
         raise KeyError(name)
-    return load_scenario(path)
+    return path
+
+
+def find_scenario(name: str, directory: Path | None = None) -> RunSpec:
+    """Load scenario `name` (a file stem) from the folder.
+
+    Raises:
+        KeyError: no such scenario.
+    """
+    return load_scenario(scenario_path(name, directory))

@@ -1,79 +1,27 @@
-/**
- * The Horde Lab dashboard: runs and the scenario launcher on the left; the live demon table, results,
- * charts and the viser view, the protocol runner, the world editor and the demon editor in tabs on the right.
- */
+/** The Horde Lab dashboard's entry: one app (its query cache and UI state), its views and watchers, for the page's life. */
 import "./styles.css";
+import { keepRoleStyles, loadMe } from "./app/access";
 import { attempt, loadCatalog, loadLiveView, loadProtocols } from "./app/actions";
-import { createStore } from "./app/state";
+import { createApp } from "./app/app";
+import { keepAddress, takeInvitation } from "./app/location";
 import { installShortcuts } from "./app/shortcuts";
-import { watchChartedForView, watchProtocol, watchRuns, watchSelectedRun } from "./app/watch";
-import { h } from "./ui/dom";
-import { charts } from "./views/charts";
-import { demonEditor } from "./views/demon-editor";
-import { demonOverview } from "./views/demon-overview";
-import { demonTable } from "./views/demon-table";
-import { header } from "./views/header";
-import { help } from "./views/help";
-import { launcher } from "./views/launcher";
-import { liveToolbar } from "./views/live-toolbar";
-import { protocolPanel } from "./views/protocol-panel";
-import { runResults } from "./views/run-results";
-import { runsPanel } from "./views/runs-panel";
-import { streamRuns } from "./views/stream-runs";
-import { studiesPanel } from "./views/studies-panel";
-import { tabs } from "./views/tabs";
-import { tour } from "./views/tour";
-import { viserEmbed } from "./views/viser-embed";
-import { worldEditor } from "./views/world-editor";
+import { watchApp } from "./app/watch";
+import { Scope } from "./ui/scope";
+import { dashboard } from "./views/dashboard";
 
-const store = createStore();
-const helpPanel = help();
-const guide = tour(store);
-const streams = streamRuns(store);
-
-const live = h(
-  "div",
-  { class: "live" },
-  liveToolbar(store, guide.start),
-  streams.strip,
-  demonTable(store),
-  demonOverview(store),
-  runResults(store),
-  h("div", { class: "live-bottom" }, viserEmbed(store), charts(store)),
-);
-
-const app = h(
-  "div",
-  { class: "app" },
-  h("a", { href: "#main", class: "skip-link" }, "Skip to the main view"),
-  header(store, helpPanel.open),
-  h(
-    "div",
-    { class: "layout" },
-    h("aside", { class: "sidebar", "aria-label": "Runs" }, launcher(store), runsPanel(store), streams.list),
-    h(
-      "main",
-      { id: "main", tabindex: "-1" },
-      tabs(store, [
-        { tab: "live", label: "Live", panel: live },
-        { tab: "protocol", label: "Protocol", panel: protocolPanel(store) },
-        { tab: "world", label: "World editor", panel: worldEditor(store) },
-        { tab: "demon", label: "Demon editor", panel: demonEditor(store) },
-        { tab: "studies", label: "Studies", panel: studiesPanel(store) },
-      ]),
-    ),
-  ),
-);
-
-document.getElementById("app")?.replaceWith(app);
-document.body.append(helpPanel.element, guide.element);
-installShortcuts(store, helpPanel.open, () =>
+takeInvitation(); // an invitation link's token, before the first request
+const app = createApp();
+const scope = new Scope();
+const { page, help, tour } = dashboard(app, scope);
+document.getElementById("app")?.replaceWith(page);
+document.body.append(help.element, tour.element);
+installShortcuts(app, scope, help.open, () =>
   Number((document.getElementById("step-size") as HTMLSelectElement | null)?.value ?? 1),
 );
-void loadCatalog(store);
-void attempt(store, () => loadProtocols(store));
-void loadLiveView(store);
-watchRuns(store);
-watchSelectedRun(store);
-watchProtocol(store);
-watchChartedForView(store);
+keepRoleStyles(app, scope);
+watchApp(app, scope);
+keepAddress(app, scope);
+void attempt(app, () => loadMe(app));
+void loadCatalog(app);
+void attempt(app, () => loadProtocols(app));
+void loadLiveView(app);

@@ -1,6 +1,6 @@
 // @vitest-environment happy-dom
 import { afterEach, describe, expect, it, vi } from "vitest";
-import { createStore } from "../src/app/state";
+import { createApp, state } from "../src/app/app";
 
 afterEach(() => vi.unstubAllGlobals());
 
@@ -22,15 +22,15 @@ describe("loadCatalog", () => {
     });
     // openapi-fetch takes the global fetch when its client is made: import after stubbing it.
     const { loadCatalog } = await import("../src/app/actions");
-    const store = createStore();
+    const app = createApp();
     const notices: string[] = [];
-    store.subscribe(() => notices.push(store.state.notice?.kind ?? ""), ["notice"]);
+    app.ui.subscribe(() => notices.push(app.ui.state.notice?.kind ?? ""), ["notice"]);
 
-    await loadCatalog(store, 5);
+    await loadCatalog(app, 5);
 
     expect(scenarioAsks).toBe(2);
     expect(notices).toEqual(["error"]);
-    expect(store.state.catalogLoaded).toBe(true);
-    expect(store.state.scenarios.map((s) => s.name)).toEqual(["experiment1"]);
+    expect(state(app).catalogLoaded).toBe(true);
+    expect(state(app).scenarios.map((s) => s.name)).toEqual(["experiment1"]);
   });
 });

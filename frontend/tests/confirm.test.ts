@@ -1,15 +1,29 @@
 // @vitest-environment happy-dom
+import { render } from "lit-html";
 import { afterEach, beforeEach, describe, expect, it, vi } from "vitest";
-import { CONFIRM_MS, confirmButton } from "../src/ui/confirm";
+import { CONFIRM_MS, Confirm, confirmButton } from "../src/ui/confirm";
+import { Scope } from "../src/ui/scope";
 
-function make(onConfirm = vi.fn(), onChange = vi.fn()) {
-  const confirm = confirmButton({
-    text: (armed) => (armed ? "Really delete?" : "Delete"),
-    label: (armed) => (armed ? "Really delete run a?" : "Delete run a"),
-    onConfirm,
-    onChange,
-  });
-  return { confirm, onConfirm, onChange };
+/** A confirm button drawn into a box, drawn again whenever it arms or turns back (as a view does). */
+function make(onConfirm = vi.fn(), disabled = () => false) {
+  const box = document.createElement("div");
+  const scope = new Scope();
+  const onChange = vi.fn(() => draw());
+  const confirm = new Confirm(scope, onChange);
+  const draw = () =>
+    render(
+      confirmButton(confirm, {
+        text: (armed) => (armed ? "Really delete?" : "Delete"),
+        label: (armed) => (armed ? "Really delete run a?" : "Delete run a"),
+        onConfirm,
+        disabled: disabled(),
+      }),
+      box,
+    );
+  draw();
+  const button = box.querySelector("button") as HTMLButtonElement;
+  const text = () => button.textContent?.trim();
+  return { confirm, button, text, onConfirm, onChange, scope, draw };
 }
 
 describe("confirmButton", () => {
@@ -17,52 +31,63 @@ describe("confirmButton", () => {
   afterEach(() => vi.useRealTimers());
 
   it("acts on the second press only, and says so in its words and its name", () => {
-    const { confirm, onConfirm, onChange } = make();
-    expect(confirm.button.textContent).toBe("Delete");
-    expect(confirm.button.getAttribute("aria-label")).toBe("Delete run a");
-    confirm.button.click();
+    const { confirm, button, text, onConfirm, onChange } = make();
+    expect(text()).toBe("Delete");
+    expect(button.getAttribute("aria-label")).toBe("Delete run a");
+    button.click();
     expect(onConfirm).not.toHaveBeenCalled();
-    expect(confirm.armed()).toBe(true);
-    expect(confirm.button.textContent).toBe("Really delete?");
-    expect(confirm.button.getAttribute("aria-label")).toBe("Really delete run a?");
+    expect(confirm.armed).toBe(true);
+    expect(text()).toBe("Really delete?");
+    expect(button.getAttribute("aria-label")).toBe("Really delete run a?");
     expect(onChange).toHaveBeenCalledTimes(1);
-    confirm.button.click();
+    button.click();
     expect(onConfirm).toHaveBeenCalledTimes(1);
-    expect(confirm.armed()).toBe(false);
-    expect(confirm.button.textContent).toBe("Delete");
+    expect(confirm.armed).toBe(false);
+    expect(text()).toBe("Delete");
     // A third press starts over: it arms again, it does not act.
-    confirm.button.click();
+    button.click();
     expect(onConfirm).toHaveBeenCalledTimes(1);
   });
 
   it("turns back by itself after the wait, so a late second press only arms again", () => {
-    const { confirm, onConfirm } = make();
-    confirm.button.click();
+    const { confirm, button, text, onConfirm } = make();
+    button.click();
     vi.advanceTimersByTime(CONFIRM_MS - 1);
-    expect(confirm.armed()).toBe(true);
+    expect(confirm.armed).toBe(true);
     vi.advanceTimersByTime(1);
-    expect(confirm.armed()).toBe(false);
-    expect(confirm.button.textContent).toBe("Delete");
-    confirm.button.click();
+    expect(confirm.armed).toBe(false);
+    expect(text()).toBe("Delete");
+    button.click();
     expect(onConfirm).not.toHaveBeenCalled();
-    expect(confirm.armed()).toBe(true);
+    expect(confirm.armed).toBe(true);
   });
 
   it("is not fooled by a disabled button or an owner that disarms it", () => {
-    const { confirm, onConfirm } = make();
-    confirm.button.click();
+    let disabled = false;
+    const { confirm, button, text, onConfirm, draw } = make(vi.fn(), () => disabled);
+    button.click();
     confirm.disarm();
-    expect(confirm.button.textContent).toBe("Delete");
-    confirm.button.click();
-    confirm.button.disabled = true;
-    confirm.button.dispatchEvent(new Event("click"));
+    expect(text()).toBe("Delete");
+    button.click();
+    disabled = true;
+    draw();
+    button.dispatchEvent(new Event("click"));
     expect(onConfirm).not.toHaveBeenCalled();
     // Arming again restarts the wait: the first arming's timer does not cut the second short.
-    confirm.button.disabled = false;
+    disabled = false;
+    draw();
     confirm.disarm();
     vi.advanceTimersByTime(CONFIRM_MS - 100);
-    confirm.button.click();
+    button.click();
     vi.advanceTimersByTime(200);
-    expect(confirm.armed()).toBe(true);
+    expect(confirm.armed).toBe(true);
+  });
+
+  it("leaves no timer behind when its view goes", () => {
+    const { button, scope } = make();
+    button.click();
+    expect(vi.getTimerCount()).toBe(1);
+    scope.dispose();
+    expect(vi.getTimerCount()).toBe(0);
   });
 });

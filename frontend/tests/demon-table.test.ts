@@ -1,7 +1,9 @@
 // @vitest-environment happy-dom
 import { describe, expect, it } from "vitest";
 import type { Demon, Run, RunState } from "../src/api/types";
-import { createStore } from "../src/app/state";
+import { type App, createApp } from "../src/app/app";
+import { keys } from "../src/app/queries";
+import { Scope } from "../src/ui/scope";
 import { demonTable } from "../src/views/demon-table";
 
 const demon = (name: string, prediction: number): Demon =>
@@ -19,20 +21,28 @@ const run = { id: "abc123", name: "test", status: "running", spec: { world: {} }
 const state = (predictions: Record<string, number>): RunState =>
   ({ run: run.id, status: "running", step: 1, predictions, metrics: {}, demon_total: 0 }) as unknown as RunState;
 
+/** The run selected, with `demons` and (optionally) a stream message, as the actions and the stream write them. */
+function show(app: App, demons: Demon[], live?: RunState): void {
+  app.client.setQueryData(keys.run(run.id), run);
+  app.client.setQueryData(keys.demons(run.id), demons);
+  if (live) app.client.setQueryData(keys.live(run.id), live);
+  app.ui.update({ selectedRunId: run.id });
+}
+
 const rowOf = (table: HTMLElement, name: string) =>
   table.querySelector<HTMLTableRowElement>(`tr[data-demon="${name}"]`);
 
 describe("demonTable", () => {
   it("keeps each demon's row (and the focus in it) while the stream changes its numbers", () => {
-    const store = createStore();
-    const table = demonTable(store);
+    const app = createApp();
+    const table = demonTable(app, new Scope());
     document.body.append(table);
-    store.update({ selectedRunId: run.id, run, demons: [demon("a", 1), demon("b", 2)] });
+    show(app, [demon("a", 1), demon("b", 2)]);
     const rowA = rowOf(table, "a")!;
     expect(rowA.querySelectorAll("td")[0]!.textContent).toContain("1");
     const evaluate = rowA.querySelector<HTMLButtonElement>('button[aria-label="Evaluate a"]')!;
     evaluate.focus();
-    store.update({ live: state({ a: 7.25, b: 3 }) });
+    show(app, [demon("a", 1), demon("b", 2)], state({ a: 7.25, b: 3 }));
     expect(rowOf(table, "a")).toBe(rowA);
     expect(rowA.querySelectorAll("td")[0]!.textContent).toContain("7.25");
     expect(document.activeElement).toBe(evaluate);
@@ -40,11 +50,11 @@ describe("demonTable", () => {
   });
 
   it("moves rows with their demons when the order changes, and drops the rows of demons gone", () => {
-    const store = createStore();
-    const table = demonTable(store);
-    store.update({ selectedRunId: run.id, run, demons: [demon("a", 1), demon("b", 2), demon("c", 3)] });
+    const app = createApp();
+    const table = demonTable(app, new Scope());
+    show(app, [demon("a", 1), demon("b", 2), demon("c", 3)]);
     const rowA = rowOf(table, "a");
-    store.update({ demons: [demon("c", 3), demon("a", 1)] });
+    show(app, [demon("c", 3), demon("a", 1)]);
     expect([...table.querySelectorAll("tr[data-demon]")].map((tr) => tr.getAttribute("data-demon"))).toEqual([
       "c",
       "a",
@@ -54,16 +64,16 @@ describe("demonTable", () => {
   });
 
   it("asks twice before removing a demon, and refuses on a finished run", () => {
-    const store = createStore();
-    const table = demonTable(store);
-    store.update({ selectedRunId: run.id, run, demons: [demon("a", 1)] });
+    const app = createApp();
+    const table = demonTable(app, new Scope());
+    show(app, [demon("a", 1)]);
     const remove = table.querySelector<HTMLButtonElement>('button[aria-label="Remove a"]')!;
     remove.click();
-    expect(remove.textContent).toBe("Really remove?");
+    expect(remove.textContent?.trim()).toBe("Really remove?");
     // A stream message re-renders the row: the button stays armed.
-    store.update({ live: state({ a: 2 }) });
+    show(app, [demon("a", 1)], state({ a: 2 }));
     expect(table.querySelector('button[aria-label="Really remove a?"]')).toBe(remove);
-    store.update({ live: { ...state({ a: 2 }), status: "finished" } });
+    show(app, [demon("a", 1)], { ...state({ a: 2 }), status: "finished" });
     expect(remove.disabled).toBe(true);
   });
 });

@@ -91,7 +91,7 @@ describe("watchQuery", () => {
     // caller and to the watcher alike.
     const first = watcher.refetch();
     await vi.advanceTimersByTimeAsync(10);
-    const again = readNow(keys.runs, read, client);
+    const again = readNow(client, { queryKey: keys.runs, queryFn: read });
     await vi.advanceTimersByTimeAsync(100);
     await first;
     expect(await again).toBe(4);

@@ -1,6 +1,7 @@
 // @vitest-environment happy-dom
 import { afterEach, describe, expect, it, vi } from "vitest";
-import { createStore } from "../src/app/state";
+import { createApp } from "../src/app/app";
+import { Scope } from "../src/ui/scope";
 
 const stream = {
   id: "abc123def456",
@@ -50,8 +51,8 @@ describe("streamRuns", () => {
     });
     // openapi-fetch takes the global fetch when its client is made: import the view after stubbing it.
     const { streamRuns } = await import("../src/views/stream-runs");
-    const store = createStore();
-    const { list, strip } = streamRuns(store);
+    const app = createApp();
+    const { list, strip } = streamRuns(app, new Scope());
     document.body.append(list, strip);
     expect(strip.hidden).toBe(true);
     await until(() => list.querySelector('li[data-stream="abc123def456"]') !== null);
@@ -59,7 +60,10 @@ describe("streamRuns", () => {
     expect(list.textContent).toContain("11 records learned of 12 received");
     list.querySelector<HTMLButtonElement>('li[data-stream="abc123def456"] button')!.click();
     await until(() => !strip.hidden);
-    expect(strip.querySelector("h2")!.textContent).toBe("Stream run robot: predictions beside realised returns");
+    expect(strip.querySelector("h2")!.textContent!.replace(/\s+/g, " ").trim()).toBe(
+      "Stream run robot: predictions beside realised returns",
+    );
+    expect(strip.textContent!.replace(/\s+/g, " ")).toContain("No Evaluate here: a stream's records come from outside");
     const ticked = [...strip.querySelectorAll<HTMLInputElement>("input[type=checkbox]")]
       .filter((box) => box.checked)
       .map((box) => box.parentElement!.textContent!.trim());
@@ -81,7 +85,7 @@ describe("streamRuns", () => {
     expect(history.searchParams.get("sensors")).toBe("light,wheel,heat");
     expect(history.searchParams.get("demons")).toBe("d1,d2,d3,d4");
     // Choosing a grid run leaves the stream run.
-    store.update({ selectedRunId: "grid" });
+    app.ui.update({ selectedRunId: "grid" });
     expect(strip.hidden).toBe(true);
     list.remove();
     strip.remove();

@@ -227,7 +227,18 @@ def test_a_changed_set_of_demons_keeps_the_others_and_codes_the_sensors_where_th
     sensors = sim.sensors[None, :]  # read where the agent stands, before the change
     expected = fewer.horde.groups[0].coder.active(np.zeros(1), np.zeros(1), sensors=sensors)[0]
     np.testing.assert_array_equal(features, expected)
+    # The kept demons go on from where the agent stands as they would have among all 40 (traces restarted
+    # in both, the same draws).
+    draws = sim.rng.bit_generator.state
     fewer.run(20)
+    sim.rng.bit_generator.state = draws
+    sim.learner.observe(sim.sensors)
+    sim.run(20)
+    assert fewer.position == sim.position and fewer.total_steps == sim.total_steps
+    for name in before:
+        after = fewer.horde.weights(fewer.horde_state, name)
+        np.testing.assert_array_equal(after, sim.horde.weights(sim.horde_state, name), err_msg=name)
+    assert any(np.abs(fewer.horde.weights(fewer.horde_state, n) - t).max() > 0 for n, t in before.items())
 
 
 def test_forward_of_some_demons_equals_forward_of_all() -> None:

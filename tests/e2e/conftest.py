@@ -6,6 +6,7 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
+from urllib.parse import parse_qs, urlsplit
 
 import pytest
 
@@ -112,6 +113,13 @@ def viser_view(page: Page, view_url: str) -> Frame:
     charts above the frame grow as readings arrive, and that wait ran out on a loaded machine."""
     page.locator("iframe.viser-frame").evaluate("frame => frame.scrollIntoView({block: 'center'})")
     return next(f for f in page.frames if f.url.startswith(view_url.rstrip("/")))
+
+
+def page_viewer(page: Page) -> str:
+    """The page's own live view key: the `viewer` of the WebSocket address in its embedded view's address."""
+    src = page.locator("iframe.viser-frame").get_attribute("src") or ""
+    socket = parse_qs(urlsplit(src).query)["websocket"][0]
+    return parse_qs(urlsplit(socket).query)["viewer"][0]
 
 
 def fill_and_press(form: Locator, fields: dict[str, str], button: str) -> None:

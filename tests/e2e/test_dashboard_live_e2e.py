@@ -11,6 +11,7 @@ from .conftest import (
     SHOTS,
     RunningServer,
     browser_page,
+    page_viewer,
     viser_view,
 )
 
@@ -34,12 +35,13 @@ def test_the_dashboard_embeds_the_live_view_of_the_selected_run(browser: Browser
         page.goto(server.url)
         page.locator(f'li.run-item[data-run="{run}"] button.run-select').click()
         page.locator(f'li.run-item.selected[data-run="{run}"]').wait_for()
-        assert api.get("/api/view").json()["run"] == run, "selecting a run shows it in the live view"
+        shown = api.get("/api/view", params={"viewer": page_viewer(page)}).json()["run"]
+        assert shown == run, "selecting a run shows it in the live view"
 
         frame = page.frame_locator("iframe.viser-frame")
         view = viser_view(page, api.get("/api/view").json()["url"])
         view.wait_for_function(AGENT_NODE, timeout=30_000)
-        assert frame.get_by_text("Connected").first.is_visible()
+        assert frame.get_by_text(f"Showing experiment1 [{run}]").is_visible(), "the view's bar names its run"
 
         page.get_by_label("Rollouts per evaluation").fill("200")
         page.get_by_role("button", name="Evaluate steps_to_end").click()

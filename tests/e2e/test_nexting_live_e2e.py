@@ -54,7 +54,7 @@ def test_nexting_launched_from_the_dashboard_learns_and_the_page_stays_responsiv
         frame = page.frame_locator("iframe.viser-frame")
         view = viser_view(page, view_url)
         view.wait_for_function(AGENT_NODE, timeout=120_000)
-        assert frame.get_by_text("Connected").first.is_visible()
+        assert frame.get_by_text(re.compile(rf"^Showing .*{run}")).is_visible(), "the view's bar names its run"
 
         # Steps per second of the run, and the gaps between the page's animation frames, meanwhile.
         page.evaluate(FRAME_GAPS)

@@ -17,7 +17,7 @@ import pytest
 
 from horde.server import Settings
 
-from .conftest import ON_DASHBOARD, RunningServer, collect_errors, fill_and_press, serve_in_thread
+from .conftest import ON_DASHBOARD, SHOTS, RunningServer, collect_errors, fill_and_press, serve_in_thread
 
 if TYPE_CHECKING:
     from playwright.sync_api import Browser, Page
@@ -137,3 +137,47 @@ def test_compare_two_runs_side_by_side(page: Page, server: RunningServer) -> Non
         column = page.locator(f'.compare-column[data-run="{run_id}"]')
         expect(column).to_contain_text("steps_to_end")
         expect(column.locator("svg.study-chart path.line")).to_have_count(2)  # base and steps_to_end
+
+
+def test_a_diverged_configuration_is_flagged_in_the_table_the_plots_and_the_curves_export(
+    page: Page, server: RunningServer
+) -> None:
+    """Issue 26: a step of 10 blows TD (and GTD at alpha_w = 0, which learns as TD) up; the table flags both, the
+    plots leave them out saying so, the warning stands above, and the curves CSV the dashboard offers carries
+    every configuration's curve with its flag."""
+    from playwright.sync_api import expect
+
+    study = {
+        "scenario": "classroom-offpolicy",
+        "runs": 1,
+        "measure": {"episodes": 20, "checkpoints": 2},
+        "axes": [
+            {"path": "learning.alpha", "values": [0.03, 10.0]},
+            {"path": "demons.*.learner", "values": ["td", "gtd"]},
+            {"path": "learning.alpha_w", "values": [0.0]},
+        ],
+    }
+    study_id = server.client.post("/api/studies", json=study).json()["id"]
+    panel = page.locator(".studies-panel")
+    expect(panel.get_by_label("Study")).to_contain_text("classroom-offpolicy", timeout=TIMEOUT_MS)
+    panel.get_by_label("Study").select_option(study_id)
+    expect(panel.locator(".study-job .badge")).to_have_text("finished", timeout=90_000)
+    rows = panel.locator("table.study-configs tbody tr")
+    expect(rows).to_have_count(4)
+    flagged = panel.locator("table.study-configs tbody tr", has=page.locator(".tag.diverged"))
+    expect(flagged).to_have_count(2)
+    for row in flagged.all():
+        expect(row).to_contain_text("10")
+    expect(panel.get_by_test_id("left-out")).to_contain_text("alpha=10 learner=td")
+    expect(panel.get_by_test_id("left-out")).to_contain_text("alpha=10 learner=gtd")
+    expect(panel.locator(".study-curves path.line")).to_have_count(2)  # the two that did not diverge
+    expect(panel.get_by_test_id("study-warnings")).to_contain_text("gtd with alpha_w = 0 learns exactly as td")
+    with page.expect_download() as download_info:
+        panel.get_by_role("link", name="Export curves CSV").click()
+    curves = list(csv.DictReader(io.StringIO(open(download_info.value.path(), encoding="utf-8").read())))  # noqa: SIM115
+    by_config = {(r["learning.alpha"], r["demons.*.learner"]): r["diverged"] for r in curves if r["demon"] == "*"}
+    assert by_config == {("0.03", "td"): "0", ("0.03", "gtd"): "0", ("10.0", "td"): "1", ("10.0", "gtd"): "1"}
+    assert {int(r["episode"]) for r in curves} == {0, 10, 20}
+    page.evaluate("window.scrollTo(0, 0)")
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    panel.screenshot(path=str(SHOTS / "study-diverged.png"))

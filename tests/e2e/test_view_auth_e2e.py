@@ -1,5 +1,5 @@
-"""The live view with HORDE_TOKEN set: a browser without the token cannot change a run; with it, it can.
-And the live view's port refuses WebSocket upgrades from pages of other sites.
+"""The live view with HORDE_TOKEN set: a browser without the token cannot change a run (but may choose what
+it sees); with it, it can. And the live view's port refuses WebSocket upgrades from pages of other sites.
 """
 
 from __future__ import annotations
@@ -50,32 +50,30 @@ def test_the_live_view_disconnects_other_sites(server: RunningServer) -> None:
 
 @pytest.mark.e2e
 @pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium at /usr/bin/chromium")
-def test_without_the_token_the_panel_changes_nothing(browser: Browser, server: RunningServer) -> None:
+def test_without_the_token_the_panel_changes_no_run(browser: Browser, server: RunningServer) -> None:
     from playwright.sync_api import expect
 
     api = server.client
     body = {"scenario": "experiment1", "seed": 3, "protocol": {"episodes": 0}}  # runs until paused
     run = api.post("/api/runs", json=body, headers=AUTH).json()["id"]
-    assert api.post("/api/view", json={"run": run}, headers=AUTH).status_code == 200
     url = api.get("/api/view").json()["url"]
 
     with browser_page(browser, 1280, 800) as (page, errors):
         page.goto(url)
-        page.get_by_role("button", name="Expand panel").click(timeout=30_000)  # it starts minimized
+        page.get_by_role("button", name="Expand panel").click(timeout=60_000)  # minimized at first; software WebGL
         tilt = page.get_by_role("button", name="Tilt to 3-D")
-        expect(tilt).to_be_visible(timeout=30_000)
+        expect(tilt).to_be_visible(timeout=60_000)
         for name in ("Play", "Pause", "Step", "Reset"):  # the commands are absent
             expect(page.get_by_role("button", name=name, exact=True)).to_have_count(0)
         expect(page.get_by_text("Full speed")).to_have_count(0)
 
-        tilt.click()  # a shared view setting: refused, and the browser is told so
-        expect(page.get_by_text("This server needs its token").first).to_be_visible(timeout=10_000)
-        expect(page.get_by_role("button", name="Tilt to 3-D")).to_be_visible()
+        tilt.click()  # what this browser sees is its own choice: no token needed
+        expect(page.get_by_role("button", name="Top-down 2-D")).to_be_visible(timeout=10_000)
 
         token = page.get_by_role("textbox").first  # the browser's own Token field
         token.fill("wrong")
         token.press("Enter")
-        expect(page.get_by_text("That is not this server's token").first).to_be_visible(timeout=10_000)
+        expect(page.get_by_text("this token is not one of this server's").first).to_be_visible(timeout=10_000)
         expect(page.get_by_role("button", name="Play", exact=True)).to_have_count(0)
         assert api.get(f"/api/runs/{run}").json()["status"] == "created"
 
@@ -89,7 +87,7 @@ def test_without_the_token_the_panel_changes_nothing(browser: Browser, server: R
         # A second browser, without the token, still sees no commands.
         other = browser.new_page(viewport={"width": 1280, "height": 800})
         other.goto(url)
-        other.get_by_role("button", name="Expand panel").click(timeout=30_000)
+        other.get_by_role("button", name="Expand panel").click(timeout=60_000)  # a second software-WebGL page
         expect(other.get_by_role("button", name="Tilt to 3-D")).to_be_visible(timeout=30_000)
         expect(other.get_by_role("button", name="Pause", exact=True)).to_have_count(0)
     assert errors == [], errors

@@ -26,7 +26,7 @@ pytestmark = IN_BROWSER
 def test_a_run_stepped_over_rest_moves_the_agent_in_the_browser(browser: Browser, server: RunningServer) -> None:
     api = server.client
     run = api.post("/api/runs", json={"scenario": "experiment1", "seed": 3}).json()["id"]
-    view = api.post("/api/view", json={"run": run}).json()
+    view = api.post("/api/view", json={"viewer": "rest-stepping-page", "run": run}).json()  # a tab's own view
     world = find_scenario("experiment1").world
 
     with browser_page(browser, 1280, 800) as (page, errors):

@@ -1,10 +1,10 @@
-"""The run layer without the web: failures, closing, failed saves, rebuilding for new demons, history remapping."""
+"""The run layer without the web: failures, closing, failed saves, rebuilding for new demons, history remapping.
+
+(A worker that dies, hangs or is killed: tests/runs/test_supervision.py.)"""
 
 from __future__ import annotations
 
-import functools
 import sqlite3
-import threading
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -13,30 +13,31 @@ import numpy as np
 import pytest
 
 from horde.core.experiment import run_trial
-from horde.runs.errors import BusyError, NotFoundError, SaveError
+from horde.runs.errors import NotFoundError, SaveError
 from horde.runs.history import History
-from horde.runs.live_run import LiveRun
 from horde.runs.manager import RunManager
 from horde.runs.run_setup import new_simulation
 from horde.runs.store import Store
 from horde.spec import DemonSpec, RunSpec
 from polling import wait_until
 from server.helpers import make_spec  # tests/server/helpers.py: the specs the server tests use
+from workers import ThreadExecutor
 
 
-def test_an_exception_while_learning_marks_the_run_failed_and_the_thread_lives_on() -> None:
-    manager = RunManager()
+def test_an_exception_while_learning_marks_the_run_failed_and_the_worker_lives_on() -> None:
+    executor = ThreadExecutor()
+    manager = RunManager(executor=executor)
     try:
         run = manager.get(manager.create(RunSpec.model_validate(make_spec())).id)
 
         def explode(*args: object, **kwargs: object) -> None:
             raise FloatingPointError("boom")
 
-        run.session.sim.run = explode  # type: ignore[method-assign]
+        executor.workers[run.id].session.sim.run = explode  # type: ignore[method-assign]
         run.start()
         wait_until(lambda: run.view.status == "failed", "the run to fail")
         assert "FloatingPointError: boom" in run.view.message
-        assert run.is_alive()
+        assert run.is_alive() and run.link is not None and run.link.alive, "the worker lives on"
         assert any(e.kind == "error" for e in run.events.recent())
         assert run.reset().status == "created"  # a fresh simulation: the run works again
         assert run.step(10).total_steps == 10
@@ -141,28 +142,6 @@ def test_a_run_whose_first_save_fails_is_not_created(flaky: tuple[RunManager, Fl
     with pytest.raises(SaveError, match="disk I/O error"):
         manager.create(RunSpec.model_validate(make_spec()))
     assert manager.list() == []
-
-
-def test_close_says_when_the_learner_thread_does_not_stop() -> None:
-    manager = RunManager()
-    run = manager.get(manager.create(RunSpec.model_validate(make_spec())).id)
-    entered, release = threading.Event(), threading.Event()
-    busy = threading.Thread(target=lambda: run.call(lambda: (entered.set(), release.wait(30))))
-    busy.start()
-    assert entered.wait(10), "the learner thread never ran the command"
-    with pytest.raises(BusyError, match=r"did not stop within 0\.2 s"):
-        run.close(timeout=0.2)  # the learner thread is inside a command for up to 30 s
-    run.close = functools.partial(LiveRun.close, run, 0.2)  # type: ignore[method-assign]
-    with pytest.raises(BusyError):
-        manager.delete(run.id)
-    assert manager.get(run.id) is run, "a run that did not stop stays listed"
-    release.set()
-    busy.join(10)
-    wait_until(lambda: not run.is_alive(), "the queued shutdown to end the thread", 10.0)
-    manager.delete(run.id)  # it stopped meanwhile: deleting again succeeds
-    with pytest.raises(NotFoundError):
-        manager.get(run.id)
-    manager.stop()
 
 
 def test_a_live_run_stops_by_the_rule_where_its_protocol_trial_stops() -> None:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Callable
 
 import pytest
@@ -10,8 +9,9 @@ from fastapi.testclient import TestClient
 
 from horde.runs import readout
 from horde.runs.errors import SpecError
-from horde.runs.manager import RunManager
 from horde.runs.readout import evaluation_support
+from horde.runs.run_setup import new_simulation
+from horde.runs.weights import Readable
 from horde.server import Settings, create_app
 from horde.spec import RunSpec
 from polling import wait_until
@@ -180,14 +180,11 @@ def test_a_stream_world_offers_no_evaluation_and_says_why() -> None:
     stream = RunSpec.model_validate(robot({"kind": "constant"}, nexting("light", 0.5)))
     support = evaluation_support(stream)
     assert support.kind == "none" and "stream" in support.note
-    manager = RunManager()
-    try:
-        view = manager.create(RunSpec.model_validate(make_spec()))
-        with pytest.raises(SpecError, match="no Monte-Carlo evaluation here: a stream") as refused:
-            readout.evaluate(dataclasses.replace(view, spec=stream), "steps", None, 3, 10)
-        assert refused.value.problems[0].loc == ("path", "run_id")
-    finally:
-        manager.stop()
+    sim = new_simulation(RunSpec.model_validate(make_spec()))
+    weights = Readable("r", stream, sim.horde, sim.horde_state, sim.world_state, 0)  # a grid run's, a stream's spec
+    with pytest.raises(SpecError, match="no Monte-Carlo evaluation here: a stream") as refused:
+        readout.evaluate(weights, "steps", None, 3, 10)
+    assert refused.value.problems[0].loc == ("path", "run_id")
 
 
 FAMILY = {
@@ -211,9 +208,11 @@ def test_a_family_past_the_limit_is_refused_before_anything_is_built(client: Tes
     response = client.post("/api/runs", json=make_spec(families=[huge]))
     assert response.status_code == 422
     assert ["body", "RunSpec", "families", 0, "over"] in locs(response)
-    tiled = {"kind": "sensors", "tilings": 2, "tiles": 2, "size": 8, "sensors": [{"sensor": "x", "low": 0}]}
+    # a range left out is the world's (x: [0, 500]); one that leaves nothing of it is refused, naming the end
+    tiled = {"kind": "sensors", "tilings": 2, "tiles": 2, "size": 8, "sensors": [{"sensor": "x", "low": 600}]}
     response = client.post("/api/runs", json=make_spec(features=tiled))
     assert response.status_code == 422 and ["body", "RunSpec", "features", "sensors", 0, "high"] in locs(response)
+    assert "its range [600, 500] is empty" in messages(response)
 
 
 def test_each_demon_has_its_colour_and_the_live_view_charts_it_in_that_colour(

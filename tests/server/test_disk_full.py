@@ -4,16 +4,20 @@ saving works again.
 New rows meet a disk filled for real, portably and without root: SQLite's `PRAGMA max_page_count`, set to
 the pages the file has, makes every write that needs one more page fail as a full disk does (SQLITE_FULL,
 "database or disk is full", through SQLite's own failure and rollback); raising it again frees the space. A
-tmpfs would need root and a mount. A rewrite of a row of the same size needs no new page, though on a full
-disk it fails all the same (the write-ahead log must grow): for that case the store's connection is wrapped
-so that its writes raise SQLite's error (`failing_writes`).
+rewrite of a row of the same size needs no new page, though on a full disk it fails all the same (the
+write-ahead log must grow): for that case the store's connection is wrapped so that its writes raise
+SQLite's error (`failing_writes`). Where the tests run as root, the last test does it all on a real 5 MB
+tmpfs, filled by a file and freed by deleting it (the issue's reproducer).
 """
 
 from __future__ import annotations
 
 import contextlib
+import os
 import sqlite3
+import subprocess
 from collections.abc import Iterator
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -122,3 +126,49 @@ def test_not_saved_on_a_running_run_clears_once_a_save_works(fast_saves: TestCli
                          "the running run's message to drop 'not saved'")  # fmt: skip
     assert cleared["status"] == "running"
     assert next(r for r in store.list_runs() if r.id == run_id).message == cleared["message"]
+
+
+@pytest.fixture
+def tmpfs(tmp_path: Path) -> Iterator[Path]:
+    """A 5 MB tmpfs, unmounted after the test (root only)."""
+    mount = tmp_path / "tmpfs"
+    mount.mkdir()
+    if os.geteuid() != 0 or subprocess.run(["mount", "-t", "tmpfs", "-o", "size=5m", "tmpfs", str(mount)],
+                                           capture_output=True).returncode != 0:  # fmt: skip
+        pytest.skip("a tmpfs needs root and mount(8)")
+    try:
+        yield mount
+    finally:
+        subprocess.run(["umount", str(mount)], check=True)
+
+
+def fill(directory: Path) -> Path:
+    """A file that takes every free byte of the file system (ENOSPC ends it)."""
+    filler = directory / "filler"
+    with contextlib.suppress(OSError), filler.open("wb") as out:
+        while True:
+            out.write(b"\0" * 65536)
+            out.flush()
+    return filler
+
+
+def test_a_real_full_tmpfs_answers_503s_and_recovers_once_space_is_freed(settings: Settings, tmpfs: Path) -> None:
+    app = create_app(settings.model_copy(update={"data": tmpfs / "data", "snapshot_every": 0.2}))
+    with TestClient(app) as client:
+        run_id = client.post("/api/runs", json=make_spec(), params={"hz": 200}).json()["id"]
+        filler = fill(tmpfs)
+        world = client.put("/api/worlds/x", json=big_world("x"))
+        assert world.status_code == 503 and FULL in world.json()["detail"], world.text
+        created = client.post("/api/runs", json=make_spec(world=big_world("w")))
+        assert created.status_code == 503 and "not created" in created.json()["detail"], created.text
+        assert [r["id"] for r in client.get("/api/runs").json()] == [run_id]
+        started = client.post(f"/api/runs/{run_id}/start")
+        assert started.status_code == 503 and FULL in started.json()["detail"], started.text
+        assert "not saved" in client.get(f"/api/runs/{run_id}").json()["message"]
+        assert_healthy(client)
+        filler.unlink()
+        wait_until(lambda: "not saved" not in client.get(f"/api/runs/{run_id}").json()["message"],
+                   "the running run's message to drop 'not saved' once space is freed")  # fmt: skip
+        assert client.put("/api/worlds/x", json=big_world("x")).status_code == 201
+        assert client.post("/api/runs", json=make_spec()).status_code == 201
+        client.post(f"/api/runs/{run_id}/pause")

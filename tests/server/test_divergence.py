@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 
 import pytest
 from fastapi.testclient import TestClient
 
 from horde.runs.divergence import MAX_MAGNITUDE, meaningful
+from horde.server.settings import Settings
 
 from .helpers import make_spec, wait_protocol
 
@@ -18,6 +20,13 @@ WILD = [
     {"name": "gq_wild", "learner": "gq", "policy": "uniform", "cumulant": 1, "alpha": 10, "lambda": 1},
     {"name": "td_wild", "learner": "td", "policy": "uniform", "cumulant": 1, "alpha": 10, "lambda": 1},
 ]
+
+
+@pytest.fixture
+def settings(tmp_path: Path) -> Settings:
+    """A history row at every step (none skipped for time: the steps before the divergence are recorded however
+    fast the machine)."""
+    return Settings(data=tmp_path / "data", token=None, snapshot_every=3600.0, history=2000, history_interval=0.0)
 
 
 def test_meaningful_numbers() -> None:
@@ -41,7 +50,8 @@ def test_a_diverged_gq_demon_is_reported_like_a_diverged_td_demon(
         assert evaluation.status_code == 200 and evaluation.json()["prediction"] is None
         history = client.get(f"/api/runs/{run}/demons/{name}/history").json()["prediction"]
         # numbers while it learned, null from its divergence on (its frozen prediction, 0, is no answer)
-        first = next(i for i, v in enumerate(history) if v is None)
+        first = next((i for i, v in enumerate(history) if v is None), None)
+        assert first is not None, f"{name}: no null in its history after it diverged: {history[-3:]}"
         assert first > 0 and all(abs(v) <= MAX_MAGNITUDE for v in history[:first]), history[: first + 1]
         assert all(v is None for v in history[first:]), history[first:]
     assert state["metrics"]["steps"]["diverged"] is False and state["predictions"]["steps"] is not None

@@ -1,24 +1,28 @@
-"""Durable work: protocol jobs in the store, periodic snapshots written off the learner thread.
+"""Durable work: protocol jobs in the store, periodic snapshots encoded off the worker's loop, written by the API.
 
 (The hard kills themselves are in test_kill_loop.py and test_restart.py.)
 """
 
 from __future__ import annotations
 
+import threading
 import time
 from pathlib import Path
 from typing import Any
 
 from fastapi.testclient import TestClient
 
-from horde.runs.live_run import LiveRun
+from horde.runs import recorder
+from horde.runs.manager import RunManager
+from horde.runs.recorder import Recorder
 from horde.runs.run_setup import Limits, new_simulation
-from horde.runs.saver import Saver
+from horde.runs.session import RunSession
 from horde.runs.snapshot import from_bytes
 from horde.runs.store import Store
 from horde.server import Settings, create_app
 from horde.spec import RunSpec
 from polling import wait_until
+from workers import ThreadExecutor
 
 from .helpers import make_spec, wait_protocol
 
@@ -54,67 +58,66 @@ def test_protocol_jobs_outlive_the_server(tmp_path: Path) -> None:
         assert client.post("/api/protocols", json=short).status_code == 202
 
 
-def test_periodic_snapshots_are_written_by_the_saver_thread(tmp_path: Path) -> None:
-    """The learner freezes the state; encoding and the SQLite write happen in the saver's thread."""
+def test_periodic_snapshots_are_encoded_by_the_worker_and_written_by_the_saver_thread(tmp_path: Path) -> None:
+    """The worker freezes the state in its loop and encodes it in its encoder thread; the API process writes it
+    in its saver's thread (the worker never touches the store: a Ray actor on another node could not)."""
     store = Store(tmp_path)
-    saver = Saver()
-    spec = RunSpec.model_validate(make_spec())
-    run = LiveRun("r1", new_simulation(spec), Limits(snapshot_every=0.05), store, saver=saver)
+    executor = ThreadExecutor()  # the worker in this process, to read its recorder
+    manager = RunManager(store, Limits(snapshot_every=0.05), executor)
     writers: list[str] = []
     save_run = store.save_run
 
     def spy(*args: Any, **kwargs: Any) -> None:
-        import threading
-
         writers.append(threading.current_thread().name)
         save_run(*args, **kwargs)
 
     store.save_run = spy  # type: ignore[method-assign]
     try:
-        run.save()
-        run.start_thread()
+        run = manager.get(manager.create(RunSpec.model_validate(make_spec())).id)
+        recorder = executor.workers[run.id].recorder
         run.start()
         wait_until(
-            lambda: writers if run.snapshot_cost.bytes > 0 and writers.count("horde-saver") >= 3 else None,
+            lambda: writers if recorder.snapshot_cost.write_seconds > 0 and writers.count("horde-saver") >= 4 else None,
             f"three periodic snapshots written by the saver (writers so far: {writers})",
         )
-        data = store.load_snapshot("r1")
+        data = store.load_snapshot(run.id)
         assert data is not None and from_bytes(data).status == "running"
-        cost = run.snapshot_cost
-        assert cost.freeze_seconds < cost.encode_seconds + cost.write_seconds, cost
+        cost = recorder.snapshot_cost
+        assert 0 < cost.freeze_seconds < cost.encode_seconds + cost.write_seconds, cost
     finally:
-        run.close()
-        saver.stop()
+        manager.stop()
         store.close()
-    assert "horde-saver" in writers and "horde-run-r1" not in writers[1:], writers
+    assert set(writers) == {"horde-saver"}, writers
 
 
 def test_a_slow_view_never_stretches_the_publish_interval_beyond_its_cap(monkeypatch: Any) -> None:
     """Issue 10, reproducer 6: one view that took long to make (the learner waited for the GIL) froze the
     published state for 80 s, as the interval was 20 times the wall time a view took. It is 20 times the
     learner thread's own CPU time now, and never more than MAX_PUBLISH_INTERVAL."""
-    from horde.runs import recorder
-
     spec = RunSpec.model_validate(make_spec())
-    run = LiveRun("r1", new_simulation(spec), Limits())
-    make_view = run.recorder.make_view
+    sim = new_simulation(spec)
+    session = RunSession(sim, Limits())
+    sent: list[Any] = []
+    rec = session.recorder = Recorder("r1", Limits(), sent.append, 0.0, sim.horde.names, persist=False)
+    make_view = rec.make_view
 
     def waited() -> Any:  # wall time passes, this thread's CPU time does not
         time.sleep(0.3)
-        return make_view(run.session)
+        return make_view(session)
 
-    monkeypatch.setattr(run.recorder, "make_view", lambda session: waited())
+    monkeypatch.setattr(rec, "make_view", lambda session: waited())
     began = time.monotonic()
-    run.recorder.publish(run.session, force=True)
-    assert run.recorder._next_publish - began <= 0.3 + 2 * recorder.PUBLISH_INTERVAL, "waiting is not the view's cost"
+    rec.publish(session, force=True)
+    assert rec._next_publish - began <= 0.3 + 2 * recorder.PUBLISH_INTERVAL, "waiting is not the view's cost"
 
     def busy() -> Any:  # a view that really costs 0.2 s of CPU would ask for 4 s between publications
         end = time.thread_time() + 0.2
         while time.thread_time() < end:
             pass
-        return make_view(run.session)
+        return make_view(session)
 
-    monkeypatch.setattr(run.recorder, "make_view", lambda session: busy())
+    monkeypatch.setattr(rec, "make_view", lambda session: busy())
     began = time.monotonic()
-    run.recorder.publish(run.session, force=True)
-    assert run.recorder._next_publish - began <= recorder.MAX_PUBLISH_INTERVAL + 0.01
+    rec.publish(session, force=True)
+    assert rec._next_publish - began <= recorder.MAX_PUBLISH_INTERVAL + 0.01
+    assert len(sent) == 2, "each forced publication sent an update"

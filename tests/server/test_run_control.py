@@ -9,8 +9,8 @@ from collections.abc import Callable
 import pytest
 from fastapi.testclient import TestClient
 
-from horde.runs.live_run import MAX_LAG
 from horde.runs.store import Store
+from horde.runs.worker import MAX_LAG
 from polling import wait_until
 
 from .helpers import locs, make_spec, wait_for

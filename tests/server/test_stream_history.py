@@ -89,7 +89,7 @@ def test_bad_history_requests_name_the_field(client: TestClient) -> None:
 
 
 def test_the_ring_of_recent_records_keeps_the_newest_in_order() -> None:
-    from horde.runs.stream_run import RecentRecords
+    from horde.runs.stream_learning import RecentRecords
 
     ring = RecentRecords(5, sensors=1, demons=3)
     for start, n in [(0, 3), (3, 4), (7, 1)]:  # wraps around twice

@@ -1,4 +1,5 @@
-"""LiveView without a browser: its port, one refresh of its scene and panel, the camera, the applier.
+"""LiveView without a browser: its port, one refresh of a client's scene and panel, the camera, the
+applier, and each client's own view (raw WebSocket clients, tests/view/viewers.py).
 
 The view runs on the production path: the server's RunManager behind ManagerSource.
 """
@@ -6,6 +7,7 @@ The view runs on the production path: the server's RunManager behind ManagerSour
 from __future__ import annotations
 
 import socket
+import threading
 import urllib.request
 from collections.abc import Iterator, Sequence
 from dataclasses import replace
@@ -22,25 +24,13 @@ from horde.view import LiveView, ManagerSource, camera
 from horde.view.apply import SceneApplier
 from horde.view.nodes import Node
 from horde.view.source import ViewSnapshot
+from polling import wait_until
+from serving import free_port
+
+from .viewers import RawClient, started_by_hand
 
 SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
-def started_by_hand(source: ManagerSource) -> LiveView:
-    """A started view whose frames the test draws itself (`refresh`), its thread stopped."""
-    view = LiveView(source, port=free_port())
-    view.start()
-    view._stop.set()
-    view.panel_changed()
-    assert view._thread is not None
-    view._thread.join(timeout=5.0)
-    return view
+TAB = "dashboard-tab-1"  # a dashboard tab's key
 
 
 def runs_of(*specs: RunSpec, source: type[ManagerSource] = ManagerSource) -> ManagerSource:
@@ -81,19 +71,20 @@ def test_one_refresh_draws_the_chosen_run(source: ManagerSource) -> None:
     ((run, label),) = source.list_runs()
     assert label == "experiment1"
     try:
+        viewer = RawClient(view).viewer
         source.step(run, 5)
         view.refresh()
         snap = source.snapshot(run)
-        drawn = view.applier.drawn
+        drawn = viewer.applier.drawn
         assert {"/world/floor", "/regions/goal", "/agent", "/predictions", "/value_map/texture"} <= set(drawn)
         assert "/value_map/arrows" in drawn  # the first demon, base, is a control demon
         assert drawn["/agent"][0].position[:2] == pytest.approx(((snap.x + 50) / 50, (snap.y + 50) / 50))
-        assert view.panel.run_id == run
-        assert view.panel.value_demon == "base"
-        assert view.panel.shown == ("base", "steps_to_end")
-        assert view.panel.total.value == 5
-        initial = view.server.initial_camera
-        assert initial.up is not None and tuple(initial.up) == (0.0, 1.0, 0.0)
+        assert viewer.panel.run_id == run
+        assert viewer.panel.value_demon == "base"
+        assert viewer.panel.shown == ("base", "steps_to_end")
+        assert viewer.panel.total.value == 5
+        assert viewer.panel._label == f"Showing experiment1 [{run}]", "the panel's title names the run it shows"
+        assert tuple(viewer.client.camera.up_direction) == pytest.approx((0.0, 1.0, 0.0))
     finally:
         view.stop()
 
@@ -168,15 +159,16 @@ def test_demons_joining_the_run_shown_keep_the_choices_still_possible() -> None:
     assert isinstance(source, JoiningSource)
     view = started_by_hand(source)
     try:
+        viewer = RawClient(view).viewer
         view.refresh()
-        view.panel._set_value_demon("steps_to_end")
+        viewer.panel.value_demon = "steps_to_end"
         extra = spec.demons[1].model_copy(update={"name": "extra"})
         source.spec_override = spec.model_copy(update={"demons": [*spec.demons, extra]})
         view.refresh()
-        assert view.panel.value_demon == "steps_to_end"
-        assert view.panel.shown == ("base", "steps_to_end")
-        assert list(view.panel._checkboxes) == ["base", "steps_to_end", "extra"]
-        assert "/value_map/arrows" not in view.applier.drawn  # steps_to_end is no control demon
+        assert viewer.panel.value_demon == "steps_to_end"
+        assert viewer.panel.shown == ("base", "steps_to_end")
+        assert list(viewer.panel._checkboxes) == ["base", "steps_to_end", "extra"]
+        assert "/value_map/arrows" not in viewer.applier.drawn  # steps_to_end is no control demon
     finally:
         view.stop()
         source.manager.stop()
@@ -188,17 +180,18 @@ def test_the_dashboard_chooses_the_demons_labelled_beyond_the_checkboxes() -> No
     source = runs_of(spec.model_copy(update={"demons": [*spec.demons, *many]}), source=JoiningSource)
     view = started_by_hand(source)
     try:
+        client = RawClient(view, TAB)
+        panel = client.viewer.panel
         run = source.list_runs()[0][0]
-        view.show(run, ["d17", "base", "d17"])
+        view.show(TAB, run, ["d17", "base", "d17"])
         view.refresh()
-        assert view.panel.shown == ("d17", "base")  # d17 has no checkbox (only the first 12 have)
-        assert "d17" not in view.panel._checkboxes and view.panel._checkboxes["base"].value
-        label = next(node for node in view.applier.drawn["/predictions"] if node.text)
+        assert panel.shown == ("d17", "base")  # d17 has no checkbox (only the first 12 have)
+        assert "d17" not in panel._checkboxes and panel._checkboxes["base"].value
+        label = next(node for node in client.viewer.applier.drawn["/predictions"] if node.text)
         assert "d17" in label.text and "steps_to_end" not in label.text
-        # A tick keeps the dashboard's choice beyond the boxes.
-        view.panel._checkboxes["steps_to_end"].value = True
-        view.panel._set_shown()
-        assert view.panel.shown == ("base", "steps_to_end", "d17")
+        # A tick in the browser keeps the dashboard's choice beyond the boxes.
+        client.update_gui(panel._checkboxes["steps_to_end"], True)
+        wait_until(lambda: panel.shown == ("base", "steps_to_end", "d17"), "the tick to reach the panel", 10.0)
     finally:
         view.stop()
         source.manager.stop()
@@ -216,33 +209,36 @@ def test_a_stream_run_is_drawn_as_a_phase_plane_in_the_same_view() -> None:
     source = ManagerSource(manager, streams)
     view = started_by_hand(source)
     try:
+        client = RawClient(view, TAB)
+        panel = client.viewer.panel
         grid_run = source.list_runs()[0][0]
         assert source.list_runs()[1] == (stream.id, "stream robot")
         view.refresh()  # the grid run first
-        assert "/world/floor" in view.applier.drawn
-        view.show(stream.id)
+        assert "/world/floor" in client.viewer.applier.drawn
+        view.show(TAB, stream.id)
         stream.push([{"observation": [0.1 * k % 1, 0.5 - 0.01 * k, 30.0], "action": k % 3} for k in range(60)])
         view.refresh()
-        drawn = view.applier.drawn
+        drawn = client.viewer.applier.drawn
         assert "/world/floor" not in drawn, "the grid run's world is gone"
         assert {"/phase/map", "/phase/trail", "/phase/agent", "/phase/x_label", "/phase/y_label"} <= set(drawn)
         assert drawn["/phase/x_label"][0].text == "light [0, 1]"
         assert drawn["/phase/y_label"][0].text == "wheel [-1, 1]"
         assert drawn["/phase/title"][0].text.startswith("light_if_left: ")
-        assert view.panel.total.value == 60 and view.panel.status.value == "stream: 60 records received"
-        assert view.panel._checkboxes == {}, "no 'Demons shown' boxes: a stream run has no charts of them"
+        assert panel.total.value == 60 and panel.status.value == "stream: 60 records received"
+        assert panel._checkboxes == {}, "no 'Demons shown' boxes: a stream run has no charts of them"
         # The agent sits at the last (x, y) reading: light 0.9 (59 * 0.1 mod 1), wheel 0.5 - 0.59.
         agent = drawn["/phase/agent"][0].position
         assert agent[:2] == pytest.approx(((0.9 - 0.5) * 10.0, (-0.09 + 1.0) / 2.0 * 10.0 - 5.0))
-        view.panel.phase_y, view.panel.value_demon = "heat", "wheel_g0.9"
+        panel.phase_y, panel.value_demon = "heat", "wheel_g0.9"
+        assert panel.commands._built_for == (stream.id, False), "a stream run has no commands"
         view.refresh()
-        assert view.applier.drawn["/phase/y_label"][0].text == "heat [20, 40]"
-        assert view.applier.drawn["/phase/title"][0].text.startswith("wheel_g0.9: ")
+        assert client.viewer.applier.drawn["/phase/y_label"][0].text == "heat [20, 40]"
+        assert client.viewer.applier.drawn["/phase/title"][0].text.startswith("wheel_g0.9: ")
         with pytest.raises(CommandRefusedError, match="stream run"):
             source.play(stream.id)
-        view.show(grid_run)
+        view.show(TAB, grid_run)
         view.refresh()
-        assert "/world/floor" in view.applier.drawn and "/phase/map" not in view.applier.drawn
+        assert "/world/floor" in client.viewer.applier.drawn and "/phase/map" not in client.viewer.applier.drawn
     finally:
         view.stop()
         manager.stop()
@@ -251,6 +247,7 @@ def test_a_stream_run_is_drawn_as_a_phase_plane_in_the_same_view() -> None:
 def test_a_gymnasium_run_is_drawn_as_a_phase_plane_with_its_trail_and_commands() -> None:
     from tests.server.test_gym_runs import gym_spec
 
+    from horde.runs.snapshot import Snapshot, restore
     from horde.worlds.phase_plane import axis_of, phase_plane
 
     manager = RunManager()
@@ -259,24 +256,29 @@ def test_a_gymnasium_run_is_drawn_as_a_phase_plane_with_its_trail_and_commands()
     view = started_by_hand(source)
     view.map_hz = 1e6  # every frame redraws the plane
     try:
+        client = RawClient(view, TAB)
+        panel = client.viewer.panel
         assert source.is_phase(run_id) and not source.is_stream(run_id)
-        view.show(run_id)
+        view.show(TAB, run_id)
         view.refresh()  # the episode's first state starts the trail
         positions = [manager.get(run_id).view.sensors[:2].copy()]  # type: ignore[index]
         for _ in range(5):  # the view samples the run's sensors once per frame, as the grid's trail
             source.step(run_id, 7)  # a GUI command reaches the run (streams refuse them)
             positions.append(manager.get(run_id).view.sensors[:2].copy())  # type: ignore[index]
             view.refresh()
-        drawn = view.applier.drawn
+        drawn = client.viewer.applier.drawn
         assert "/world/floor" not in drawn
         assert {"/phase/map", "/phase/trail", "/phase/agent"} <= set(drawn)
         assert drawn["/phase/x_label"][0].text == "position [-1.2, 0.6]"
         assert drawn["/phase/y_label"][0].text == "velocity [-0.07, 0.07]"
-        assert view.panel.total.value == 35 and view.panel.status.value == "paused"
-        assert view.panel._checkboxes, "a live run's demons can be shown in the charts"
+        assert panel.total.value == 35 and panel.status.value == "paused"
+        assert panel._checkboxes, "a live run's demons can be shown in the charts"
+        assert panel.commands.folder is not None, "a live Gymnasium run takes commands (no roles here)"
         # The agent sits at the run's last (position, velocity); the trail holds each frame's reading.
         segments = drawn["/phase/trail"][0].points  # [N - 1, 2, 3]
-        x, y = axis_of(manager.get(run_id).view.horde, "position"), axis_of(manager.get(run_id).view.horde, "velocity")
+        # The run's weights, out of its worker: its snapshot, restored here.
+        weights = restore(Snapshot.model_validate_json(manager.get(run_id).snapshot())).sim
+        x, y = axis_of(weights.horde, "position"), axis_of(weights.horde, "velocity")
         scene = np.array([((p - x.low) / (x.high - x.low) - 0.5, (v - y.low) / (y.high - y.low) - 0.5)
                           for p, v in positions]) * 10.0  # fmt: skip
         np.testing.assert_allclose(segments[:, 0, :2], scene[:-1])
@@ -284,11 +286,141 @@ def test_a_gymnasium_run_is_drawn_as_a_phase_plane_with_its_trail_and_commands()
         assert drawn["/phase/agent"][0].position[:2] == pytest.approx(tuple(scene[-1]))
         # The value map is the demon's prediction over the plane, the other sensors held at the agent's.
         snapshot = source.phase_snapshot(run_id, "velocity_g0.9", "position", "velocity", 8)
-        published = manager.get(run_id).view
-        expected_map = phase_plane(published.horde, published.horde_state, "velocity_g0.9", x, y,
-                                   published.sensors, 8)  # fmt: skip
+        expected_map = phase_plane(weights.horde, weights.horde_state, "velocity_g0.9", x, y, weights.sensors, 8)
         np.testing.assert_array_equal(snapshot.values, expected_map)
         assert np.ptp(snapshot.values) > 0, "a learned velocity demon varies over the plane"
     finally:
         view.stop()
         manager.stop()
+
+
+def test_each_client_sees_its_own_run_and_changes_nothing_another_sees() -> None:
+    spec = load_scenario(SCENARIOS / "experiment1.toml")
+    source = runs_of(spec.model_copy(update={"name": "first"}), spec.model_copy(update={"name": "second"}))
+    first, second = (run for run, _ in source.list_runs())
+    view = started_by_hand(source)
+    try:
+        teacher, student, own = RawClient(view, TAB), RawClient(view, "dashboard-tab-2"), RawClient(view)
+        view.show(TAB, first)
+        view.show("dashboard-tab-2", second)
+        source.step(second, 3)
+        view.refresh()
+        assert teacher.viewer.panel.run_id == first and student.viewer.panel.run_id == second
+        assert teacher.viewer.panel.run.value == f"first [{first}]"
+        assert teacher.viewer.panel._label == f"Showing first [{first}]"
+        assert student.viewer.panel._label == f"Showing second [{second}]"
+        assert student.viewer.panel.total.value == 3 and teacher.viewer.panel.total.value == 0
+        assert view.shown_run(TAB) == first and view.shown_run("dashboard-tab-2") == second
+        # A hand-written client changes its own Run dropdown: only its own view follows.
+        own.update_gui(own.viewer.panel.run, f"second [{second}]")
+        wait_until(lambda: own.viewer.panel.run_id == second, "the raw client's own view to switch")
+        view.refresh()
+        assert own.viewer.panel._label == f"Showing second [{second}]"
+        assert teacher.viewer.panel.run_id == first and teacher.viewer.panel.run.value == f"first [{first}]"
+        # Nor can it reach another client's widgets: viser routes a client's GUI updates to its own GUI.
+        own.update_gui(teacher.viewer.panel.run, f"second [{second}]")
+        view.show("dashboard-tab-2", first)  # the other tab switching: the teacher's view stays
+        view.refresh()
+        assert teacher.viewer.panel.run_id == first and student.viewer.panel.run_id == first
+        view.show(TAB, second)
+        view.refresh()
+        assert teacher.viewer.panel.run_id == second and student.viewer.panel.run_id == first
+        assert teacher.viewer.applier.drawn["/agent"][0].position != student.viewer.applier.drawn["/agent"][0].position
+        # A browser of a tab that connects later starts on that tab's choice.
+        late = RawClient(view, TAB)
+        view.refresh()
+        assert late.viewer.panel.run_id == second
+    finally:
+        view.stop()
+        source.manager.stop()
+
+
+def test_a_key_that_is_not_one_is_ignored() -> None:
+    source = runs_of(load_scenario(SCENARIOS / "experiment1.toml"))
+    view = started_by_hand(source)
+    try:
+        assert RawClient(view, "bad%20key%21").viewer.key is None
+        assert RawClient(view, "short").viewer.key is None
+        assert RawClient(view, TAB).viewer.key == TAB
+    finally:
+        view.stop()
+        source.manager.stop()
+
+
+def test_large_text_redraws_one_clients_labels_larger_and_styles_its_panel() -> None:
+    source = runs_of(load_scenario(SCENARIOS / "experiment1.toml"))
+    run = source.list_runs()[0][0]
+    view = started_by_hand(source)
+    try:
+        big, small = RawClient(view, TAB), RawClient(view)
+        view.show(TAB, run, large=True)
+        view.refresh()
+        assert big.viewer.applier.label_scale == 1.5 and small.viewer.applier.label_scale == 1.0
+        label = big.viewer.applier.drawn["/region_labels/goal"][1]
+        assert label.font_screen_scale == 1.5, "the label itself was drawn larger"
+        assert small.viewer.applier.drawn["/region_labels/goal"][1].font_screen_scale == 1.0
+        assert big.viewer.panel._large_style is not None and small.viewer.panel._large_style is None
+        assert big.viewer.panel.large_box.value is True
+        small.update_gui(small.viewer.panel.large_box, True)  # the standalone view's own checkbox
+        wait_until(lambda: small.viewer.panel.large, "the tick to reach the panel", 10.0)
+        view.refresh()
+        assert small.viewer.applier.drawn["/region_labels/goal"][1].font_screen_scale == 1.5
+        view.show(TAB, run, large=False)
+        view.refresh()
+        assert big.viewer.applier.drawn["/region_labels/goal"][1].font_screen_scale == 1.0
+        assert big.viewer.panel._large_style is None
+    finally:
+        view.stop()
+        source.manager.stop()
+
+
+def test_choices_and_clients_coming_and_going_never_raise_into_a_caller_or_the_view_thread(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    """The failure of the first try at a view per viewer: a dashboard's choice (POST /api/view) assigned to a
+    checkbox the view thread had just removed while rebuilding the panel for another run, and the route
+    answered 500 ("Cannot assign to 'value' on a removed GuiCheckboxHandle"). Here choices alternate runs
+    (each with its own demons) as fast as they come, clients connect and leave mid-frame, and neither the
+    callers of `show` nor the view thread may see an exception."""
+    spec = load_scenario(SCENARIOS / "experiment1.toml")
+    other = load_scenario(SCENARIOS / "experiment3.toml")
+    source = runs_of(spec, other)
+    runs = [run for run, _ in source.list_runs()]
+    demons = [[d.name for d in spec.demons], [d.name for d in other.demons]]
+    view = LiveView(source, port=free_port(), fps=200.0)
+    view.start()
+    errors: list[BaseException] = []
+    stop = threading.Event()
+
+    def choose(key: str) -> None:
+        k = 0
+        while not stop.is_set():
+            try:
+                view.show(key, runs[k % 2], demons[k % 2][::-1], large=k % 3 == 0)
+            except BaseException as exc:
+                errors.append(exc)
+            k += 1
+
+    try:
+        clients = [RawClient(view, TAB), RawClient(view, "dashboard-tab-2")]
+        choosers = [threading.Thread(target=choose, args=(key,), daemon=True) for key in (TAB, "dashboard-tab-2")]
+        for thread in choosers:
+            thread.start()
+        for _ in range(6):  # clients arrive and leave while the choices keep coming
+            late = RawClient(view, TAB)
+            drawn = view.frames
+            wait_until(lambda drawn=drawn: view.frames > drawn + 5, "the view thread to draw frames", 20.0)
+            late.close()
+        frames = view.frames
+        stop.set()
+        for thread in choosers:
+            thread.join(timeout=10)
+        assert errors == []
+        wait_until(lambda: view.frames > frames + 5, "the view thread to go on drawing", 20.0)
+        failures = [r for r in caplog.records if r.name.startswith("horde.view") and r.levelname == "ERROR"]
+        assert failures == [], [r.getMessage() for r in failures]
+        assert {c.viewer.panel.run_id for c in clients} <= set(runs)
+    finally:
+        stop.set()
+        view.stop()
+        source.manager.stop()

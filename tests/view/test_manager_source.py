@@ -11,10 +11,10 @@ import pytest
 from horde.runs.manager import RunManager
 from horde.runs.run_setup import Limits
 from horde.scenarios import load_scenario, scenario_dir
-from horde.view.live import LiveView
 from horde.view.manager_source import ManagerSource
 from horde.view.source import CommandRefusedError, ViewSource
-from serving import free_port
+
+from .viewers import RawClient, started_by_hand
 
 
 @pytest.fixture
@@ -106,18 +106,20 @@ def test_a_refused_gui_command_is_told_to_the_client_who_clicked(source: Manager
     ).id
     source.step(run_id, 5000)
     assert source.snapshot(run_id).status == "finished"
-    view = LiveView(source, port=free_port())
-    view.start()
+    view = started_by_hand(source)
     try:
-        view.panel.select_run(run_id)
+        panel = RawClient(view, "dashboard-tab-1").viewer.panel
+        view.show("dashboard-tab-1", run_id)
+        view.refresh()
+        assert panel.run_id == run_id
         clicker, other = Click(Client(7)), Client(8)
-        view.panel._command(clicker, source.play)
+        panel.commands.command(clicker, source.play)
         assert clicker.client.notes == [("Not done", "cannot start a finished run: reset it to run again", "red")]
         assert other.notes == [], "the others are not told"
-        view.panel._command(clicker, source.reset)  # accepted: nothing to tell
+        panel.commands.command(clicker, source.reset)  # accepted: nothing to tell
         assert len(clicker.client.notes) == 1 and source.snapshot(run_id).status == "created"
         source.manager.delete(run_id)
-        view.panel._command(clicker, source.play)
+        panel.commands.command(clicker, source.play)
         assert clicker.client.notes[-1][0] == "Run gone"
     finally:
         view.stop()

@@ -110,7 +110,7 @@ def test_experiment1_regions_are_boxes_where_their_rects_are_in_their_kinds_colo
     assert box.opacity is None
     label = nodes[f"/region_labels/{name}"]
     assert label.kind == "label" and label.text == name
-    assert label.position[:2] == pytest.approx(box.position[:2])
+    assert (label.position[:2], label.anchor) == (pytest.approx(box.position[:2]), "center-center")
     assert label.position[2] > box.size[2]  # above the box
 
 
@@ -193,8 +193,21 @@ def test_agent_trail_and_prediction_labels(experiment1: RunSpec) -> None:
     assert segments[0, 1, :2] == pytest.approx((3.0, 1.0))
     assert segments[1, 1, :2] == pytest.approx((3.0, 3.0))
     label = nodes["/predictions"]
-    assert label.text == "steps_to_end 31\nbase 0.25"  # in the order asked, unknown demons left out
-    assert label.position[0] > agent.position[0] and label.position[1] > agent.position[1]
+    assert label.text == "at the agent: steps_to_end 31  ·  base 0.25"  # in the order asked, unknown demons left out
+    # Under the world, from its lower left corner down, wherever the agent is: it never covers a region's name
+    # (every one inside the world; one at the lower edge stands up from it).
+    assert label.position[:2] == pytest.approx((0.0, -scene.PREDICTIONS_GAP)) and label.anchor == "top-left"
+
+
+def test_many_predictions_wrap_three_to_a_line_and_a_name_at_the_lower_edge_stands_inside(experiment1: RunSpec) -> None:
+    names = [f"d{k}" for k in range(7)]
+    snap = snapshot_of(experiment1, predictions={name: float(k) for k, name in enumerate(names)})
+    label = by_name(scene.agent_nodes(snap, names))["/predictions"]
+    assert label.text.split("\n") == ["at the agent: d0 0  ·  d1 1  ·  d2 2", "d3 3  ·  d4 4  ·  d5 5", "d6 6"]
+    low = experiment1.world.model_copy(update={"regions": [r.model_copy(update={"rect": [0, 0, 100, 100]})
+                                                           for r in experiment1.world.regions[:1]]})  # fmt: skip
+    name = by_name(scene.world_nodes(low, {}))[f"/region_labels/{low.regions[0].name}"]
+    assert name.anchor == "bottom-center" and name.position[1] == pytest.approx(scene.LABEL_INSET)
 
 
 def test_no_trail_at_an_episode_start_and_no_label_without_demons(experiment1: RunSpec) -> None:

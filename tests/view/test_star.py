@@ -10,7 +10,7 @@ from horde.scenarios import load_scenario, scenario_dir
 from horde.view.manager_source import ManagerSource
 from horde.view.star import star_nodes, star_positions
 
-from .test_live import started_by_hand
+from .viewers import RawClient, started_by_hand
 
 
 def test_the_star_draws_seven_states_their_values_and_the_agent() -> None:
@@ -34,12 +34,14 @@ def test_a_baird_run_is_drawn_as_the_star_in_the_live_view() -> None:
     source = ManagerSource(manager)
     view = started_by_hand(source)
     try:
-        view.show(run)
-        view.panel.value_demon = "gtd"
+        client = RawClient(view, "dashboard-tab-1")
+        view.show("dashboard-tab-1", run)
         view.refresh()
-        drawn = view.applier.drawn
+        client.viewer.panel.value_demon = "gtd"
+        view.refresh()
+        drawn = client.viewer.applier.drawn
         assert {f"/star/state{s}" for s in range(7)} <= set(drawn) and "/phase/map" not in drawn
-        assert view.panel.phase_x is None, "no phase-plane axes to choose for the star"
+        assert client.viewer.panel.phase_x is None, "no phase-plane axes to choose for the star"
         assert drawn["/star/title"][0].text.startswith("gtd: the value of each state, 3 to 12")
         demon, values, state, diverged = source.star(run, "gtd")  # type: ignore[misc]
         assert demon == "gtd" and not diverged

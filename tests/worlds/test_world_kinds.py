@@ -122,6 +122,9 @@ def test_validating_a_gymnasium_spec_makes_no_environment(monkeypatch: pytest.Mo
     resolved = resolve_world(spec)
     assert made == ["CartPole-v1"] and resolved.world.resolved and resolved.world.num_actions() == 2
     assert resolved.world.sensor_names()[0] == "cart_position"
+    # resolving adds nothing to the spec: the same fields are the same spec (a served scenario, a snapshot's)
+    assert resolved == spec and hash(resolved.world) == hash(spec.world)
+    assert resolved.world != spec.world.model_copy(update={"max_steps": 10})
 
 
 def test_policies_and_features_must_fit_the_world() -> None:

@@ -12,6 +12,23 @@ already old at the freeze would stay, and a run's objects are not kept in cycles
 from __future__ import annotations
 
 import gc
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+
+@contextmanager
+def building() -> Iterator[None]:
+    """Make many long-lived objects (a Horde's spec, loaded) without a collection on the way: the collector is
+    off meanwhile (an automatic full collection during a 9,000-demon spec's loading held the GIL for a quarter of
+    a second), and what was made is frozen at the end (a few temporaries in cycles, if any, are kept with it)."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        gc.freeze()
+        if enabled:
+            gc.enable()
 
 
 def keep_out_of_collector() -> None:

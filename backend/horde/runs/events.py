@@ -46,6 +46,11 @@ class EventLog:
             self._events.append(event)
         return event
 
+    def skip(self, count: int) -> None:
+        """Count `count` events that were left out (a worker sends the last ones only): `seq` shows the gap."""
+        with self._lock:
+            self._seq += max(0, count)
+
     def since(self, seq: int, limit: int = 256) -> list[Event]:
         """Events newer than `seq`, at most the last `limit` of them."""
         with self._lock:

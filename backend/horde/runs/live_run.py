@@ -1,296 +1,443 @@
-"""One live run: a learner thread that steps its session and answers the commands that reach it.
+"""One live run as the API process holds it: what its worker published, and the commands it sends the worker.
 
-A live run is three parts, each with one job:
+The run learns in its worker (`worker.RunWorker`, a process of this machine or a Ray actor). Here is its
+public face, which the routes, the stream hub and the live view read, as before the runs left the process:
 
-- `LiveRun` (here): the learner thread, its pacing (full speed in chunks, or `hz` steps a second) and the
-  commands. Other threads talk to it in two ways: commands (start, pause, step, add a demon, export a
-  snapshot, ...) go through a queue (`commands.CommandQueue`) and come back as a result or an exception;
-  readers take `view`, an immutable `RunView` published after every chunk.
-- `RunSession` (session.py): the rules: the source of transitions it steps (the grid world, or a
-  Gymnasium environment), the status, the protocol's episode loop and stopping rule, divergence, what
-  each command may do.
-- `Recorder` (recorder.py): history rows, publication, snapshots and saves to the store.
+- `view`: an immutable `RunView` made of the latest view the worker published, the spec, and what the API
+  process knows itself (a save that failed: "; not saved: <why>"; a worker that stopped answering; a worker
+  that died). `history` and `events` are kept here, fed by the worker's updates.
+- the commands (`start`, `pause`, `reset`, `step`, `patch`, `add_demon`, `remove_demon`, `snapshot`, value maps,
+  greedy actions, phase planes, Baird's star, `evaluate`) are calls to the worker; each answers with the view
+  after it, once the save it made is written.
 
-At full speed (hz = None) the thread learns in chunks of about 20 ms and looks at its queue between
-them; with `hz` it paces its steps and waits on the queue in between, so a command is answered at once.
-A live run is the first trial of its protocol: it is seeded as `run_trial(spec, 0)` is and runs the same
-episode loop, and it finishes when the protocol's episodes are done (or its stopping rule fires);
-with `protocol.episodes = 0` it runs until paused. The learner thread never dies of bad input or a
-numerical accident: an exception while learning marks the run `failed` with the exception's message.
+Saves: the worker sends what must be saved (`messages.Save`), the API process writes it (in the manager's
+saver thread, in order). A save a command made is written before the command answers; a failed one raises
+SaveError (503) and stays on the run's message until a save works again.
+
+Why about 420 lines: the run's face, its mirror of the worker's updates and its saves are one object, as readers,
+commands and the writer thread share its lock and its view.
+
+A worker that dies fails its run alone: the run is `failed`, the reason in its message and events, its latest
+snapshot kept in the store; a command for it is a 409 naming that state. Reset starts a fresh worker.
 """
 
 from __future__ import annotations
 
 import contextlib
 import logging
-import os
+import pickle
 import threading
 import time
 from collections.abc import Callable
-from typing import TypeVar
+from concurrent.futures import Future
+from typing import Any
 
 import numpy as np
 
-from horde.runs.commands import CommandQueue, ShutdownError
-from horde.runs.errors import BusyError, NotFoundError, SaveError
+from horde.runs import messages as m
+from horde.runs.collector import building
+from horde.runs.errors import BusyError, ConflictError, NotFoundError, SaveError
 from horde.runs.events import EventLog
 from horde.runs.history import History
-from horde.runs.recorder import Recorder, SnapshotCost
+from horde.runs.link import COMMAND_TIMEOUT, Listener, WorkerGoneError, WorkerLink
 from horde.runs.run_setup import Limits
-from horde.runs.run_view import RunStatus, RunView, Summary
+from horde.runs.run_view import RunStatus, RunView, Summary, Worker, published_view, stored_view
 from horde.runs.saver import Saver
-from horde.runs.session import RunSession, Source
-from horde.runs.snapshot import Snapshot, capture
-from horde.runs.store import Store
-from horde.spec import BehaviourSpec, DemonSpec
+from horde.runs.store import RunRecord, Store
+from horde.spec import BehaviourSpec, DemonSpec, RunSpec
 
 log = logging.getLogger(__name__)
 
-T = TypeVar("T")
-
-CHUNK_SECONDS = 0.02  # full speed: learn this long between looks at the command queue
-MAX_LAG = 0.1  # hz pacing: time lost beyond this is not caught up
-MAX_WAIT = 1.0  # hz pacing: the longest single wait for the next step (then the loop looks again)
-COMMAND_TIMEOUT = 600.0  # a command waits this long for the learner thread at most
-LEARNER_NICENESS = 10
-
-
-def _lower_priority() -> None:
-    """Give this learner thread a lower OS priority than the server's own threads.
-
-    The compiled loop releases the GIL, so learners use every core; niced, they yield the CPU whenever
-    the event loop has requests or streams to serve and take all of it otherwise.
-    """
-    with contextlib.suppress(AttributeError, OSError):  # per-thread niceness is a Linux feature
-        os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), LEARNER_NICENESS)
+NOT_SAVED = "; not saved: "  # what a run's message adds when its latest waited save failed
+Spawn = Callable[[m.RunInit, Listener], WorkerLink]  # starts a run's worker (the manager's executor)
 
 
 class LiveRun:
-    """A run and its learner thread.
+    """A run, its worker and what it published.
 
     Args:
         run_id: the run's id.
-        sim: the source of transitions (fresh, or restored from a snapshot); its spec is the run's spec.
+        spec: its spec (the API's copy, kept in step with the worker's as demons join and leave).
         limits: the server's size limits and timings.
-        store: where the run saves itself (None: nowhere).
-        status, hz, message, created_at, summary: the run's state when it is restored.
-        stop_reference: the stopping rule's reference weights (default: the current weights).
-        saver: the writer thread that periodic snapshots are handed to (None: written in this thread).
+        spawn: starts a worker for this run.
+        store, saver: where saves are written, and by which thread (None: nowhere).
+        created_at: the run's creation time.
+        hooks: workers honour test crashes (HORDE_TEST_HOOKS).
     """
 
-    def __init__(
-        self,
-        run_id: str,
-        sim: Source,
-        limits: Limits,
-        store: Store | None = None,
-        *,
-        status: RunStatus = "created",
-        hz: float | None = None,
-        message: str = "",
-        created_at: float | None = None,
-        summary: Summary | None = None,
-        stop_reference: list[np.ndarray] | None = None,
-        saver: Saver | None = None,
-    ) -> None:
+    def __init__(self, run_id: str, spec: RunSpec | None, limits: Limits, spawn: Spawn, store: Store | None = None,
+                 saver: Saver | None = None, created_at: float | None = None, hooks: bool = False) -> None:  # fmt: skip
         self.id = run_id
+        self.spec: RunSpec = spec if spec is not None else RunSpec()  # a run built from data: its spec comes later
         self.limits = limits
-        self.session = RunSession(sim, limits, status=status, hz=hz, message=message, summary=summary,
-                                  stop_reference=stop_reference)  # fmt: skip
-        self.recorder = Recorder(run_id, limits, store, saver, created_at if created_at is not None else time.time(),
-                                 sim.horde.names)  # fmt: skip
-        self.session.recorder = self.recorder
-        self._commands = CommandQueue(f"run {run_id!r}")
-        self._thread = threading.Thread(target=self._loop, name=f"horde-run-{run_id}", daemon=True)
-        self._next_step_at = 0.0
-        self.recorder.publish(self.session)
+        self.store = store
+        self.saver = saver
+        self.created_at = created_at if created_at is not None else time.time()
+        self.hooks = hooks
+        self._spawn = spawn
+        self.history = History(self.names, limits.history, limits.history_every)
+        self.events = EventLog(limits.events)
+        self.link: WorkerLink | None = None
+        self._lock = threading.Lock()
+        self._published: m.PublishedView | None = None
+        self._not_saved = ""  # why the latest waited save failed
+        self._stall = ""  # how long the worker has not answered
+        self._gone = ""  # why the worker ended (a failed run's message)
+        self._snapshot_steps: int | None = None  # the step of the latest snapshot written
+        self._closed = False
+        self.on_status: Callable[[], None] = lambda: None  # told when the published status changes
+        self.threads: int | None = None  # the share of the cores its worker was last given
+        self._launched = False  # updates that come before the worker's Ready is taken in wait for it
+        self._early: list[m.Update] = []
+        self._view = stored_view(run_id, self.spec, "created", "", None, self.created_at)
+
+    @property
+    def names(self) -> list[str]:
+        return [d.name for d in self.spec.demons]
 
     @property
     def view(self) -> RunView:
-        """The latest published view (immutable; any thread)."""
-        view = self.recorder.view
-        assert view is not None
-        return view
+        """The latest view (immutable; any thread)."""
+        return self._view
 
-    @property
-    def history(self) -> History:
-        return self.recorder.history
-
-    @property
-    def events(self) -> EventLog:
-        return self.session.events
-
-    @property
-    def snapshot_cost(self) -> SnapshotCost:
-        return self.recorder.snapshot_cost
+    def is_alive(self) -> bool:
+        """Whether the run is still listed (not closed); a run whose worker died is listed, and failed."""
+        return not self._closed
 
     # ------------------------------------------------------------------------------------------
-    # Life cycle (called from other threads)
+    # Life cycle
 
-    def start_thread(self) -> None:
-        self._thread.start()
-
-    def save(self) -> None:
-        """Write the run and a snapshot to the store; only before `start_thread`.
+    def launch(self, init: m.RunInit) -> RunView:
+        """Start a worker for the run and wait until it is ready (a new run's first save written).
 
         Raises:
-            SaveError: the store refused the write.
+            SpecError and the other run errors: the worker could not build the run (it has ended).
+            SaveError: the first save failed (the worker has ended: the run was not made).
+            BusyError: the worker was not ready in time (it has been stopped).
         """
-        self.recorder.persist(self.session, snapshot=True)
-
-    def close(self, timeout: float = 60.0) -> None:
-        """Stop the learner thread; a running run is saved as paused with a fresh snapshot.
-
-        Raises:
-            BusyError: the learner thread is still busy after `timeout` seconds (it stops once it gets
-                to the shutdown command, which stays queued; closing again later finds it stopped).
-            SaveError: the thread stopped, but its last save failed.
-        """
-        if not self._thread.is_alive():
-            return
-        failure: SaveError | None = None
+        link = self._spawn(init, self)
         try:
-            self.call(self._shutdown, timeout)
+            ready = link.wait_ready()
+        except (WorkerGoneError, BusyError) as exc:
+            self._stop_link(link)
+            raise ConflictError(f"run {self.id!r} could not start its worker: {exc}") from None
+        if ready.failure is not None:
+            self._stop_link(link)
+            m.raise_failure(ready.failure)
+        if ready.spec is not None:  # validated by the worker: loaded here without a collection on the way
+            with building():
+                spec = pickle.loads(ready.spec)
+            self.spec = spec
+            self.history = History(self.names, self.limits.history, self.limits.history_every)
+        with self._lock:
+            self.link, self._gone, self._stall = link, "", ""
+            early, self._early, self._launched = self._early, [], True
+        for update in [ready.value, *early] if isinstance(ready.value, m.Update) else early:
+            self._apply(update)
+        if ready.save is not None:
+            try:
+                self._write(ready.save, waited=True).result(COMMAND_TIMEOUT)
+            except Exception:
+                self._stop_link(link)
+                raise
+        return self.view
+
+    def close(self, timeout: float = 60.0, save: bool = True) -> None:
+        """End the worker: with `save`, a running run is saved as paused first (a failed save raises SaveError, the
+        worker ended all the same). A worker that does not answer within `timeout` is killed."""
+        self._closed = True
+        link = self.link
+        if link is None or not link.alive:
+            return
+        failure: Exception | None = None
+        link.stopping = True  # its end is no news (and fails nothing), however soon it comes
+        try:
+            _, written = link.call(m.Shutdown(save), timeout)
+            if written is not None:
+                written.result(COMMAND_TIMEOUT)
         except SaveError as exc:
             failure = exc
-        except (NotFoundError, BusyError):
-            pass  # closed already, or busy: the join below tells
-        self._thread.join(timeout)
-        if self._thread.is_alive():
-            log.error("run %s: the learner thread did not stop within %s s", self.id, timeout)
-            raise BusyError(f"run {self.id!r} did not stop within {timeout:g} s; it stops when its current work ends")
+        except (WorkerGoneError, BusyError) as exc:
+            log.error("run %s: its worker did not shut down (%s); it is stopped", self.id, exc)
+        self._stop_link(link)
         if failure is not None:
             raise failure
 
-    def is_alive(self) -> bool:
-        return self._thread.is_alive()
+    def _stop_link(self, link: WorkerLink) -> None:
+        link.stop()
 
-    def call(self, action: Callable[[], T], timeout: float | None = COMMAND_TIMEOUT) -> T:
-        """Run `action` in the learner thread and return its result (or raise its exception).
+    # ------------------------------------------------------------------------------------------
+    # What the worker says (the switchboard's thread)
+
+    def on_message(self, message: m.FromWorker) -> None:
+        if isinstance(message, m.Update):
+            self._apply(message)
+        elif isinstance(message, m.Save):
+            self._write(message, waited=False)
+
+    def on_reply(self, command: m.Command | None, reply: m.Reply) -> Future[float] | None:
+        """Keep the spec in step with a command that changed it, then apply the reply's update and hand its save
+        to the writer (the caller waits for that)."""
+        if reply.failure is None and command is not None:
+            self._follow(command)
+        if reply.update is not None:
+            self._apply(reply.update)
+        return self._write(reply.save, waited=True) if reply.save is not None else None
+
+    def _follow(self, command: m.Command) -> None:
+        spec = self.spec
+        if isinstance(command, m.AddDemon):
+            spec = spec.model_copy(update={"demons": [*spec.demons, command.demon]})
+        elif isinstance(command, m.RemoveDemon):
+            spec = spec.model_copy(update={"demons": [d for d in spec.demons if d.name != command.name]})
+        elif isinstance(command, m.Patch) and command.behaviour is not None:
+            spec = spec.model_copy(update={"behaviour": command.behaviour})
+        self.spec = spec
+
+    def _apply(self, update: m.Update) -> None:
+        with self._lock:
+            if not self._launched:  # the worker's Ready (and the spec it brings) comes first
+                self._early.append(update)
+                return
+            if update.history == "remap":  # the demons changed: the rows of those still there are kept
+                self.history = self.history.remap(self.names)
+            elif update.history == "new":  # a reset run
+                self.history = History(self.names, self.limits.history, self.limits.history_every)
+            if update.rows is not None and update.rows.values.shape[2] == len(self.history.names):
+                for k, step in enumerate(update.rows.steps):
+                    self.history.record(int(step), *update.rows.values[:, k])
+            if update.skipped:
+                self.events.skip(update.skipped)
+            for e in update.events:
+                self.events.add(e.step, e.episode, e.kind, e.message, e.value)
+            changed = update.view is not None and (self._published is None
+                                                   or update.view.status != self._published.status)  # fmt: skip
+            if update.view is not None:
+                self._published = update.view
+            self._refresh()
+        if changed:
+            self.on_status()
+
+    def on_exit(self, reason: str) -> None:
+        """The worker died: the run fails alone, saying why; its latest snapshot stays in the store."""
+        with self._lock:
+            published = self._published
+            steps = published.total_steps if published is not None else 0
+            kept = (f"its latest snapshot (step {self._snapshot_steps}) is kept" if self._snapshot_steps is not None
+                    else "no snapshot of it was saved")  # fmt: skip
+            self._gone = (f"its worker died ({reason}) at step {steps}; {kept}: reset it to start afresh, "
+                          "or delete it")  # fmt: skip
+            self._stall = ""
+            episode = published.episode if published is not None else 0
+            self.events.add(steps, episode, "error", f"the worker died: {reason}")
+            self._refresh()
+        log.error("run %s: %s", self.id, self._gone)
+        if self.store is not None and not self._closed:
+            view = self.view
+            record = RunRecord(id=self.id, name=self.spec.name, status="failed", message=self._gone, hz=view.hz,
+                               spec=self.spec.model_dump_json(by_alias=True), episode=view.episode,
+                               steps=view.total_steps, created_at=self.created_at, updated_at=time.time())  # fmt: skip
+            self._write(m.Save(0, record, None, None), waited=False)
+
+    def on_stall(self, seconds: float, doing: str) -> None:
+        with self._lock:
+            view = self._view
+            if seconds > 0:
+                self._stall = f"its worker has not answered for {seconds:.0f} s" + (f" (busy with {doing})"
+                                                                                     if doing else "")  # fmt: skip
+                self.events.add(view.total_steps, view.episode, "error", self._stall)
+            else:
+                self._stall = ""
+                self.events.add(view.total_steps, view.episode, "status", "its worker answers again")
+            self._refresh()
+
+    def _refresh(self) -> None:
+        """A new view from what was published and what the API process knows (the caller holds the lock)."""
+        published = self._published
+        if published is None:
+            return
+        names = len(self.spec.demons)
+        if len(published.prediction) != names:  # a view of other demons (cannot happen: replies come in order)
+            return
+        status, message = published.status, published.message
+        if self._gone:
+            status, message = "failed", self._gone
+        else:
+            if self._not_saved:
+                message = f"{message or status}{NOT_SAVED}{self._not_saved}"
+            if self._stall:
+                message = f"{message or status}; {self._stall}"
+        link = self.link
+        worker = Worker("none")
+        if link is not None:
+            worker = Worker(link.kind, link.pid, link.node, link.alive)  # type: ignore[arg-type]
+        self._view = published_view(self.id, self.spec, published, status, message, self.created_at,
+                                    self._view.seq + 1, worker)  # fmt: skip
+
+    def show_stored(self, record: RunRecord, summary: Summary | None) -> None:
+        """Show a stored run that gets no worker (it failed before the restart): its record, as it was."""
+        status: RunStatus = "failed"
+        self._gone = record.message
+        self._view = stored_view(self.id, self.spec, status, record.message, summary, self.created_at, record.hz,
+                                 record.episode, record.steps)  # fmt: skip
+
+    # ------------------------------------------------------------------------------------------
+    # Saves (written by the manager's saver thread, in the order they came)
+
+    def _write(self, save: m.Save, waited: bool) -> Future[float]:
+        store = self.store
+        future: Future[float] = Future()
+        if store is None:
+            future.set_result(0.0)
+            return future
+
+        def write() -> float:
+            began = time.perf_counter()
+            store.save_run(save.record, save.snapshot, save.summary)
+            return time.perf_counter() - began
+
+        done: Future[float] = self.saver.submit(write) if self.saver is not None else _now(write)
+        done.add_done_callback(lambda f: self._written(save, waited, f, future))
+        return future
+
+    def _written(self, save: m.Save, waited: bool, done: Future[float], future: Future[float]) -> None:
+        """A save's write ended: the message and events say what came of it, the worker hears it."""
+        exc = done.exception()
+        with self._lock:
+            view = self._view
+            if exc is None:
+                self._not_saved = ""
+                if save.snapshot is not None:
+                    self._snapshot_steps = save.record.steps
+            else:
+                log.error("could not save run %s", self.id, exc_info=exc)
+                self.events.add(view.total_steps, view.episode, "error", f"could not save the run: {exc}")
+                if waited:
+                    self._not_saved = str(exc)
+            said = save.record.message or save.record.status  # what the run said when it was saved
+            self._refresh()
+        link = self.link
+        if save.save_id and link is not None and link.alive:
+            seconds = done.result() if exc is None else 0.0
+            with contextlib.suppress(WorkerGoneError):
+                link.send(m.SaveDone(save.save_id, seconds, None if exc is None else str(exc)))
+        if exc is None:
+            future.set_result(done.result())
+        else:
+            future.set_exception(SaveError(f"run {self.id!r}: {said}, but it could not be saved: {exc}"))
+
+    # ------------------------------------------------------------------------------------------
+    # Commands
+
+    def _worker(self, action: str) -> WorkerLink:
+        link = self.link
+        if self._closed:
+            raise NotFoundError(f"run {self.id!r} has been deleted")
+        if link is None or not link.alive:
+            view = self.view
+            raise ConflictError(f"cannot {action} run {self.id!r}: it is {view.status} ({view.message})")
+        return link
+
+    def call(self, command: m.Command, action: str, timeout: float = COMMAND_TIMEOUT,
+             abandoned: Callable[[], bool] | None = None) -> Any:  # fmt: skip
+        """Send a command to the worker and return its value, once the save it made is written.
 
         Raises:
-            NotFoundError: the run has been closed (deleted).
-            BusyError: the learner thread did not get to the command within `timeout`.
+            ConflictError: the worker is gone (naming the run's state), or has stopped answering.
+            BusyError: no answer within `timeout`.
+            SaveError: the command's change holds, but its save failed.
+            The command's own errors (ConflictError, SpecError, NotFoundError).
         """
-        return self._commands.call(action, timeout)
-
-    # ------------------------------------------------------------------------------------------
-    # Commands: the session's rule, then a save and a publication (each runs in the learner thread)
-
-    def _then_commit(self, rule: Callable[[], None], snapshot: bool = True) -> Callable[[], RunView]:
-        def command() -> RunView:
-            rule()
-            return self.recorder.commit(self.session, snapshot)
-
-        return command
+        link = self._worker(action)
+        try:
+            reply, save = link.call(command, timeout, abandoned)
+        except WorkerGoneError:
+            view = self.view
+            raise ConflictError(f"cannot {action} run {self.id!r}: it is {view.status} ({view.message})") from None
+        except BusyError as exc:
+            if link.stalled:
+                raise ConflictError(
+                    f"cannot {action} run {self.id!r} now: {exc}; try again later, or delete it"
+                ) from None
+            raise BusyError(f"run {self.id!r}: {exc}") from None
+        if save is not None:
+            save.result(COMMAND_TIMEOUT)  # raises SaveError
+        if reply.failure is not None:
+            m.raise_failure(reply.failure)
+        return reply.value
 
     def start(self) -> RunView:
-        def rule() -> None:
-            self.session.start()
-            self._next_step_at = time.monotonic()
-
-        return self.call(self._then_commit(rule, snapshot=False))
+        self.call(m.Start(), "start")
+        return self.view
 
     def pause(self) -> RunView:
-        return self.call(self._then_commit(self.session.pause))
+        self.call(m.Pause(), "pause")
+        return self.view
 
     def reset(self) -> RunView:
-        return self.call(self._then_commit(self.session.reset))
+        """Fresh weights and generator, the current demons; a run whose worker is gone gets a fresh worker."""
+        link = self.link
+        if self._closed or (link is not None and link.alive):
+            self.call(m.Reset(), "reset")
+            return self.view
+        self._published, self._launched = None, False
+        self.history = History(self.names, self.limits.history, self.limits.history_every)
+        init = m.RunInit(self.id, self.limits, spec=self.spec, message="reset", created_at=self.created_at,
+                         persist=self.store is not None, first_save=True, hooks=self.hooks)  # fmt: skip
+        view = self.launch(init)
+        self.events.add(0, 0, "status", "reset, in a fresh worker")
+        return view
 
     def step(self, steps: int) -> RunView:
-        def command() -> RunView:
-            self.session.step(steps)
-            if self.session.status == "paused":  # a finished run saved itself when it finished
-                return self.recorder.commit(self.session, snapshot=True)
-            return self.recorder.publish(self.session)
+        self.call(m.Step(steps), "step")
+        return self.view
 
-        return self.call(command)
-
-    def patch(
-        self, *, set_hz: bool = False, hz: float | None = None, behaviour: BehaviourSpec | None = None
-    ) -> RunView:
+    def patch(self, *, set_hz: bool = False, hz: float | None = None,
+              behaviour: BehaviourSpec | None = None) -> RunView:  # fmt: skip
         """Change the speed (when `set_hz`; None is full speed) and/or the behaviour policy."""
-
-        def rule() -> None:
-            self.session.patch(set_hz, hz, behaviour)
-            if set_hz:
-                self._next_step_at = time.monotonic()
-
-        return self.call(self._then_commit(rule))
+        self.call(m.Patch(set_hz, hz, behaviour), "change")
+        return self.view
 
     def add_demon(self, demon: DemonSpec) -> RunView:
-        return self.call(self._then_commit(lambda: self.session.add_demon(demon)))
+        self.call(m.AddDemon(demon), "add demons to")
+        return self.view
 
     def remove_demon(self, name: str) -> RunView:
-        return self.call(self._then_commit(lambda: self.session.remove_demon(name, self.id)))
+        self.call(m.RemoveDemon(name), "remove demons from")
+        return self.view
 
-    def snapshot(self) -> Snapshot:
-        session = self.session
-        return self.call(lambda: capture(session.sim, session.spec, session.status, session.hz,
-                                         session.stop_reference))  # fmt: skip
+    def snapshot(self) -> bytes:
+        """The run's snapshot document, as JSON bytes."""
+        data: bytes = self.call(m.Export(), "export")
+        return data
 
-    def _shutdown(self) -> None:
-        """Save the run (a running one as paused), refuse further commands, and leave the loop."""
-        session = self.session
-        if session.status == "running":
-            session.set_status("paused", f"paused at step {session.sim.total_steps} when the server stopped")
-        failure: SaveError | None = None
-        try:
-            self.recorder.persist(session, snapshot=session.status != "failed")
-        except SaveError as exc:
-            failure = exc
-        self.recorder.publish(session)
-        self._commands.close()
-        raise ShutdownError(failure)
+    def value_map(self, demon: str, resolution: int) -> Any:
+        return self.call(m.ValueMapOf(demon, resolution), "read the value map of")
 
-    # ------------------------------------------------------------------------------------------
-    # The learner thread
+    def greedy_actions(self, demon: str, resolution: int) -> np.ndarray | None:
+        result: np.ndarray | None = self.call(m.GreedyOf(demon, resolution), "read the greedy actions of")
+        return result
 
-    def _loop(self) -> None:
-        _lower_priority()
-        while True:
-            try:
-                if self.session.status != "running":
-                    command = self._commands.next()
-                    if command is not None:
-                        self._commands.run(command)
-                elif self.session.hz is None:
-                    self._run_chunk()
-                else:
-                    self._run_paced()
-            except ShutdownError:
-                return
-            except Exception as exc:  # the learner thread never dies
-                self.session.fail(exc)
+    def phase(self, demon: str, x: str, y: str, resolution: int) -> Any:
+        return self.call(m.PhaseOf(demon, x, y, resolution), "read the phase plane of")
 
-    def _run_chunk(self) -> None:
-        """Full speed: commands first, then about CHUNK_SECONDS of learning."""
-        self._commands.drain()
-        session = self.session
-        if session.status != "running" or session.hz is not None:
-            return
-        session.learn(None, time.monotonic() + CHUNK_SECONDS)
-        self.recorder.publish(session, force=False)
-        self.recorder.maybe_snapshot(session)
+    def star(self, demon: str) -> np.ndarray:
+        values: np.ndarray = self.call(m.StarOf(demon), "read the star of")
+        return values
 
-    def _run_paced(self) -> None:
-        """hz pacing: wait for the next step's time (answering commands meanwhile), then step."""
-        wait = self._next_step_at - time.monotonic()
-        if wait > 0:
-            command = self._commands.next(min(wait, MAX_WAIT))
-            if command is not None:
-                self._commands.run(command)
-                return
-            if wait > MAX_WAIT:
-                return  # not due yet: look at the queue again
-        self._commands.drain()
-        session = self.session
-        if session.status != "running" or session.hz is None:
-            return
-        hz = session.hz
-        now = time.monotonic()
-        due = min(1 + int((now - self._next_step_at) * hz), max(1, int(hz * CHUNK_SECONDS)))
-        session.learn(due, None)
-        self._next_step_at = max(self._next_step_at + due / hz, now - MAX_LAG)
-        self.recorder.publish(session, force=False)
-        self.recorder.maybe_snapshot(session)
+    def evaluate(self, command: m.Evaluate, abandoned: Callable[[], bool]) -> Any:
+        return self.call(command, "evaluate", COMMAND_TIMEOUT, abandoned)
+
+    def crash(self, how: m.CrashKind) -> None:
+        """Tests only: make the worker crash (or hang), as a crafted input could."""
+        link = self._worker("crash")
+        link.send(m.Call(0, m.Crash(how)))
+
+
+def _now(write: Callable[[], float]) -> Future[float]:
+    future: Future[float] = Future()
+    try:
+        future.set_result(write())
+    except Exception as exc:
+        future.set_exception(exc)
+    return future

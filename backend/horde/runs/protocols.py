@@ -1,7 +1,9 @@
 """Protocol jobs: a scenario's whole protocol (trials x episodes, Monte-Carlo truth, test runs), run in
 the background for the server, as `horde run` runs it on the command line.
 
-One job runs at a time (the protocol uses a whole core); the last `KEEP` jobs are kept. With a store,
+Each job learns in a worker of its own (`job_workers.serve_protocol`), which tells its progress as it goes;
+a worker that dies fails its job, saying why. One job runs at a time (the protocol uses a whole core); the
+last `KEEP` jobs are kept. With a store,
 every job is saved there as it starts, with its progress at most every `PROGRESS_SECONDS`, and with its
 result when it ends: after a restart the finished jobs are back as they were, and a job that was
 running when the server stopped (or died) is back as `interrupted`, with how far it got.
@@ -9,6 +11,7 @@ running when the server stopped (or died) is back as `interrupted`, with how far
 
 from __future__ import annotations
 
+import contextlib
 import json
 import logging
 import secrets
@@ -17,8 +20,12 @@ import time
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
-from horde.core.experiment import DemonResult, ProtocolResult, run_protocol
+from horde.core.experiment import DemonResult, ProtocolResult
 from horde.runs.errors import BusyError, NotFoundError
+from horde.runs.executor import ProcessExecutor
+from horde.runs.job_workers import serve_protocol
+from horde.runs.link import Executor, WorkerGoneError, WorkerLink
+from horde.runs.messages import Cancel, Command, Finished, FromWorker, Progress, ProtocolInit, Reply
 from horde.runs.store import JobRecord, Store
 from horde.spec import Counts, RunSpec
 
@@ -27,10 +34,6 @@ log = logging.getLogger(__name__)
 JobStatus = Literal["running", "finished", "failed", "cancelled", "interrupted"]
 KEEP = 20  # finished jobs kept
 PROGRESS_SECONDS = 1.0  # a running job's progress is saved at most this often
-
-
-class _CancelledError(Exception):
-    pass
 
 
 @dataclass
@@ -47,6 +50,9 @@ class ProtocolJob:
     created_at: float = field(default_factory=time.time)
     finished_at: float | None = None
     cancel: threading.Event = field(default_factory=threading.Event)
+    ended: threading.Event = field(default_factory=threading.Event)
+    link: WorkerLink | None = None
+    saved: float = field(default_factory=time.monotonic)
 
 
 def result_json(result: ProtocolResult) -> str:
@@ -68,17 +74,25 @@ class ProtocolJobs:
 
     Args:
         store: where jobs are saved and loaded from at start (None: memory only).
+        executor: starts the jobs' workers.
+        hooks: workers honour test crashes (tests only).
     """
 
-    def __init__(self, store: Store | None = None) -> None:
+    def __init__(self, store: Store | None = None, executor: Executor | None = None,
+                 hooks: bool = False) -> None:  # fmt: skip
         self._jobs: dict[str, ProtocolJob] = {}
         self._lock = threading.Lock()
-        self._threads: list[threading.Thread] = []
         self._store = store
+        self._executor: Executor = executor if executor is not None else ProcessExecutor()
+        self._hooks = hooks
         self._stopping = False
         if store is not None:
             for record in store.list_protocol_jobs():
-                job = self._revive(record)
+                try:
+                    job = self._revive(record)
+                except Exception as exc:  # its spec or result no longer reads (an older version's, or changed by hand)
+                    log.error("protocol job %s left out: its stored row cannot be read: %s", record.id, exc)
+                    continue
                 self._jobs[job.id] = job
 
     def _revive(self, record: JobRecord) -> ProtocolJob:
@@ -124,7 +138,7 @@ class ProtocolJobs:
             log.error("could not save protocol job %s", job.id, exc_info=exc)
 
     def start(self, spec: RunSpec) -> ProtocolJob:
-        """Start the spec's protocol in a background thread.
+        """Start the spec's protocol in a worker of its own.
 
         Raises:
             BusyError: a protocol is running already.
@@ -141,10 +155,29 @@ class ProtocolJobs:
         self._save(job)
         for old in forgotten:
             self._forget(old.id)
-        thread = threading.Thread(target=self._run, args=(job,), name=f"protocol-{job.id}", daemon=True)
-        self._threads.append(thread)
-        thread.start()
+        worker = _JobWorker(self, job)
+        try:
+            job.link = self._executor.spawn(serve_protocol, ProtocolInit(job.id, spec, self._hooks), worker)
+        except Exception as exc:  # no worker: the job fails at once, saying why
+            self._end(job, "failed", f"its worker did not start: {exc}")
         return job
+
+    def _progress(self, job: ProtocolJob, done: int) -> None:
+        job.episodes_done = done
+        if time.monotonic() - job.saved >= PROGRESS_SECONDS:
+            job.saved = time.monotonic()
+            self._save(job)
+
+    def _end(self, job: ProtocolJob, status: JobStatus, error: str = "", result: ProtocolResult | None = None) -> None:
+        """The job ended (the switchboard's thread, or the caller's): saved with how, its worker let go."""
+        if job.status != "running":
+            return
+        job.status, job.error, job.result = status, error, result
+        job.finished_at = time.time()
+        self._save(job)
+        if job.link is not None:
+            job.link.stopping = True
+        job.ended.set()
 
     def _forget(self, job_id: str) -> None:
         if self._store is not None:
@@ -152,32 +185,6 @@ class ProtocolJobs:
                 self._store.delete_protocol_job(job_id)
             except Exception as exc:
                 log.error("could not delete protocol job %s", job_id, exc_info=exc)
-
-    def _run(self, job: ProtocolJob) -> None:
-        saved = time.monotonic()
-
-        def progress(done: int, total: int) -> None:
-            nonlocal saved
-            job.episodes_done = done
-            if job.cancel.is_set():
-                raise _CancelledError
-            if time.monotonic() - saved >= PROGRESS_SECONDS:
-                saved = time.monotonic()
-                self._save(job)
-
-        try:
-            job.result = run_protocol(job.spec, progress)
-            job.status = "finished"
-        except _CancelledError:
-            if self._stopping:
-                job.status = "interrupted"
-                job.error = f"the server stopped after {job.episodes_done} of {job.episodes_total} episodes"
-            else:
-                job.status = "cancelled"
-        except Exception as exc:  # a protocol that fails must not take the server's thread with it
-            job.status, job.error = "failed", f"{type(exc).__name__}: {exc}"
-        job.finished_at = time.time()
-        self._save(job)
 
     def list(self) -> list[ProtocolJob]:
         with self._lock:
@@ -195,16 +202,64 @@ class ProtocolJobs:
         job = self.get(job_id)
         if job.status == "running":
             job.cancel.set()
+            self._send_cancel(job)
         else:
             with self._lock:
                 self._jobs.pop(job_id, None)
             self._forget(job_id)
         return job
 
+    def _send_cancel(self, job: ProtocolJob) -> None:
+        if job.link is not None:
+            with contextlib.suppress(WorkerGoneError):
+                job.link.send(Cancel(0))
+
     def stop(self) -> None:
-        """Stop the running job (it is saved as interrupted) and wait for its thread."""
+        """Stop the running job (it is saved as interrupted) and end its worker."""
         self._stopping = True
         for job in self.list():
-            job.cancel.set()
-        for thread in self._threads:
-            thread.join(timeout=10)
+            if job.status == "running":
+                job.cancel.set()
+                self._send_cancel(job)
+        for job in self.list():
+            if job.link is not None:
+                job.ended.wait(10)
+                if job.status == "running":  # its worker did not answer the cancel
+                    self._end(job, "interrupted", f"the server stopped after {job.episodes_done} of "
+                                                  f"{job.episodes_total} episodes")  # fmt: skip
+                job.link.stop()
+
+
+class _JobWorker:
+    """What a protocol job's worker says (`executor.Listener`)."""
+
+    def __init__(self, jobs: ProtocolJobs, job: ProtocolJob) -> None:
+        self.jobs = jobs
+        self.job = job
+
+    def on_message(self, message: FromWorker) -> None:
+        job = self.job
+        if isinstance(message, Progress):
+            self.jobs._progress(job, message.done)
+        elif isinstance(message, Finished):
+            if message.failure is None:
+                self.jobs._end(job, "finished", result=message.value)
+            elif message.failure.kind == "stopped":
+                if self.jobs._stopping:
+                    self.jobs._end(job, "interrupted", f"the server stopped after {job.episodes_done} of "
+                                                       f"{job.episodes_total} episodes")  # fmt: skip
+                else:
+                    self.jobs._end(job, "cancelled")
+            else:
+                self.jobs._end(job, "failed", message.failure.message)
+
+    def on_reply(self, command: Command | None, reply: Reply) -> None:
+        pass
+
+    def on_exit(self, reason: str) -> None:
+        self.jobs._end(self.job, "failed", f"its worker died ({reason}) after {self.job.episodes_done} of "
+                                           f"{self.job.episodes_total} episodes")  # fmt: skip
+
+    def on_stall(self, seconds: float, doing: str) -> None:
+        if seconds > 0:
+            log.error("protocol job %s: its worker has not answered for %.0f s", self.job.id, seconds)

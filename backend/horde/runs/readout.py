@@ -11,18 +11,36 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Literal
+from typing import Literal, Protocol
 
 import numpy as np
 
 from horde.core.evaluate import Truth, exact, monte_carlo
-from horde.core.world import World
+from horde.core.horde import Horde, HordeState
+from horde.core.world import World, WorldState
 from horde.runs.errors import NotFoundError, SpecError
-from horde.runs.run_view import RunView
 from horde.spec import GymnasiumWorldSpec, RunSpec, WorldSpec, expr_predictions
 from horde.worlds.gym_simulation import GymWorldState
 from horde.worlds.gymnasium import GymWorld
 from horde.worlds.protocol import rollout_returns
+
+
+class Readable(Protocol):
+    """What a readout reads of a run: its weights, frozen or live (`worker.Readable`, in the run's worker)."""
+
+    @property
+    def id(self) -> str: ...
+    @property
+    def spec(self) -> RunSpec: ...
+    @property
+    def horde(self) -> Horde: ...
+    @property
+    def horde_state(self) -> HordeState: ...
+    @property
+    def world_state(self) -> WorldState | GymWorldState: ...
+    @property
+    def total_steps(self) -> int: ...
+
 
 # Positions x demons x actions evaluated in one batch of a value map (bounds its memory).
 MAX_BATCH_NUMBERS = 2_000_000
@@ -104,13 +122,13 @@ class Evaluation:
     exact: float | None = None  # the exact answer at `start`, on a lattice world that has one
 
 
-def _demon_index(view: RunView, name: str) -> int:
+def _demon_index(view: Readable, name: str) -> int:
     if name not in view.horde.index:
         raise NotFoundError(f"run {view.id!r} has no demon {name!r}")
     return view.horde.index[name]
 
 
-def value_map(view: RunView, name: str, resolution: int) -> ValueMap:
+def value_map(view: Readable, name: str, resolution: int) -> ValueMap:
     """The demon's prediction over the world on a resolution x resolution grid, with frozen weights."""
     demon = _demon_index(view, name)
     if view.spec.world.kind != "grid":
@@ -132,7 +150,7 @@ def value_map(view: RunView, name: str, resolution: int) -> ValueMap:
 
 
 def evaluate(
-    view: RunView,
+    view: Readable,
     name: str,
     start: tuple[float, float] | None,
     episodes: int,
@@ -193,7 +211,7 @@ def _start_point(world: WorldSpec) -> tuple[float, float]:
     return start[0], start[1]
 
 
-def _evaluate_rollouts(view: RunView, name: str, demon: int, episodes: int, cap: int, seed: int) -> Evaluation:
+def _evaluate_rollouts(view: Readable, name: str, demon: int, episodes: int, cap: int, seed: int) -> Evaluation:
     """The demon's prediction now and the mean realised return of rollouts from the agent's current state."""
     spec, state = view.spec, view.world_state
     if episodes * cap > MAX_ROLLOUT_STEPS:
@@ -226,7 +244,7 @@ def _evaluate_rollouts(view: RunView, name: str, demon: int, episodes: int, cap:
     return Evaluation(name, tuple(float(s) for s in state.sensors), prediction, truth, seed)
 
 
-def exact_at(view: RunView, name: str, point: tuple[float, float]) -> float | None:
+def exact_at(view: Readable, name: str, point: tuple[float, float]) -> float | None:
     """The exact answer of the demon's question at `point` under its frozen policy, where one exists.
 
     That is on a small lattice world (no noise, no indicators, at most MAX_EXACT_POINTS lattice points,

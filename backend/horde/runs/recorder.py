@@ -1,50 +1,54 @@
-"""A run's recorder: its history rows, the views it publishes to readers, and its saves to the store.
+"""A run's recorder, in its worker: history rows, the views it publishes, and the saves it hands to the API process.
 
-The learner thread calls the recorder between two chunks of steps (never while learning), with the
-session whose state it records. Publishing makes an immutable `RunView` (readers never touch the
-source); saving freezes the state in the learner thread and hands encoding and writing to the saver's
-thread when there is one. A save that a command waits for raises `SaveError` when it fails (the caller
-hears it, and the run's message says it); a periodic one tells its failure in the run's events.
+The worker's main loop calls the recorder between two batches of steps (never while learning), with the
+session whose state it records. Nothing here reaches a reader directly: rows, views and events go out as one
+`messages.Update` (at most every PUBLISH_INTERVAL while running), saves as `messages.Save` (the API process
+writes them to the store). A save that a command waits for is returned to the worker, which sends it with
+the command's reply; a periodic snapshot is encoded in the recorder's own thread and sent when it is ready,
+one at a time: the next waits until the API process has said the last is written (`SaveDone`).
 """
 
 from __future__ import annotations
 
-import contextlib
+import itertools
 import logging
+import threading
 import time
-from concurrent.futures import Future
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Literal
 
 import numpy as np
 
 from horde.core.engine.layout import FOREVER
 from horde.core.simulation import Simulation
 from horde.core.world import WorldState
-from horde.runs.errors import SaveError
-from horde.runs.history import History
+from horde.runs.history import QUANTITIES, History
+from horde.runs.messages import EventData, FromWorker, PublishedView, Rows, Save, SaveDone, Update
 from horde.runs.run_setup import Limits
-from horde.runs.run_view import RunView
-from horde.runs.saver import Saver
 from horde.runs.session import RunSession
 from horde.runs.snapshot import encode_frozen, freeze, to_bytes
-from horde.runs.store import RunRecord, Store
-
-# A periodic snapshot waits this many times the last one's encoding and writing: encoding holds the GIL, and at
-# three times (a third of the time) a live nexting run with the dashboard open learned 16 steps/s, not 30.
-SNAPSHOT_DUTY_RATIO = 10
+from horde.runs.store import RunRecord
 
 log = logging.getLogger(__name__)
 
-PUBLISH_INTERVAL = 1.0 / 60.0  # while running, views are published at most this often
+# A periodic snapshot waits this many times the last one's encoding and writing: encoding holds the worker's GIL,
+# and at three times (a third of the time) a live nexting run learned 16 steps/s, not 30.
+SNAPSHOT_DUTY_RATIO = 10
+PUBLISH_INTERVAL = 1.0 / 30.0  # while running, views are published at most this often (the streams send 30 a second)
 MAX_PUBLISH_INTERVAL = 0.5  # ... and at least this often, however long a view takes to make
-COMMAND_TIMEOUT = 600.0  # a waited save waits this long for the writer at most
-NOT_SAVED = "; not saved: "  # what a run's message adds when its latest waited save failed
+# Bytes a second of history rows and views that one run sends at most: a Horde of 9,000 demons makes a row of
+# 360 kB, and rows at every 5 ms would be 72 MB/s for the API process to take in. Beyond the budget, rows and
+# views are spaced out (a full-speed run's history is a sample anyway).
+ROW_BYTES_PER_SECOND = 8_000_000
+VIEW_BYTES_PER_SECOND = 16_000_000
+VIEW_ARRAYS = 7  # [D] arrays in a published view
 
 
 @dataclass(frozen=True)
 class SnapshotCost:
-    """What the latest snapshot cost: freezing it in the learner thread, encoding and writing it after."""
+    """What the latest periodic snapshot cost: freezing it in the main loop, encoding it after, writing it in the
+    API process."""
 
     freeze_seconds: float = 0.0
     encode_seconds: float = 0.0
@@ -53,33 +57,42 @@ class SnapshotCost:
 
 
 class Recorder:
-    """History, publication and persistence of one run.
+    """History rows, publication and saves of one run in its worker.
 
     Args:
         run_id: the run's id.
         limits: the server's limits (history size, intervals).
-        store: where the run saves itself (None: nowhere).
-        saver: the writer thread that saves are handed to (None: written in the learner thread).
+        send: sends a message to the API process (thread-safe).
         created_at: the run's creation time.
         names: the demons, for the history.
+        persist: whether saves are made at all (a server with a store).
     """
 
-    def __init__(self, run_id: str, limits: Limits, store: Store | None, saver: Saver | None, created_at: float,
-                 names: list[str]) -> None:  # fmt: skip
+    def __init__(self, run_id: str, limits: Limits, send: Callable[[FromWorker], None], created_at: float,
+                 names: list[str], persist: bool = True) -> None:  # fmt: skip
         self.id = run_id
         self.limits = limits
-        self.store = store
-        self.saver = saver
+        self.send = send
         self.created_at = created_at
+        self.persist_saves = persist
         self.history = History(names, limits.history, limits.history_every)
         self.snapshot_cost = SnapshotCost()
-        self.view: RunView | None = None
-        self._pending_save: Future[Any] | None = None  # the periodic snapshot being written
+        self._rows: list[tuple[int, np.ndarray]] = []  # rows not yet sent: (step, [Q, D])
+        self._history: Literal["", "remap", "new"] = ""
+        self._sent_event = 0  # the seq of the last event sent
         self._seq = 0
+        self._save_ids = itertools.count(1)
+        self._pending: int | None = None  # the periodic save being encoded or written
+        self._pending_lock = threading.Lock()
         self._last_row = -FOREVER  # no row yet
         self._next_row = 0.0
         self._next_publish = 0.0
         self._last_snapshot = time.monotonic()
+        self._encoder: threading.Thread | None = None
+        self._status = ""  # of the latest view published (a change is published at once)
+        self._diverged = 0  # demons diverged at the latest divergence check
+        self._spec: object = None
+        self._spec_text = ""
 
     # ------------------------------------------------------------------------------------------
     # History
@@ -87,187 +100,196 @@ class Recorder:
     def maybe_record(self, session: RunSession) -> None:
         """A row when `history.every` steps and `limits.history_interval` seconds have passed since the last:
         every step of a run paced by hz (up to 1/interval steps per second), a sample at full speed."""
-        if session.sim.total_steps - self._last_row >= self.history.every and time.monotonic() >= self._next_row:
+        if session.sim.total_steps - self._last_row < self.history.every:
+            return
+        if session.paced_for_rows() or time.monotonic() >= self._next_row:  # a paced run's burst of catching up too
             self.record(session)
 
     def record(self, session: RunSession) -> None:
         sim = session.sim
         out = sim.readout()  # O(D): no weights are copied
         prediction = np.where(out.diverged, np.nan, out.prediction)  # [D] a frozen demon's 0s are no answer: null
-        self.history.record(sim.total_steps, prediction, out.cumulant, out.delta, out.rupee, out.ude)
+        row = np.stack([prediction, out.cumulant, out.delta, out.rupee, out.ude])  # [Q, D]
+        self._rows.append((sim.total_steps, row))
+        if len(self._rows) > self.history.rows:  # older ones would be overwritten in the API's ring anyway
+            del self._rows[: len(self._rows) - self.history.rows]
         self._last_row = sim.total_steps
-        self._next_row = time.monotonic() + self.limits.history_interval
+        spacing = row.nbytes / ROW_BYTES_PER_SECOND
+        self._next_row = time.monotonic() + max(self.limits.history_interval, spacing)
 
     def recorded_to(self) -> int:
         """The step of the latest history row."""
         return self._last_row
 
     def remap(self, names: list[str]) -> None:
-        self.history = self.history.remap(names)
+        """The demons changed: the API process remaps its history (`History.remap`) at the next update."""
+        self.history = History(names, self.limits.history, self.limits.history_every)
+        self._rows.clear()
+        self._history = self._history or "remap"
 
     def new_history(self, names: list[str]) -> None:
-        self.history = History(names, self.limits.history, self.limits.history_every)
+        """The run was reset: its history starts afresh."""
+        self.remap(names)
+        self._history = "new"
         self._last_row = -FOREVER
 
     # ------------------------------------------------------------------------------------------
     # Publication
 
-    def make_view(self, session: RunSession) -> RunView:
-        session.mark_diverged()
+    def make_view(self, session: RunSession) -> PublishedView:
         sim = session.sim
+        out = sim.readout()
+        # The engine freezes a diverged demon itself (the core's one rule); the session reports it in the events
+        # when the count of frozen demons changed (reading it is O(D)).
+        diverged = int(np.count_nonzero(out.diverged))
+        if diverged != self._diverged:
+            session.mark_diverged()
+            self._diverged = diverged
         self._seq += 1
         world = sim.world_state
+        colors = tuple(int(c) for c in world.colors[0]) if isinstance(world, WorldState) else ()
+        sensors = None if isinstance(sim, Simulation) else np.array(sim.sensors, copy=True)
         if isinstance(world, WorldState):
-            world = WorldState(*(np.array(a, copy=True) for a in world))
-        out = sim.readout()
-        return RunView(
-            id=self.id, status=session.status, message=session.message, hz=session.hz, spec=session.spec,
-            horde=sim.horde,
-            horde_state=sim.view_state(),  # a copy of what readers need: the learner never changes it
-            rupee=out.rupee, ude=out.ude, world_state=world, episode=sim.episode, total_steps=sim.total_steps,
-            episode_return=sim.episode_return, last_return=sim.last_return, created_at=self.created_at,
-            updated_at=time.time(), summary=session.summary, seq=self._seq, step_size=sim.effective_step_sizes(),
-            sensors=None if isinstance(sim, Simulation) else sim.sensors,
+            position = (float(world.x[0]), float(world.y[0]))
+        else:  # the phase plane's default: the first two sensors
+            assert sensors is not None
+            position = (float(sensors[0]), float(sensors[min(1, len(sensors) - 1)]))
+        return PublishedView(
+            status=session.status, message=session.message, hz=session.hz, episode=sim.episode,
+            total_steps=sim.total_steps, episode_step=int(world.steps[0]), episode_return=sim.episode_return,
+            last_return=sim.last_return, position=position, sensors=sensors, colors=colors, summary=session.summary,
+            seq=self._seq, updated_at=time.time(), prediction=np.array(out.prediction, copy=True),
+            cumulant=np.array(out.cumulant, copy=True), delta=np.array(out.delta, copy=True),
+            rupee=np.array(out.rupee, copy=True), ude=np.array(out.ude, copy=True),
+            diverged=np.array(out.diverged, dtype=bool, copy=True), step_size=sim.effective_step_sizes(),
         )  # fmt: skip
 
-    def publish(self, session: RunSession, force: bool = True) -> RunView:
-        """Make the current state visible to readers (while running: at most every PUBLISH_INTERVAL)."""
+    def take_update(self, session: RunSession, force: bool = True) -> Update | None:
+        """The update due now (while running: at most every PUBLISH_INTERVAL), or None."""
         began = time.monotonic()
-        if force or self.view is None or began >= self._next_publish or session.status != self.view.status:
-            cpu = time.thread_time()
-            self.view = self.make_view(session)
-            # Copying a large Horde takes time: keep it under about 5 % of the learner thread's. The cost is
-            # this thread's CPU time, not wall time, so a stall elsewhere (the event loop holding the GIL)
-            # cannot stretch the interval; and it is capped, so readers never wait long for a fresh view.
-            cost = time.thread_time() - cpu
-            self._next_publish = began + min(MAX_PUBLISH_INTERVAL, max(PUBLISH_INTERVAL, 20 * cost))
-        return self.view
+        if not force and began < self._next_publish and session.status == self._status:
+            return None
+        self._status = session.status
+        cpu = time.thread_time()
+        view = self.make_view(session)
+        # Making a large Horde's view takes time: keep it under about 5 % of the main loop's. The cost is this
+        # thread's CPU time, not wall time, so a stall elsewhere cannot stretch the interval; and it is capped,
+        # so readers never wait long for a fresh view.
+        cost = time.thread_time() - cpu
+        spacing = VIEW_ARRAYS * view.prediction.nbytes / VIEW_BYTES_PER_SECOND
+        self._next_publish = began + min(MAX_PUBLISH_INTERVAL, max(PUBLISH_INTERVAL, 20 * cost, spacing))
+        history, self._history = self._history, ""
+        return Update(view=view, rows=self._take_rows(), history=history, **self._take_events(session))  # type: ignore[arg-type]
 
-    def commit(self, session: RunSession, snapshot: bool) -> RunView:
-        """Save the state a command left (waiting for the write) and publish it.
+    def publish(self, session: RunSession, force: bool = True) -> None:
+        """Send the current state to the API process (while running: at most every PUBLISH_INTERVAL)."""
+        update = self.take_update(session, force)
+        if update is not None:
+            self.send(update)
 
-        Raises:
-            SaveError: the write failed; the state is published all the same, its message saying so.
-        """
-        try:
-            self.persist(session, snapshot)
-        finally:
-            view = self.publish(session)
-        return view
+    def _take_rows(self) -> Rows | None:
+        if not self._rows:
+            return None
+        steps = np.array([step for step, _ in self._rows], dtype=np.int64)  # [R]
+        values = np.stack([row for _, row in self._rows], axis=1)  # [Q, R, D]
+        assert values.shape[0] == len(QUANTITIES)
+        self._rows.clear()
+        return Rows(steps, values)
+
+    def _take_events(self, session: RunSession) -> dict[str, object]:
+        events = session.events.since(self._sent_event, self.limits.events)
+        if not events:
+            return {}
+        skipped = events[0].seq - self._sent_event - 1
+        self._sent_event = events[-1].seq
+        data = tuple(EventData(e.step, e.episode, e.kind, e.message, e.value) for e in events)
+        return {"events": data, "skipped": skipped}
 
     # ------------------------------------------------------------------------------------------
-    # Persistence
-
-    def maybe_snapshot(self, session: RunSession) -> None:
-        """A periodic snapshot of a running run, handed to the writer thread.
-
-        Every `limits.snapshot_every` seconds, or SNAPSHOT_DUTY_RATIO times the last write's time when that
-        is longer (a large Horde's writes then keep the writer, which holds the GIL while it encodes, busy a
-        tenth of the time at most); never while the previous one is still being written.
-        """
-        pending = self._pending_save
-        if session.status != "running" or (pending is not None and not pending.done()):
-            return
-        if pending is not None and pending.exception() is None:
-            self._saved(session)
-        cost = self.snapshot_cost
-        interval = max(self.limits.snapshot_every, SNAPSHOT_DUTY_RATIO * (cost.encode_seconds + cost.write_seconds))
-        if time.monotonic() - self._last_snapshot >= interval:
-            self.persist(session, snapshot=True, wait=False)
-
-    def save_quietly(self, session: RunSession, snapshot: bool) -> None:
-        """Save where no caller waits for the answer: a failure is told in the message and the events."""
-        with contextlib.suppress(SaveError):
-            self.persist(session, snapshot)
-
-    def _saved(self, session: RunSession) -> None:
-        """A save worked: what the message said of an earlier failure no longer holds."""
-        session.message = session.message.split(NOT_SAVED)[0]
+    # Saves
 
     def _row(self, session: RunSession) -> RunRecord:
-        """The run's row in the store, as it stands now (saved, so without what the message said of a failure)."""
         sim = session.sim
-        message = session.message.split(NOT_SAVED)[0]
-        return RunRecord(id=self.id, name=session.spec.name, status=session.status, message=message,
-                         hz=session.hz, spec=session.spec.model_dump_json(by_alias=True), episode=sim.episode,
-                         steps=sim.total_steps, created_at=self.created_at, updated_at=time.time())  # fmt: skip
+        return RunRecord(id=self.id, name=session.spec.name, status=session.status, message=session.message,
+                         hz=session.hz, spec=self._spec_json(session), episode=sim.episode, steps=sim.total_steps,
+                         created_at=self.created_at, updated_at=time.time())  # fmt: skip
 
-    def persist(self, session: RunSession, snapshot: bool, wait: bool = True) -> None:
-        """Save the run's record (and a snapshot) in one transaction.
+    def _spec_json(self, session: RunSession) -> str:
+        """The spec as the store keeps it, dumped once per spec (a 9,000-demon spec takes 50 ms)."""
+        if self._spec is not session.spec:
+            self._spec, self._spec_text = session.spec, session.spec.model_dump_json(by_alias=True)
+        return self._spec_text
 
-        The state is frozen here, in the learner thread; encoding and writing happen in the saver's
-        thread when there is one. With `wait` the call returns once the write is done, and a failed
-        write raises; without it (the periodic snapshots) a failure is told in the run's events.
-
-        Raises:
-            SaveError: with `wait`, the write failed or did not finish within COMMAND_TIMEOUT; the run's
-                message and events say so too.
-        """
+    def save(self, session: RunSession, snapshot: bool) -> Save | None:
+        """The run's record (and a snapshot), encoded here, for the API process to write (None: no store)."""
         if snapshot:
             self._last_snapshot = time.monotonic()
-        if self.store is None:
-            return
-        store = self.store
-        if wait:  # this save's outcome replaces what the message said of the last one
-            self._saved(session)
+        if not self.persist_saves:
+            return None
+        frozen = (freeze(session.sim, session.spec, session.status, session.hz, session.stop_reference)
+                  if snapshot else None)  # fmt: skip
+        data = to_bytes(encode_frozen(frozen)) if frozen is not None else None
+        summary = session.summary.to_json() if session.summary is not None else None
+        return Save(next(self._save_ids), self._row(session), data, summary)
+
+    def save_quietly(self, session: RunSession, snapshot: bool) -> None:
+        """A save no caller waits for (a run that finished or failed on its own): sent at once."""
         try:
-            began = time.perf_counter()
-            record = self._row(session)
-            frozen = (freeze(session.sim, session.spec, session.status, session.hz, session.stop_reference)
-                      if snapshot else None)  # fmt: skip
-            summary = session.summary.to_json() if session.summary is not None else None
-            freeze_seconds = time.perf_counter() - began
-        except Exception as exc:
-            self._save_failed(session, exc, wait)
+            save = self.save(session, snapshot)
+        except Exception as exc:  # the events say it; the loop goes on
+            log.error("run %s could not be saved", self.id, exc_info=exc)
+            session.events.add(session.sim.total_steps, session.sim.episode, "error", f"could not save the run: {exc}")
             return
+        if save is not None:
+            self.send(save)
 
-        def write() -> None:
-            began = time.perf_counter()
-            data = to_bytes(encode_frozen(frozen)) if frozen is not None else None
-            encoded = time.perf_counter()
-            store.save_run(record, data, summary)
-            if data is not None:
-                self.snapshot_cost = SnapshotCost(freeze_seconds, encoded - began, time.perf_counter() - encoded,
-                                                  len(data))  # fmt: skip
+    def maybe_snapshot(self, session: RunSession) -> None:
+        """A periodic snapshot of a running run, frozen here and encoded in the recorder's thread.
 
-        self._write(session, write, wait)
-
-    def _write(self, session: RunSession, write: Any, wait: bool) -> None:
-        if self.saver is None:
-            try:
-                write()
-            except Exception as exc:
-                self._save_failed(session, exc, wait)
-            else:
-                self._saved(session)
-            return
-        future = self.saver.submit(write)
-        if not wait:
-            self._pending_save = future
-            future.add_done_callback(lambda done: self._background_save_done(session, done))
-            return
-        try:
-            future.result(COMMAND_TIMEOUT)
-        except TimeoutError:
-            self._save_failed(session, TimeoutError(f"the write did not finish within {COMMAND_TIMEOUT:g} s"), wait)
-        except Exception as exc:
-            self._save_failed(session, exc, wait)
-
-    def _background_save_done(self, session: RunSession, future: Future[Any]) -> None:
-        """A periodic snapshot's write ended (in the saver's thread): a failure goes to the events."""
-        exc = future.exception()
-        if isinstance(exc, Exception):
-            self._save_failed(session, exc, wait=False)
-
-    def _save_failed(self, session: RunSession, exc: Exception, wait: bool) -> None:
-        """A save failed: the events say so; a waited one (in the learner thread) also the message, and raises.
-
-        Raises:
-            SaveError: when `wait`.
+        Every `limits.snapshot_every` seconds, or SNAPSHOT_DUTY_RATIO times the last one's encoding and writing
+        when that is longer; never while the previous one is still being encoded or written.
         """
-        log.error("could not save run %s", self.id, exc_info=exc)
-        session.events.add(session.sim.total_steps, session.sim.episode, "error", f"could not save the run: {exc}")
-        if wait:
-            said = session.message or session.status
-            session.message = f"{said}{NOT_SAVED}{exc}"
-            raise SaveError(f"run {self.id!r}: {said}, but it could not be saved: {exc}") from exc
+        if session.status != "running" or not self.persist_saves:
+            return
+        with self._pending_lock:
+            if self._pending is not None:
+                return
+        cost = self.snapshot_cost
+        interval = max(self.limits.snapshot_every, SNAPSHOT_DUTY_RATIO * (cost.encode_seconds + cost.write_seconds))
+        if time.monotonic() - self._last_snapshot < interval:
+            return
+        self._last_snapshot = time.monotonic()
+        began = time.perf_counter()
+        frozen = freeze(session.sim, session.spec, session.status, session.hz, session.stop_reference)
+        freeze_seconds = time.perf_counter() - began
+        save_id = next(self._save_ids)
+        record, summary = self._row(session), session.summary.to_json() if session.summary is not None else None
+        with self._pending_lock:
+            self._pending = save_id
+
+        def encode() -> None:
+            try:
+                began = time.perf_counter()
+                data = to_bytes(encode_frozen(frozen))
+                self.snapshot_cost = SnapshotCost(freeze_seconds, time.perf_counter() - began, 0.0, len(data))
+                self.send(Save(save_id, record, data, summary))
+            except Exception as exc:
+                log.error("run %s: a periodic snapshot failed", self.id, exc_info=exc)
+                with self._pending_lock:
+                    self._pending = None
+
+        self._encoder = threading.Thread(target=encode, name=f"horde-encoder-{self.id}", daemon=True)
+        self._encoder.start()
+
+    def saved(self, done: SaveDone) -> None:
+        """The API process wrote (or failed to write) a save: the next periodic one may follow."""
+        with self._pending_lock:
+            if done.save_id == self._pending:
+                self._pending = None
+                cost = self.snapshot_cost
+                self.snapshot_cost = SnapshotCost(cost.freeze_seconds, cost.encode_seconds, done.seconds, cost.bytes)
+
+    def wait_encoded(self, timeout: float = 60.0) -> None:
+        """Wait for a periodic snapshot being encoded (before the worker's last save)."""
+        if self._encoder is not None:
+            self._encoder.join(timeout)

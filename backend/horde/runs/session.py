@@ -109,8 +109,10 @@ class RunSession:
         try:
             while True:
                 batch = self._batch if steps is None else min(self._batch, steps - done)
+                if self.paced_for_rows():  # a paced run catching up keeps a history row a step
+                    batch = 1
                 episode, before = self.sim.episode, self.sim.total_steps
-                began = time.perf_counter()
+                began = time.thread_time()  # CPU time: a worker preempted mid-batch keeps its batches
                 self.sim.run(batch, 1, self.spec.behaviour)
                 if preparing:
                     _kernels_ready.set()
@@ -118,7 +120,7 @@ class RunSession:
                     if self.message.startswith(PREPARING):
                         self.message = told
                 taken = self.sim.total_steps - before
-                self._adapt_batch(taken, time.perf_counter() - began)
+                self._adapt_batch(taken, time.thread_time() - began)
                 done += taken
                 self._rec.maybe_record(self)
                 if self.sim.episode != episode:
@@ -129,6 +131,11 @@ class RunSession:
                     return
         except Exception as exc:
             self.fail(exc)
+
+    def paced_for_rows(self) -> bool:
+        """Paced slowly enough for a history row at every step (then a late worker's catching up steps one at a
+        time, each with its row)."""
+        return self.hz is not None and self.hz * self.limits.history_interval <= 1.0
 
     def _adapt_batch(self, taken: int, seconds: float) -> None:
         if taken > 0 and seconds > 0.0:

@@ -1,4 +1,5 @@
-"""The SQLite store under the data directory: worlds, runs, run summaries, weight snapshots, protocol jobs.
+"""The SQLite store under the data directory: worlds, runs, run summaries, weight snapshots, protocol jobs
+(and the tables of runs/evaluations.py, runs/owners.py and runs/tokens.py, through `read` and `write`).
 
 One file, `horde.db`, in write-ahead-log mode. Every write is one transaction, so a crash (even
 SIGKILL) leaves either the old or the new row, never half of one; a run's record, its latest
@@ -18,6 +19,9 @@ from pathlib import Path
 from typing import Any
 
 from horde.runs.errors import StoreOpenError, StoreWriteError
+from horde.runs.evaluations import EVALUATION_SCHEMA
+from horde.runs.owners import OWNER_SCHEMA
+from horde.runs.tokens import TOKEN_SCHEMA
 
 DB_NAME = "horde.db"
 SCHEMA_VERSION = 1
@@ -167,7 +171,7 @@ class Store:
             self._db.execute("PRAGMA synchronous=FULL")
             self._db.execute("PRAGMA foreign_keys=ON")
             with self._transaction() as db:
-                for statement in (SCHEMA + STUDY_SCHEMA).split(";"):
+                for statement in (SCHEMA + STUDY_SCHEMA + EVALUATION_SCHEMA + OWNER_SCHEMA + TOKEN_SCHEMA).split(";"):
                     if statement.strip():
                         db.execute(statement)
                 db.execute(f"PRAGMA user_version={SCHEMA_VERSION}")
@@ -203,6 +207,21 @@ class Store:
     def _read(self, sql: str, args: tuple[object, ...] = ()) -> list[Any]:
         with self._lock:
             return list(self._db.execute(sql, args).fetchall())
+
+    def read(self, sql: str, args: tuple[object, ...] = ()) -> list[Any]:
+        """The rows of one query, for the modules that keep tables of their own here (evaluations, owners, tokens)."""
+        return self._read(sql, args)
+
+    def write(self, sql: str, args: tuple[object, ...] = ()) -> int:
+        """One statement in a transaction of its own, for the modules that keep tables of their own here; the
+        number of rows it changed.
+
+        Raises:
+            StoreWriteError: SQLite refused the write.
+            sqlite3.IntegrityError: the statement breaks a constraint (say, a row of a run no longer stored).
+        """
+        with self._transaction() as db:
+            return int(db.execute(sql, args).rowcount)
 
     def integrity_check(self) -> str:
         """SQLite's verdict on the file: "ok" when sound."""

@@ -1,131 +1,112 @@
 """Stream runs: a stream world's Horde learning the records that clients push, in order, one run at a time.
 
-`StreamRun` wraps a `RecordLearner` (horde.worlds.records) behind a lock, so that the REST route and the
-WebSocket route (server/routes/records.py) can both feed it: every batch is checked and learned whole,
-in the order it arrives. `StreamRuns` is the server's registry of them (bounded; kept in memory only).
+Each stream run learns in a worker of its own (`job_workers.serve_stream`, over a `StreamLearning`); the API
+process holds a `StreamRun`, which the REST route and the WebSocket route (server/routes/records.py) both
+feed: every batch is sent to the worker and learned whole, in the order it arrives. `StreamRuns` is the
+server's registry of them (bounded; kept in memory only). A stream run whose worker died is failed: its
+calls are 409s naming why, until it is deleted.
 """
 
 from __future__ import annotations
 
+import contextlib
+import logging
 import threading
 import time
 import uuid
-from collections import deque
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from horde.core.learner import Readout
-from horde.runs.errors import BusyError, FieldProblem, NotFoundError, SpecError
-from horde.runs.stream_snapshot import StreamSnapshot, capture_stream, restore_stream
+from horde.runs import messages as m
+from horde.runs.errors import BusyError, ConflictError, FieldProblem, NotFoundError, SpecError
+from horde.runs.executor import ProcessExecutor
+from horde.runs.job_workers import serve_stream
+from horde.runs.link import Executor, WorkerGoneError, WorkerLink
+from horde.runs.run_view import is_control
+from horde.runs.stream_learning import (
+    HISTORY,
+    MAX_RECORDS_PER_BATCH,
+    PushResult,
+    StreamHistory,
+)
+from horde.runs.stream_snapshot import StreamSnapshot
 from horde.spec import RunSpec
-from horde.worlds.phase_plane import Axis, axis_of, phase_plane
-from horde.worlds.records import RecordLearner, Records, Refusal
+from horde.worlds.phase_plane import Axis
+
+log = logging.getLogger(__name__)
 
 MAX_STREAM_RUNS = 16
-MAX_RECORDS_PER_BATCH = 10_000
-TRAIL = 500  # recent observations kept for the phase plane
-HISTORY = 2000  # recent records kept (observations and every demon's prediction) for the strip chart
-HISTORY_CELLS = 4_000_000  # at most this many predictions kept (records x demons): fewer records for big Hordes
-
-
-class RecentRecords:
-    """A ring of the last `capacity` good records: observations [S], every demon's prediction [D] made on
-    observing it, its number in the stream, and whether the stream restarted there (observed afresh)."""
-
-    def __init__(self, capacity: int, sensors: int, demons: int) -> None:
-        self.capacity = capacity
-        self.observations = np.zeros((capacity, sensors))
-        self.predictions = np.zeros((capacity, demons))
-        self.numbers = np.zeros(capacity, dtype=np.int64)
-        self.restarts = np.zeros(capacity, dtype=bool)
-        self.size = 0
-        self._next = 0  # where the next row goes
-
-    def add(self, observations: np.ndarray, predictions: np.ndarray, numbers: np.ndarray, restarts: np.ndarray) -> None:
-        n = len(observations)
-        if n > self.capacity:
-            observations, predictions = observations[-self.capacity :], predictions[-self.capacity :]
-            numbers, restarts = numbers[-self.capacity :], restarts[-self.capacity :]
-            n = self.capacity
-        rows = (self._next + np.arange(n)) % self.capacity
-        self.observations[rows], self.predictions[rows] = observations, predictions
-        self.numbers[rows], self.restarts[rows] = numbers, restarts
-        self._next = (self._next + n) % self.capacity
-        self.size = min(self.size + n, self.capacity)
-
-    def last(self, n: int, demons: list[int]) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """The last n rows, oldest first: (observations [n, S], predictions [n, len(demons)] of those demon
-        indices only, numbers [n], restarts [n]); copies (fancy indexing)."""
-        n = min(n, self.size)
-        rows = (self._next - n + np.arange(n)) % self.capacity
-        columns = np.asarray(demons, dtype=np.int64)
-        return self.observations[rows], self.predictions[np.ix_(rows, columns)], self.numbers[rows], self.restarts[rows]
-
-
-@dataclass(frozen=True)
-class PushResult:
-    received: int  # records received in all, good or refused
-    learned: int  # good records taken in, in all
-    refused: list[Refusal]  # this batch's
-    predictions: np.ndarray  # [D] at the last good observation
-    seconds: float  # time spent learning this batch
-
-
-@dataclass(frozen=True)
-class StreamHistory:
-    numbers: np.ndarray  # [N] each record's number in the stream (0 = the first ever sent)
-    sensors: dict[str, np.ndarray]  # name -> [N] readings
-    predictions: dict[str, np.ndarray]  # demon -> [N] its prediction on observing each record
-    returns: dict[str, np.ndarray | None]  # demon -> [N] the realised return after it (nan: not yet known)
+__all__ = ["HISTORY", "MAX_RECORDS_PER_BATCH", "MAX_STREAM_RUNS", "PushResult", "StreamRun", "StreamRuns"]
 
 
 class StreamRun:
-    """One stream world's Horde and its counters.
+    """One stream run, learning in its worker; its counters as the last batch left them.
 
     Args:
         run_id: the id the routes name it by.
         spec: a run spec whose world is of kind "stream".
-        learner: the learner to go on with (an imported snapshot's; default a fresh one).
     """
 
-    def __init__(self, run_id: str, spec: RunSpec, learner: RecordLearner | None = None) -> None:
+    def __init__(self, run_id: str, spec: RunSpec) -> None:
         self.id = run_id
         self.spec = spec
-        self.learner = learner if learner is not None else RecordLearner(spec)
-        self.names = self.learner.loop.horde.names
+        self.names = [d.name for d in spec.demons]
+        self.control = [is_control(d) for d in spec.demons]
         self.created = time.time()
-        self._lock = threading.Lock()
-        self._trail: deque[np.ndarray] = deque(maxlen=TRAIL)  # the last good observations [S]
-        demons = len(self.names)
-        self.recent = RecentRecords(max(100, min(HISTORY, HISTORY_CELLS // max(demons, 1))),
-                                    len(self.learner.world.sensors), demons)  # fmt: skip
+        self.link: WorkerLink | None = None
+        self.failed = ""  # why its worker ended, when it died
+        self._status = PushResult(0, 0, [], np.zeros(len(self.names)), 0.0)
+        self._lock = threading.Lock()  # one batch at a time, in the order they come
 
-    def check(self, items: list[Any]) -> tuple[Records, list[Refusal]]:
-        """Check a batch without learning it (REST batches are all-or-nothing)."""
-        from horde.worlds.records import check_records
+    # ------------------------------------------------------------------------------------------
+    # What the worker says (the switchboard's thread)
 
-        return check_records(self.learner.world, items, list(range(len(items))))
+    def on_message(self, message: m.FromWorker) -> None:
+        pass
 
-    def push(self, items: list[Any]) -> PushResult:
-        """Check a batch and learn its good records, in order (refused ones restart the stream after them)."""
+    def on_reply(self, command: m.Command | None, reply: m.Reply) -> None:
+        if isinstance(reply.value, PushResult):
+            self._status = reply.value
+
+    def on_exit(self, reason: str) -> None:
+        self.failed = f"its worker died ({reason})"
+        log.error("stream run %s: %s", self.id, self.failed)
+
+    def on_stall(self, seconds: float, doing: str) -> None:
+        if seconds > 0:
+            log.error("stream run %s: its worker has not answered for %.0f s (%s)", self.id, seconds, doing)
+
+    # ------------------------------------------------------------------------------------------
+    # Calls
+
+    def _call(self, command: m.Command, action: str) -> Any:
+        link = self.link
+        if link is None or not link.alive:
+            why = self.failed or "its worker ended"
+            raise ConflictError(f"cannot {action} stream run {self.id!r}: it failed, {why}; delete it")
+        try:
+            reply, _ = link.call(command)
+        except WorkerGoneError:
+            raise ConflictError(
+                f"cannot {action} stream run {self.id!r}: it failed, {self.failed}; delete it"
+            ) from None
+        except BusyError as exc:
+            raise ConflictError(f"cannot {action} stream run {self.id!r} now: {exc}") from None
+        if reply.failure is not None:
+            m.raise_failure(reply.failure)
+        return reply.value
+
+    def status(self) -> PushResult:
+        """The counters and predictions as the last batch left them."""
+        return self._status
+
+    def push(self, items: list[Any], whole: bool = False) -> PushResult:
+        """Learn a batch's good records, in order (with `whole`, none of a batch with a refused record)."""
         with self._lock:
-            began = time.perf_counter()
-            first = self.learner.received  # the number of this batch's first record
-            fresh = self.learner._pending is None  # the first good record is observed afresh
-            records, refused = self.learner.check(items)
-            kept = self.learner.learn(records, keep_predictions=True)
-            self._trail.extend(records.observations[-TRAIL:])
-            if len(records) and kept is not None:
-                good = np.ones(len(items), dtype=bool)
-                good[[r.index - first for r in refused]] = False
-                restarts = np.zeros(len(records), dtype=bool)
-                restarts[[g for g in records.gaps if g < len(records)]] = True
-                restarts[0] = restarts[0] or fresh
-                self.recent.add(records.observations, kept, first + np.flatnonzero(good), restarts)
-            return PushResult(self.learner.received, self.learner.learned, refused, self.learner.predictions(),
-                              time.perf_counter() - began)  # fmt: skip
+            result: PushResult = self._call(m.Push(items, whole), "push records to")
+        return result
 
     def phase_plane(self, demon: str, x: str, y: str, resolution: int) -> tuple[Axis, Axis, np.ndarray, np.ndarray]:
         """(x axis, y axis, [R, R] the demon's values over the plane, [N, 2] the recent (x, y) readings).
@@ -133,99 +114,86 @@ class StreamRun:
         Raises:
             SpecError: an unknown demon or sensor (422 naming the query parameter).
         """
-        horde = self.learner.loop.horde
-        if demon not in horde.index:
-            raise SpecError([FieldProblem(("query", "demon"), f"no demon {demon!r} in this run")])
-        axes = []
-        for field, sensor in (("x", x), ("y", y)):
-            try:
-                axes.append(axis_of(horde, sensor))
-            except ValueError as exc:
-                raise SpecError([FieldProblem(("query", field), str(exc))]) from None
-        with self._lock:
-            state = self.learner.loop.horde_state()
-            trail = np.array(self._trail).reshape(-1, len(self.learner.world.sensors))
-        held = trail[-1] if len(trail) else np.zeros(len(self.learner.world.sensors))
-        names = self.learner.world.sensor_names()
-        values = phase_plane(horde, state, demon, axes[0], axes[1], held, resolution)
-        return axes[0], axes[1], values, trail[:, [names.index(x), names.index(y)]]
+        result: tuple[Axis, Axis, np.ndarray, np.ndarray] = self._call(m.StreamPhaseOf(demon, x, y, resolution),
+                                                                       "read the phase plane of")  # fmt: skip
+        return result
 
     def history(self, sensors: list[str], demons: list[str], last: int) -> StreamHistory:
-        """The last `last` good records' `sensors`, and each of `demons`' predictions beside the realised
-        discounted return that followed it, computed afterwards from the records after it (nan where the
-        stream has not yet gone far enough for the rest of the return to weigh less than TAIL_WEIGHT, or
-        where a refused record broke the stream before it did; None for a demon whose question reads other
-        demons' predictions, which the records do not hold).
-
-        Raises:
-            SpecError: an unknown sensor or demon (422 naming the query parameter).
-        """
-        from horde.spec import expr_predictions
-        from horde.worlds.log_run import TAIL_WEIGHT, realised_returns
-
-        names = self.learner.world.sensor_names()
-        for field, asked, known in (("sensors", sensors, names), ("demons", demons, self.names)):
-            unknown = [a for a in asked if a not in known]
-            if unknown:
-                message = f"unknown {field[:-1]} {unknown[0]!r} (known: {', '.join(known[:20])})"
-                raise SpecError([FieldProblem(("query", field), message)])
-        with self._lock:
-            columns = [self.names.index(d) for d in demons]
-            observations, predictions, numbers, restarts = self.recent.last(last, columns)
-        index = {d.name: i for i, d in enumerate(self.spec.demons)}
-        readable = [d for d in demons if not any(expr_predictions(e) for e in
-                    (self.spec.demons[index[d]].cumulant, self.spec.demons[index[d]].outcome,
-                     self.spec.demons[index[d]].continuation))]  # fmt: skip
-        returns = {d: np.full(len(numbers), np.nan) for d in readable}
-        if readable and len(numbers):
-            subset = self.spec.model_copy(update={"demons": [self.spec.demons[index[d]] for d in readable]})
-            starts = [*np.flatnonzero(restarts[1:]) + 1]
-            for lo, hi in zip([0, *starts], [*starts, len(numbers)], strict=True):
-                g, tail = realised_returns(subset, observations[lo:hi])
-                for k, d in enumerate(readable):
-                    returns[d][lo:hi] = np.where(tail[:, k] < TAIL_WEIGHT, g[:, k], np.nan)
-        return StreamHistory(
-            numbers=numbers,
-            sensors={s: observations[:, names.index(s)] for s in sensors},
-            predictions={d: predictions[:, k] for k, d in enumerate(demons)},
-            returns={d: returns.get(d) for d in demons},
-        )
+        result: StreamHistory = self._call(m.StreamHistoryOf(sensors, demons, last), "read the history of")
+        return result
 
     def readout(self) -> tuple[Readout, np.ndarray]:
         """Every demon's numbers at the last observation (the demon table's), and [D] their step sizes now."""
-        with self._lock:
-            loop = self.learner.loop
-            return loop.readout(), loop.engine.effective_step_sizes()
+        result: tuple[Readout, np.ndarray] = self._call(m.StreamReadoutOf(), "read the demons of")
+        return result
 
-    def snapshot(self) -> StreamSnapshot:
-        """The learner's state now, between two batches (`stream_snapshot`)."""
-        with self._lock:
-            return capture_stream(self.learner)
+    def snapshot(self) -> bytes:
+        """The learner's state now, between two batches, as a `StreamSnapshot` document (JSON bytes)."""
+        data: bytes = self._call(m.Export(), "export")
+        return data
 
-    def status(self) -> PushResult:
-        with self._lock:
-            return PushResult(self.learner.received, self.learner.learned, [], self.learner.predictions(), 0.0)
+    def crash(self, how: m.CrashKind) -> None:
+        """Tests only: make the worker crash."""
+        if self.link is not None:
+            self.link.send(m.Call(0, m.Crash(how)))
+
+    def close(self) -> None:
+        link = self.link
+        if link is None:
+            return
+        link.stopping = True
+        if link.alive:
+            with contextlib.suppress(WorkerGoneError, BusyError):
+                link.call(m.Shutdown(), 10.0)
+        link.stop()
 
 
 class StreamRuns:
-    """The server's stream runs by id (at most MAX_STREAM_RUNS at once)."""
+    """The server's stream runs by id (at most MAX_STREAM_RUNS at once), each in a worker of its own.
 
-    def __init__(self) -> None:
+    Args:
+        executor: starts the workers (default: processes of this machine, stopped with `stop`).
+        hooks: workers honour test crashes (tests only).
+    """
+
+    def __init__(self, executor: Executor | None = None, hooks: bool = False) -> None:
+        self._owns_executor = executor is None
+        self.executor: Executor = executor if executor is not None else ProcessExecutor()
+        self.hooks = hooks
         self._runs: dict[str, StreamRun] = {}
+        self._making = 0
         self._lock = threading.Lock()
 
-    def create(self, spec: RunSpec, learner: RecordLearner | None = None) -> StreamRun:
-        """A new stream run (going on with `learner` if given). Raises SpecError (422 at world.kind) for another
+    def create(self, spec: RunSpec, snapshot: StreamSnapshot | None = None) -> StreamRun:
+        """A new stream run (going on from `snapshot` if given). Raises SpecError (422 at world.kind) for another
         world kind, BusyError when full."""
         if spec.world.kind != "stream":
             message = f"a stream run needs world.kind = 'stream', not {spec.world.kind!r}"
             raise SpecError([FieldProblem(("body", "world", "kind"), message)])
         with self._lock:
-            if len(self._runs) >= MAX_STREAM_RUNS:
+            if len(self._runs) + self._making >= MAX_STREAM_RUNS:
                 raise BusyError(f"{MAX_STREAM_RUNS} stream runs exist already; delete one first")
-            run = StreamRun(uuid.uuid4().hex[:12], spec, learner)
-            self._runs[run.id] = run
-            return run
+            self._making += 1
+        try:
+            run = StreamRun(uuid.uuid4().hex[:12], spec)
+            link = self.executor.spawn(serve_stream, m.StreamInit(run.id, spec, snapshot, self.hooks), run)
+            try:
+                ready = link.wait_ready()
+            except (WorkerGoneError, BusyError) as exc:
+                link.stop()
+                raise ConflictError(f"the stream run's worker did not start: {exc}") from None
+            if ready.failure is not None:
+                link.stop()
+                m.raise_failure(ready.failure)
+            run.link = link
+            if isinstance(ready.value, PushResult):
+                run._status = ready.value
+            with self._lock:
+                self._runs[run.id] = run
+        finally:
+            with self._lock:
+                self._making -= 1
+        return run
 
     def import_snapshot(self, snapshot: StreamSnapshot) -> StreamRun:
         """A new stream run that learns the next record exactly as the snapshot's run would have.
@@ -236,7 +204,7 @@ class StreamRuns:
         if snapshot.spec.world.kind != "stream":
             message = f"a stream run needs world.kind = 'stream', not {snapshot.spec.world.kind!r}"
             raise SpecError([FieldProblem(("body", "spec", "world", "kind"), message)])
-        return self.create(snapshot.spec, restore_stream(snapshot))
+        return self.create(snapshot.spec, snapshot)
 
     def get(self, run_id: str) -> StreamRun:
         with self._lock:
@@ -247,8 +215,10 @@ class StreamRuns:
 
     def delete(self, run_id: str) -> None:
         with self._lock:
-            if self._runs.pop(run_id, None) is None:
-                raise NotFoundError(f"no stream run {run_id!r}")
+            run = self._runs.pop(run_id, None)
+        if run is None:
+            raise NotFoundError(f"no stream run {run_id!r}")
+        run.close()
 
     def holds(self, run: StreamRun) -> bool:
         """Whether this very run is still registered (not deleted)."""
@@ -258,3 +228,12 @@ class StreamRuns:
     def list(self) -> list[StreamRun]:
         with self._lock:
             return list(self._runs.values())
+
+    def stop(self) -> None:
+        """End every stream run's worker (stream runs live in memory only)."""
+        with self._lock:
+            runs, self._runs = list(self._runs.values()), {}
+        for run in runs:
+            run.close()
+        if self._owns_executor:
+            self.executor.stop()

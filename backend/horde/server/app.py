@@ -20,8 +20,12 @@ from contextlib import AbstractAsyncContextManager, asynccontextmanager
 
 from fastapi import FastAPI
 
+from horde.runs.access import Access
+from horde.runs.executor import ProcessExecutor
+from horde.runs.link import Executor
 from horde.runs.manager import RunManager
 from horde.runs.protocols import ProtocolJobs
+from horde.runs.ray_link import RayExecutor
 from horde.runs.store import Store
 from horde.runs.stream_run import StreamRuns
 from horde.server.api_docs import add_api_docs
@@ -44,21 +48,32 @@ Learn many predictions at once with the Horde architecture. Define worlds and ru
 runs, step or run them, read their predictions, value maps and histories, evaluate them against
 Monte-Carlo truth, and export or import snapshots. Errors: 404 unknown, 409 wrong state, 422 invalid
 spec (naming the field). When HORDE_TOKEN is set, every POST, PUT, PATCH and DELETE needs
-`Authorization: Bearer <token>`.
+`Authorization: Bearer <token>`: the teacher's HORDE_TOKEN, or a token the teacher issued (POST /api/tokens):
+a student's changes only what the student created (403 otherwise, naming the owner), a viewer's nothing.
 """
 
 
-def _live_view(settings: Settings, manager: RunManager, port: int, streams: StreamRuns | None = None) -> LiveView:
+def _live_view(
+    settings: Settings, manager: RunManager, port: int, access: Access, streams: StreamRuns | None = None
+) -> LiveView:
     """The viser live view of the manager's runs (and the stream runs, as phase planes) on `port` (or the next
-    free one), guarded by the server's token and origins."""
-    token = settings.token.get_secret_value() if settings.token is not None else None
+    free one), guarded by the server's tokens (the same rule as the API's) and origins."""
     return LiveView(
         ManagerSource(manager, streams),
         host=settings.host,
         port=port,
-        token=token,
+        access=access,
         allow_origin=lambda origin, host: origin_allowed(origin, host, settings.host_rule(), settings.origins),
     )
+
+
+def _run_executor(settings: Settings, processes: ProcessExecutor) -> Executor:
+    """Where runs, stream runs and protocol jobs learn: processes of this machine, or actors of the Ray cluster."""
+    if settings.runs_on_ray():
+        if settings.ray_address is None:
+            raise ValueError("HORDE_RUN_WORKERS=ray needs HORDE_RAY_ADDRESS (a cluster to run on)")
+        return RayExecutor(processes, settings.ray_address, settings.ray_run_cpus)
+    return processes
 
 
 def _lifespan(
@@ -69,17 +84,27 @@ def _lifespan(
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         store = Store(settings.data)
-        manager = RunManager(store, settings.limits())
+        processes = ProcessExecutor(settings.worker_stall_seconds)
+        processes.start()  # the fork server warms the kernels up meanwhile
+        executor = _run_executor(settings, processes)
+        manager = RunManager(store, settings.limits(), executor, hooks=settings.test_hooks)
         app.state.store = store
         app.state.manager = manager
+        token = settings.token.get_secret_value() if settings.token is not None else None
+        app.state.access = Access(store, token)
+        app.state.access.forget_kind("stream")  # stream runs live in memory: none survived the last stop
+        app.state.streams = StreamRuns(executor, hooks=settings.test_hooks)
         app.state.hub = StreamHub(manager, rate=settings.stream_rate)
-        app.state.protocols = ProtocolJobs(store)
-        app.state.studies = StudyJobs(store, settings.study_executor_factory())
+        app.state.protocols = ProtocolJobs(store, executor, hooks=settings.test_hooks)
+        app.state.studies = StudyJobs(store, processes, settings.study_executor, settings.ray_address,
+                                      settings.study_workers)  # fmt: skip
         switch_interval = sys.getswitchinterval()
         sys.setswitchinterval(settings.switch_interval)
         manager.start()
         if settings.viser_port is not None:
-            app.state.live_view = _live_view(settings, manager, settings.viser_port, app.state.streams)
+            app.state.live_view = _live_view(
+                settings, manager, settings.viser_port, app.state.access, app.state.streams
+            )
             app.state.live_view.start()
             if announce is not None:
                 announce(app.state.live_view.url)
@@ -98,6 +123,9 @@ def _lifespan(
                 app.state.live_view.stop()
                 app.state.live_view = None
             manager.stop()
+            app.state.streams.stop()
+            executor.stop()
+            processes.stop()
             store.close()
             sys.setswitchinterval(switch_interval)
 
@@ -126,7 +154,6 @@ def create_app(settings: Settings | None = None, announce: Callable[[str], None]
     app.state.settings = settings
     app.state.live_view = None
     app.state.catalog = ScenarioCatalog(settings.scenarios)
-    app.state.streams = StreamRuns()  # stream runs (routes/records.py), in memory
     add_error_handlers(app)
     app.add_middleware(
         BodyGuard,

@@ -31,14 +31,14 @@ from horde.server.schemas import (
     StateOut,
     SummaryOut,
     ValuesOut,
+    WorkerOut,
 )
 from horde.view.palette import demon_colour
 
 
 def predictions(view: RunView) -> np.ndarray:
     """[D] each demon's prediction, NaN (null on the wire) for diverged demons."""
-    hs = view.horde_state
-    return np.where(hs.diverged, np.nan, hs.prediction)
+    return np.where(view.diverged, np.nan, view.prediction)
 
 
 def timestamp(seconds: float) -> datetime:
@@ -49,26 +49,28 @@ def summary_out(summary: Summary) -> SummaryOut:
     return SummaryOut.model_validate(summary, from_attributes=True)
 
 
-def run_brief(view: RunView) -> RunBriefOut:
-    return RunBriefOut(**_brief_fields(view))
+def run_brief(view: RunView, owner: str) -> RunBriefOut:
+    return RunBriefOut(**_brief_fields(view, owner))
 
 
-def run_out(view: RunView) -> RunOut:
+def run_out(view: RunView, owner: str) -> RunOut:
     summary = summary_out(view.summary) if view.summary is not None else None
-    return RunOut(**_brief_fields(view), spec=view.spec, summary=summary)
+    return RunOut(**_brief_fields(view, owner), spec=view.spec, summary=summary)
 
 
-def _brief_fields(view: RunView) -> dict[str, object]:
+def _brief_fields(view: RunView, owner: str) -> dict[str, object]:
     return {
         "id": view.id,
+        "owner": owner,
         "name": view.spec.name,
         "status": view.status,
         "message": view.message,
         "hz": view.hz,
         "episode": view.episode,
         "step": view.total_steps,
-        "demons": list(view.horde.names),
+        "demons": view.names,
         "evaluation": EvaluationSupportOut.model_validate(evaluation_support(view.spec), from_attributes=True),
+        "worker": WorkerOut.model_validate(view.worker, from_attributes=True),
         "created_at": timestamp(view.created_at),
         "updated_at": timestamp(view.updated_at),
     }
@@ -76,14 +78,14 @@ def _brief_fields(view: RunView) -> dict[str, object]:
 
 def demon_metrics(view: RunView, indices: Sequence[int] | None = None) -> dict[str, DemonMetricsOut]:
     """The metrics of the demons at `indices` (all by default), by name."""
-    hs, rupee, ude, names = view.horde_state, view.rupee, view.ude, view.horde.names
+    rupee, ude, names = view.rupee, view.ude, view.names
     return {
         names[i]: DemonMetricsOut(
             rupee=rupee[i],
             ude=ude[i],
-            delta=hs.delta[i],
-            cumulant=hs.cumulant[i],
-            diverged=bool(hs.diverged[i]),
+            delta=view.delta[i],
+            cumulant=view.cumulant[i],
+            diverged=bool(view.diverged[i]),
             step_size=view.step_size[i] if view.step_size is not None else None,
         )
         for i in (range(len(names)) if indices is None else indices)
@@ -97,7 +99,7 @@ def event_out(event: Event) -> EventOut:
 def state_out(view: RunView, events: list[Event], demons: Sequence[int] | None = None) -> StateOut:
     """The run's state with the predictions and metrics of the demons at `demons` (all by default)."""
     x, y = view.position
-    names, prediction = view.horde.names, predictions(view)
+    names, prediction = view.names, predictions(view)
     indices = range(len(names)) if demons is None else demons
     return StateOut(
         run=view.id,
@@ -127,18 +129,18 @@ def demons_out(view: RunView) -> list[DemonOut]:
         DemonOut(
             name=spec.name,
             spec=spec,
-            control=view.horde.is_control(spec.name),
-            prediction=prediction[view.horde.index[spec.name]],
+            control=bool(view.control[i]),
+            prediction=prediction[i],
             metrics=metrics[spec.name],
             colour=demon_colour(i),
         )
-        for i, spec in enumerate(view.horde.demon_specs)
+        for i, spec in enumerate(view.spec.demons)
     ]
 
 
 def values_out(view: RunView, demon: str, values: ValueMap) -> ValuesOut:
     """A demon's value map; all null when the demon has diverged."""
-    diverged = bool(view.horde_state.diverged[view.horde.index[demon]])
+    diverged = bool(view.diverged[view.index[demon]])
     grid = np.full_like(values.values, np.nan) if diverged else values.values
     finite_cells = grid[np.abs(grid) <= MAX_MAGNITUDE]
     return ValuesOut(

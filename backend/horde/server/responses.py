@@ -12,6 +12,7 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.routing import Match
 from starlette.types import Scope
 
+from horde.runs.access import ForbiddenError, UnauthorizedError
 from horde.runs.errors import BusyError, ConflictError, NotFoundError, RunError, SaveError, SpecError
 from horde.server.guard import validation_body, validation_error
 from horde.server.schemas import ErrorOut
@@ -25,7 +26,17 @@ BAD_BODY: Responses = {
 NOT_FOUND: Responses = {404: {"model": ErrorOut, "description": "Unknown run, demon, world or scenario"}}
 CONFLICT: Responses = {409: {"model": ErrorOut, "description": "The resource's state forbids this request"}}
 UNAUTHORIZED: Responses = {
-    401: {"model": ErrorOut, "description": "HORDE_TOKEN is set and the bearer token is missing or wrong"}
+    401: {
+        "model": ErrorOut,
+        "description": "HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked",
+    }
+}
+FORBIDDEN: Responses = {
+    403: {
+        "model": ErrorOut,
+        "description": "The token's role may not do this: a viewer changes nothing; a student changes only what "
+        "they created (the detail names the owner); only the teacher manages tokens",
+    }
 }
 BUSY: Responses = {
     429: {"model": ErrorOut, "description": "Too many evaluations or protocols at once, or the run is busy"}
@@ -39,7 +50,14 @@ NOT_SAVED: Responses = {
     }
 }
 
-STATUS: dict[type[RunError], int] = {NotFoundError: 404, ConflictError: 409, BusyError: 429, SaveError: 503}
+STATUS: dict[type[RunError], int] = {
+    UnauthorizedError: 401,
+    ForbiddenError: 403,
+    NotFoundError: 404,
+    ConflictError: 409,
+    BusyError: 429,
+    SaveError: 503,
+}
 
 
 async def _run_error(request: Request, exc: Exception) -> Response:
@@ -47,7 +65,8 @@ async def _run_error(request: Request, exc: Exception) -> Response:
         problems = [{"loc": list(p.loc), "msg": p.msg, "type": p.type} for p in exc.problems]
         return Response(validation_body(problems), status_code=422, media_type="application/json")
     status = next((code for kind, code in STATUS.items() if isinstance(exc, kind)), 409)
-    return JSONResponse(status_code=status, content={"detail": str(exc)})
+    headers = {"WWW-Authenticate": "Bearer"} if status == 401 else None
+    return JSONResponse(status_code=status, content={"detail": str(exc)}, headers=headers)
 
 
 METHODS = ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE")  # what the API's routes answer
@@ -73,8 +92,8 @@ async def _http_error(request: Request, exc: Exception) -> Response:
 
 
 def add_error_handlers(app: FastAPI) -> None:
-    """404, 409, 429, 503 with {"detail": message}; 422 in FastAPI's {"detail": [{loc, msg, type}]} form, bounded;
-    405 with the path's every method in `Allow`."""
+    """401, 403, 404, 409, 429, 503 with {"detail": message}; 422 in FastAPI's {"detail": [{loc, msg, type}]} form,
+    bounded; 405 with the path's every method in `Allow`."""
     app.add_exception_handler(RunError, _run_error)
     app.add_exception_handler(RequestValidationError, validation_error)
     app.add_exception_handler(StarletteHTTPException, _http_error)

@@ -20,6 +20,7 @@ from horde.runs.divergence import meaningful
 from horde.runs.events import EventKind
 from horde.runs.run_view import RunStatus
 from horde.spec import MAX_DEMONS, MAX_FAMILIES, BehaviourSpec, DemonSpec, Hz, Name, RunSpec, WorldSpec
+from horde.view.live import VIEWER_KEY_PATTERN
 
 MAX_RESOLUTION = 256
 MAX_EVAL_EPISODES = 5_000
@@ -85,7 +86,7 @@ class RunTemplateIn(In):
     thesis: dict[str, Any] | None = None
 
 
-def _run_form(value: Any) -> str:
+def run_form(value: Any) -> str:
     if isinstance(value, dict):
         return "RunTemplate" if "scenario" in value or isinstance(value.get("world"), str) else "RunSpec"
     return "RunTemplate" if isinstance(value, RunTemplateIn) else "RunSpec"
@@ -93,7 +94,7 @@ def _run_form(value: Any) -> str:
 
 RunCreate = Annotated[
     Annotated[RunSpec, Tag("RunSpec")] | Annotated[RunTemplateIn, Tag("RunTemplate")],
-    Discriminator(_run_form),
+    Discriminator(run_form),
 ]
 
 
@@ -162,6 +163,7 @@ class ProtocolOut(Out):
     """A protocol job: a scenario's trials x episodes, truth and test runs, in the background."""
 
     id: str
+    owner: str = Field(description="who started it: 'teacher', or the name of the student's token")
     name: str | None
     seed: int
     status: Literal["running", "finished", "failed", "cancelled", "interrupted"] = Field(
@@ -183,19 +185,38 @@ class ProtocolOut(Out):
 
 
 class ViewOut(Out):
-    """Whether the viser live view runs, where it listens, and which run it shows."""
+    """Whether the viser live view runs, where it listens, and which run it shows one dashboard tab."""
 
     enabled: bool = Field(description="false when the server runs without the live view (`horde serve --no-view`)")
-    url: str | None = Field(description="the viser client's address (embed it in an iframe or open it)")
-    run: str | None = Field(description="the run it shows now, if any")
+    url: str | None = Field(
+        description="the viser client's address (embed it in an iframe or open it); with `viewer`, the address "
+        "whose browsers follow that tab's choice"
+    )
+    run: str | None = Field(description="the run shown to the browsers of `viewer`, if it chose one")
+    browsers: int = Field(default=0, description="browsers connected to the live view now, each with its own view")
+    frame_rate: float = Field(
+        default=0.0, description="frames drawn a second over the last 5 s (a frame draws every browser's view)"
+    )
 
 
-class ViewIn(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+ViewerKey = Annotated[
+    str,
+    Field(
+        pattern=VIEWER_KEY_PATTERN,
+        description="a dashboard tab's own random key (8 to 64 letters, digits, - or _): the browsers that "
+        "opened the view at GET /api/view?viewer=<key>'s url follow this tab's choice, no others",
+    ),
+]
 
-    run: str = Field(min_length=1, max_length=64, description="the run the live view should show")
+
+class ViewIn(In):
+    viewer: ViewerKey
+    run: str = Field(min_length=1, max_length=64, description="the run the tab's live view should show")
     demons: list[Name] | None = Field(
         default=None, max_length=12, description="the demons to label and chart (the first ones by default)"
+    )
+    large: bool | None = Field(
+        default=None, description="Large text: the view's labels and panel larger (for a projector); null: unchanged"
     )
 
 
@@ -211,6 +232,7 @@ class ScenarioOut(Out):
 
 class WorldOut(Out):
     name: str
+    owner: str = Field(description="who stored it: 'teacher', or the name of the student's token")
     world: WorldSpec
     created_at: datetime
     updated_at: datetime
@@ -238,8 +260,18 @@ class EvaluationSupportOut(Out):
     note: str = Field(description="one sentence: what an evaluation is here, or why there is none")
 
 
+class WorkerOut(Out):
+    """Where a run learns: a process of the server's machine, or a Ray actor on a node of its cluster."""
+
+    kind: Literal["process", "ray", "none"] = Field(description="none: the run has no worker (its worker died)")
+    pid: int | None = Field(description="the worker's process id, on its node")
+    node: str | None = Field(description="the Ray node the worker runs on (null for a process of this machine)")
+    alive: bool
+
+
 class RunBriefOut(Out):
     id: str
+    owner: str = Field(description="who created it: 'teacher', or the name of the student's token")
     name: str | None
     status: RunStatus
     message: str
@@ -248,6 +280,7 @@ class RunBriefOut(Out):
     step: int = Field(description="steps taken in all")
     demons: list[str]
     evaluation: EvaluationSupportOut
+    worker: WorkerOut
     created_at: datetime
     updated_at: datetime
 

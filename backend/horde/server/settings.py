@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
 from pathlib import Path
 from typing import Literal
 
@@ -12,7 +11,6 @@ from pydantic_settings import BaseSettings, SettingsConfigDict
 
 from horde.runs.run_setup import Limits
 from horde.server.hosts import HostRule
-from horde.studies.runner import Executor, InProcess, RayExecutor
 
 
 class Settings(BaseSettings):
@@ -77,10 +75,26 @@ class Settings(BaseSettings):
         default_factory=list,
         description="extra browser origins allowed to open WebSockets (besides the server's own), e.g. a dev server",
     )
+    worker_stall_seconds: float = Field(
+        default=30.0,
+        gt=0.0,
+        le=3600.0,
+        description="a worker whose main loop has not moved for this long is reported (its run's message, its events)"
+        " and commands for it give up",
+    )
+    test_hooks: bool = Field(
+        default=False, description="tests only: workers obey a crash command (a segfault, an abort, a hang)"
+    )
     study_executor: Literal["ray", "local"] = Field(
         default="ray", description="where study tasks run: Ray (this machine, or ray_address), or one by one here"
     )
     ray_address: str | None = Field(default=None, description="a Ray cluster to join (HORDE_RAY_ADDRESS)")
+    run_workers: Literal["auto", "process", "ray"] = Field(
+        default="auto",
+        description="where live runs, stream runs and protocol jobs learn: processes of this machine, or actors of "
+        "the Ray cluster at ray_address; auto: Ray when ray_address is set",
+    )
+    ray_run_cpus: float = Field(default=1.0, gt=0.0, le=1024.0, description="CPUs a run's actor asks of the cluster")
     study_workers: int | None = Field(default=None, ge=1, le=4096, description="CPUs of the local Ray (default all)")
 
     @field_validator("token", mode="before")
@@ -88,11 +102,9 @@ class Settings(BaseSettings):
     def _empty_is_none(cls, value: object) -> object:
         return None if value == "" else value
 
-    def study_executor_factory(self) -> Callable[[], Executor]:
-        """Makes the executor of each study the server runs."""
-        if self.study_executor == "local":
-            return InProcess
-        return lambda: RayExecutor(self.ray_address, self.study_workers)
+    def runs_on_ray(self) -> bool:
+        """Whether runs learn on the Ray cluster at `ray_address`."""
+        return self.run_workers == "ray" or (self.run_workers == "auto" and self.ray_address is not None)
 
     def limits(self) -> Limits:
         """The run limits: every field of `Limits` that a setting of the same name sets (the rest keep defaults)."""

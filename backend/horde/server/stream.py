@@ -92,7 +92,7 @@ class StreamHub:
         channel = self._join(run, client)
         events = [e for e in run.events.recent(INITIAL_EVENTS) if e.seq <= channel.last_event]
         view = run.view
-        first, _ = demon_window(0, view.horde.num_demons)
+        first, _ = demon_window(0, view.num_demons)
         client.queue.put_nowait(state_out(view, events, first).model_dump_json())
         sender = asyncio.create_task(self._send(websocket, channel, client), name=f"stream-client-{run.id}")
         try:
@@ -146,7 +146,7 @@ class StreamHub:
         channel.last_seq = view.seq
         if events:
             channel.last_event = events[-1].seq
-        demons, channel.demon_offset = demon_window(channel.demon_offset, view.horde.num_demons)
+        demons, channel.demon_offset = demon_window(channel.demon_offset, view.num_demons)
         message = state_out(view, events, demons).model_dump_json()
         for client in list(channel.clients):
             try:

@@ -24,6 +24,7 @@ class StreamClose(IntEnum):
     ORIGIN_REFUSED = 1008
     TOO_SLOW = 1013
     UNAUTHORIZED = 4401
+    FORBIDDEN = 4403
     NOT_FOUND = 4404
     RUN_DELETED = 4410
 
@@ -33,7 +34,9 @@ CLOSE_MEANINGS: dict[StreamClose, str] = {
     StreamClose.GOING_AWAY: "the server is stopping",
     StreamClose.ORIGIN_REFUSED: "a page of another site may not open the stream",
     StreamClose.TOO_SLOW: "the client fell too far behind, or a send timed out ('try again later')",
-    StreamClose.UNAUTHORIZED: "the server requires its HORDE_TOKEN (pushing records to a stream run)",
+    StreamClose.UNAUTHORIZED: "the server requires a token (pushing records to a stream run), or the token given is "
+    "not the server's or was revoked",
+    StreamClose.FORBIDDEN: "the token's role may not do this (a viewer's, or a student's on another's stream run)",
     StreamClose.NOT_FOUND: "no such run (or study, or stream run)",
     StreamClose.RUN_DELETED: "the run (or stream run) was deleted while streamed",
 }

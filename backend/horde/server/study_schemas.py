@@ -71,6 +71,7 @@ class StudyOut(_Out):
     """A study and how far it has got."""
 
     id: str
+    owner: str = Field(description="who started it: 'teacher', or the name of the student's token")
     name: str | None
     scenario: str | None = Field(description="the base run spec's name")
     status: StudyStatus

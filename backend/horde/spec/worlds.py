@@ -317,6 +317,15 @@ class GymnasiumWorldSpec(Model):
     _sensors: list[SensorRange] | None = PrivateAttr(default=None)
     _actions: int = PrivateAttr(default=0)
 
+    def __eq__(self, other: object) -> bool:
+        """Equal fields: whether the sensors are resolved yet is not part of the spec (they follow from `id`)."""
+        if not isinstance(other, GymnasiumWorldSpec):
+            return NotImplemented
+        return self.model_dump() == other.model_dump()
+
+    def __hash__(self) -> int:
+        return hash((self.kind, self.name, self.id, self.max_steps))
+
     @property
     def resolved(self) -> bool:
         """Whether the environment's sensors and actions are known (`horde.worlds.gym_spaces.resolve_world`)."""

@@ -15,6 +15,7 @@ from horde.runs.store import Store
 from horde.scenarios import ScenarioError
 from horde.studies.export import curves_csv, results_csv, results_json
 from horde.studies.files import load_study_file
+from horde.studies.local_ray import LocalRay
 from horde.studies.runner import (
     Executor,
     InProcess,
@@ -83,10 +84,11 @@ def cmd_study(args: argparse.Namespace) -> int:
         return 2
     for warning in study_warnings(load_study(store, study_id)[2]):
         print(f"warning: {warning}", file=sys.stderr)
-    executor: Executor = InProcess() if args.local else RayExecutor(args.address, args.workers or None)
+    address = args.address or os.environ.get("HORDE_RAY_ADDRESS") or None
+    local = LocalRay(args.workers or None) if not args.local and address is None else None
     progress = None if args.quiet else ProgressBar(name, unit="tasks")
     try:
-        status = run_study(store, study_id, executor, progress)
+        status = run_study(store, study_id, _executor(args.local, address, local), progress)
         summaries = summarize_study(store, study_id)
     except Exception as exc:  # a task that failed: the study keeps its finished tasks and can be resumed
         print(f"\nerror: study {study_id} failed: {type(exc).__name__}: {exc}", file=sys.stderr)
@@ -95,6 +97,9 @@ def cmd_study(args: argparse.Namespace) -> int:
         )
         return 1
     finally:
+        RayExecutor.shutdown()
+        if local is not None:
+            local.stop()
         store.close()
     if status != "finished":
         print(f"\nstudy {study_id} {status}; finish it with: horde study --resume {study_id}", file=sys.stderr)
@@ -103,6 +108,17 @@ def cmd_study(args: argparse.Namespace) -> int:
     print(format_table(summaries))
     write_outputs(summaries, args)
     return 0 if status == "finished" else 1
+
+
+def _executor(here: bool, address: str | None, local: LocalRay | None) -> Executor:
+    """One task after the other here, or Ray: the cluster at `address`, else a Ray of this process's own (loopback
+    only, token authentication: its settings go to this process's environment before Ray is imported)."""
+    if here:
+        return InProcess()
+    if local is not None:
+        os.environ.update(local.env())
+        return RayExecutor(local.address())
+    return RayExecutor(str(address))
 
 
 def write_outputs(summaries: list[ConfigSummary], args: argparse.Namespace) -> None:

@@ -1,23 +1,22 @@
 """Run a study's tasks, in this process or on Ray, streaming each finished task into the store.
 
-Every configuration x run is one task (`task.run_task`). `RayExecutor` makes each a Ray task: by default
-it starts Ray on this machine (every core, no dashboard, loopback only); given an address (`--address`,
-`HORDE_RAY_ADDRESS`) it joins that cluster instead. `InProcess` runs them one after the other here (the
-tests' reference, and small studies). Either way, each result is written to the store the moment its
-task finishes, and a study resumed later runs only the tasks that have no row yet.
+Every configuration x run is one task (`task.run_task`). `RayExecutor` makes each a Ray task on a cluster it
+joins by address: the one-node Ray of this machine that `local_ray.LocalRay` starts (every core, no dashboard,
+loopback only, token authentication), or the cluster given (`--address`, `HORDE_RAY_ADDRESS`). `InProcess`
+runs them one after the other here (the tests' reference, and small studies). Either way, each result is
+written to the store the moment its task finishes, and a study resumed later runs only the tasks that have no
+row yet.
 """
 
 from __future__ import annotations
 
 import json
 import logging
-import os
 import secrets
 import sys
 import threading
 import time
 from collections.abc import Callable, Sequence
-from concurrent.futures import Future
 from dataclasses import dataclass
 from typing import Any, Protocol
 
@@ -29,7 +28,6 @@ from horde.studies.stats import ConfigSummary, mark_best, summarize_configuratio
 from horde.studies.task import TaskData, run_task
 
 Progress = Callable[[int, int], None]  # (tasks done, tasks in all)
-LOOPBACK = "127.0.0.1"
 log = logging.getLogger(__name__)
 
 
@@ -79,99 +77,42 @@ def _ray_task(spec_json: str, run: int, measure_json: str) -> TaskData:
     return data
 
 
-def _local_ray_environment() -> None:
-    """The environment of the Ray this process starts on this machine (and its processes inherit): every
-    process on loopback, token authentication with a token of this process's own unless one is given.
-
-    Why RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER=0: `ray.init` replaces a loopback node address by the machine's
-    outward one, and Ray's servers then listen on every interface; with clusters off (as Ray does on macOS
-    and Windows) the node address stays 127.0.0.1 and every server listens there. Read when `ray` is first
-    imported, so this must run before. The token keeps other users of this machine (loopback reaches them
-    too) out of the cluster; given RAY_AUTH_TOKEN, that one is used.
-    """
-    if "ray" in sys.modules:  # too late: half of it would apply (the token to Ray's processes, not to this one)
-        log.warning("ray was imported before the study executor started it: Ray keeps its own defaults")
-        return
-    os.environ["RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER"] = "0"
-    os.environ["RAY_AUTH_MODE"] = "token"
-    os.environ.setdefault("RAY_AUTH_TOKEN", secrets.token_hex(32))
-
-
 class RayExecutor:
-    """Each task a Ray task of one CPU.
+    """Each task a Ray task of one CPU, on the cluster at `address` (joined once per process, left by `shutdown`).
 
-    Ray is started (or joined) once per process, by a thread of its own that lives until `shutdown()`.
-    Why a thread of its own: Ray's processes are started with PR_SET_PDEATHSIG, so the kernel kills them
-    when the *thread* that started them ends. Started by a server's study thread, they died with that
-    study, and stayed zombies (nobody waits for them until Ray shuts down), and the next study found
-    Ray dead.
+    The cluster is given: a server's own Ray (`local_ray.LocalRay`, one node on this machine) or one of the
+    user's (`--address`, HORDE_RAY_ADDRESS). The process that joins it is its driver: a study's driver process
+    (`driver.py`) for the server, the `horde study` process on the command line; never the server itself.
 
     Args:
-        address: a running cluster's address (host:port); None starts Ray on this machine.
-        workers: CPUs of the local Ray (default: every core); ignored when joining a cluster.
+        address: the cluster's address (host:port).
     """
 
     _lock = threading.Lock()
-    _owner: threading.Thread | None = None  # the thread that started Ray and shuts it down
-    _stop = threading.Event()
 
-    def __init__(self, address: str | None = None, workers: int | None = None) -> None:
-        self.address = address or os.environ.get("HORDE_RAY_ADDRESS") or None
-        self.workers = workers
+    def __init__(self, address: str) -> None:
+        self.address = address
 
     def start(self) -> None:
-        """Start Ray on this machine (or join the cluster at `address`) unless this process has already."""
+        """Join the cluster unless this process has already."""
         with self._lock:
-            if RayExecutor._owner is not None:
-                return
-            if self.address is None:
-                _local_ray_environment()  # before `import ray`: Ray reads some of it when imported
             import ray
 
-            if ray.is_initialized():  # started by the caller: theirs to stop
-                return
-            started: Future[None] = Future()
-            owner = threading.Thread(target=self._own_ray, args=(started,), name="ray-owner", daemon=True)
-            owner.start()
-            started.result()  # what ray.init raised, raised here
-            RayExecutor._owner = owner
-
-    def _own_ray(self, started: Future[None]) -> None:
-        """Start Ray, then keep this thread (the parent of Ray's processes) alive until `shutdown()`."""
-        import ray
-
-        try:
-            if self.address:
+            if not ray.is_initialized():
                 ray.init(address=self.address, log_to_driver=False)
-            else:
-                ray.init(
-                    address="local",  # a new Ray of this process, never a cluster that happens to run here
-                    num_cpus=self.workers or os.cpu_count() or 1,
-                    include_dashboard=False,
-                    _node_ip_address=LOOPBACK,
-                    log_to_driver=False,
-                )
-        except BaseException as exc:
-            started.set_exception(exc)
-            return
-        started.set_result(None)
-        RayExecutor._stop.wait()
-        ray.shutdown()  # stops Ray's processes and waits for them (no zombies)
 
     @classmethod
     def shutdown(cls) -> None:
-        """Stop the Ray this process started (or leave the cluster it joined); the server calls it on exit."""
+        """Leave the cluster (its processes are the cluster's to stop)."""
         with cls._lock:
-            owner = cls._owner
-            if owner is None:
-                return
-            cls._stop.set()
-            owner.join(timeout=60)
-            cls._owner = None
-            cls._stop.clear()
+            if "ray" in sys.modules:
+                import ray
+
+                if ray.is_initialized():
+                    ray.shutdown()
 
     def map(self, tasks: Sequence[Task], measure: MeasureSpec, on_done: OnDone, cancelled: Callable[[], bool]) -> None:
-        self.start()  # before `import ray` (see _local_ray_environment)
+        self.start()
         import ray
 
         remote = ray.remote(num_cpus=1, max_retries=2)(_ray_task)
@@ -273,12 +214,13 @@ def summarize_study(store: Store, study_id: str, cache: SummaryCache | None = No
     """Every configuration with at least one finished run, averaged over its runs; the best one marked.
 
     With a `cache`, only configurations whose number of finished runs changed are summarized again (a
-    running study polled by the dashboard re-averages one configuration per finished task, not all).
+    running study polled by the dashboard re-averages one configuration per finished task, not all). A
+    configuration whose stored tasks no longer read (an older version's, or changed by hand) is left out, logged.
     """
     _, _, configurations = load_study(store, study_id)
-    by_config: dict[int, list[TaskData]] = {}
+    by_config: dict[int, list[str]] = {}  # configuration -> its finished tasks' data, as stored
     for task in store.study_tasks(study_id):
-        by_config.setdefault(task.config, []).append(json.loads(task.data))
+        by_config.setdefault(task.config, []).append(task.data)
     cache = {} if cache is None else cache
     summaries = []
     for c in configurations:
@@ -287,7 +229,13 @@ def summarize_study(store: Store, study_id: str, cache: SummaryCache | None = No
             continue
         cached = cache.get(c.index)
         if cached is None or cached[0] != len(tasks):
-            cached = (len(tasks), summarize_configuration(c.index, c.axes, tasks))
+            try:
+                cached = (len(tasks), summarize_configuration(c.index, c.axes, [json.loads(t) for t in tasks]))
+            except (KeyError, TypeError, ValueError, IndexError) as exc:  # a stored task that no longer reads
+                log.error(
+                    "study %s: configuration %d left out: a stored task does not read: %r", study_id, c.index, exc
+                )
+                continue
             cache[c.index] = cached
         summaries.append(cached[1])
     mark_best(summaries)

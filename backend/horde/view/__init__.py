@@ -1,8 +1,9 @@
 """The viser live view: a run's world, agent and predictions in the browser, as they happen.
 
-`LiveView` owns one viser server and draws the run chosen in its GUI from a `ViewSource`: the run
-manager's runs behind `ManagerSource`, in the server, in the standalone demo (`python -m horde.view`)
-and in the tests alike. The scene is built by pure functions (scene.py) from frozen `ViewSnapshot`s.
+`LiveView` owns one viser server and draws, for each browser, the run that browser chose (its own
+scene, panel and camera: `horde.view.viewer`) from a `ViewSource`: the run manager's runs behind
+`ManagerSource`, in the server, in the standalone demo (`python -m horde.view`) and in the tests alike.
+The scene is built by pure functions (scene.py) from frozen `ViewSnapshot`s.
 """
 
 from horde.view.live import LiveView

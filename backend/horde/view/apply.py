@@ -2,15 +2,42 @@
 
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 import trimesh
 import viser
+from viser import _messages
+from viser._scene_api import _encode_image_binary
 
 from horde.view.nodes import Node, same_content
 
+# An image node's PNG, encoded once however many browsers' scenes show it (the viewers of one frame share their
+# nodes: horde.view.viewer.Frame). Encoding a 256 x 256 value map takes 3-4 ms; thirty browsers took 0.1 s a frame.
+_ENCODED: weakref.WeakKeyDictionary[Node, tuple[str, bytes]] = weakref.WeakKeyDictionary()
 
-def add_node(scene: viser.SceneApi, node: Node) -> viser.SceneNodeHandle:
-    """Create (or replace) the viser node that draws `node`."""
+
+def _add_image(scene: viser.SceneApi, node: Node) -> viser.ImageHandle:
+    """`scene.add_image` of the node's image, with its PNG encoded once per node (viser's own message and handle,
+    as `add_image` makes them, but with the bytes given)."""
+    assert node.image is not None
+    encoded = _ENCODED.get(node)
+    if encoded is None:
+        encoded = _ENCODED[node] = _encode_image_binary(node.image, "png")
+    message = _messages.ImageMessage(
+        name=node.name,
+        props=_messages.ImageProps(
+            _format="png", _data=encoded[1], render_width=node.size[0], render_height=node.size[1],
+            cast_shadow=False, receive_shadow=True, scale=1.0,
+        ),
+    )  # fmt: skip
+    handle = viser.ImageHandle._make(scene, message, node.name, (1.0, 0.0, 0.0, 0.0), node.position, True)
+    handle._image, handle._jpeg_quality, handle._user_format = node.image, None, "png"
+    return handle
+
+
+def add_node(scene: viser.SceneApi, node: Node, label_scale: float = 1.0) -> viser.SceneNodeHandle:
+    """Create (or replace) the viser node that draws `node` (a label `label_scale` times its normal size: 12 px)."""
     name, position = node.name, node.position
     if node.kind == "box":
         return scene.add_box(
@@ -25,7 +52,13 @@ def add_node(scene: viser.SceneApi, node: Node) -> viser.SceneNodeHandle:
         return scene.add_icosphere(name, radius=node.size[0], color=node.color, position=position, subdivisions=3)
     if node.kind == "label":
         anchor = node.anchor
-        return scene.add_label(name, node.text, position=position, anchor=anchor)  # type: ignore[arg-type]
+        return scene.add_label(
+            name,
+            node.text,
+            position=position,
+            anchor=anchor,  # type: ignore[arg-type]
+            font_screen_scale=label_scale,
+        )
     if node.kind == "lines":
         assert node.points is not None
         return scene.add_line_segments(
@@ -44,10 +77,7 @@ def add_node(scene: viser.SceneApi, node: Node) -> viser.SceneNodeHandle:
             position=position,
         )
     if node.kind == "image":
-        assert node.image is not None
-        return scene.add_image(
-            name, node.image, node.size[0], node.size[1], format="png", position=position, cast_shadow=False
-        )
+        return _add_image(scene, node)
     if node.kind == "mesh":
         assert node.points is not None and node.faces is not None
         mesh = trimesh.Trimesh(node.points, node.faces, vertex_colors=node.vertex_colors, process=False)
@@ -58,13 +88,15 @@ def add_node(scene: viser.SceneApi, node: Node) -> viser.SceneNodeHandle:
 class SceneApplier:
     """The nodes drawn so far, by name and by owner (a part of the scene refreshed on its own).
 
-    `apply(nodes, owner)` adds the new nodes, moves the ones whose position alone changed, replaces the
-    ones that changed otherwise, and removes the owner's nodes that are no longer listed. Call it
-    inside `server.atomic()` so that a client sees one consistent frame.
+    `apply(nodes, owner)` adds the new nodes, moves the ones whose position alone changed, rewrites the labels
+    whose text (and position) alone changed, replaces the ones that changed otherwise, and removes the owner's
+    nodes that are no longer listed. Call it inside `client.atomic()` so that a client sees one consistent frame.
+    Labels are drawn `label_scale` times their normal size (Large text); change it, then `clear`, to redraw them.
     """
 
-    def __init__(self, scene: viser.SceneApi) -> None:
+    def __init__(self, scene: viser.SceneApi, label_scale: float = 1.0) -> None:
         self.scene = scene
+        self.label_scale = label_scale
         self.drawn: dict[str, tuple[Node, viser.SceneNodeHandle, str]] = {}
 
     def apply(self, nodes: list[Node], owner: str) -> None:
@@ -81,7 +113,12 @@ class SceneApplier:
                 old[1].position = np.asarray(node.position)
                 self.drawn[node.name] = (node, old[1], owner)
                 continue
-            self.drawn[node.name] = (node, add_node(self.scene, node), owner)
+            if old is not None and node.kind == "label" and same_content(old[0], node, ignore=("position", "text")):
+                old[1].text = node.text  # type: ignore[attr-defined]  # a LabelHandle: its text, sent alone
+                old[1].position = np.asarray(node.position)
+                self.drawn[node.name] = (node, old[1], owner)
+                continue
+            self.drawn[node.name] = (node, add_node(self.scene, node, self.label_scale), owner)
 
     def clear(self) -> None:
         """Remove every node drawn."""

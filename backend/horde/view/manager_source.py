@@ -1,8 +1,8 @@
 """The server's runs as the live view sees them: `RunManager` behind the `ViewSource` protocol.
 
 Everything the view reads comes from a run's published `RunView` (an immutable copy) and its
-history buffer, so the view never touches a learner's mutable state; commands go through the run's
-command queue like REST requests do. The agent's trail is sampled from the views the live view
+history buffer, as every reader's; value maps, greedy actions, phase planes and Baird's star are asked of
+the run's worker, and commands go to it like REST requests do. The agent's trail is sampled from the views the live view
 takes (about 30 a second), which is every step when watching and a sample at full speed.
 
 Runs of a world without a plane are drawn as a phase plane of two sensors (`phase_snapshot`): live runs
@@ -21,13 +21,13 @@ from collections.abc import Sequence
 import numpy as np
 
 from horde.runs.errors import NotFoundError, RunError, SpecError
+from horde.runs.evaluations import forget_evaluations
 from horde.runs.manager import RunManager
-from horde.runs.readout import cell_centres, value_map
 from horde.runs.run_view import RunView
 from horde.runs.stream_run import StreamRun, StreamRuns
 from horde.view.source import CommandRefusedError, History, PhaseSnapshot, ViewSnapshot
 from horde.worlds.baird import BAIRD_ID, UPPER
-from horde.worlds.phase_plane import axis_of, phase_plane
+from horde.worlds.phase_plane import Axis
 
 TRAIL_POINTS = 500  # most positions kept of one episode's trail
 HISTORY_ROWS = 400  # most rows of a demon's history sent to the charts
@@ -86,9 +86,10 @@ class ManagerSource:
             view = self._view(run_id)
             self._sample_sensors(view)
             names = tuple(view.spec.world.sensor_names())
-            return names, tuple(view.horde.names), view.total_steps, view.total_steps
+            return names, tuple(view.names), view.total_steps, view.total_steps
         run = self._stream(run_id)
-        return tuple(run.spec.world.sensor_names()), tuple(run.names), run.learner.received, run.learner.learned
+        status = run.status()
+        return tuple(run.spec.world.sensor_names()), tuple(run.names), status.received, status.learned
 
     def _sample_sensors(self, view: RunView) -> np.ndarray:
         """[N, S] the live run's recent sensor readings, the view's own appended once per publication."""
@@ -101,25 +102,38 @@ class ManagerSource:
 
     def _live_phase(self, view: RunView, demon: str | None, x: str | None, y: str | None,
                     resolution: int) -> PhaseSnapshot:  # fmt: skip
-        """A Gymnasium run's phase plane from its published view (its weights frozen there)."""
+        """A Gymnasium run's phase plane, its values read by the run's worker."""
         sensors = tuple(view.spec.world.sensor_names())
-        demon = demon or view.horde.names[0]
+        demon = demon or view.names[0]
         x, y = x or sensors[0], y or sensors[min(1, len(sensors) - 1)]
-        if demon not in view.horde.index:
+        if demon not in view.index:
             raise KeyError(demon)
         try:
-            ax, ay = axis_of(view.horde, x), axis_of(view.horde, y)
-        except ValueError as exc:
+            phase = self.manager.get(view.id).phase(demon, x, y, resolution)
+        except NotFoundError as exc:  # a sensor the world does not have, or a run deleted meanwhile
             raise KeyError(str(exc)) from None
+        except RunError:  # its worker is gone (a failed run) or busy: no values to draw
+            return self._blank_phase(view, demon, x, y, resolution)
         trail = self._sample_sensors(view)
-        held = view.sensors if view.sensors is not None else np.zeros(len(sensors))
-        values = phase_plane(view.horde, view.horde_state, demon, ax, ay, held, resolution)
         columns = [sensors.index(x), sensors.index(y)]
-        prediction = view.horde_state.prediction
-        return PhaseSnapshot(run_id=view.id, sensors=sensors, demons=tuple(view.horde.names),
-                             received=view.total_steps, learned=view.total_steps, demon=demon, x=ax, y=ay,
-                             values=values, trail=trail[:, columns] if len(trail) else np.zeros((0, 2)),
-                             predictions=dict(zip(view.horde.names, prediction.tolist(), strict=True)))  # fmt: skip
+        return PhaseSnapshot(run_id=view.id, sensors=sensors, demons=tuple(view.names),
+                             received=view.total_steps, learned=view.total_steps, demon=demon, x=phase.x, y=phase.y,
+                             values=phase.values, trail=trail[:, columns] if len(trail) else np.zeros((0, 2)),
+                             predictions=dict(zip(view.names, view.prediction.tolist(), strict=True)))  # fmt: skip
+
+    def _blank_phase(self, view: RunView, demon: str, x: str, y: str, resolution: int) -> PhaseSnapshot:
+        """A phase plane without values (the run's worker cannot be asked)."""
+        bounds = view.spec.world.sensor_bounds()
+        axes = []
+        for sensor in (x, y):
+            low, high = bounds.get(sensor, (0.0, 1.0))
+            axes.append(
+                Axis(sensor, float(low) if np.isfinite(low) else 0.0, float(high) if np.isfinite(high) else 1.0)
+            )
+        return PhaseSnapshot(run_id=view.id, sensors=tuple(view.spec.world.sensor_names()), demons=tuple(view.names),
+                             received=view.total_steps, learned=view.total_steps, demon=demon, x=axes[0], y=axes[1],
+                             values=np.full((resolution, resolution), np.nan), trail=np.zeros((0, 2)),
+                             predictions=dict(zip(view.names, view.prediction.tolist(), strict=True)))  # fmt: skip
 
     def star(self, run_id: str, demon: str | None) -> tuple[str, np.ndarray, int, bool] | None:
         """A live run on Baird's star (`horde/Baird-v0`): (the demon shown, its values at the seven states [7],
@@ -130,16 +144,17 @@ class ManagerSource:
         view = self._view(run_id)
         if getattr(view.spec.world, "id", None) != BAIRD_ID:
             return None
-        demon = demon or view.horde.names[0]
-        if demon not in view.horde.index:
+        demon = demon or view.names[0]
+        if demon not in view.index:
             raise KeyError(demon)
-        sensors = np.zeros((UPPER + 1, len(view.spec.world.sensor_names())))  # [7, S]
-        sensors[:, 0] = np.arange(UPPER + 1)  # the `state` sensor
-        zeros = np.zeros(UPPER + 1)
-        values = view.horde.forward(view.horde_state, zeros, zeros, sensors, [demon]).prediction  # [7, D]
+        try:
+            values = self.manager.get(run_id).star(demon)  # [7]
+        except NotFoundError:
+            raise KeyError(run_id) from None
+        except RunError:  # its worker is gone (a failed run) or busy: no values to draw
+            values = np.full(UPPER + 1, np.nan)
         state = int(view.sensors[0]) if view.sensors is not None else 0
-        i = view.horde.index[demon]
-        return demon, values[:, i], state, bool(view.horde_state.diverged[i])
+        return demon, values, state, bool(view.diverged[view.index[demon]])
 
     def _stream(self, run_id: str) -> StreamRun:
         if self.streams is None:
@@ -181,12 +196,12 @@ class ManagerSource:
 
     def snapshot(self, run_id: str, demons: Sequence[str] | None = None) -> ViewSnapshot:
         view = self._view(run_id)
-        names = [n for n in (demons if demons is not None else view.horde.names) if n in view.horde.index]
-        index = [view.horde.index[n] for n in names]
+        names = [n for n in (demons if demons is not None else view.names) if n in view.index]
+        index = [view.index[n] for n in names]
         colors = {}
         regions = view.spec.grid.regions if view.spec.world.kind == "grid" else []
         for slot, region in enumerate(r for r in regions if r.kind == "indicator"):
-            colors[region.name] = (region.colors or [])[int(view.world_state.colors[0, slot])].name  # type: ignore[union-attr]
+            colors[region.name] = (region.colors or [])[view.colors[slot]].name
         return ViewSnapshot(
             run_id=view.id,
             spec=view.spec,
@@ -199,7 +214,7 @@ class ManagerSource:
             episode_return=view.episode_return,
             status=view.status,
             hz=view.hz,
-            predictions={n: float(view.horde_state.prediction[i]) for n, i in zip(names, index, strict=True)},
+            predictions={n: float(view.prediction[i]) for n, i in zip(names, index, strict=True)},
             rupee={n: float(view.rupee[i]) for n, i in zip(names, index, strict=True)},
             indicator_colors=colors,
             history=self._history(run_id, names),
@@ -221,22 +236,28 @@ class ManagerSource:
 
     def value_map(self, run_id: str, demon: str, resolution: int) -> np.ndarray:
         view = self._view(run_id)
-        if demon not in view.horde.index:
+        if demon not in view.index:
             raise KeyError(demon)
-        return value_map(view, demon, resolution).values
+        try:
+            values: np.ndarray = self.manager.get(run_id).value_map(demon, resolution).values
+        except NotFoundError:
+            raise KeyError(run_id) from None
+        except RunError:  # its worker is gone (a failed run) or busy: no values to draw
+            return np.full((resolution, resolution), np.nan)
+        return values
 
     def greedy_actions(self, run_id: str, demon: str, resolution: int) -> np.ndarray | None:
         view = self._view(run_id)
-        if demon not in view.horde.index:
+        if demon not in view.index:
             raise KeyError(demon)
-        if not view.horde.is_control(demon):
+        if not view.control[view.index[demon]]:
             return None
-        world = view.spec.grid
-        gx, gy = np.meshgrid(*cell_centres(world.width, world.height, resolution))  # [N, N] each, rows along y
-        q = view.horde.forward(view.horde_state, gx.ravel(), gy.ravel(), demons=[demon]).q[
-            :, view.horde.index[demon]
-        ]  # [N*N, A]
-        return np.argmax(q, axis=1).reshape(resolution, resolution)
+        try:
+            return self.manager.get(run_id).greedy_actions(demon, resolution)
+        except NotFoundError:
+            raise KeyError(run_id) from None
+        except RunError:
+            return None
 
     def _command(self, run_id: str, name: str, *args: object, **kwargs: object) -> None:
         """Call the run's command; what it refuses (say, play when finished) or cannot save is told back."""
@@ -265,6 +286,8 @@ class ManagerSource:
 
     def reset(self, run_id: str) -> None:
         self._command(run_id, "reset")
+        if self.manager.store is not None:  # fresh weights: the kept evaluations no longer describe them
+            forget_evaluations(self.manager.store, run_id)
 
     def set_hz(self, run_id: str, hz: float | None) -> None:
         self._command(run_id, "patch", set_hz=True, hz=hz)

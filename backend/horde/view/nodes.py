@@ -46,6 +46,9 @@ def _same_value(a: object, b: object) -> bool:
     return a == b
 
 
+FIELDS = tuple(f.name for f in fields(Node))
+
+
 def same_content(a: Node, b: Node, ignore: tuple[str, ...] = ()) -> bool:
     """Whether two nodes draw the same thing (arrays compared by value), apart from `ignore`d fields."""
-    return all(_same_value(getattr(a, f.name), getattr(b, f.name)) for f in fields(Node) if f.name not in ignore)
+    return a is b or all(_same_value(getattr(a, name), getattr(b, name)) for name in FIELDS if name not in ignore)

@@ -34,6 +34,10 @@ SURFACE_BASE = 0.02
 SURFACE_ALPHA = 200  # of 255: the regions show through
 SURFACE_HEIGHT = 0.3 * SCENE_SIZE  # the surface rises this high from the lowest to the highest value
 MAX_ARROWS_PER_SIDE = 16
+LABEL_INSET = 0.1  # scene units between a region's name and the world's lower edge
+PREDICTIONS_GAP = 0.3  # scene units between the world's lower edge and the predictions under it
+PREDICTIONS_TITLE = "at the agent:"
+PREDICTIONS_PER_LINE = 3  # demons on a line of the predictions' label
 
 
 def scene_scale(world: WorldSpec) -> float:
@@ -103,7 +107,13 @@ def world_nodes(world: WorldSpec, indicator_colors: Mapping[str, str]) -> list[N
                 opacity,
             )
         )
-        nodes.append(Node(f"/region_labels/{region.name}", "label", (*centre, height + 0.05), text=region.name))
+        if y0 <= 1e-9:  # at the world's lower edge: the name stands inside, clear of the predictions below
+            label_at, anchor = (centre[0], y0 + LABEL_INSET), "bottom-center"
+        else:
+            label_at, anchor = centre, "center-center"
+        nodes.append(
+            Node(f"/region_labels/{region.name}", "label", (*label_at, height + 0.05), text=region.name, anchor=anchor)
+        )
     return nodes
 
 
@@ -141,7 +151,9 @@ def agent_radius(world: WorldSpec) -> float:
 
 
 def agent_nodes(snapshot: ViewSnapshot, demons: Sequence[str]) -> list[Node]:
-    """The agent, its trail this episode, and a label with the predictions of `demons` beside it."""
+    """The agent, its trail this episode, and a label with the predictions of `demons` at the agent's position,
+    under the world (from its lower left corner down, PREDICTIONS_PER_LINE to a line), so that it never covers
+    a region's name wherever the agent goes, nor hides under the view's panel (on the right) when it opens."""
     world = snapshot.spec.grid
     r = agent_radius(world)
     x, y, _ = to_scene(world, *agent_point(world, snapshot.x, snapshot.y))
@@ -152,9 +164,12 @@ def agent_nodes(snapshot: ViewSnapshot, demons: Sequence[str]) -> list[Node]:
         )  # [N, 3]
         segments = np.stack([points[:-1], points[1:]], axis=1)  # [N-1, 2, 3]
         nodes.append(Node("/trail", "lines", color=colors.TRAIL, size=(TRAIL_WIDTH, 0.0, 0.0), points=segments))
-    lines = [f"{name} {_fmt(snapshot.predictions[name])}" for name in demons if name in snapshot.predictions]
-    if lines:
-        nodes.append(Node("/predictions", "label", (x + r, y + r, 2 * r), text="\n".join(lines), anchor="bottom-left"))
+    entries = [f"{name} {_fmt(snapshot.predictions[name])}" for name in demons if name in snapshot.predictions]
+    if entries:
+        entries[0] = f"{PREDICTIONS_TITLE} {entries[0]}"
+        rows = [entries[k : k + PREDICTIONS_PER_LINE] for k in range(0, len(entries), PREDICTIONS_PER_LINE)]
+        text = "\n".join("  ·  ".join(row) for row in rows)
+        nodes.append(Node("/predictions", "label", (0.0, -PREDICTIONS_GAP, 0.0), text=text, anchor="top-left"))
     return nodes
 
 

@@ -19,16 +19,20 @@ export class ApiError extends Error {
   }
 }
 
-/** Adds `Authorization: Bearer <token>` to requests that change something, when a token is set. */
+/**
+ * Adds `Authorization: Bearer <token>` to every request when a token is set: the changes need it, and
+ * GET /api/me and /api/tokens answer by it (the other reads ignore it).
+ */
 const auth: Middleware = {
   onRequest({ request }) {
     const token = readToken();
-    if (token && request.method !== "GET") request.headers.set("Authorization", `Bearer ${token}`);
+    if (token) request.headers.set("Authorization", `Bearer ${token}`);
     return request;
   },
 };
 
-export const api = createClient<paths>({ baseUrl: "" });
+// The global fetch is looked up at each request, not when the client is made (tests stub it).
+export const api = createClient<paths>({ baseUrl: "", fetch: (request) => globalThis.fetch(request) });
 api.use(auth);
 
 interface Answer<T> {

@@ -44,6 +44,43 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/me": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Who this request acts as (its token's role)
+         * @description 401 for a token that is not this server's or was revoked (the dashboard then drops it).
+         */
+        get: operations["who_am_i_api_me_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/overview": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Every run as a card: owner, status, counters, a sparkline of its first demons */
+        get: operations["overview_api_overview_get"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/protocols": {
         parameters: {
             query?: never;
@@ -115,7 +152,8 @@ export interface paths {
          * Create a run
          * @description The body is a RunSpec, or a template: {scenario, world, seed, ...overrides} (a body with a `scenario` key, or
          *     whose `world` is a string naming a stored world). The run is the first trial of its protocol, seeded as `horde
-         *     run` seeds it. 404: unknown scenario or world; 409: too many runs.
+         *     run` seeds it; it belongs to the requester. The run's worker validates and builds it (a 422 names the field as
+         *     always). 404: unknown scenario or world; 409: too many runs.
          */
         post: operations["create_run_api_runs_post"];
         delete?: never;
@@ -135,8 +173,8 @@ export interface paths {
         put?: never;
         /**
          * Import a snapshot as a new run
-         * @description The new run continues exactly where the snapshot was taken (paused, or finished). 422 when the arrays do not fit
-         *     the spec; 409 when the server holds as many runs as it allows.
+         * @description The new run continues exactly where the snapshot was taken (paused, or finished); it belongs to the
+         *     requester. 422 when the arrays do not fit the spec; 409 when the server holds as many runs as it allows.
          */
         post: operations["import_snapshot_api_runs_import_post"];
         delete?: never;
@@ -236,7 +274,8 @@ export interface paths {
         };
         /**
          * A demon's prediction over the world
-         * @description The prediction at the centres of a resolution x resolution grid, with the current weights.
+         * @description The prediction at the centres of a resolution x resolution grid, with the current weights (read by the run's
+         *     worker). 409 when the run's worker is gone.
          */
         get: operations["get_values_api_runs__run_id__demons__name__values_get"];
         put?: never;
@@ -264,9 +303,26 @@ export interface paths {
          *     given on a world without points, or the demon's question cannot be rolled out there, or when the rollouts do
          *     not finish within HORDE_EVALUATION_SECONDS (at `episodes`: ask for fewer, or a smaller `cap`); 429 when two
          *     evaluations are running already. A client that hangs up ends its evaluation (the grid's rollouts stop at
-         *     their next chunk).
+         *     their next chunk). The answer is kept with the run (the latest of each demon; a reset drops them).
          */
         post: operations["evaluate_api_runs__run_id__evaluate_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/runs/{run_id}/evaluations": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** The run's kept evaluations, the latest of each demon */
+        get: operations["evaluations_api_runs__run_id__evaluations_get"];
+        put?: never;
+        post?: never;
         delete?: never;
         options?: never;
         head?: never;
@@ -338,7 +394,8 @@ export interface paths {
         put?: never;
         /**
          * Reset a run to its first step
-         * @description Fresh weights and generator, the current demons; the status becomes created.
+         * @description Fresh weights and generator, the current demons; the status becomes created. The run's kept evaluations
+         *     are dropped (they described the old weights).
          */
         post: operations["reset_run_api_runs__run_id__reset_post"];
         delete?: never;
@@ -354,7 +411,11 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** Export a run: weights, traces, generator state, counters, world state */
+        /**
+         * Export a run: weights, traces, generator state, counters, world state
+         * @description The run's worker writes the document (its weights never cross into the server as objects). 409 when the
+         *     run's worker is gone (a run that failed because its worker died).
+         */
         get: operations["export_snapshot_api_runs__run_id__snapshot_get"];
         put?: never;
         post?: never;
@@ -680,6 +741,53 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/tokens": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * The tokens in use (the teacher's)
+         * @description Their ids, names and roles, never their secrets. 401 without a token, 403 for a student's or viewer's.
+         */
+        get: operations["list_tokens_api_tokens_get"];
+        put?: never;
+        /**
+         * Issue a token for a student or a viewer (the teacher's)
+         * @description 403 unless the requester holds HORDE_TOKEN; 409 on a server without HORDE_TOKEN, or when a token of that
+         *     name was issued before (a name names one holder, as the owner of what they make, even once revoked); 422 for
+         *     an unknown role or a name that is empty, too long or 'teacher'.
+         */
+        post: operations["issue_token_api_tokens_post"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/tokens/{token_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        post?: never;
+        /**
+         * Revoke a token (the teacher's)
+         * @description Its holder is refused from now on (401), on the API, its WebSockets and the live view; what they made
+         *     stays, under their name. 404 for an unknown or already revoked token.
+         */
+        delete: operations["revoke_token_api_tokens__token_id__delete"];
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/view": {
         parameters: {
             query?: never;
@@ -687,10 +795,10 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** Whether and where the live view listens */
+        /** Whether and where the live view listens (for one dashboard tab, with `viewer`) */
         get: operations["get_view_api_view_get"];
         put?: never;
-        /** Show a run in the live view (every connected browser) */
+        /** Show a run in one dashboard tab's live view */
         post: operations["show_run_api_view_post"];
         delete?: never;
         options?: never;
@@ -1557,6 +1665,30 @@ export interface components {
             max: (number | components["schemas"]["SensorExpr"] | components["schemas"]["PredictionExpr"] | components["schemas"]["AddExpr-Output"] | components["schemas"]["MulExpr-Output"] | components["schemas"]["MinExpr-Output"] | components["schemas"]["MaxExpr-Output"] | components["schemas"]["IfExpr-Output"])[];
         };
         /**
+         * MeOut
+         * @description Who the request acts as, so that the dashboard shows only the controls that role may use.
+         */
+        MeOut: {
+            /**
+             * Id
+             * @description the token's id ('teacher' for HORDE_TOKEN's holder), null when anonymous
+             */
+            id: string | null;
+            /** Name */
+            name: string | null;
+            /**
+             * Role
+             * @description anonymous: no token on a server with HORDE_TOKEN (reads only)
+             * @enum {string}
+             */
+            role: "teacher" | "student" | "viewer" | "anonymous";
+            /**
+             * Tokens
+             * @description whether the server has roles (HORDE_TOKEN is set); without, all are teacher
+             */
+            tokens: boolean;
+        };
+        /**
          * MeasureSpec
          * @description What each run measures, at `checkpoints` evenly spaced points of its training (and before it).
          */
@@ -1715,6 +1847,11 @@ export interface components {
             max_steps: number;
             /** Name */
             name: string | null;
+            /**
+             * Owner
+             * @description who started it: 'teacher', or the name of the student's token
+             */
+            owner: string;
             /** Results */
             results: components["schemas"]["DemonResultOut"][] | null;
             /** Rollouts */
@@ -1849,6 +1986,11 @@ export interface components {
             /** Name */
             name: string | null;
             /**
+             * Owner
+             * @description who created it: 'teacher', or the name of the student's token
+             */
+            owner: string;
+            /**
              * Status
              * @enum {string}
              */
@@ -1857,6 +1999,37 @@ export interface components {
              * Step
              * @description steps taken in all
              */
+            step: number;
+            /**
+             * Updated At
+             * Format: date-time
+             */
+            updated_at: string;
+            worker: components["schemas"]["WorkerOut"];
+        };
+        /**
+         * RunCardOut
+         * @description A run as the Class tab's card shows it.
+         */
+        RunCardOut: {
+            /** Episode */
+            episode: number;
+            /** Id */
+            id: string;
+            /**
+             * Name
+             * @description the run spec's name (its scenario's, unless renamed)
+             */
+            name: string | null;
+            /** Owner */
+            owner: string;
+            sparkline: components["schemas"]["SparklineOut"];
+            /**
+             * Status
+             * @enum {string}
+             */
+            status: "created" | "running" | "paused" | "finished" | "failed";
+            /** Step */
             step: number;
             /**
              * Updated At
@@ -1887,6 +2060,11 @@ export interface components {
             message: string;
             /** Name */
             name: string | null;
+            /**
+             * Owner
+             * @description who created it: 'teacher', or the name of the student's token
+             */
+            owner: string;
             spec: components["schemas"]["RunSpec-Output"];
             /**
              * Status
@@ -1904,6 +2082,7 @@ export interface components {
              * Format: date-time
              */
             updated_at: string;
+            worker: components["schemas"]["WorkerOut"];
         };
         /**
          * RunPatchIn
@@ -2203,6 +2382,21 @@ export interface components {
             };
         };
         /**
+         * SparklineOut
+         * @description A run's first demons' predictions over its recent history, thinned to a few dozen points.
+         */
+        SparklineOut: {
+            /**
+             * Series
+             * @description demon name -> prediction at each of `steps`
+             */
+            series: {
+                [key: string]: (number | null)[];
+            };
+            /** Steps */
+            steps: number[];
+        };
+        /**
          * StateOut
          * @description The live state of a run; also the message of its WebSocket stream.
          */
@@ -2291,10 +2485,10 @@ export interface components {
         };
         /**
          * StreamClose
-         * @description How the server closes a WebSocket stream: 1000 NORMAL: the stream is over (a study stopped); 1001 GOING_AWAY: the server is stopping; 1008 ORIGIN_REFUSED: a page of another site may not open the stream; 1013 TOO_SLOW: the client fell too far behind, or a send timed out ('try again later'); 4401 UNAUTHORIZED: the server requires its HORDE_TOKEN (pushing records to a stream run); 4404 NOT_FOUND: no such run (or study, or stream run); 4410 RUN_DELETED: the run (or stream run) was deleted while streamed
+         * @description How the server closes a WebSocket stream: 1000 NORMAL: the stream is over (a study stopped); 1001 GOING_AWAY: the server is stopping; 1008 ORIGIN_REFUSED: a page of another site may not open the stream; 1013 TOO_SLOW: the client fell too far behind, or a send timed out ('try again later'); 4401 UNAUTHORIZED: the server requires a token (pushing records to a stream run), or the token given is not the server's or was revoked; 4403 FORBIDDEN: the token's role may not do this (a viewer's, or a student's on another's stream run); 4404 NOT_FOUND: no such run (or study, or stream run); 4410 RUN_DELETED: the run (or stream run) was deleted while streamed
          * @enum {integer}
          */
-        StreamClose: 1000 | 1001 | 1008 | 1013 | 4401 | 4404 | 4410;
+        StreamClose: 1000 | 1001 | 1008 | 1013 | 4401 | 4403 | 4404 | 4410;
         /** StreamHistoryOut */
         StreamHistoryOut: {
             /**
@@ -2343,6 +2537,11 @@ export interface components {
              * @default
              */
             name: string;
+            /**
+             * Owner
+             * @description who started it: 'teacher', or the name of the student's token
+             */
+            owner: string;
             /**
              * Predictions
              * @description each demon's prediction at the last observation
@@ -2556,6 +2755,11 @@ export interface components {
             /** Name */
             name: string | null;
             /**
+             * Owner
+             * @description who started it: 'teacher', or the name of the student's token
+             */
+            owner: string;
+            /**
              * Runs
              * @description runs per configuration
              */
@@ -2613,6 +2817,11 @@ export interface components {
             message: string;
             /** Name */
             name: string | null;
+            /**
+             * Owner
+             * @description who started it: 'teacher', or the name of the student's token
+             */
+            owner: string;
             /** Results */
             results: components["schemas"]["StudyConfigOut"][];
             /**
@@ -2760,6 +2969,73 @@ export interface components {
              */
             sensor: string;
         };
+        /**
+         * TokenIn
+         * @description A token to issue (POST /api/tokens, the teacher's).
+         */
+        TokenIn: {
+            /**
+             * Name
+             * @description who holds it (a student's name): shown as the owner of what they make
+             */
+            name: string;
+            /**
+             * Role
+             * @description student: creates runs, worlds, studies and changes only those; viewer: changes nothing
+             * @enum {string}
+             */
+            role: "student" | "viewer";
+        };
+        /** TokenIssuedOut */
+        TokenIssuedOut: {
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /**
+             * Id
+             * @description the token's id (DELETE /api/tokens/{id} revokes it); never the secret
+             */
+            id: string;
+            /**
+             * Link
+             * @description an invitation: the dashboard's address carrying the token (?token=...)
+             */
+            link: string;
+            /** Name */
+            name: string;
+            /**
+             * Role
+             * @enum {string}
+             */
+            role: "student" | "viewer";
+            /**
+             * Token
+             * @description the secret, shown this once (the server keeps only its SHA-256)
+             */
+            token: string;
+        };
+        /** TokenOut */
+        TokenOut: {
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /**
+             * Id
+             * @description the token's id (DELETE /api/tokens/{id} revokes it); never the secret
+             */
+            id: string;
+            /** Name */
+            name: string;
+            /**
+             * Role
+             * @enum {string}
+             */
+            role: "student" | "viewer";
+        };
         /** ValidationError */
         ValidationError: {
             /** Context */
@@ -2805,31 +3081,77 @@ export interface components {
              */
             demons?: string[] | null;
             /**
+             * Large
+             * @description Large text: the view's labels and panel larger (for a projector); null: unchanged
+             */
+            large?: boolean | null;
+            /**
              * Run
-             * @description the run the live view should show
+             * @description the run the tab's live view should show
              */
             run: string;
+            /**
+             * Viewer
+             * @description a dashboard tab's own random key (8 to 64 letters, digits, - or _): the browsers that opened the view at GET /api/view?viewer=<key>'s url follow this tab's choice, no others
+             */
+            viewer: string;
         };
         /**
          * ViewOut
-         * @description Whether the viser live view runs, where it listens, and which run it shows.
+         * @description Whether the viser live view runs, where it listens, and which run it shows one dashboard tab.
          */
         ViewOut: {
+            /**
+             * Browsers
+             * @description browsers connected to the live view now, each with its own view
+             * @default 0
+             */
+            browsers: number;
             /**
              * Enabled
              * @description false when the server runs without the live view (`horde serve --no-view`)
              */
             enabled: boolean;
             /**
+             * Frame Rate
+             * @description frames drawn a second over the last 5 s (a frame draws every browser's view)
+             * @default 0
+             */
+            frame_rate: number;
+            /**
              * Run
-             * @description the run it shows now, if any
+             * @description the run shown to the browsers of `viewer`, if it chose one
              */
             run: string | null;
             /**
              * Url
-             * @description the viser client's address (embed it in an iframe or open it)
+             * @description the viser client's address (embed it in an iframe or open it); with `viewer`, the address whose browsers follow that tab's choice
              */
             url: string | null;
+        };
+        /**
+         * WorkerOut
+         * @description Where a run learns: a process of the server's machine, or a Ray actor on a node of its cluster.
+         */
+        WorkerOut: {
+            /** Alive */
+            alive: boolean;
+            /**
+             * Kind
+             * @description none: the run has no worker (its worker died)
+             * @enum {string}
+             */
+            kind: "process" | "ray" | "none";
+            /**
+             * Node
+             * @description the Ray node the worker runs on (null for a process of this machine)
+             */
+            node: string | null;
+            /**
+             * Pid
+             * @description the worker's process id, on its node
+             */
+            pid: number | null;
         };
         /**
          * WorldCreate
@@ -2892,6 +3214,11 @@ export interface components {
             created_at: string;
             /** Name */
             name: string;
+            /**
+             * Owner
+             * @description who stored it: 'teacher', or the name of the student's token
+             */
+            owner: string;
             /**
              * Updated At
              * Format: date-time
@@ -3000,6 +3327,55 @@ export interface operations {
             };
         };
     };
+    who_am_i_api_me_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["MeOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+        };
+    };
+    overview_api_overview_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RunCardOut"][];
+                };
+            };
+        };
+    };
     list_protocols_api_protocols_get: {
         parameters: {
             query?: never;
@@ -3051,8 +3427,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3160,8 +3545,17 @@ export interface operations {
                     "application/json": components["schemas"]["ProtocolOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3298,8 +3692,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3385,8 +3788,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3492,8 +3904,17 @@ export interface operations {
                 };
                 content?: never;
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3564,8 +3985,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3686,8 +4116,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3806,8 +4245,17 @@ export interface operations {
                 };
                 content?: never;
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -3933,6 +4381,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
             /** @description Validation Error */
             422: {
                 headers: {
@@ -3978,8 +4435,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4021,6 +4487,47 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+        };
+    };
+    evaluations_api_runs__run_id__evaluations_get: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the run's id */
+                run_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["EvaluationOut"][];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
         };
@@ -4133,8 +4640,17 @@ export interface operations {
                     "application/json": components["schemas"]["RunOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4201,8 +4717,17 @@ export interface operations {
                     "application/json": components["schemas"]["RunOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4269,6 +4794,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
             /** @description Validation Error */
             422: {
                 headers: {
@@ -4301,8 +4835,17 @@ export interface operations {
                     "application/json": components["schemas"]["RunOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4423,8 +4966,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4599,8 +5151,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4668,8 +5229,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4766,8 +5336,17 @@ export interface operations {
                 };
                 content?: never;
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4825,6 +5404,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
             /** @description Validation Error */
             422: {
                 headers: {
@@ -4866,6 +5454,15 @@ export interface operations {
             };
             /** @description Unknown run, demon, world or scenario */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4921,6 +5518,15 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
             /** @description Validation Error */
             422: {
                 headers: {
@@ -4966,8 +5572,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -4977,6 +5592,15 @@ export interface operations {
             };
             /** @description Unknown run, demon, world or scenario */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5027,6 +5651,15 @@ export interface operations {
             };
             /** @description Unknown run, demon, world or scenario */
             404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5096,8 +5729,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5205,8 +5847,17 @@ export interface operations {
                     "application/json": components["schemas"]["StudyOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5300,8 +5951,17 @@ export interface operations {
                     "application/json": components["schemas"]["StudyOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5347,7 +6007,7 @@ export interface operations {
             };
         };
     };
-    get_view_api_view_get: {
+    list_tokens_api_tokens_get: {
         parameters: {
             query?: never;
             header?: never;
@@ -5362,7 +6022,211 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
+                    "application/json": components["schemas"]["TokenOut"][];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+        };
+    };
+    issue_token_api_tokens_post: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["TokenIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["TokenIssuedOut"];
+                };
+            };
+            /** @description The body cannot be parsed (not JSON, not UTF-8) */
+            400: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The body is larger than the server accepts (HORDE_MAX_BODY) */
+            413: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    revoke_token_api_tokens__token_id__delete: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /** @description the token's id */
+                token_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["TokenOut"];
+                };
+            };
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
+            401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Unknown run, demon, world or scenario */
+            404: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The resource's state forbids this request */
+            409: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    get_view_api_view_get: {
+        parameters: {
+            query?: {
+                viewer?: string | null;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
                     "application/json": components["schemas"]["ViewOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
         };
@@ -5398,7 +6262,7 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
                 headers: {
                     [name: string]: unknown;
@@ -5496,8 +6360,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5627,8 +6500,17 @@ export interface operations {
                     "application/json": components["schemas"]["ErrorOut"];
                 };
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };
@@ -5693,8 +6575,17 @@ export interface operations {
                 };
                 content?: never;
             };
-            /** @description HORDE_TOKEN is set and the bearer token is missing or wrong */
+            /** @description HORDE_TOKEN is set and the bearer token is missing, not this server's, or revoked */
             401: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ErrorOut"];
+                };
+            };
+            /** @description The token's role may not do this: a viewer changes nothing; a student changes only what they created (the detail names the owner); only the teacher manages tokens */
+            403: {
                 headers: {
                     [name: string]: unknown;
                 };

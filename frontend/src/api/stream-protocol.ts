@@ -13,8 +13,10 @@ export const StreamClose = {
   ORIGIN_REFUSED: 1008,
   /** the client fell too far behind, or a send timed out ('try again later') */
   TOO_SLOW: 1013,
-  /** the server requires its HORDE_TOKEN (pushing records to a stream run) */
+  /** the server requires a token (pushing records to a stream run), or the token given is not the server's or was revoked */
   UNAUTHORIZED: 4401,
+  /** the token's role may not do this (a viewer's, or a student's on another's stream run) */
+  FORBIDDEN: 4403,
   /** no such run (or study, or stream run) */
   NOT_FOUND: 4404,
   /** the run (or stream run) was deleted while streamed */

@@ -58,3 +58,12 @@ export type Band = Schemas["BandOut"];
 export type StreamRun = Schemas["StreamOut"];
 /** The strip chart's data: recent sensors, predictions made at the time, realised returns computed afterwards. */
 export type StreamHistory = Schemas["StreamHistoryOut"];
+/** Who the dashboard acts as (GET /api/me): its token's role, or anonymous (no token on a server with roles). */
+export type Me = Schemas["MeOut"];
+export type Role = Me["role"];
+/** A student's or viewer's token, as the teacher's Class panel lists it (never its secret). */
+export type Token = Schemas["TokenOut"];
+/** A token just issued: its secret and an invitation link carrying it, shown once. */
+export type TokenIssued = Schemas["TokenIssuedOut"];
+/** A run as the Class tab's card shows it (GET /api/overview). */
+export type RunCard = Schemas["RunCardOut"];

@@ -1,10 +1,10 @@
 /**
  * The learners a demon can choose, as the server's registry declares them (GET /api/learners: each
- * learner module of the engine registers its name, one-line explanation, parameters and needs), and the
- * step-size modes with their explanations (README "Learners and step sizes"). Which combinations are
- * defined stays the server's to say (a 422 names the field and the papers).
+ * learner module of the engine registers its name, one-line explanation, parameters and needs; the
+ * query cache holds them, `reads.learners`), and the step-size modes with their explanations (README
+ * "Learners and step sizes"). Which combinations are defined stays the server's to say (a 422 names
+ * the field and the papers).
  */
-import { api, unwrap } from "../api/client";
 import type { components } from "../api/schema";
 import type { DemonSpec } from "../api/types";
 
@@ -17,16 +17,9 @@ export const STEP_SIZE_TEXT: Record<StepSize, string> = {
   tidbd: "tidbd (TD only): per-weight, tuned online by meta-descent",
 };
 
-let declared: Promise<LearnerInfo[]> | undefined;
-
-/** The registry's learners, asked for once. */
-export function learners(): Promise<LearnerInfo[]> {
-  declared ??= unwrap(api.GET("/api/learners"));
-  return declared;
-}
-
-/** [value, label] pairs of the registry's learners, for a select. */
+/** [value, label] pairs of the registry's learners, for a select ("gq" alone until they arrive). */
 export function learnerChoices(infos: readonly LearnerInfo[]): (readonly [string, string])[] {
+  if (infos.length === 0) return [["gq", "gq"]];
   return infos.map((info) => [info.name, `${info.name}: ${info.text}`] as const);
 }
 

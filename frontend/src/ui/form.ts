@@ -1,104 +1,105 @@
 /**
- * Labelled form fields and the errors of a form: each field registers under the dotted path of the
- * request field it edits, so that a 422's problems appear next to the field they concern.
+ * Labelled form fields (lit-html templates) and the errors of a form: each field stands under the
+ * dotted path of the request field it edits, so that a 422's problems appear next to the field they
+ * concern. Validation stays on the server; a form only shows what it says.
+ *
+ * Either the inputs keep what is typed (it stays in them between renders): the form reads them through
+ * lit-html refs and writes them only when it fills itself (a scenario chosen); or the form keeps it in its
+ * own state (`bound`), where it fills, copies and re-indexes (the demon editor, the world's regions).
  */
+import { type TemplateResult, html, noChange, nothing } from "lit-html";
+import { live } from "lit-html/directives/live.js";
+import { ifDefined } from "lit-html/directives/if-defined.js";
+import { type Ref, ref } from "lit-html/directives/ref.js";
 import type { ValidationProblem } from "../api/types";
-import { type Term, tip } from "../lib/glossary";
 import { placeProblems } from "../lib/field-errors";
+import { type Term, tip } from "../lib/glossary";
 import { InputError } from "../lib/input-error";
-import { h, replaceChildren, uid } from "./dom";
-
-type Control = HTMLInputElement | HTMLSelectElement | HTMLTextAreaElement;
-
-interface Slot {
-  control: Control | null;
-  message: HTMLElement;
-}
+import { uid } from "./html";
 
 const MAX_MESSAGES = 3;
 
+/** The messages a form shows, by field path, and the one for the form as a whole. */
 export class FormErrors {
-  private readonly slots = new Map<string, Slot>();
-  /** Messages that concern the form as a whole; announced to screen readers. */
-  readonly general = h("div", { class: "form-error", role: "alert", hidden: true });
+  /** The prefix of the ids of the form's fields (unique in the document). */
+  readonly id = uid("form");
+  private readonly messages = new Map<string, string[]>();
+  private generalMessage = "";
 
-  /** Register a field (or a group of fields) under `path`; returns its message element. */
-  register(
-    path: string,
-    control: Control | null,
-    message = h("p", { class: "field-error", id: uid("error") }),
-  ): HTMLElement {
-    message.hidden = true;
-    const slot = { control, message };
-    this.slots.set(path, slot);
-    if (control) {
-      control.setAttribute(
-        "aria-describedby",
-        [control.getAttribute("aria-describedby"), message.id].filter(Boolean).join(" "),
-      );
-      // A message about a value goes as soon as the value changes: it may be fixed now, and the next
-      // submission says again if not.
-      // Groups above it ("policy" above "policy.kind") speak of the value as a whole: they go too.
-      const clearPath = () => this.clearField(path);
-      control.addEventListener("input", clearPath);
-      control.addEventListener("change", clearPath);
-    }
-    return message;
+  /**
+   * `root` is the form's element (its fields say which paths they stand for); `changed` draws the form
+   * again when a message comes or goes.
+   */
+  constructor(
+    private readonly root: Element,
+    private readonly changed: () => void,
+  ) {}
+
+  /** The messages at the field (or group of fields) `path`. */
+  at(path: string): readonly string[] {
+    return this.messages.get(path) ?? [];
   }
 
-  /** Clear the messages of the field registered under `path` and of the groups that hold it. */
+  /** The message about the form as a whole ("" for none). */
+  get general(): string {
+    return this.generalMessage;
+  }
+
+  /** Clear the messages of the field under `path` and of the groups that hold it (its value changed). */
   clearField(path: string): void {
     const parts = path.split(".");
-    for (let length = parts.length; length > 0; length--) {
-      const slot = this.slots.get(parts.slice(0, length).join("."));
-      if (slot) this.clearSlot(slot);
-    }
+    let cleared = false;
+    for (let length = parts.length; length > 0; length--)
+      cleared = this.messages.delete(parts.slice(0, length).join(".")) || cleared;
+    if (cleared) this.changed();
   }
 
-  private clearSlot(slot: Slot): void {
-    if (slot.message.hidden) return;
-    slot.message.hidden = true;
-    slot.message.textContent = "";
-    slot.control?.removeAttribute("aria-invalid");
+  /** Forget the messages of the fields under `prefix` (the regions were re-indexed). */
+  forget(prefix: string): void {
+    const under = [...this.messages.keys()].filter((path) => path.startsWith(`${prefix}.`));
+    for (const path of under) this.messages.delete(path);
+    if (under.length > 0) this.changed();
   }
 
-  /** Forget the fields under `prefix` (a removed region). */
-  unregister(prefix: string): void {
-    for (const path of [...this.slots.keys()]) {
-      if (path === prefix || path.startsWith(`${prefix}.`)) this.slots.delete(path);
-    }
-  }
+  /**
+   * For the form's `@input` and `@change`: a message about a value goes as soon as the value changes (it
+   * may be fixed now, and the next submission says again if not).
+   */
+  readonly onInput = (event: Event): void => {
+    const control = (event.target as Element | null)?.closest<HTMLElement>("[data-path]");
+    if (control?.dataset.path) this.clearField(control.dataset.path);
+  };
 
   clear(): void {
-    for (const slot of this.slots.values()) this.clearSlot(slot);
-    this.general.hidden = true;
-    this.general.textContent = "";
+    if (this.messages.size === 0 && this.generalMessage === "") return;
+    this.messages.clear();
+    this.generalMessage = "";
+    this.changed();
   }
 
   /** Show a 422's problems at their fields; the first field in error receives the focus. */
   showProblems(problems: readonly ValidationProblem[]): void {
-    this.clear();
-    const placed = placeProblems(problems, this.slots.keys());
-    let first: Control | null = null;
-    for (const [path, messages] of placed.byField) {
-      const slot = this.slots.get(path);
-      if (!slot) continue;
-      this.showAt(slot, messages);
-      first ??= slot.control;
-    }
-    if (placed.general.length > 0) this.showGeneral(placed.general.join(" · "));
-    first?.focus();
+    this.messages.clear();
+    const paths = [...this.root.querySelectorAll<HTMLElement>("[data-error-path]")].map((e) => e.dataset.errorPath);
+    const placed = placeProblems(
+      problems,
+      paths.filter((p): p is string => p !== undefined),
+    );
+    for (const [path, messages] of placed.byField) this.messages.set(path, messages);
+    this.generalMessage = placed.general.join(" · ");
+    this.changed();
+    this.focus([...placed.byField.keys()]);
   }
 
   /** Show one message at one field (a client-side problem, e.g. JSON that does not parse). */
   showField(path: string, message: string): void {
-    const slot = this.slots.get(path);
-    if (!slot) {
+    if (this.root.querySelector(`[data-error-path="${CSS.escape(path)}"]`) === null) {
       this.showGeneral(message);
       return;
     }
-    this.showAt(slot, [message]);
-    slot.control?.focus();
+    this.messages.set(path, [message]);
+    this.changed();
+    this.focus([path]);
   }
 
   /**
@@ -116,79 +117,235 @@ export class FormErrors {
   }
 
   showGeneral(message: string): void {
-    this.general.hidden = false;
-    this.general.textContent = message;
+    this.generalMessage = message;
+    this.changed();
   }
 
-  private showAt(slot: Slot, messages: string[]): void {
-    const shown = messages.slice(0, MAX_MESSAGES);
-    const more = messages.length - shown.length;
-    replaceChildren(slot.message, shown.join(" · "), more > 0 ? ` (+${more} more)` : "");
-    slot.message.hidden = false;
-    slot.control?.setAttribute("aria-invalid", "true");
+  /** Give the focus to the control of the first of `paths` that has one. */
+  private focus(paths: readonly string[]): void {
+    for (const path of paths) {
+      const control = this.root.querySelector<HTMLElement>(`[data-path="${CSS.escape(path)}"]`);
+      if (control) {
+        control.focus();
+        return;
+      }
+    }
   }
 }
 
+/** The text of a field's messages: the first few, and how many more. */
+function messageText(messages: readonly string[]): string {
+  const shown = messages.slice(0, MAX_MESSAGES);
+  const more = messages.length - shown.length;
+  return shown.join(" · ") + (more > 0 ? ` (+${more} more)` : "");
+}
+
+/** The place of the messages about a field or a group of fields (`path`), hidden while there are none. */
+export function errorSlot(errors: FormErrors, path: string, id?: string): TemplateResult {
+  const messages = errors.at(path);
+  return html`<p class="field-error" id=${ifDefined(id)} data-error-path=${path} ?hidden=${messages.length === 0}>
+    ${messageText(messages)}
+  </p>`;
+}
+
+/** The form's message as a whole, announced to screen readers. */
+export function generalError(errors: FormErrors): TemplateResult {
+  return html`<div class="form-error" role="alert" ?hidden=${errors.general === ""}>${errors.general}</div>`;
+}
+
 export interface FieldOptions {
-  /** the request field it edits, e.g. "policy.temperature"; registers it with `errors` */
+  label: string;
+  /** the request field it edits, e.g. "policy.temperature": its 422s appear at it (with `errors`) */
   path?: string;
   errors?: FormErrors;
   hint?: string;
   class?: string;
   /** a word of the Horde papers: the label explains it in its tooltip */
   term?: Term;
+  /** the control's id (needed without `errors` and `path`, which make one) */
+  id?: string;
+  hidden?: boolean;
+}
+
+/** What a field gives its control: its id, what describes it (hint, message), whether it is in error. */
+export interface Control {
+  id: string;
+  describedBy: string | undefined;
+  invalid: "true" | undefined;
+  /** the path it edits (`data-path`): typing in it clears its messages, a 422 gives it the focus */
+  path: string | undefined;
 }
 
 /** A label, its control, an optional hint and the place for the field's error message. */
-export function field(label: string, control: Control, opts: FieldOptions = {}): HTMLElement {
-  control.id ||= uid("field");
-  const hint = opts.hint ? h("p", { class: "hint", id: uid("hint") }, opts.hint) : null;
-  if (hint) control.setAttribute("aria-describedby", hint.id);
-  const message = opts.path && opts.errors ? opts.errors.register(opts.path, control) : null;
-  return h(
-    "div",
-    { class: `field ${opts.class ?? ""}` },
-    termLabel(label, control.id, opts.term),
-    control,
-    hint,
-    message,
-  );
+export function field(o: FieldOptions, control: (c: Control) => unknown): TemplateResult {
+  const id = o.id ?? (o.errors && o.path !== undefined ? `${o.errors.id}-${o.path}` : undefined);
+  if (id === undefined) throw new Error(`field ${o.label}: give it an id, or errors and a path`);
+  const hintId = o.hint ? `${id}-hint` : undefined;
+  const errorId = o.errors && o.path !== undefined ? `${id}-error` : undefined;
+  const invalid = errorId !== undefined && o.errors !== undefined && o.errors.at(o.path ?? "").length > 0;
+  const c: Control = {
+    id,
+    describedBy: [hintId, errorId].filter(Boolean).join(" ") || undefined,
+    invalid: invalid ? "true" : undefined,
+    path: errorId !== undefined ? o.path : undefined,
+  };
+  return html`<div class="field ${o.class ?? ""}" ?hidden=${o.hidden ?? false}>
+    ${termLabel(o.label, id, o.term)} ${control(c)}
+    ${hintId ? html`<p class="hint" id=${hintId}>${o.hint}</p>` : nothing}
+    ${errorId && o.errors && o.path !== undefined ? errorSlot(o.errors, o.path, errorId) : nothing}
+  </div>`;
 }
 
 /** A label; given a term, dotted and explained in its tooltip. */
-export function termLabel(label: string, forId: string, term?: Term): HTMLLabelElement {
+export function termLabel(label: string, forId: string, term?: Term): TemplateResult {
   return term
-    ? h("label", { for: forId, title: tip(term) }, h("span", { class: "term" }, label))
-    : h("label", { for: forId }, label);
+    ? html`<label for=${forId} title=${tip(term)}><span class="term">${label}</span></label>`
+    : html`<label for=${forId}>${label}</label>`;
 }
 
-/** A checkbox with its label after it. */
-export function checkbox(label: string, input: HTMLInputElement): HTMLElement {
-  input.type = "checkbox";
-  input.id ||= uid("check");
-  return h("div", { class: "field checkbox" }, input, h("label", { for: input.id }, label));
-}
-
-/**
- * The one entry of a list with nothing to choose yet: the catalogue is still on its way, or the server
- * has none. Its value is empty, so a form that launches from the list waits (its button is disabled).
- */
-export function nothingToChoose(loaded: boolean, what: string): HTMLOptionElement {
-  return h(
-    "option",
-    { value: "", disabled: true, selected: true },
-    loaded ? `no ${what} on the server` : `loading the ${what}…`,
-  );
+export interface InputOptions<E extends Element = HTMLInputElement> {
+  name?: string;
+  ref?: Ref<E>;
+  /** the value it starts with (later values are written through the ref) */
+  value?: string | number | null;
+  /** or the value it shows at every render (a form that keeps what is typed in its own state) */
+  current?: string;
+  placeholder?: string;
+  /** `data-field`, which the browser tests find it by */
+  field?: string;
+  /** a <datalist> of suggestions */
+  list?: string;
+  onInput?: (event: Event) => void;
+  onChange?: (event: Event) => void;
 }
 
 /**
  * A number input that never blocks submission: no min/max/step checks in the browser, since the
  * server's 422 names the field and says why.
  */
-export function numberInput(value: number | null | undefined, props: Record<string, unknown> = {}): HTMLInputElement {
-  return h("input", { type: "number", step: "any", inputmode: "decimal", value: value ?? "", ...props });
+export function numberInput(c: Control, o: InputOptions): TemplateResult {
+  return html`<input
+    type="number"
+    step="any"
+    inputmode="decimal"
+    id=${c.id}
+    name=${ifDefined(o.name)}
+    value=${o.value ?? ""}
+    placeholder=${ifDefined(o.placeholder)}
+    aria-describedby=${ifDefined(c.describedBy)}
+    aria-invalid=${ifDefined(c.invalid)}
+    data-path=${ifDefined(c.path)}
+    data-field=${ifDefined(o.field)}
+    .value=${o.current === undefined ? noChange : live(o.current)}
+    @input=${o.onInput}
+    @change=${o.onChange}
+    ${ref(o.ref)}
+  />`;
 }
 
-export function textInput(value: string | null | undefined, props: Record<string, unknown> = {}): HTMLInputElement {
-  return h("input", { type: "text", value: value ?? "", autocomplete: "off", spellcheck: "false", ...props });
+export function textInput(c: Control, o: InputOptions): TemplateResult {
+  return html`<input
+    type="text"
+    autocomplete="off"
+    spellcheck="false"
+    id=${c.id}
+    name=${ifDefined(o.name)}
+    value=${o.value ?? ""}
+    placeholder=${ifDefined(o.placeholder)}
+    list=${ifDefined(o.list)}
+    aria-describedby=${ifDefined(c.describedBy)}
+    aria-invalid=${ifDefined(c.invalid)}
+    data-path=${ifDefined(c.path)}
+    data-field=${ifDefined(o.field)}
+    .value=${o.current === undefined ? noChange : live(o.current)}
+    @input=${o.onInput}
+    @change=${o.onChange}
+    ${ref(o.ref)}
+  />`;
+}
+
+/** A <textarea> of `rows` lines. */
+export function textArea(c: Control, o: InputOptions<HTMLTextAreaElement>, rows: number): TemplateResult {
+  return html`<textarea
+    rows=${rows}
+    spellcheck="false"
+    id=${c.id}
+    name=${ifDefined(o.name)}
+    aria-describedby=${ifDefined(c.describedBy)}
+    aria-invalid=${ifDefined(c.invalid)}
+    data-path=${ifDefined(c.path)}
+    data-field=${ifDefined(o.field)}
+    .value=${o.current === undefined ? noChange : live(o.current)}
+    @input=${o.onInput}
+    ${ref(o.ref)}
+  ></textarea>`;
+}
+
+/** A <select> of `options` (templates of <option>s). */
+export function select(c: Control, o: InputOptions<HTMLSelectElement>, options: unknown): TemplateResult {
+  return html`<select
+    id=${c.id}
+    name=${ifDefined(o.name)}
+    aria-describedby=${ifDefined(c.describedBy)}
+    aria-invalid=${ifDefined(c.invalid)}
+    data-path=${ifDefined(c.path)}
+    data-field=${ifDefined(o.field)}
+    .value=${o.current === undefined ? noChange : live(o.current)}
+    @change=${o.onChange}
+    ${ref(o.ref)}
+  >
+    ${options}
+  </select>`;
+}
+
+export const numberField = (f: FieldOptions, o: InputOptions = {}): TemplateResult =>
+  field(f, (c) => numberInput(c, o));
+export const textField = (f: FieldOptions, o: InputOptions = {}): TemplateResult => field(f, (c) => textInput(c, o));
+export const selectField = (f: FieldOptions, o: InputOptions<HTMLSelectElement>, options: unknown): TemplateResult =>
+  field(f, (c) => select(c, o, options));
+
+/** A checkbox with its label after it. */
+export function checkbox(label: string, id: string, o: InputOptions & { checked?: boolean } = {}): TemplateResult {
+  return html`<div class="field checkbox">
+    <input type="checkbox" id=${id} name=${ifDefined(o.name)} ?checked=${o.checked ?? false} ${ref(o.ref)} /><label
+      for=${id}
+      >${label}</label
+    >
+  </div>`;
+}
+
+/**
+ * The one entry of a list with nothing to choose yet: the catalogue is still on its way, or the server
+ * has none. Its value is empty, so a form that launches from the list waits (its button is disabled).
+ */
+export function nothingToChoose(loaded: boolean, what: string): TemplateResult {
+  return html`<option value="" disabled selected>
+    ${loaded ? `no ${what} on the server` : `loading the ${what}…`}
+  </option>`;
+}
+
+/**
+ * For a form that keeps what is typed in its own state: the control shows `target[key]`, and what is typed
+ * or chosen goes there at once (then `then`, e.g. a redraw where the choice shows other fields).
+ */
+export function bound<K extends string>(
+  target: Record<K, string>,
+  key: K,
+  then?: () => void,
+): Pick<InputOptions, "current" | "onInput" | "onChange"> {
+  const take = (event: Event) => {
+    target[key] = (event.target as HTMLInputElement).value;
+    then?.();
+  };
+  return { current: target[key], onInput: take, onChange: take };
+}
+
+/** The value of an input or select behind `r` ("" before it is drawn). */
+export function valueOf(r: Ref<HTMLInputElement | HTMLSelectElement | HTMLTextAreaElement>): string {
+  return r.value?.value ?? "";
+}
+
+/** Write `value` into the input behind `r` (a form filling itself). */
+export function setValue(r: Ref<HTMLInputElement | HTMLSelectElement | HTMLTextAreaElement>, value: string): void {
+  if (r.value) r.value.value = value;
 }

@@ -3,226 +3,196 @@
  * protocol jobs to see their results side by side; every run and job has its export links (history or
  * results as CSV and JSON, a run's spec as TOML, so a user can share exactly what ran).
  */
-import type { AppStore } from "../app/state";
+import { html, nothing } from "lit-html";
+import { attempt } from "../app/actions";
+import { type App, state as stateOf } from "../app/app";
+import { readNow } from "../app/queries";
+import { reads } from "../app/reads";
+import { mount } from "../app/view";
 import { api, errorMessage, unwrap } from "../api/client";
-import type { History, Protocol, RunBrief, RunState } from "../api/types";
+import type { History, Protocol, Run, RunState } from "../api/types";
 import { formatNumber, runLabel } from "../lib/format";
-import { h, replaceChildren } from "../ui/dom";
+import { host } from "../ui/html";
+import type { Scope } from "../ui/scope";
 import { bandChart } from "./study-chart";
 
 const MAX_POINTS = 300;
 
-function link(href: string, text: string): HTMLAnchorElement {
-  return h("a", { href, download: "", class: "button small" }, text);
+const link = (href: string, text: string) => html`<a href=${href} download class="button small">${text}</a>`;
+
+/** Download links side by side (no space between them: each keeps its own margin). */
+const links = (items: [string, string][]) =>
+  html`<span class="exports">${items.map(([href, text]) => link(href, text))}</span>`;
+
+export function runExports(runId: string) {
+  return links([
+    [`/api/runs/${runId}/export/history?format=csv`, "History CSV"],
+    [`/api/runs/${runId}/export/history?format=json`, "History JSON"],
+    [`/api/runs/${runId}/export/spec`, "Spec TOML"],
+  ]);
 }
 
-export function runExports(runId: string): HTMLElement {
-  return h(
-    "span",
-    { class: "exports" },
-    link(`/api/runs/${runId}/export/history?format=csv`, "History CSV"),
-    link(`/api/runs/${runId}/export/history?format=json`, "History JSON"),
-    link(`/api/runs/${runId}/export/spec`, "Spec TOML"),
-  );
+/** A run as compared: what it was, its state and its demons' histories, read at the press of Compare. */
+interface RunColumn {
+  run: Run;
+  state: RunState;
+  histories: History[];
 }
 
-export function comparePanel(store: AppStore): HTMLElement {
-  const chosenRuns = new Set<string>();
-  const chosenJobs = new Set<string>();
-  const runList = h("ul", { class: "compare-list" });
-  const jobList = h("ul", { class: "compare-list" });
-  const side = h("div", { class: "compare-side" });
-  const compare = h("button", { type: "button", class: "primary" }, "Compare");
-  const note = h("p", { class: "hint", "aria-live": "polite" });
-  let jobs: Protocol[] = [];
+/** What is ticked, and the columns shown side by side (a snapshot taken at the press of Compare). */
+interface Comparison {
+  runs: Set<string>;
+  jobs: Set<string>;
+  columns: (RunColumn | Protocol)[];
+  note: string;
+}
 
-  const renderRuns = () => {
-    replaceChildren(
-      runList,
-      store.state.runs.map((run: RunBrief) => {
-        const tick = h("input", {
-          type: "checkbox",
-          checked: chosenRuns.has(run.id),
-          "aria-label": `Compare ${runLabel(run)}`,
-        });
-        tick.addEventListener("change", () => (tick.checked ? chosenRuns.add(run.id) : chosenRuns.delete(run.id)));
-        return h(
-          "li",
-          { dataset: { run: run.id } },
-          h("label", {}, tick, ` ${runLabel(run)} · ${run.status}`),
-          runExports(run.id),
-        );
-      }),
-    );
-  };
-
-  const loadJobs = async () => {
-    try {
-      jobs = await unwrap(api.GET("/api/protocols"));
-    } catch {
-      jobs = [];
+export function comparePanel(app: App, scope: Scope): HTMLElement {
+  const element = host(html`<section class="compare-panel" aria-labelledby="compare-title"></section>`);
+  const chosen: Comparison = { runs: new Set(), jobs: new Set(), columns: [], note: "" };
+  const tick = (set: Set<string>, id: string) => (event: Event) =>
+    (event.target as HTMLInputElement).checked ? set.add(id) : set.delete(id);
+  const compare = async () => {
+    if (chosen.runs.size + chosen.jobs.size < 2) chosen.note = "Tick two or more runs or protocol jobs.";
+    else {
+      chosen.note = "";
+      try {
+        const runs = await Promise.all([...chosen.runs].map((id) => readRunColumn(id)));
+        chosen.columns = [...runs, ...stateOf(app).protocols.filter((j) => chosen.jobs.has(j.id))];
+      } catch (error) {
+        chosen.note = errorMessage(error);
+      }
     }
-    replaceChildren(
-      jobList,
-      jobs.map((job) => {
-        const tick = h("input", {
-          type: "checkbox",
-          checked: chosenJobs.has(job.id),
-          "aria-label": `Compare protocol ${job.id}`,
-        });
-        tick.addEventListener("change", () => (tick.checked ? chosenJobs.add(job.id) : chosenJobs.delete(job.id)));
-        const ready = job.results !== null && job.results !== undefined;
-        return h(
-          "li",
-          {},
-          h("label", {}, tick, ` ${job.name ?? job.id} · ${job.status} · ${job.trials} x ${job.episodes} episodes`),
-          ready
-            ? h(
-                "span",
-                { class: "exports" },
-                link(`/api/protocols/${job.id}/export?format=csv`, "Results CSV"),
-                link(`/api/protocols/${job.id}/export?format=json`, "Results JSON"),
-              )
-            : "",
-        );
-      }),
-    );
+    draw();
   };
-
-  const runColumn = async (runId: string): Promise<HTMLElement> => {
-    const path = { run_id: runId };
-    const [run, state] = await Promise.all([
-      unwrap(api.GET("/api/runs/{run_id}", { params: { path } })),
-      unwrap(api.GET("/api/runs/{run_id}/state", { params: { path } })) as Promise<RunState>,
-    ]);
-    const names = Object.keys(state.predictions);
-    const histories: History[] = await Promise.all(
-      names.map((name) =>
-        unwrap(
-          api.GET("/api/runs/{run_id}/demons/{name}/history", {
-            params: { path: { run_id: runId, name }, query: { limit: 2000 } },
-          }),
-        ),
-      ),
-    );
-    const series = histories.map((hist) => {
-      const stride = Math.max(1, Math.ceil(hist.step.length / MAX_POINTS));
-      const keep = hist.step.map((_, i) => i).filter((i) => i % stride === 0);
-      const mean = keep.map((i) => hist.prediction[i] ?? null);
-      return {
-        label: hist.demon,
-        x: keep.map((i) => hist.step[i] as number),
-        mean,
-        low: mean.map(() => null),
-        high: mean.map(() => null),
-      };
-    });
-    return h(
-      "div",
-      { class: "compare-column", dataset: { run: runId } },
-      h("h4", {}, `${runLabel(run)} · ${run.status} · step ${state.step}`),
-      h(
-        "table",
-        { class: "data-table" },
-        h(
-          "thead",
-          {},
-          h(
-            "tr",
-            {},
-            h("th", { scope: "col" }, "demon"),
-            h("th", { scope: "col", class: "num" }, "prediction now"),
-            h("th", { scope: "col", class: "num" }, "RUPEE"),
-          ),
-        ),
-        h(
-          "tbody",
-          {},
-          names.map((name) =>
-            h(
-              "tr",
-              {},
-              h("td", {}, name),
-              h("td", { class: "num" }, formatNumber(state.predictions[name])),
-              h("td", { class: "num" }, formatNumber(state.metrics?.[name]?.rupee)),
-            ),
-          ),
-        ),
-      ),
-      bandChart(series, { title: "Predictions over time", xLabel: "step", yLabel: "prediction", style: "band" }),
-      runExports(runId),
-    );
-  };
-
-  const jobColumn = (job: Protocol): HTMLElement =>
-    h(
-      "div",
-      { class: "compare-column" },
-      h("h4", {}, `protocol ${job.name ?? job.id} · seed ${job.seed} · ${job.trials} x ${job.episodes}`),
-      h(
-        "table",
-        { class: "data-table" },
-        h(
-          "thead",
-          {},
-          h(
-            "tr",
-            {},
-            ["demon", "prediction", "truth", "error", "thesis"].map((t, i) =>
-              h("th", { scope: "col", class: i ? "num" : "" }, t),
-            ),
-          ),
-        ),
-        h(
-          "tbody",
-          {},
-          (job.results ?? []).map((r) =>
-            h(
-              "tr",
-              {},
-              h("td", {}, r.name),
-              h("td", { class: "num" }, formatNumber(r.prediction)),
-              h("td", { class: "num" }, formatNumber(r.truth)),
-              h("td", { class: "num" }, formatNumber(r.error)),
-              h("td", { class: "num" }, formatNumber(r.thesis)),
-            ),
-          ),
-        ),
-      ),
-    );
-
-  compare.addEventListener("click", async () => {
-    const total = chosenRuns.size + chosenJobs.size;
-    if (total < 2) {
-      note.textContent = "Tick two or more runs or protocol jobs.";
-      return;
-    }
-    note.textContent = "";
-    try {
-      const columns = await Promise.all([...chosenRuns].map(runColumn));
-      const jobColumns = jobs.filter((j) => chosenJobs.has(j.id)).map(jobColumn);
-      replaceChildren(side, columns, jobColumns);
-    } catch (error) {
-      note.textContent = errorMessage(error);
-    }
+  const draw = mount(app, scope, element, ["runs", "protocols"], ({ runs, protocols }) => {
+    return html`<h3 id="compare-title">Compare and export</h3>
+      <p class="hint">Tick two or more runs or protocol jobs and press Compare to see them side by side.</p>
+      <h4>Runs</h4>
+      <ul class="compare-list">
+        ${runs.map(
+          (run) =>
+            html`<li data-run=${run.id}>
+              <label
+                ><input
+                  type="checkbox"
+                  .checked=${chosen.runs.has(run.id)}
+                  aria-label="Compare ${runLabel(run)}"
+                  @change=${tick(chosen.runs, run.id)}
+                />
+                ${runLabel(run)} · ${run.status}</label
+              >${runExports(run.id)}
+            </li>`,
+        )}
+      </ul>
+      <h4>Protocol jobs</h4>
+      <ul class="compare-list">
+        ${protocols.map((job) => jobItem(job, chosen.jobs.has(job.id), tick(chosen.jobs, job.id)))}
+      </ul>
+      <div class="row">
+        <button type="button" @click=${() => void attempt(app, () => readNow(app.client, reads.protocols()))}>
+          Refresh the protocol jobs
+        </button>
+        <button type="button" class="primary" @click=${() => void compare()}>Compare</button>
+      </div>
+      <p class="hint" aria-live="polite">${chosen.note}</p>
+      <div class="compare-side">${chosen.columns.map((c) => ("run" in c ? runColumn(c) : jobColumn(c)))}</div>`;
   });
+  return element;
+}
 
-  store.subscribe(renderRuns, ["runs"]);
-  renderRuns();
-  const refreshJobs = h("button", { type: "button", onclick: () => void loadJobs() }, "Refresh the protocol jobs");
-  void loadJobs();
+function jobItem(job: Protocol, checked: boolean, tick: (event: Event) => void) {
+  const ready = job.results !== null && job.results !== undefined;
+  return html`<li>
+    <label
+      ><input type="checkbox" .checked=${checked} aria-label="Compare protocol ${job.id}" @change=${tick} />
+      ${job.name ?? job.id} · ${job.status} · ${job.trials} x ${job.episodes} episodes</label
+    >${
+      ready
+        ? links([
+            [`/api/protocols/${job.id}/export?format=csv`, "Results CSV"],
+            [`/api/protocols/${job.id}/export?format=json`, "Results JSON"],
+          ])
+        : nothing
+    }
+  </li>`;
+}
 
-  return h(
-    "section",
-    { class: "compare-panel", "aria-labelledby": "compare-title" },
-    h("h3", { id: "compare-title" }, "Compare and export"),
-    h("p", { class: "hint" }, "Tick two or more runs or protocol jobs and press Compare to see them side by side."),
-    h("h4", {}, "Runs"),
-    runList,
-    h("h4", {}, "Protocol jobs"),
-    jobList,
-    h("div", { class: "row" }, refreshJobs, compare),
-    note,
-    side,
+async function readRunColumn(runId: string): Promise<RunColumn> {
+  const path = { run_id: runId };
+  const [run, state] = await Promise.all([
+    unwrap(api.GET("/api/runs/{run_id}", { params: { path } })),
+    unwrap(api.GET("/api/runs/{run_id}/state", { params: { path } })) as Promise<RunState>,
+  ]);
+  const histories = await Promise.all(
+    Object.keys(state.predictions).map((name) =>
+      unwrap(
+        api.GET("/api/runs/{run_id}/demons/{name}/history", {
+          params: { path: { run_id: runId, name }, query: { limit: 2000 } },
+        }),
+      ),
+    ),
   );
+  return { run, state, histories };
+}
+
+function runColumn({ run, state, histories }: RunColumn) {
+  const series = histories.map((hist) => {
+    const stride = Math.max(1, Math.ceil(hist.step.length / MAX_POINTS));
+    const keep = hist.step.map((_, i) => i).filter((i) => i % stride === 0);
+    const mean = keep.map((i) => hist.prediction[i] ?? null);
+    const none = mean.map(() => null);
+    return { label: hist.demon, x: keep.map((i) => hist.step[i] as number), mean, low: none, high: none };
+  });
+  return html`<div class="compare-column" data-run=${run.id}>
+    <h4>${runLabel(run)} · ${run.status} · step ${state.step}</h4>
+    <table class="data-table">
+      <thead>
+        <tr>
+          <th scope="col">demon</th>
+          <th scope="col" class="num">prediction now</th>
+          <th scope="col" class="num">RUPEE</th>
+        </tr>
+      </thead>
+      <tbody>
+        ${Object.keys(state.predictions).map(
+          (name) =>
+            html`<tr>
+              <td>${name}</td>
+              <td class="num">${formatNumber(state.predictions[name])}</td>
+              <td class="num">${formatNumber(state.metrics?.[name]?.rupee)}</td>
+            </tr>`,
+        )}
+      </tbody>
+    </table>
+    ${bandChart(series, { title: "Predictions over time", xLabel: "step", yLabel: "prediction", style: "band" })}
+    ${runExports(run.id)}
+  </div>`;
+}
+
+function jobColumn(job: Protocol) {
+  return html`<div class="compare-column">
+    <h4>protocol ${job.name ?? job.id} · seed ${job.seed} · ${job.trials} x ${job.episodes}</h4>
+    <table class="data-table">
+      <thead>
+        <tr>
+          ${["demon", "prediction", "truth", "error", "thesis"].map(
+            (t, i) => html`<th scope="col" class=${i ? "num" : ""}>${t}</th>`,
+          )}
+        </tr>
+      </thead>
+      <tbody>
+        ${(job.results ?? []).map(
+          (r) =>
+            html`<tr>
+              <td>${r.name}</td>
+              <td class="num">${formatNumber(r.prediction)}</td>
+              <td class="num">${formatNumber(r.truth)}</td>
+              <td class="num">${formatNumber(r.error)}</td>
+              <td class="num">${formatNumber(r.thesis)}</td>
+            </tr>`,
+        )}
+      </tbody>
+    </table>
+  </div>`;
 }

@@ -3,15 +3,20 @@
  * the run's order), blue below zero and orange above, on a log scale so that probabilities and step
  * counts both show. Hover names a cell's demon and its prediction; a click charts it (or stops).
  */
+import { html } from "lit-html";
+import { createRef, ref } from "lit-html/directives/ref.js";
 import { toggleCharted } from "../app/actions";
-import type { AppStore } from "../app/state";
+import { type App, state, watchState } from "../app/app";
+import { mount } from "../app/view";
 import { overviewLevels } from "../lib/demons";
 import { formatNumber } from "../lib/format";
-import { h, section, setText } from "../ui/dom";
+import { heading, host } from "../ui/html";
+import type { Scope } from "../ui/scope";
 
 /** Shown once a run has more demons than this (fewer are all charted). */
 export const OVERVIEW_FROM = 12;
 const REDRAW_MS = 250;
+const HINT = "Hover over a cell to see its demon; click to chart it.";
 
 function colourOf(level: number): string {
   if (Number.isNaN(level)) return "#9ca3af"; // no prediction (diverged): grey
@@ -22,71 +27,72 @@ function colourOf(level: number): string {
   return `rgb(${mix(r)}, ${mix(g)}, ${mix(b)})`;
 }
 
-export function demonOverview(store: AppStore): HTMLElement {
-  const canvas = h("canvas", { role: "img", "aria-label": "Every demon's prediction as a coloured cell" });
-  const readout = h(
-    "p",
-    { class: "hint", "aria-live": "polite" },
-    "Hover over a cell to see its demon; click to chart it.",
-  );
-  const element = section(
-    { class: "panel overview", id: "overview-title", title: "All predictions", hidden: true },
-    readout,
-    canvas,
-  );
-  let columns = 1;
-  let cell = 8;
+/** How the cells are laid out on the canvas. */
+interface Grid {
+  columns: number;
+  cell: number;
+}
 
-  const draw = () => {
-    const { demons, live } = store.state;
-    element.hidden = demons.length <= OVERVIEW_FROM || store.state.tab !== "live";
-    if (element.hidden) return;
-    const width = Math.max(100, canvas.clientWidth);
-    cell = Math.max(4, Math.min(24, Math.floor(Math.sqrt((width * 240) / demons.length))));
-    columns = Math.max(1, Math.floor(width / cell));
-    const rows = Math.ceil(demons.length / columns);
-    canvas.width = columns * cell;
-    canvas.height = rows * cell;
-    canvas.style.height = `${(rows * cell * width) / canvas.width}px`;
-    const context = canvas.getContext("2d");
-    if (!context) return;
-    const levels = overviewLevels(demons.map((d) => (live ? live.predictions[d.name] : d.prediction)));
-    levels.forEach((level, i) => {
-      context.fillStyle = colourOf(level);
-      context.fillRect(
-        (i % columns) * cell,
-        Math.floor(i / columns) * cell,
-        cell - (cell > 6 ? 1 : 0),
-        cell - (cell > 6 ? 1 : 0),
-      );
-    });
-  };
-
+export function demonOverview(app: App, scope: Scope): HTMLElement {
+  const element = host(html`<section class="panel overview" aria-labelledby="overview-title" hidden></section>`);
+  const canvas = createRef<HTMLCanvasElement>();
+  const grid: Grid = { columns: 1, cell: 8 };
+  let readout = HINT;
   const demonAt = (event: MouseEvent) => {
-    const box = canvas.getBoundingClientRect();
-    const scale = canvas.width / box.width;
-    const i =
-      Math.floor(((event.clientY - box.top) * scale) / cell) * columns +
-      Math.floor(((event.clientX - box.left) * scale) / cell);
-    return store.state.demons[i];
+    const box = (event.target as HTMLCanvasElement).getBoundingClientRect();
+    const scale = (canvas.value?.width ?? box.width) / box.width;
+    const row = Math.floor(((event.clientY - box.top) * scale) / grid.cell);
+    return state(app).demons[row * grid.columns + Math.floor(((event.clientX - box.left) * scale) / grid.cell)];
   };
-  canvas.addEventListener("mousemove", (event) => {
+  const onMove = (event: MouseEvent) => {
     const demon = demonAt(event);
     if (!demon) return;
-    const value = store.state.live?.predictions[demon.name] ?? demon.prediction;
-    setText(
-      readout,
-      `${demon.name}: ${formatNumber(value)}${store.state.charted.includes(demon.name) ? " (charted)" : ""}`,
-    );
-  });
-  canvas.addEventListener("click", (event) => {
+    const { live, charted } = state(app);
+    const value = live?.predictions[demon.name] ?? demon.prediction;
+    readout = `${demon.name}: ${formatNumber(value)}${charted.includes(demon.name) ? " (charted)" : ""}`;
+    redraw();
+  };
+  const onClick = (event: MouseEvent) => {
     const demon = demonAt(event);
-    if (demon) toggleCharted(store, demon.name, !store.state.charted.includes(demon.name));
+    if (demon) toggleCharted(app, demon.name, !app.ui.state.charted.includes(demon.name));
+  };
+  const redraw = mount(app, scope, element, ["demons", "tab"], ({ demons, tab }) => {
+    element.hidden = demons.length <= OVERVIEW_FROM || tab !== "live";
+    return html`${heading({ id: "overview-title", title: "All predictions" })}
+      <p class="hint" aria-live="polite">${readout}</p>
+      <canvas
+        role="img"
+        aria-label="Every demon's prediction as a coloured cell"
+        ${ref(canvas)}
+        @mousemove=${onMove}
+        @click=${onClick}
+      ></canvas>`;
   });
-
-  store.subscribe(draw, ["demons", "tab"]);
-  window.setInterval(() => {
-    if (!document.hidden) draw();
-  }, REDRAW_MS);
+  // The predictions change 30 times a second: the cells are painted four times a second, while shown.
+  const paint = () => {
+    if (!element.hidden && !document.hidden && canvas.value) draw(canvas.value, grid, app);
+  };
+  scope.every(REDRAW_MS, paint);
+  watchState(app, scope, ["demons", "tab"], paint); // at once when they change, after the section is drawn
   return element;
+}
+
+function draw(canvas: HTMLCanvasElement, grid: Grid, app: App): void {
+  const { demons, live } = state(app);
+  const width = Math.max(100, canvas.clientWidth);
+  grid.cell = Math.max(4, Math.min(24, Math.floor(Math.sqrt((width * 240) / demons.length))));
+  grid.columns = Math.max(1, Math.floor(width / grid.cell));
+  const { cell, columns } = grid;
+  const rows = Math.ceil(demons.length / columns);
+  canvas.width = columns * cell;
+  canvas.height = rows * cell;
+  canvas.style.height = `${(rows * cell * width) / canvas.width}px`;
+  const context = canvas.getContext("2d");
+  if (!context) return;
+  const levels = overviewLevels(demons.map((d) => (live ? live.predictions[d.name] : d.prediction)));
+  const size = cell - (cell > 6 ? 1 : 0);
+  levels.forEach((level, i) => {
+    context.fillStyle = colourOf(level);
+    context.fillRect((i % columns) * cell, Math.floor(i / columns) * cell, size, size);
+  });
 }

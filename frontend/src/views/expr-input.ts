@@ -3,6 +3,9 @@
  * (a constant, a sensor from the world's sensors, "1 inside region X else 0", "0 inside region X
  * else 1", another demon's prediction) or raw JSON for anything else.
  */
+import { html } from "lit-html";
+import { ifDefined } from "lit-html/directives/if-defined.js";
+import { live } from "lit-html/directives/live.js";
 import type { Expr } from "../api/types";
 import {
   EXPR_KIND_LABELS,
@@ -12,11 +15,11 @@ import {
   buildExpr,
   describeExpr,
 } from "../lib/expr";
+import { GLOSSARY, type Term } from "../lib/glossary";
 import { InputError } from "../lib/input-error";
 import { readNumber } from "../lib/parse";
-import { GLOSSARY, type Term } from "../lib/glossary";
-import { h, options, replaceChildren, uid } from "../ui/dom";
-import { type FormErrors, termLabel } from "../ui/form";
+import { type FormErrors, bound, errorSlot, termLabel } from "../ui/form";
+import { choices } from "../ui/html";
 
 export interface ExprContext {
   sensors: string[];
@@ -24,132 +27,118 @@ export interface ExprContext {
   demons: string[];
 }
 
-export interface ExprInput {
-  element: HTMLElement;
-  read: () => Expr;
-  set: (expr: unknown) => void;
-  setContext: (context: ExprContext) => void;
+/** An expression as the form holds it: the kind chosen and each kind's text. */
+export interface ExprText extends Record<string, string> {
+  kind: ExprKind;
+  constant: string;
+  sensor: string;
+  region: string;
+  demon: string;
+  json: string;
 }
 
-const KINDS = Object.keys(EXPR_KIND_LABELS) as ExprKind[];
+const KINDS = (Object.keys(EXPR_KIND_LABELS) as ExprKind[]).map((k) => [k, EXPR_KIND_LABELS[k]] as const);
 
-export function exprInput(label: string, path: string, errors: FormErrors, initial: unknown): ExprInput {
-  const id = uid(path);
-  const kind = h(
-    "select",
-    { id, "data-field": `${path}-kind` },
-    options(KINDS.map((k) => [k, EXPR_KIND_LABELS[k]] as const)),
-  );
-  const constant = h("input", {
-    type: "number",
-    step: "any",
-    "aria-label": `${label}: constant`,
-    "data-field": `${path}-constant`,
-  });
-  const sensor = h("select", { "aria-label": `${label}: sensor`, "data-field": `${path}-sensor` });
-  const region = h("select", { "aria-label": `${label}: region`, "data-field": `${path}-region` });
-  const demon = h("select", { "aria-label": `${label}: demon`, "data-field": `${path}-demon` });
-  const json = h("textarea", {
-    rows: 2,
-    spellcheck: "false",
-    "aria-label": `${label}: JSON`,
-    "data-field": `${path}-json`,
-  });
-  const controls: Record<ExprKind, HTMLElement> = {
-    constant,
-    sensor,
-    inside: region,
-    outside: region,
-    prediction: demon,
-    json,
+/** The form's text of `expr` (the other kinds keep what `previous` had). */
+export function exprText(expr: unknown, previous?: ExprText): ExprText {
+  const choice = describeExpr(expr);
+  return {
+    kind: choice.kind,
+    constant: choice.kind === "constant" ? String(choice.value) : "0",
+    sensor: choice.kind === "sensor" ? choice.sensor : (previous?.sensor ?? ""),
+    region: choice.kind === "inside" || choice.kind === "outside" ? choice.region : (previous?.region ?? ""),
+    demon: choice.kind === "prediction" ? choice.demon : (previous?.demon ?? ""),
+    json: choice.kind === "json" ? choice.text : JSON.stringify(expr),
   };
-  let context: ExprContext = { sensors: [], regions: [], demons: [] };
-
-  const show = () => {
-    for (const control of new Set(Object.values(controls)))
-      control.hidden = control !== controls[kind.value as ExprKind];
-  };
-  kind.addEventListener("change", show);
-
-  // Keep a value that the lists do not hold (a demon loaded from elsewhere), rather than lose it.
-  const fillSelect = (select: HTMLSelectElement, items: string[], value: string) => {
-    const all = value && !items.includes(value) ? [...items, value] : items;
-    replaceChildren(select, options(all, value || all[0]));
-  };
-
-  const set = (expr: unknown) => {
-    const choice = describeExpr(expr);
-    kind.value = choice.kind;
-    constant.value = choice.kind === "constant" ? String(choice.value) : "0";
-    fillSelect(sensor, context.sensors, choice.kind === "sensor" ? choice.sensor : sensor.value);
-    fillSelect(
-      region,
-      context.regions,
-      choice.kind === "inside" || choice.kind === "outside" ? choice.region : region.value,
-    );
-    fillSelect(demon, context.demons, choice.kind === "prediction" ? choice.demon : demon.value);
-    json.value = choice.kind === "json" ? choice.text : JSON.stringify(expr);
-    show();
-  };
-
-  const setContext = (next: ExprContext) => {
-    context = next;
-    fillSelect(sensor, next.sensors, next.sensors.includes(sensor.value) ? sensor.value : "");
-    fillSelect(region, next.regions, next.regions.includes(region.value) ? region.value : "");
-    fillSelect(demon, next.demons, next.demons.includes(demon.value) ? demon.value : "");
-  };
-
-  const read = (): Expr => {
-    const choice = currentChoice(kind.value as ExprKind, { constant, sensor, region, demon, json });
-    try {
-      return buildExpr(choice);
-    } catch (error) {
-      if (error instanceof ExprSyntaxError) throw new InputError(path, error.message);
-      throw error;
-    }
-  };
-
-  const message = errors.register(path, kind);
-  set(initial);
-  const element = h(
-    "div",
-    { class: "field expr" },
-    path in GLOSSARY ? termLabel(label, id, path as Term) : h("label", { for: id }, label),
-    h(
-      "div",
-      { class: "expr-row", oninput: () => errors.clearField(path), onchange: () => errors.clearField(path) },
-      kind,
-      constant,
-      sensor,
-      region,
-      demon,
-      json,
-    ),
-    message,
-  );
-  return { element, read, set, setContext };
 }
 
-interface ExprControls {
-  constant: HTMLInputElement;
-  sensor: HTMLSelectElement;
-  region: HTMLSelectElement;
-  demon: HTMLSelectElement;
-  json: HTMLTextAreaElement;
+/** The lists have changed (another run): a choice they no longer hold gives way to their first. */
+export function fitContext(text: ExprText, context: ExprContext): void {
+  if (!context.sensors.includes(text.sensor)) text.sensor = context.sensors[0] ?? "";
+  if (!context.regions.includes(text.region)) text.region = context.regions[0] ?? "";
+  if (!context.demons.includes(text.demon)) text.demon = context.demons[0] ?? "";
 }
 
-function currentChoice(kind: ExprKind, c: ExprControls): ExprChoice {
-  switch (kind) {
-    case "constant":
-      return { kind, value: readNumber(c.constant.value) };
-    case "sensor":
-      return { kind, sensor: c.sensor.value };
-    case "inside":
-    case "outside":
-      return { kind, region: c.region.value };
-    case "prediction":
-      return { kind, demon: c.demon.value };
-    case "json":
-      return { kind, text: c.json.value };
+/** The expression the text describes; throws InputError (at `path`) for JSON that does not parse. */
+export function readExpr(text: ExprText, path: string): Expr {
+  const choice: ExprChoice =
+    text.kind === "constant"
+      ? { kind: "constant", value: readNumber(text.constant) }
+      : text.kind === "sensor"
+        ? { kind: "sensor", sensor: text.sensor }
+        : text.kind === "inside" || text.kind === "outside"
+          ? { kind: text.kind, region: text.region }
+          : text.kind === "prediction"
+            ? { kind: "prediction", demon: text.demon }
+            : { kind: "json", text: text.json };
+  try {
+    return buildExpr(choice);
+  } catch (error) {
+    if (error instanceof ExprSyntaxError) throw new InputError(path, error.message);
+    throw error;
   }
+}
+
+/** Keep a value that the list does not hold (a demon loaded from elsewhere), rather than lose it. */
+const withValue = (items: string[], value: string) => (value && !items.includes(value) ? [...items, value] : items);
+
+export function exprInput(
+  label: string,
+  path: string,
+  text: ExprText,
+  context: ExprContext,
+  errors: FormErrors,
+  redraw: () => void,
+) {
+  const id = `${errors.id}-${path}`;
+  const hiddenUnless = (kind: ExprKind | ExprKind[]) => ![kind].flat().includes(text.kind);
+  const list = (key: "sensor" | "region" | "demon", items: string[], name: string, hidden: boolean) =>
+    html`<select
+      aria-label="${label}: ${name}"
+      data-field="${path}-${key}"
+      data-path=${path}
+      ?hidden=${hidden}
+      @change=${bound(text, key).onChange}
+    >
+      ${choices(withValue(items, text[key]), text[key])}
+    </select>`;
+  return html`<div class="field expr">
+    ${path in GLOSSARY ? termLabel(label, id, path as Term) : html`<label for=${id}>${label}</label>`}
+    <div class="expr-row">
+      <select
+        id=${id}
+        data-field="${path}-kind"
+        data-path=${path}
+        aria-describedby="${id}-error"
+        aria-invalid=${ifDefined(errors.at(path).length > 0 ? "true" : undefined)}
+        @change=${bound(text, "kind", redraw).onChange}
+      >
+        ${choices(KINDS, text.kind)}
+      </select>
+      <input
+        type="number"
+        step="any"
+        aria-label="${label}: constant"
+        data-field="${path}-constant"
+        data-path=${path}
+        ?hidden=${hiddenUnless("constant")}
+        .value=${live(text.constant)}
+        @input=${bound(text, "constant").onInput}
+      />
+      ${list("sensor", context.sensors, "sensor", hiddenUnless("sensor"))}
+      ${list("region", context.regions, "region", hiddenUnless(["inside", "outside"]))}
+      ${list("demon", context.demons, "demon", hiddenUnless("prediction"))}
+      <textarea
+        rows="2"
+        spellcheck="false"
+        aria-label="${label}: JSON"
+        data-field="${path}-json"
+        data-path=${path}
+        ?hidden=${hiddenUnless("json")}
+        .value=${live(text.json)}
+        @input=${bound(text, "json").onInput}
+      ></textarea>
+    </div>
+    ${errorSlot(errors, path, `${id}-error`)}
+  </div>`;
 }

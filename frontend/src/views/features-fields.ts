@@ -2,13 +2,14 @@
  * A demon's features: the run's own, or stripes / tiles / grid / constant with their sizes.
  * (A `condition` on another demon's prediction is written in a scenario file; the form keeps one it loads.)
  */
+import { html } from "lit-html";
 import type { FeatureSpec } from "../api/types";
 import { readNumber } from "../lib/parse";
-import { h, options } from "../ui/dom";
-import { type FormErrors, field, numberInput } from "../ui/form";
+import { type FormErrors, bound, errorSlot, numberField, selectField } from "../ui/form";
+import { choices } from "../ui/html";
 
 const RUN_FEATURES = "run";
-type Kind = FeatureSpec["kind"];
+type Size = "parts" | "tilings" | "tiles";
 const KINDS: readonly (readonly [string, string])[] = [
   [RUN_FEATURES, "the run's features"],
   ["stripes", "stripes (the thesis)"],
@@ -16,60 +17,46 @@ const KINDS: readonly (readonly [string, string])[] = [
   ["grid", "grid (tabular)"],
   ["constant", "constant (a bias only)"],
 ];
+const USES: Record<string, Size[]> = { stripes: ["parts"], tiles: ["tilings", "tiles"], grid: ["tiles"] };
+const LABELS: Record<Size, string> = { parts: "Parts", tilings: "Tilings", tiles: "Tiles" };
 
-export interface FeaturesFields {
-  element: HTMLElement;
-  read: () => FeatureSpec | null;
-  set: (features: FeatureSpec | null | undefined) => void;
+/** Features as the form holds them (with a condition loaded from a demon, kept as it is). */
+export interface FeaturesText extends Record<Size | "kind", string> {
+  condition?: FeatureSpec["condition"];
 }
 
-export function featuresFields(errors: FormErrors): FeaturesFields {
-  const kind = h("select", { "data-field": "features-kind" }, options(KINDS, RUN_FEATURES));
-  const parts = numberInput(5);
-  const tilings = numberInput(8);
-  const tiles = numberInput(8);
-  const sizeFields = {
-    parts: field("Parts", parts, { path: "features.parts", errors }),
-    tilings: field("Tilings", tilings, { path: "features.tilings", errors }),
-    tiles: field("Tiles", tiles, { path: "features.tiles", errors }),
+export function featuresText(features: FeatureSpec | null | undefined): FeaturesText {
+  return {
+    kind: features?.kind ?? RUN_FEATURES,
+    parts: String(features?.parts ?? 5),
+    tilings: String(features?.tilings ?? 8),
+    tiles: String(features?.tiles ?? 8),
+    condition: features?.condition ?? null,
   };
-  const uses: Record<string, (keyof typeof sizeFields)[]> = {
-    stripes: ["parts"],
-    tiles: ["tilings", "tiles"],
-    grid: ["tiles"],
-  };
-  let condition: FeatureSpec["condition"] = null;
-  const show = () => {
-    const used = uses[kind.value] ?? [];
-    for (const [name, element] of Object.entries(sizeFields))
-      element.hidden = !used.includes(name as keyof typeof sizeFields);
-  };
-  kind.addEventListener("change", show);
-  show();
+}
 
-  const set = (features: FeatureSpec | null | undefined) => {
-    kind.value = features?.kind ?? RUN_FEATURES;
-    parts.value = String(features?.parts ?? 5);
-    tilings.value = String(features?.tilings ?? 8);
-    tiles.value = String(features?.tiles ?? 8);
-    condition = features?.condition ?? null;
-    show();
-  };
+export function readFeatures(text: FeaturesText): FeatureSpec | null {
+  if (text.kind === RUN_FEATURES) return null;
+  const spec = { kind: text.kind as FeatureSpec["kind"] } as FeatureSpec;
+  for (const size of USES[text.kind] ?? []) spec[size] = readNumber(text[size]);
+  if (text.condition) spec.condition = text.condition;
+  return spec;
+}
 
-  const read = (): FeatureSpec | null => {
-    if (kind.value === RUN_FEATURES) return null;
-    const spec = { kind: kind.value as Kind } as FeatureSpec;
-    for (const name of uses[kind.value] ?? []) spec[name] = readNumber({ parts, tilings, tiles }[name].value);
-    if (condition) spec.condition = condition;
-    return spec;
-  };
-
-  const element = h(
-    "div",
-    { class: "row" },
-    field("Features", kind, { path: "features.kind", errors, term: "features" }),
-    ...Object.values(sizeFields),
-    errors.register("features", null),
-  );
-  return { element, read, set };
+export function featuresFields(text: FeaturesText, errors: FormErrors, redraw: () => void) {
+  const used = USES[text.kind] ?? [];
+  return html`<div class="row">
+    ${selectField(
+      { label: "Features", path: "features.kind", errors, term: "features" },
+      { field: "features-kind", ...bound(text, "kind", redraw) },
+      choices(KINDS, text.kind),
+    )}
+    ${(["parts", "tilings", "tiles"] as const).map((size) =>
+      numberField(
+        { label: LABELS[size], path: `features.${size}`, errors, hidden: !used.includes(size) },
+        bound(text, size),
+      ),
+    )}
+    ${errorSlot(errors, "features")}
+  </div>`;
 }

@@ -1,39 +1,40 @@
 /**
  * The Live tab's switches: classroom mode (every demon charted, one small chart each, and the guided
- * tour on offer) and the tour itself.
+ * tour on offer), the tour itself, and present mode (views/present.ts).
  */
-import type { AppStore } from "../app/state";
-import { h } from "../ui/dom";
+import { html } from "lit-html";
+import type { App } from "../app/app";
+import { mount } from "../app/view";
+import { readFlag, writeFlag } from "../lib/stored";
+import { host } from "../ui/html";
+import type { Scope } from "../ui/scope";
+import { presentButton } from "./present";
 
 const CLASSROOM_KEY = "horde-lab-classroom";
 
-export function liveToolbar(store: AppStore, startTour: () => void): HTMLElement {
-  const classroom = h(
-    "button",
-    {
-      type: "button",
-      "aria-pressed": "false",
-      title: "Chart every demon, each on its own scale with its truth, for a class to follow",
-    },
-    "Classroom mode",
-  );
+export function liveToolbar(app: App, scope: Scope, startTour: () => void): HTMLElement {
+  const element = host(html`<div class="live-toolbar" role="group" aria-label="Live view options"></div>`);
   const set = (on: boolean) => {
-    store.update({ classroom: on });
-    try {
-      localStorage.setItem(CLASSROOM_KEY, on ? "1" : "");
-    } catch {
-      // storage disabled: the switch still works for this page
-    }
+    app.ui.update({ classroom: on });
+    writeFlag(CLASSROOM_KEY, on);
   };
-  classroom.addEventListener("click", () => set(!store.state.classroom));
-  store.subscribe(({ classroom: on }) => classroom.setAttribute("aria-pressed", String(on)), ["classroom"]);
-  let stored = false;
-  try {
-    stored = localStorage.getItem(CLASSROOM_KEY) === "1";
-  } catch {
-    // see above
-  }
-  set(stored);
-  const tour = h("button", { type: "button", onclick: startTour }, "Take the tour");
-  return h("div", { class: "live-toolbar", role: "group", "aria-label": "Live view options" }, classroom, tour);
+  set(readFlag(CLASSROOM_KEY));
+  mount(
+    app,
+    scope,
+    element,
+    ["classroom", "selectedRunId"],
+    ({ classroom, selectedRunId }) =>
+      html`<button
+          type="button"
+          aria-pressed=${String(classroom)}
+          title="Chart every demon, each on its own scale with its truth, for a class to follow"
+          @click=${() => set(!app.ui.state.classroom)}
+        >
+          Classroom mode
+        </button>
+        <button type="button" @click=${startTour}>Take the tour</button>
+        ${presentButton(app, selectedRunId)}`,
+  );
+  return element;
 }

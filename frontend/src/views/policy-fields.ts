@@ -2,10 +2,11 @@
  * A demon's target policy: its kind and the fields that kind needs (probabilities of a fixed policy,
  * a softmax temperature, an epsilon, the demon an `of` policy follows).
  */
+import { html } from "lit-html";
 import type { PolicySpec } from "../api/types";
 import { formatList, readNumber, readNumberList } from "../lib/parse";
-import { h, options, replaceChildren } from "../ui/dom";
-import { type FormErrors, field, numberInput, textInput } from "../ui/form";
+import { type FormErrors, bound, errorSlot, numberField, selectField, textField } from "../ui/form";
+import { choices } from "../ui/html";
 
 type PolicyKind = PolicySpec["kind"];
 
@@ -18,75 +19,69 @@ const KINDS: readonly (readonly [PolicyKind, string])[] = [
   ["epsilon_greedy", "ε-greedy (control)"],
 ];
 
-export interface PolicyFields {
-  element: HTMLElement;
-  read: () => PolicySpec;
-  set: (policy: PolicySpec) => void;
-  setDemons: (demons: string[]) => void;
+/** A target policy as the form holds it. */
+export interface PolicyText extends Record<string, string> {
+  kind: PolicyKind;
+  demon: string;
+  probabilities: string;
+  temperature: string;
+  epsilon: string;
 }
 
-export function policyFields(errors: FormErrors): PolicyFields {
-  const kind = h("select", { "data-field": "policy-kind" }, options(KINDS, "of"));
-  const demon = h("select", { "data-field": "policy-demon" });
-  const probabilities = textInput("0.25, 0.25, 0.25, 0.25", { "data-field": "policy-probabilities" });
-  const temperature = numberInput(1, { "data-field": "policy-temperature" });
-  const epsilon = numberInput(0.1, { "data-field": "policy-epsilon" });
-
-  const fields = {
-    of: field("Follows", demon, { path: "policy.demon", errors }),
-    fixed: field("Probabilities", probabilities, {
-      path: "policy.probabilities",
-      errors,
-      hint: "up, down, left, right",
-    }),
-    softmax: field("Temperature", temperature, { path: "policy.temperature", errors }),
-    epsilon_greedy: field("Epsilon", epsilon, { path: "policy.epsilon", errors }),
+export function policyText(policy: PolicySpec, previous?: PolicyText): PolicyText {
+  return {
+    kind: policy.kind,
+    demon: policy.demon ?? previous?.demon ?? "",
+    probabilities: formatList(policy.probabilities ?? [0.25, 0.25, 0.25, 0.25]),
+    temperature: String(policy.temperature ?? 1),
+    epsilon: String(policy.epsilon ?? 0.1),
   };
-  const show = () => {
-    for (const [name, element] of Object.entries(fields)) element.hidden = name !== kind.value;
-  };
-  kind.addEventListener("change", show);
-  show();
+}
 
-  const setDemons = (demons: string[]) => {
-    const chosen = demons.includes(demon.value) ? demon.value : demons[0];
-    replaceChildren(demon, options(demons, chosen));
-  };
+// Only the fields of the chosen kind are sent; the server fills in its defaults for the others.
+export function readPolicy(text: PolicyText): PolicySpec {
+  const policy = { kind: text.kind } as PolicySpec;
+  if (text.kind === "of") policy.demon = text.demon;
+  if (text.kind === "fixed") policy.probabilities = readNumberList(text.probabilities);
+  if (text.kind === "softmax") policy.temperature = readNumber(text.temperature);
+  if (text.kind === "epsilon_greedy") policy.epsilon = readNumber(text.epsilon);
+  return policy;
+}
 
-  const set = (policy: PolicySpec) => {
-    kind.value = policy.kind;
-    if (policy.demon) {
-      if (![...demon.options].some((o) => o.value === policy.demon))
-        demon.append(h("option", { value: policy.demon }, policy.demon));
-      demon.value = policy.demon;
-    }
-    probabilities.value = formatList(policy.probabilities ?? [0.25, 0.25, 0.25, 0.25]);
-    temperature.value = String(policy.temperature ?? 1);
-    epsilon.value = String(policy.epsilon ?? 0.1);
-    show();
-  };
-
-  // Only the fields of the chosen kind are sent; the server fills in its defaults for the others.
-  const read = (): PolicySpec => {
-    const chosen = kind.value as PolicyKind;
-    const policy = { kind: chosen } as PolicySpec;
-    if (chosen === "of") policy.demon = demon.value;
-    if (chosen === "fixed") policy.probabilities = readNumberList(probabilities.value);
-    if (chosen === "softmax") policy.temperature = readNumber(temperature.value);
-    if (chosen === "epsilon_greedy") policy.epsilon = readNumber(epsilon.value);
-    return policy;
-  };
-
-  const element = h(
-    "div",
-    { class: "policy" },
-    h(
-      "div",
-      { class: "row" },
-      field("Target policy", kind, { path: "policy.kind", errors, term: "policy" }),
-      ...Object.values(fields),
-    ),
-    errors.register("policy", null),
-  );
-  return { element, read, set, setDemons };
+export function policyFields(text: PolicyText, demons: string[], errors: FormErrors, redraw: () => void) {
+  // A demon it follows that the run does not hold (loaded from elsewhere) is kept, not lost.
+  const followed = text.demon && !demons.includes(text.demon) ? [...demons, text.demon] : demons;
+  return html`<div class="policy">
+    <div class="row">
+      ${selectField(
+        { label: "Target policy", path: "policy.kind", errors, term: "policy" },
+        { field: "policy-kind", ...bound(text, "kind", redraw) },
+        choices(KINDS, text.kind),
+      )}
+      ${selectField(
+        { label: "Follows", path: "policy.demon", errors, hidden: text.kind !== "of" },
+        { field: "policy-demon", ...bound(text, "demon") },
+        choices(followed, text.demon),
+      )}
+      ${textField(
+        {
+          label: "Probabilities",
+          path: "policy.probabilities",
+          errors,
+          hint: "up, down, left, right",
+          hidden: text.kind !== "fixed",
+        },
+        { field: "policy-probabilities", ...bound(text, "probabilities") },
+      )}
+      ${numberField(
+        { label: "Temperature", path: "policy.temperature", errors, hidden: text.kind !== "softmax" },
+        { field: "policy-temperature", ...bound(text, "temperature") },
+      )}
+      ${numberField(
+        { label: "Epsilon", path: "policy.epsilon", errors, hidden: text.kind !== "epsilon_greedy" },
+        { field: "policy-epsilon", ...bound(text, "epsilon") },
+      )}
+    </div>
+    ${errorSlot(errors, "policy")}
+  </div>`;
 }

@@ -2,11 +2,16 @@
  * Every protocol job the server keeps, one row per demon, beside the thesis's numbers: sortable by any
  * column (click its head; again to reverse), by default only the demons the thesis reports.
  */
-import type { AppState, AppStore } from "../app/state";
+import { html } from "lit-html";
+import { ifDefined } from "lit-html/directives/if-defined.js";
+import { repeat } from "lit-html/directives/repeat.js";
+import type { App } from "../app/app";
+import { mount } from "../app/view";
 import { formatEstimate, formatNumber } from "../lib/format";
 import { tip } from "../lib/glossary";
 import { type JobRow, type SortKey, jobRows, sortRows } from "../lib/protocol-jobs";
-import { h, replaceChildren, section, setText } from "../ui/dom";
+import { heading, host } from "../ui/html";
+import type { Scope } from "../ui/scope";
 
 const COLUMNS: [SortKey, string, string][] = [
   ["scenario", "scenario", ""],
@@ -19,85 +24,83 @@ const COLUMNS: [SortKey, string, string][] = [
   ["finished", "finished", "when the job ended (UTC)"],
 ];
 
-export function jobsTable(store: AppStore): HTMLElement {
-  let sortKey: SortKey = "finished";
-  let ascending = false;
-  const thesisOnly = h("input", { type: "checkbox", id: "jobs-thesis-only", checked: true });
-  const count = h("p", { class: "hint" });
-  const heads = COLUMNS.map(([key, label, title]) => {
-    // The arrow is no part of the button's name (aria-sort on the column head says the order).
-    const arrow = h("span", { class: "arrow", "aria-hidden": "true" });
-    const button = h("button", { type: "button", class: "sort", title: title || undefined }, label, arrow);
-    button.addEventListener("click", () => {
-      ascending = sortKey === key ? !ascending : key === "scenario" || key === "demon";
-      sortKey = key;
-      render(store.state);
-    });
-    return {
-      key,
-      arrow,
-      th: h("th", { scope: "col", class: key === "scenario" || key === "demon" ? "" : "num" }, button),
-    };
-  });
-  const body = h("tbody", {});
-  const table = h(
-    "table",
-    { class: "jobs-table" },
-    h("caption", { class: "visually-hidden" }, "Every protocol job's results beside the thesis's numbers"),
-    h(
-      "thead",
-      {},
-      h(
-        "tr",
-        {},
-        heads.map((c) => c.th),
-      ),
-    ),
-    body,
-  );
-  const element = section(
-    { class: "protocol-jobs", id: "jobs-title", title: "Every job's results", level: "h3" },
-    h(
-      "div",
-      { class: "row tight" },
-      h(
-        "div",
-        { class: "field checkbox" },
-        thesisOnly,
-        h("label", { for: "jobs-thesis-only" }, "only the demons the thesis reports"),
-      ),
-      count,
-    ),
-    h("div", { class: "table-scroll" }, table),
-  );
-  thesisOnly.addEventListener("change", () => render(store.state));
+/** The table's own choices: its order, and whether it shows only the demons the thesis reports. */
+interface Order {
+  key: SortKey;
+  ascending: boolean;
+  thesisOnly: boolean;
+}
 
-  const row = (r: JobRow) =>
-    h(
-      "tr",
-      { dataset: { job: r.job, demon: r.demon } },
-      h("th", { scope: "row" }, r.scenario),
-      h("td", {}, r.demon),
-      h("td", { class: "num" }, formatNumber(r.prediction)),
-      h("td", { class: "num" }, formatEstimate(r.truth, r.stderr)),
-      h("td", { class: "num" }, formatNumber(r.error)),
-      h("td", { class: "num" }, formatNumber(r.thesis)),
-      h("td", { class: "num" }, formatNumber(r.offThesis)),
-      h("td", { class: "num" }, r.finished.replace("T", " ").slice(0, 19)),
-    );
-
-  const render = ({ protocols }: Readonly<AppState>) => {
-    const rows = sortRows(jobRows(protocols, thesisOnly.checked), sortKey, ascending);
-    element.hidden = protocols.every((j) => !j.results);
-    const jobs = protocols.filter((j) => j.results).length;
-    setText(count, `${rows.length} rows from ${jobs} job${jobs === 1 ? "" : "s"}`);
-    for (const head of heads) {
-      head.th.setAttribute("aria-sort", head.key === sortKey ? (ascending ? "ascending" : "descending") : "none");
-      setText(head.arrow, head.key === sortKey ? (ascending ? " ▲" : " ▼") : "");
-    }
-    replaceChildren(body, rows.map(row));
+export function jobsTable(app: App, scope: Scope): HTMLElement {
+  const element = host(html`<section class="protocol-jobs" aria-labelledby="jobs-title"></section>`);
+  const order: Order = { key: "finished", ascending: false, thesisOnly: true };
+  const sortBy = (key: SortKey) => {
+    order.ascending = order.key === key ? !order.ascending : key === "scenario" || key === "demon";
+    order.key = key;
+    draw();
   };
-  store.subscribe(render, ["protocols"]);
-  render(store.state);
+  const draw = mount(app, scope, element, ["protocols"], ({ protocols }) => {
+    const rows = sortRows(jobRows(protocols, order.thesisOnly), order.key, order.ascending);
+    const jobs = protocols.filter((j) => j.results).length;
+    element.hidden = jobs === 0;
+    return html`${heading({ id: "jobs-title", title: "Every job's results", level: "h3" })}
+      <div class="row tight">
+        <div class="field checkbox">
+          <input
+            type="checkbox"
+            id="jobs-thesis-only"
+            .checked=${order.thesisOnly}
+            @change=${(e: Event) => {
+              order.thesisOnly = (e.target as HTMLInputElement).checked;
+              draw();
+            }}
+          /><label for="jobs-thesis-only">only the demons the thesis reports</label>
+        </div>
+        <p class="hint">${rows.length} rows from ${jobs} job${jobs === 1 ? "" : "s"}</p>
+      </div>
+      <div class="table-scroll">
+        <table class="jobs-table">
+          <caption class="visually-hidden">
+            Every protocol job's results beside the thesis's numbers
+          </caption>
+          <thead>
+            <tr>
+              ${COLUMNS.map((column) => head(order, column, sortBy))}
+            </tr>
+          </thead>
+          <tbody>
+            ${repeat(rows, (r) => r.key, row)}
+          </tbody>
+        </table>
+      </div>`;
+  });
   return element;
+}
+
+/** A column's head: a button that sorts by it; the arrow is no part of its name (aria-sort says the order). */
+function head(order: Order, [key, label, title]: [SortKey, string, string], sortBy: (key: SortKey) => void) {
+  const sorted = order.key === key;
+  const arrow = sorted ? (order.ascending ? " ▲" : " ▼") : "";
+  return html`<th
+    scope="col"
+    class=${key === "scenario" || key === "demon" ? "" : "num"}
+    aria-sort=${sorted ? (order.ascending ? "ascending" : "descending") : "none"}
+  >
+    <button type="button" class="sort" title=${ifDefined(title || undefined)} @click=${() => sortBy(key)}>
+      ${label}<span class="arrow" aria-hidden="true">${arrow}</span>
+    </button>
+  </th>`;
+}
+
+function row(r: JobRow) {
+  return html`<tr data-job=${r.job} data-demon=${r.demon}>
+    <th scope="row">${r.scenario}</th>
+    <td>${r.demon}</td>
+    <td class="num">${formatNumber(r.prediction)}</td>
+    <td class="num">${formatEstimate(r.truth, r.stderr)}</td>
+    <td class="num">${formatNumber(r.error)}</td>
+    <td class="num">${formatNumber(r.thesis)}</td>
+    <td class="num">${formatNumber(r.offThesis)}</td>
+    <td class="num">${r.finished.replace("T", " ").slice(0, 19)}</td>
+  </tr>`;
 }

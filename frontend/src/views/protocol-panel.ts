@@ -8,356 +8,270 @@
  * A group (all of Experiment 2) runs its scenarios one after another from this page; below, a sortable
  * table keeps the results of every job the server holds beside the thesis's numbers.
  */
+import { html, nothing } from "lit-html";
+import { createRef } from "lit-html/directives/ref.js";
 import { attempt, cancelProtocol, loadProtocols, startProtocol } from "../app/actions";
-import type { AppState, AppStore } from "../app/state";
-import { ApiError, api, unwrap } from "../api/client";
-import type { Protocol, RunTemplate } from "../api/types";
-import { countsTable, protocolProgress, protocolSummary, protocolTitle, resultRows } from "../lib/protocol";
-import { tip } from "../lib/glossary";
-import { jobsTable } from "./protocol-jobs";
+import { type App, type AppState, state, watchState } from "../app/app";
+import { mount } from "../app/view";
+import { ApiError, api, errorMessage, unwrap } from "../api/client";
+import type { RunTemplate } from "../api/types";
+import { protocolProgress, protocolTitle } from "../lib/protocol";
 import { scenarioGroups } from "../lib/protocol-jobs";
 import { readOptionalNumber } from "../lib/parse";
-import { h, options, replaceChildren, section, setText } from "../ui/dom";
-import { FormErrors, field, nothingToChoose, numberInput } from "../ui/form";
+import { FormErrors, generalError, nothingToChoose, numberField, selectField, setValue, valueOf } from "../ui/form";
+import { choices, heading, host } from "../ui/html";
+import type { Scope } from "../ui/scope";
+import { jobsTable } from "./protocol-jobs";
+import { resultsTables } from "./protocol-results";
 
 const DEFAULT_SCENARIO = "experiment1";
 const GROUP = "group:";
-const HEAD_TIPS: Record<string, string | undefined> = {
-  demon: tip("demon"),
-  prediction: tip("prediction"),
-  "truth (MC) ± se": tip("truth"),
-  thesis: tip("thesis"),
-};
 const BUSY_MESSAGE = "One protocol at a time: another one is running already (shown below). Wait for it, or cancel it.";
 
-export function protocolPanel(store: AppStore): HTMLElement {
-  const errors = new FormErrors();
-  const scenario = h("select", { name: "scenario" });
-  const description = h("p", { class: "hint scenario-description", "aria-live": "polite" });
-  const trials = numberInput(null, { name: "trials" });
-  const episodes = numberInput(null, { name: "episodes" });
-  const seed = numberInput(null, { name: "seed" });
-  const submit = h("button", { type: "submit", class: "primary" }, "Run");
-
-  // ---------------------------------------------------------------- the form
-
-  const renderChoices = () => {
-    const names = store.state.scenarios.filter((s) => !s.error).map((s) => s.name);
-    const chosen = scenario.dataset.chosen ? scenario.value : DEFAULT_SCENARIO;
-    const groups = scenarioGroups(names);
-    if (names.length === 0) replaceChildren(scenario, nothingToChoose(store.state.catalogLoaded, "scenarios"));
-    else
-      replaceChildren(
-        scenario,
-        h("optgroup", { label: "One scenario" }, options(names, chosen)),
-        groups.length
-          ? h(
-              "optgroup",
-              { label: "A group" },
-              options(
-                groups.map((g) => [`${GROUP}${g.key}`, g.label] as const),
-                chosen,
-              ),
-            )
-          : null,
-      );
-    render(store.state);
-    describe();
-  };
-
-  /** The scenarios the choice stands for: one, or a group's. */
-  const chosenScenarios = (): string[] => {
-    const value = scenario.value;
-    if (!value.startsWith(GROUP)) return [value];
-    const names = store.state.scenarios.filter((s) => !s.error).map((s) => s.name);
-    return scenarioGroups(names).find((g) => `${GROUP}${g.key}` === value)?.scenarios ?? [];
-  };
-
-  // The scenario's own protocol and seed fill the fields, once per choice (a refreshed list keeps
-  // what the user typed).
-  let described: string | null = null;
-  const describe = () => {
-    const members = chosenScenarios();
-    const name = members[0] ?? "";
-    description.textContent =
-      members.length > 1
-        ? `Runs ${members.join(", ")} one after another, each with its own protocol (the fields below apply to each; empty keeps each scenario's own). Keep this page open until the last one has started.`
-        : (store.state.scenarios.find((s) => s.name === name)?.description ?? "");
-    if (members.length > 1) {
-      // Each keeps its own numbers unless the user types some.
-      trials.value = episodes.value = seed.value = "";
-      described = scenario.value;
-      return;
-    }
-    if (!name || name === described) return;
-    described = name;
-    void attempt(store, async () => {
-      const spec = await unwrap(api.GET("/api/scenarios/{name}", { params: { path: { name } } }));
-      if (scenario.value !== name) return;
-      trials.value = String(spec.protocol?.trials ?? "");
-      episodes.value = String(spec.protocol?.episodes ?? "");
-      seed.value = String(spec.seed ?? "");
-    });
-  };
-  scenario.addEventListener("change", () => {
-    scenario.dataset.chosen = "yes";
-    describe();
-  });
-
-  // The scenarios of a group still to start, and the job of the group that runs now.
-  let queue: string[] = [];
-  let groupJob: string | null = null;
-  let groupSize = 0;
-  const groupNote = h("p", { class: "hint group-note", "aria-live": "polite", hidden: true });
-
-  const templateFor = (name: string): RunTemplate => {
-    // Fields left empty keep the scenario's values; the server checks the rest (422 at the field).
-    const template: RunTemplate = { scenario: name };
-    const seedValue = readOptionalNumber(seed.value);
-    if (seedValue !== undefined) template.seed = seedValue;
-    const protocol: Record<string, number> = {};
-    const trialCount = readOptionalNumber(trials.value);
-    const episodeCount = readOptionalNumber(episodes.value);
-    if (trialCount !== undefined) protocol.trials = trialCount;
-    if (episodeCount !== undefined) protocol.episodes = episodeCount;
-    if (Object.keys(protocol).length > 0) template.protocol = protocol;
-    return template;
-  };
-
-  const startNext = async () => {
-    const name = queue.shift();
-    if (name === undefined) {
-      groupJob = null;
-      return;
-    }
-    const job = await attempt(store, () => startProtocol(store, templateFor(name)));
-    groupJob = job?.id ?? null;
-    if (groupJob === null) queue = []; // refused: the group stops here, the notice says why
-    showGroup();
-  };
-
-  const showGroup = () => {
-    groupNote.hidden = groupSize === 0;
-    const done = groupSize - queue.length - (groupJob ? 1 : 0);
-    setText(
-      groupNote,
-      groupJob || queue.length
-        ? `Group: ${done} of ${groupSize} done; ${queue.length} waiting.`
-        : `Group: all ${groupSize} done; their results are in the table below.`,
-    );
-  };
-
-  // The group's job has ended (finished, failed or cancelled): the next one starts.
-  store.subscribe(
-    ({ protocol }) => {
-      if (groupJob !== null && protocol?.id === groupJob && protocol.status !== "running") {
-        if (protocol.status === "cancelled") queue = [];
-        groupJob = null;
-        void startNext().then(showGroup);
-      }
-    },
-    ["protocol"],
-  );
-
-  const onSubmit = async (event: Event) => {
-    event.preventDefault();
-    errors.clear();
-    const members = chosenScenarios();
-    const template = templateFor(members[0] ?? "");
-    submit.disabled = true;
-    try {
-      const job = await startProtocol(store, template);
-      if (members.length > 1) {
-        queue = members.slice(1);
-        groupJob = job.id;
-        groupSize = members.length;
-        showGroup();
-      }
-    } catch (error) {
-      if (error instanceof ApiError && error.problems.length > 0) errors.showProblems(error.problems);
-      else if (error instanceof ApiError && error.status === 429) {
-        errors.showGeneral(BUSY_MESSAGE);
-        await attempt(store, () => loadProtocols(store));
-      } else errors.showGeneral(error instanceof Error ? error.message : String(error));
-    } finally {
-      render(store.state);
-    }
-  };
-
-  // ---------------------------------------------------------------- the job
-
-  const title = h("h3", { id: "protocol-job-title" });
-  const status = h("span", { class: "badge" });
-  const cancel = h("button", { type: "button", class: "danger" }, "Cancel");
-  const progress = h("progress", { class: "protocol-progress", "aria-labelledby": "protocol-job-title" });
-  const counted = h("span", { class: "progress-count", dataset: { testid: "protocol-count" } });
-  const timing = h("span", { class: "progress-timing", dataset: { testid: "protocol-timing" } });
-  const failure = h("p", { class: "form-error", role: "alert", hidden: true });
-  const results = h("div", { class: "protocol-results" });
-  let cancelling: string | null = null; // the id of the job whose Cancel was pressed
-  let shownResults: Protocol | null = null;
-
-  cancel.addEventListener("click", () => {
-    const job = store.state.protocol;
-    if (!job) return;
-    cancelling = job.id;
-    render(store.state);
-    void attempt(store, () => cancelProtocol(store));
-  });
-
-  const job = h(
-    "section",
-    { class: "protocol-job", "aria-labelledby": "protocol-job-title", hidden: true },
-    h("div", { class: "panel-head" }, h("div", { class: "job-title" }, title, status), cancel),
-    progress,
-    h("p", { class: "progress-text" }, counted, timing),
-    failure,
-    results,
-  );
-
-  const render = (state: Readonly<AppState>) => {
-    const { protocol, protocolStartedAt } = state;
-    const running = protocol?.status === "running";
-    submit.disabled = running || !scenario.value;
-    setText(submit, running ? "Running…" : "Run");
-    job.hidden = protocol === null;
-    if (protocol === null) return;
-
-    setText(title, protocolTitle(protocol));
-    setText(status, protocol.status);
-    status.className = `badge status-${protocol.status}`;
-    cancel.hidden = !running;
-    cancel.disabled = cancelling === protocol.id;
-    setText(cancel, cancelling === protocol.id ? "Cancelling…" : "Cancel");
-
-    const elapsed = running && protocolStartedAt !== null ? Math.max(0, (Date.now() - protocolStartedAt) / 1000) : null;
-    const shown = protocolProgress(protocol, elapsed);
-    progress.max = Math.max(1, protocol.episodes_total);
-    progress.value = shown.fraction * progress.max;
-    progress.setAttribute("aria-valuetext", shown.counted);
-    setText(counted, shown.counted);
-    setText(timing, shown.timing ? ` · ${shown.timing}` : "");
-    failure.hidden = protocol.status !== "failed";
-    setText(failure, protocol.status === "failed" ? `The protocol failed: ${protocol.error}` : "");
-
-    // The tables are built once per answer that has results (not four times a second).
-    if (shownResults?.id === protocol.id && shownResults.results === protocol.results) return;
-    shownResults = protocol;
-    replaceChildren(results, protocol.results ? resultsTables(protocol) : null);
-  };
-  store.subscribe(render, ["protocol", "protocolStartedAt"]);
-  store.subscribe(renderChoices, ["scenarios", "catalogLoaded"]);
-  renderChoices();
-
-  return section(
-    { class: "panel protocol-panel", id: "protocol-title", title: "Protocol" },
-    h(
-      "p",
-      { class: "hint intro" },
-      "A scenario's whole protocol, as ",
-      h("code", {}, "horde run"),
-      " runs it: every trial learns from scratch for its episodes; then each demon's prediction at the start is set " +
-        "against its Monte-Carlo truth and the thesis's number. It runs on the server, one at a time.",
-    ),
-    h(
-      "form",
-      { class: "protocol-form", novalidate: true, onsubmit: onSubmit, "aria-labelledby": "protocol-title" },
-      h(
-        "div",
-        { class: "row protocol-fields" },
-        field("Scenario", scenario, { path: "scenario", errors, class: "wide" }),
-        field("Trials", trials, { path: "protocol.trials", errors, term: "protocol" }),
-        field("Episodes per trial", episodes, { path: "protocol.episodes", errors, class: "episodes-field" }),
-        field("Seed", seed, { path: "seed", errors }),
-        h("div", { class: "submit-cell" }, submit),
-      ),
-      description,
-      groupNote,
-      errors.general,
-    ),
-    job,
-    jobsTable(store),
-  );
+/** The form's inputs, what it says of the scenario, and the group it runs. */
+class ProtocolForm {
+  readonly scenario = createRef<HTMLSelectElement>();
+  readonly trials = createRef<HTMLInputElement>();
+  readonly episodes = createRef<HTMLInputElement>();
+  readonly seed = createRef<HTMLInputElement>();
+  scenarioChosen = false;
+  /** the choice whose numbers fill the fields, and what is said of it */
+  described: string | null = null;
+  description = "";
+  /** the scenarios of a group still to start, the job of the group that runs now, and how many in all */
+  queue: string[] = [];
+  groupJob: string | null = null;
+  groupSize = 0;
+  /** the id of the job whose Cancel was pressed */
+  cancelling: string | null = null;
+  submitting = false;
 }
 
-/** `horde run`'s table, and the test runs' counts beside the thesis's for a control protocol. */
-function resultsTables(job: Protocol): HTMLElement[] {
-  const rows = resultRows(job.results ?? []);
-  const counts = countsTable(job.results ?? [], job.thesis_counts);
-  const head = (labels: string[]) =>
-    h(
-      "thead",
-      {},
-      h(
-        "tr",
-        {},
-        labels.map((label, i) =>
-          h(
-            "th",
-            { scope: "col", class: i ? "num" : "", title: HEAD_TIPS[label] },
-            HEAD_TIPS[label] ? h("span", { class: "term" }, label) : label,
-          ),
-        ),
-      ),
-    );
-  const tables: HTMLElement[] = [
-    h("h4", {}, "Predictions at the start, mean over trials"),
-    h(
-      "div",
-      { class: "table-scroll" },
-      h(
-        "table",
-        { class: "results-table protocol-table" },
-        h(
-          "caption",
-          { class: "visually-hidden" },
-          "Each demon's prediction against the Monte-Carlo truth and the thesis",
-        ),
-        head(["demon", "prediction", "truth (MC) ± se", "error", "error %", "thesis"]),
-        h(
-          "tbody",
-          {},
-          rows.map((row) =>
-            h(
-              "tr",
-              { dataset: { demon: row.name } },
-              h("th", { scope: "row" }, row.name),
-              [row.prediction, row.truth, row.error, row.relative, row.thesis].map((text) =>
-                h("td", { class: "num" }, text),
-              ),
-            ),
-          ),
-        ),
-      ),
-    ),
-  ];
-  if (counts) {
-    tables.push(
-      h("h4", {}, `Greedy test runs of ${counts.demon}: where they ended`),
-      h(
-        "div",
-        { class: "table-scroll" },
-        h(
-          "table",
-          { class: "counts-table" },
-          h("caption", { class: "visually-hidden" }, "This protocol's test runs beside the thesis's"),
-          head(["", "positive terminal", "negative terminal", "none (step limit)"]),
-          h(
-            "tbody",
-            {},
-            counts.rows.map((row) =>
-              h(
-                "tr",
-                { dataset: { counts: row.key } },
-                h("th", { scope: "row" }, row.label),
-                [row.positive, row.negative, row.none].map((text) => h("td", { class: "num" }, text)),
-              ),
-            ),
-          ),
-        ),
-      ),
-    );
+export function protocolPanel(app: App, scope: Scope): HTMLElement {
+  const element = host(html`<section class="panel protocol-panel" aria-labelledby="protocol-title"></section>`);
+  const form = new ProtocolForm();
+  const redraw = () => draw();
+  const errors = new FormErrors(element, redraw);
+  const jobs = jobsTable(app, scope);
+  const onSubmit = (event: Event) => {
+    event.preventDefault();
+    void submit(app, form, errors, redraw);
+  };
+  const onScenario = () => {
+    form.scenarioChosen = true;
+    void describe(app, form, redraw);
+  };
+  const draw = mount(
+    app,
+    scope,
+    element,
+    ["protocol", "protocolStartedAt", "scenarios", "catalogLoaded"],
+    (now) =>
+      html`${heading({ id: "protocol-title", title: "Protocol" })}
+        <p class="hint intro">
+          A scenario's whole protocol, as <code>horde run</code> runs it: every trial learns from scratch for its
+          episodes; then each demon's prediction at the start is set against its Monte-Carlo truth and the thesis's
+          number. It runs on the server, one at a time.
+        </p>
+        <form
+          class="protocol-form"
+          novalidate
+          aria-labelledby="protocol-title"
+          @submit=${onSubmit}
+          @input=${errors.onInput}
+          @change=${errors.onInput}
+        >
+          ${formFields(form, errors, now, onScenario)}
+          <p class="hint scenario-description" aria-live="polite">${form.description}</p>
+          <p class="hint group-note" aria-live="polite" ?hidden=${form.groupSize === 0}>${groupNote(form)}</p>
+          ${generalError(errors)}
+        </form>
+        ${jobSection(app, form, now, redraw)} ${jobs}`,
+  );
+  // Once the list is drawn (and whenever it changes), the chosen scenario fills the fields.
+  watchState(app, scope, ["scenarios", "catalogLoaded"], () => void describe(app, form, redraw));
+  // The group's job has ended (finished, failed or cancelled): the next one starts.
+  watchState(app, scope, ["protocol"], ({ protocol }) => {
+    if (form.groupJob === null || protocol?.id !== form.groupJob || protocol.status === "running") return;
+    if (protocol.status === "cancelled") form.queue = [];
+    form.groupJob = null;
+    void startNext(app, form, redraw);
+  });
+  return element;
+}
+
+function formFields(form: ProtocolForm, errors: FormErrors, now: AppState, onScenario: () => void) {
+  const names = now.scenarios.filter((s) => !s.error).map((s) => s.name);
+  const chosen = form.scenarioChosen ? valueOf(form.scenario) : DEFAULT_SCENARIO;
+  const groups = scenarioGroups(names);
+  const options =
+    names.length === 0
+      ? nothingToChoose(now.catalogLoaded, "scenarios")
+      : html`<optgroup label="One scenario">${choices(names, chosen)}</optgroup>
+          ${
+            groups.length
+              ? html`<optgroup label="A group">
+                  ${choices(
+                    groups.map((g) => [`${GROUP}${g.key}`, g.label] as const),
+                    chosen,
+                  )}
+                </optgroup>`
+              : nothing
+          }`;
+  const running = now.protocol?.status === "running";
+  return html`<div class="row protocol-fields">
+    ${selectField(
+      { label: "Scenario", path: "scenario", errors, class: "wide" },
+      { name: "scenario", ref: form.scenario, onChange: onScenario },
+      options,
+    )}
+    ${numberField({ label: "Trials", path: "protocol.trials", errors, term: "protocol" }, { name: "trials", ref: form.trials })}
+    ${numberField(
+      { label: "Episodes per trial", path: "protocol.episodes", errors, class: "episodes-field" },
+      { name: "episodes", ref: form.episodes },
+    )}
+    ${numberField({ label: "Seed", path: "seed", errors }, { name: "seed", ref: form.seed })}
+    <div class="submit-cell">
+      <button type="submit" class="primary needs-change" ?disabled=${running || form.submitting || names.length === 0}>
+        ${running ? "Running…" : "Run"}
+      </button>
+    </div>
+  </div>`;
+}
+
+/** The scenarios the choice stands for: one, or a group's. */
+function chosenScenarios(app: App, form: ProtocolForm): string[] {
+  const value = valueOf(form.scenario);
+  if (!value.startsWith(GROUP)) return [value];
+  const names = state(app)
+    .scenarios.filter((s) => !s.error)
+    .map((s) => s.name);
+  return scenarioGroups(names).find((g) => `${GROUP}${g.key}` === value)?.scenarios ?? [];
+}
+
+/**
+ * The scenario's own protocol and seed fill the fields, once per choice (a refreshed list keeps what the
+ * user typed); a group's members each keep their own unless the user types some.
+ */
+async function describe(app: App, form: ProtocolForm, draw: () => void): Promise<void> {
+  const members = chosenScenarios(app, form);
+  const name = members[0] ?? "";
+  form.description =
+    members.length > 1
+      ? `Runs ${members.join(", ")} one after another, each with its own protocol (the fields below apply to each; empty keeps each scenario's own). Keep this page open until the last one has started.`
+      : (state(app).scenarios.find((s) => s.name === name)?.description ?? "");
+  draw();
+  if (members.length > 1) {
+    for (const field of [form.trials, form.episodes, form.seed]) setValue(field, "");
+    form.described = valueOf(form.scenario);
+    return;
   }
-  tables.push(h("p", { class: "muted protocol-summary" }, protocolSummary(job)));
-  return tables;
+  if (!name || name === form.described) return;
+  form.described = name;
+  await attempt(app, async () => {
+    const spec = await unwrap(api.GET("/api/scenarios/{name}", { params: { path: { name } } }));
+    if (valueOf(form.scenario) !== name) return;
+    setValue(form.trials, String(spec.protocol?.trials ?? ""));
+    setValue(form.episodes, String(spec.protocol?.episodes ?? ""));
+    setValue(form.seed, String(spec.seed ?? ""));
+  });
+}
+
+/** The request for one scenario: fields left empty keep its own values (the server checks the rest). */
+function templateFor(form: ProtocolForm, name: string): RunTemplate {
+  const template: RunTemplate = { scenario: name };
+  const seed = readOptionalNumber(valueOf(form.seed));
+  if (seed !== undefined) template.seed = seed;
+  const protocol: Record<string, number> = {};
+  const trials = readOptionalNumber(valueOf(form.trials));
+  const episodes = readOptionalNumber(valueOf(form.episodes));
+  if (trials !== undefined) protocol.trials = trials;
+  if (episodes !== undefined) protocol.episodes = episodes;
+  if (Object.keys(protocol).length > 0) template.protocol = protocol;
+  return template;
+}
+
+async function submit(app: App, form: ProtocolForm, errors: FormErrors, draw: () => void): Promise<void> {
+  errors.clear();
+  const members = chosenScenarios(app, form);
+  form.submitting = true;
+  draw();
+  try {
+    const job = await startProtocol(app, templateFor(form, members[0] ?? ""));
+    if (members.length > 1) {
+      form.queue = members.slice(1);
+      form.groupJob = job.id;
+      form.groupSize = members.length;
+    }
+  } catch (error) {
+    if (error instanceof ApiError && error.problems.length > 0) errors.showProblems(error.problems);
+    else if (error instanceof ApiError && error.status === 429) {
+      errors.showGeneral(BUSY_MESSAGE);
+      await attempt(app, () => loadProtocols(app));
+    } else errors.showGeneral(errorMessage(error));
+  } finally {
+    form.submitting = false;
+    draw();
+  }
+}
+
+async function startNext(app: App, form: ProtocolForm, draw: () => void): Promise<void> {
+  const name = form.queue.shift();
+  if (name !== undefined) {
+    const job = await attempt(app, () => startProtocol(app, templateFor(form, name)));
+    form.groupJob = job?.id ?? null;
+    if (form.groupJob === null) form.queue = []; // refused: the group stops here, the notice says why
+  }
+  draw();
+}
+
+function groupNote(form: ProtocolForm): string {
+  const done = form.groupSize - form.queue.length - (form.groupJob ? 1 : 0);
+  return form.groupJob || form.queue.length
+    ? `Group: ${done} of ${form.groupSize} done; ${form.queue.length} waiting.`
+    : `Group: all ${form.groupSize} done; their results are in the table below.`;
+}
+
+/** The job shown: its title and status, its progress and elapsed time, Cancel, then its results. */
+function jobSection(app: App, form: ProtocolForm, now: AppState, draw: () => void) {
+  // One section for every job (hidden while none is shown), so that it stays the same element.
+  const { protocol, protocolStartedAt } = now;
+  const status = protocol?.status;
+  const running = status === "running";
+  const elapsed = running && protocolStartedAt !== null ? Math.max(0, (Date.now() - protocolStartedAt) / 1000) : null;
+  const shown = protocol ? protocolProgress(protocol, elapsed) : { fraction: 0, counted: "", timing: "" };
+  const total = Math.max(1, protocol?.episodes_total ?? 1);
+  const cancelling = protocol !== null && form.cancelling === protocol.id;
+  const cancel = () => {
+    if (protocol === null) return;
+    form.cancelling = protocol.id;
+    draw();
+    void attempt(app, () => cancelProtocol(app));
+  };
+  return html`<section class="protocol-job" aria-labelledby="protocol-job-title" ?hidden=${protocol === null}>
+    <div class="panel-head">
+      <div class="job-title">
+        <h3 id="protocol-job-title">${protocol ? protocolTitle(protocol) : ""}</h3>
+        <span class="badge status-${status}">${status ?? ""}</span>
+      </div>
+      <button type="button" class="danger needs-teacher" ?hidden=${!running} ?disabled=${cancelling} @click=${cancel}>
+        ${cancelling ? "Cancelling…" : "Cancel"}
+      </button>
+    </div>
+    <progress
+      class="protocol-progress"
+      aria-labelledby="protocol-job-title"
+      max=${total}
+      .value=${shown.fraction * total}
+      aria-valuetext=${shown.counted}
+    ></progress>
+    <p class="progress-text">
+      <span class="progress-count" data-testid="protocol-count">${shown.counted}</span
+      ><span class="progress-timing" data-testid="protocol-timing">${shown.timing ? ` · ${shown.timing}` : ""}</span>
+    </p>
+    <p class="form-error" role="alert" ?hidden=${status !== "failed"}>
+      ${status === "failed" ? `The protocol failed: ${protocol?.error}` : ""}
+    </p>
+    <div class="protocol-results">${protocol?.results ? resultsTables(protocol) : nothing}</div>
+  </section>`;
 }

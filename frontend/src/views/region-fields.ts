@@ -1,12 +1,14 @@
 /**
  * One region of the world editor: name, kind, rectangle, and the fields of its kind (a terminal's
- * reward, an indicator's colours). `read()` gives the Region the form describes.
+ * reward, an indicator's colours), drawn from the region's text as the form holds it; `readRegion` gives
+ * the Region that text describes.
  */
+import { html } from "lit-html";
 import type { Color, Region, RegionKind } from "../api/types";
 import { InputError } from "../lib/input-error";
 import { formatList, readNumber, readNumberList } from "../lib/parse";
-import { h, options } from "../ui/dom";
-import { type FormErrors, field, textInput } from "../ui/form";
+import { type FormErrors, errorSlot, field, selectField, textArea, textField } from "../ui/form";
+import { choices } from "../ui/html";
 
 const KINDS: readonly RegionKind[] = ["obstacle", "terminal", "zone", "indicator"];
 
@@ -19,12 +21,6 @@ export interface RegionText {
   colors: string;
 }
 
-export interface RegionFields {
-  element: HTMLFieldSetElement;
-  read: () => Region;
-  text: () => RegionText;
-}
-
 export function regionText(region: Region): RegionText {
   return {
     name: region.name,
@@ -35,80 +31,81 @@ export function regionText(region: Region): RegionText {
   };
 }
 
+/** The Region a region's text describes; throws InputError where a field cannot be read at all. */
+export function readRegion(region: RegionText, path: string): Region {
+  const value: Region = { name: region.name.trim(), kind: region.kind, rect: readNumberList(region.rect) };
+  if (value.kind === "terminal") value.reward = readReward(region.reward, `${path}.reward`);
+  if (value.kind === "indicator") value.colors = readColors(region.colors);
+  return value;
+}
+
+/**
+ * The fields of region `index` (its 422s under `regions.INDEX`): what is typed goes into `region` at once
+ * and `changed` is told; `remove` takes the region out.
+ */
 export function regionFields(
   region: RegionText,
-  path: string,
+  index: number,
   errors: FormErrors,
-  onChange: () => void,
-  onRemove: () => void,
-): RegionFields {
-  const name = textInput(region.name, { "data-field": "region-name" });
-  const kind = h("select", { "data-field": "region-kind" }, options(KINDS, region.kind));
-  const rect = textInput(region.rect, { "data-field": "region-rect" });
-  const reward = textInput(region.reward, { "data-field": "region-reward" });
-  const colors = h("textarea", { rows: 3, spellcheck: "false", "data-field": "region-colors" });
-  colors.value = region.colors;
-  const legend = h("legend", {}, region.name || "new region");
-
-  const rewardField = field("Reward", reward, {
-    path: `${path}.reward`,
-    errors,
-    hint: 'or per colour: {"indicator": …, "values": {…}}',
-    class: "wide",
-  });
-  const colorsField = field("Colours", colors, {
-    path: `${path}.colors`,
-    errors,
-    hint: "one a line: name, value, probability (e.g. yellow, 1, 0.5)",
-  });
-  const showKindFields = () => {
-    rewardField.hidden = kind.value !== "terminal";
-    colorsField.hidden = kind.value !== "indicator";
+  changed: () => void,
+  remove: () => void,
+) {
+  const path = `regions.${index}`;
+  const set = (key: Exclude<keyof RegionText, "kind">) => (event: Event) => {
+    region[key] = (event.target as HTMLInputElement).value;
+    changed();
   };
-  showKindFields();
-
-  // Problems of the region as a whole ("terminal region 'a' needs a reward" names a field and goes there).
-  const regionError = errors.register(path, null);
-  const remove = h("button", { type: "button", class: "danger small", onclick: onRemove }, "Remove");
-  const setNames = () => {
-    legend.textContent = name.value || "new region";
-    remove.setAttribute("aria-label", `Remove region ${name.value || "new region"}`);
-  };
-  setNames();
-
-  const element = h(
-    "fieldset",
-    { class: "region", oninput: onChange, onchange: onChange },
-    legend,
-    h(
-      "div",
-      { class: "row" },
-      field("Name", name, { path: `${path}.name`, errors }),
-      field("Kind", kind, { path: `${path}.kind`, errors }),
-      field("Rectangle", rect, { path: `${path}.rect`, errors, hint: "x0, y0, x1, y1", class: "wide" }),
-      rewardField,
-      h("div", { class: "remove" }, remove),
-    ),
-    colorsField,
-    regionError,
-  );
-  kind.addEventListener("change", showKindFields);
-  name.addEventListener("input", setNames);
-
-  const read = (): Region => {
-    const value: Region = { name: name.value.trim(), kind: kind.value as RegionKind, rect: readNumberList(rect.value) };
-    if (value.kind === "terminal") value.reward = readReward(reward.value, `${path}.reward`);
-    if (value.kind === "indicator") value.colors = readColors(colors.value);
-    return value;
-  };
-  const text = (): RegionText => ({
-    name: name.value,
-    kind: kind.value as RegionKind,
-    rect: rect.value,
-    reward: reward.value,
-    colors: colors.value,
-  });
-  return { element, read, text };
+  const name = region.name || "new region";
+  return html`<fieldset class="region">
+    <legend>${name}</legend>
+    <div class="row">
+      ${textField(
+        { label: "Name", path: `${path}.name`, errors },
+        { field: "region-name", current: region.name, onInput: set("name") },
+      )}
+      ${selectField(
+        { label: "Kind", path: `${path}.kind`, errors },
+        {
+          field: "region-kind",
+          current: region.kind,
+          onChange: (event) => {
+            region.kind = (event.target as HTMLSelectElement).value as RegionKind;
+            changed();
+          },
+        },
+        choices(KINDS, region.kind),
+      )}
+      ${textField(
+        { label: "Rectangle", path: `${path}.rect`, errors, hint: "x0, y0, x1, y1", class: "wide" },
+        { field: "region-rect", current: region.rect, onInput: set("rect") },
+      )}
+      ${textField(
+        {
+          label: "Reward",
+          path: `${path}.reward`,
+          errors,
+          hint: 'or per colour: {"indicator": …, "values": {…}}',
+          class: "wide",
+          hidden: region.kind !== "terminal",
+        },
+        { field: "region-reward", current: region.reward, onInput: set("reward") },
+      )}
+      <div class="remove">
+        <button type="button" class="danger small" aria-label="Remove region ${name}" @click=${remove}>Remove</button>
+      </div>
+    </div>
+    ${field(
+      {
+        label: "Colours",
+        path: `${path}.colors`,
+        errors,
+        hint: "one a line: name, value, probability (e.g. yellow, 1, 0.5)",
+        hidden: region.kind !== "indicator",
+      },
+      (c) => textArea(c, { field: "region-colors", current: region.colors, onInput: set("colors") }, 3),
+    )}
+    ${errorSlot(errors, path)}
+  </fieldset>`;
 }
 
 function rewardText(reward: Region["reward"]): string {

@@ -4,85 +4,73 @@
  * error, and the thesis's number. The server keeps no results of the protocol's evaluation and test
  * runs for a live run, so the truth comes from the dashboard's own evaluations.
  */
-import type { AppState, AppStore } from "../app/state";
+import { html, nothing } from "lit-html";
+import type { App, AppState } from "../app/app";
+import { mount } from "../app/view";
+import type { Run, Summary } from "../api/types";
 import { evaluationKind } from "../api/types";
 import { MISSING, formatCount, formatNumber, formatRelativeError, formatTruth, truthOf } from "../lib/format";
-import { h, replaceChildren, section } from "../ui/dom";
+import { heading, host } from "../ui/html";
+import type { Scope } from "../ui/scope";
 
-export function runResults(store: AppStore): HTMLElement {
-  const body = h("div", {});
-  const element = section({ class: "panel results-panel", id: "results-title", title: "Results", hidden: true }, body);
-
-  const render = ({ run, evaluations }: Readonly<AppState>) => {
-    const summary = run?.summary;
-    element.hidden = !run || !summary;
-    if (!run || !summary) return;
-    const thesis = run.spec.thesis ?? {};
-    const names = Object.keys(summary.predictions);
-    const counts = thesis.counts;
-    const grid = evaluationKind(run) === "grid";
-    replaceChildren(
-      body,
-      h(
-        "p",
-        {},
-        `${run.status === "failed" ? "Failed" : "Finished"} after ${formatCount(summary.episodes)} episodes (${formatCount(summary.steps)} steps)`,
-        summary.stopped_early ? ", stopped early by the stopping rule" : "",
-        `; last return ${formatNumber(summary.last_return)}.`,
-      ),
-      h(
-        "table",
-        { class: "results-table" },
-        h("caption", { class: "visually-hidden" }, "Predictions at the start state against the truth and the thesis"),
-        h(
-          "thead",
-          {},
-          h(
-            "tr",
-            {},
-            ...["demon", "prediction", "truth (± se)", "error", "thesis"].map((label, i) =>
-              h("th", { scope: "col", class: i ? "num" : "" }, label),
-            ),
-          ),
-        ),
-        h(
-          "tbody",
-          {},
-          names.map((name) => {
-            const prediction = summary.predictions[name];
-            // Only the grid world's evaluations are from the start, where these predictions are.
-            const startTruth = grid ? evaluations[name] : undefined;
-            return h(
-              "tr",
-              {},
-              h("th", { scope: "row" }, name),
-              h("td", { class: "num" }, formatNumber(prediction)),
-              h(
-                "td",
-                { class: "num" },
-                startTruth ? formatTruth(startTruth) : grid ? "evaluate in the table" : MISSING,
-              ),
-              h("td", { class: "num" }, startTruth ? formatRelativeError(prediction, truthOf(startTruth)) : MISSING),
-              h("td", { class: "num" }, formatNumber(thesis.predictions?.[name])),
-            );
-          }),
-        ),
-      ),
-      counts
-        ? h(
-            "p",
-            {},
-            `The thesis's greedy test runs: positive ${counts.positive}, negative ${counts.negative}, none ${counts.none}. `,
-            h(
-              "span",
-              { class: "muted" },
-              "(A live run does not make test runs: the Protocol tab runs the scenario's protocol with its test runs.)",
-            ),
-          )
-        : null,
-    );
-  };
-  store.subscribe(render, ["run", "evaluations"]);
-  render(store.state);
+export function runResults(app: App, scope: Scope): HTMLElement {
+  const element = host(html`<section class="panel results-panel" aria-labelledby="results-title"></section>`);
+  mount(app, scope, element, ["run", "evaluations"], ({ run, evaluations }) => {
+    element.hidden = !run?.summary;
+    return html`${heading({ id: "results-title", title: "Results" })}
+      <div>${run?.summary ? results(run, run.summary, evaluations) : nothing}</div>`;
+  });
   return element;
+}
+
+function results(run: Run, summary: Summary, evaluations: AppState["evaluations"]) {
+  const thesis = run.spec.thesis ?? {};
+  const counts = thesis.counts;
+  const grid = evaluationKind(run) === "grid";
+  const row = (name: string) => {
+    const prediction = summary.predictions[name];
+    // Only the grid world's evaluations are from the start, where these predictions are.
+    const startTruth = grid ? evaluations[name] : undefined;
+    return html`<tr>
+      <th scope="row">${name}</th>
+      <td class="num">${formatNumber(prediction)}</td>
+      <td class="num">${startTruth ? formatTruth(startTruth) : grid ? "evaluate in the table" : MISSING}</td>
+      <td class="num">${startTruth ? formatRelativeError(prediction, truthOf(startTruth)) : MISSING}</td>
+      <td class="num">${formatNumber(thesis.predictions?.[name])}</td>
+    </tr>`;
+  };
+  return html`<p>
+      ${run.status === "failed" ? "Failed" : "Finished"} after ${formatCount(summary.episodes)} episodes
+      (${formatCount(summary.steps)} steps)${summary.stopped_early ? ", stopped early by the stopping rule" : ""}; last
+      return ${formatNumber(summary.last_return)}.
+    </p>
+    <table class="results-table">
+      <caption class="visually-hidden">
+        Predictions at the start state against the truth and the thesis
+      </caption>
+      <thead>
+        <tr>
+          <th scope="col">demon</th>
+          <th scope="col" class="num">prediction</th>
+          <th scope="col" class="num">truth (± se)</th>
+          <th scope="col" class="num">error</th>
+          <th scope="col" class="num">thesis</th>
+        </tr>
+      </thead>
+      <tbody>
+        ${Object.keys(summary.predictions).map(row)}
+      </tbody>
+    </table>
+    ${
+      counts
+        ? html`<p>
+            The thesis's greedy test runs: positive ${counts.positive}, negative ${counts.negative}, none
+            ${counts.none}.
+            <span class="muted"
+              >(A live run does not make test runs: the Protocol tab runs the scenario's protocol with its test
+              runs.)</span
+            >
+          </p>`
+        : nothing
+    }`;
 }

@@ -1,219 +1,193 @@
 /**
- * The list of runs: status, episode and step of each, its speed, and its commands (start or pause,
- * step, reset, delete); a filter over names, scenarios and ids, and "Delete finished". Rows are kept and
- * updated in place, so the focus stays on a button while the list refreshes.
+ * The list of runs: status, owner, episode and step of each, its speed, and its commands (start or pause,
+ * step, reset, delete); a filter over names, scenarios and ids, and "Delete finished". Rows are kept by
+ * the run's id (lit-html's `repeat`) and updated in place, so the focus stays on a button while the list
+ * refreshes.
  */
+import { html } from "lit-html";
+import { guard } from "lit-html/directives/guard.js";
+import { repeat } from "lit-html/directives/repeat.js";
 import { attempt, commandRun, deleteRun, notify, selectRun, setRunSpeed, stepRun } from "../app/actions";
-import type { AppStore } from "../app/state";
+import type { App, AppState } from "../app/app";
+import { mount } from "../app/view";
 import type { RunBrief } from "../api/types";
 import { formatCount, formatHz, formatStatus, runLabel } from "../lib/format";
 import { FULL_SPEED, matchesFilter, speedChoice } from "../lib/runs";
-import { type ConfirmButton, confirmButton } from "../ui/confirm";
-import { h, options, replaceChildren, section, setText } from "../ui/dom";
+import { Confirm, confirmButton } from "../ui/confirm";
+import { choices, heading, host } from "../ui/html";
+import type { Scope } from "../ui/scope";
 
 const STEP_SIZES = ["1", "10", "100", "1000"];
 
-interface Row {
-  item: HTMLLIElement;
-  select: HTMLButtonElement;
-  status: HTMLElement;
-  counters: HTMLElement;
-  toggle: HTMLButtonElement;
-  step: HTMLButtonElement;
-  reset: HTMLButtonElement;
-  remove: ConfirmButton;
-  speed: HTMLSelectElement;
-  fullSpeed: HTMLButtonElement;
-  message: HTMLElement;
-  run: RunBrief;
+/** What the rows share: the app, the "press twice" state of each Delete, the steps per Step. */
+interface Rows {
+  app: App;
+  confirms: Map<string, Confirm>;
+  confirmOf: (runId: string) => Confirm;
+  stepSize: () => number;
 }
 
-export function runsPanel(store: AppStore): HTMLElement {
-  const stepSize = h("select", { id: "step-size" }, options(STEP_SIZES, "1"));
-  const list = h("ul", { class: "run-list", "aria-label": "Runs" });
-  const empty = h("p", { class: "muted" }, "No runs yet: launch a scenario above.");
-  const filter = h("input", {
-    type: "search",
-    id: "run-filter",
-    placeholder: "name, scenario, id or status",
-    autocomplete: "off",
-  });
-  const matching = h("p", { class: "hint", "aria-live": "polite" });
-  // Deleting every finished (or failed) run takes two presses, as deleting one does.
-  const finishedRuns = () => store.state.runs.filter((r) => r.status === "finished" || r.status === "failed");
-  const deleteFinished = confirmButton({
-    class: "danger small",
-    text: (armed) => (armed ? `Really delete ${finishedRuns().length}?` : `Delete finished (${finishedRuns().length})`),
-    onConfirm: () => {
-      const done = finishedRuns();
-      void attempt(store, async () => {
-        for (const run of done) await deleteRun(store, run.id);
-        notify(store, `Deleted ${done.length} finished run${done.length === 1 ? "" : "s"}.`);
-      });
-    },
-  });
-  const rows = new Map<string, Row>();
-
-  const makeRow = (run: RunBrief): Row => {
-    const row = {} as Row;
-    row.run = run;
-    row.select = h("button", {
-      type: "button",
-      class: "run-select",
-      onclick: () => void attempt(store, () => selectRun(store, row.run.id)),
-    });
-    row.status = h("span", { class: "badge" });
-    row.counters = h("span", { class: "counters", dataset: { testid: "run-counters" } });
-    row.toggle = h("button", {
-      type: "button",
-      onclick: () => {
-        const command = row.run.status === "running" ? "pause" : "start";
-        void attempt(store, () => commandRun(store, row.run.id, command));
-      },
-    });
-    row.step = h("button", {
-      type: "button",
-      onclick: () => void attempt(store, () => stepRun(store, row.run.id, Number(stepSize.value))),
-    });
-    row.reset = h(
-      "button",
-      { type: "button", onclick: () => void attempt(store, () => commandRun(store, row.run.id, "reset")) },
-      "Reset",
-    );
-    // Deleting takes two presses, so a stray click or key cannot throw a run away.
-    row.remove = confirmButton({
-      text: (armed) => (armed ? "Really delete?" : "Delete"),
-      label: (armed) => (armed ? `Really delete run ${runLabel(row.run)}?` : `Delete run ${runLabel(row.run)}`),
-      onConfirm: () =>
-        void attempt(store, async () => {
-          await deleteRun(store, row.run.id);
-          notify(store, `Deleted run ${runLabel(row.run)}.`);
-        }),
-    });
-    row.speed = h("select", {
-      class: "speed",
-      title: "Steps per second: slow enough to watch each step, or as fast as the machine can learn",
-      onchange: () => {
-        const hz = row.speed.value === FULL_SPEED ? null : Number(row.speed.value);
-        void attempt(store, () => setRunSpeed(store, row.run.id, hz));
-      },
-    });
-    row.fullSpeed = h(
-      "button",
-      {
-        type: "button",
-        class: "small",
-        title: "Learn as fast as the machine can (the live view then shows a sample of the steps)",
-        onclick: () => void attempt(store, () => setRunSpeed(store, row.run.id, null)),
-      },
-      "Full speed",
-    );
-    row.message = h("p", { class: "run-message", role: "status", hidden: true });
-    row.item = h(
-      "li",
-      { class: "run-item", dataset: { run: run.id } },
-      h("div", { class: "run-head" }, row.select, row.status),
-      row.counters,
-      row.message,
-      h("div", { class: "run-speed" }, row.speed, row.fullSpeed),
-      h("div", { class: "run-actions" }, row.toggle, row.step, row.reset, row.remove.button),
-    );
-    return row;
+export function runsPanel(app: App, scope: Scope): HTMLElement {
+  const element = host(html`<section class="panel runs-panel" aria-labelledby="runs-title"></section>`);
+  let filter = "";
+  let stepSize = 1;
+  // Each Delete keeps its "armed" state across renders, so it is made once per run.
+  const confirms = new Map<string, Confirm>();
+  const confirmOf = (runId: string) => {
+    let confirm = confirms.get(runId);
+    if (!confirm) confirms.set(runId, (confirm = new Confirm(scope, () => draw())));
+    return confirm;
   };
-
-  filter.addEventListener("input", () => render());
-
-  const render = () => {
-    const { runs, selectedRunId, live } = store.state;
-    empty.hidden = runs.length > 0;
-    deleteFinished.button.disabled = finishedRuns().length === 0;
-    deleteFinished.refresh();
-    const shown = runs.filter((r) => matchesFilter(r, filter.value));
-    matching.hidden = filter.value.trim() === "";
-    setText(matching, `${shown.length} of ${runs.length} runs match`);
-    const seen = new Set<string>();
-    for (const brief of shown) {
-      seen.add(brief.id);
-      // The selected run's stream is fresher than the list's once-a-second reading.
-      const run =
-        live && live.run === brief.id
-          ? {
-              ...brief,
-              status: live.status,
-              step: live.step,
-              episode: live.episode,
-              hz: live.hz,
-              message: live.message,
-            }
-          : brief;
-      let row = rows.get(run.id);
-      if (!row) {
-        row = makeRow(run);
-        rows.set(run.id, row);
-      }
-      updateRow(row, run, selectedRunId);
-      // The server's order; a row is moved only when out of place, since a node taken out of the page,
-      // even for a moment, loses the focus and the click under way on its buttons.
-      const at = list.children[seen.size - 1];
-      if (at !== row.item) list.insertBefore(row.item, at ?? null);
-    }
-    for (const [id, row] of rows) {
-      if (!seen.has(id)) {
-        row.item.remove();
-        rows.delete(id);
-      }
-    }
-  };
-  store.subscribe(render, ["runs", "selectedRunId", "live"]);
-  render();
-
-  return section(
-    {
-      class: "panel runs-panel",
-      id: "runs-title",
-      title: "Runs",
-      beside: [h("label", { for: "step-size", class: "inline" }, "Steps per Step ", stepSize)],
-    },
-    h("div", { class: "run-filter" }, h("label", { for: "run-filter" }, "Filter runs"), filter, matching),
-    h("div", { class: "actions" }, deleteFinished.button),
-    empty,
-    list,
-  );
+  const rows: Rows = { app, confirms, confirmOf, stepSize: () => stepSize };
+  const deleteFinished = new Confirm(scope, () => draw());
+  const draw = mount(app, scope, element, ["runs", "selectedRunId", "live"], (state) => {
+    const shown = state.runs.filter((r) => matchesFilter(r, filter));
+    for (const id of confirms.keys()) if (!state.runs.some((r) => r.id === id)) confirms.delete(id);
+    return html`${heading({
+        id: "runs-title",
+        title: "Runs",
+        beside: html`<label for="step-size" class="inline"
+          >Steps per Step
+          <select id="step-size" @change=${(e: Event) => (stepSize = Number((e.target as HTMLSelectElement).value))}>
+            ${choices(STEP_SIZES, String(stepSize))}
+          </select></label
+        >`,
+      })}
+      <div class="run-filter">
+        <label for="run-filter">Filter runs</label>
+        <input
+          type="search"
+          id="run-filter"
+          placeholder="name, scenario, id or status"
+          autocomplete="off"
+          @input=${(e: Event) => {
+            filter = (e.target as HTMLInputElement).value;
+            draw();
+          }}
+        />
+        <p class="hint" aria-live="polite" ?hidden=${filter.trim() === ""}>
+          ${shown.length} of ${state.runs.length} runs match
+        </p>
+      </div>
+      <div class="actions">${deleteFinishedButton(app, deleteFinished, state.runs)}</div>
+      <p class="muted" ?hidden=${state.runs.length > 0}>No runs yet: launch a scenario above.</p>
+      <ul class="run-list" aria-label="Runs">
+        ${repeat(
+          shown,
+          (run) => run.id,
+          (brief) => {
+            // A row is drawn again only when its run, its selection or its Delete changed (the stream
+            // changes the selected run's row 30 times a second; the others stay as they are).
+            const run = fresher(brief, state);
+            const selected = run.id === state.selectedRunId;
+            return guard([run, selected, confirmOf(run.id).armed], () => runRow(rows, run, selected));
+          },
+        )}
+      </ul>`;
+  });
+  return element;
 }
 
-function updateRow(row: Row, run: RunBrief, selectedRunId: string | null): void {
-  row.run = run;
+/** Deleting every finished (or failed) run takes two presses, as deleting one does. */
+function deleteFinishedButton(app: App, confirm: Confirm, runs: readonly RunBrief[]) {
+  const done = runs.filter((r) => r.status === "finished" || r.status === "failed");
+  return confirmButton(confirm, {
+    class: "danger small needs-teacher",
+    text: (armed) => (armed ? `Really delete ${done.length}?` : `Delete finished (${done.length})`),
+    disabled: done.length === 0,
+    onConfirm: () =>
+      void attempt(app, async () => {
+        for (const run of done) await deleteRun(app, run.id);
+        notify(app, `Deleted ${done.length} finished run${done.length === 1 ? "" : "s"}.`);
+      }),
+  });
+}
+
+/** The selected run's stream is fresher than the list's once-a-second reading. */
+function fresher(brief: RunBrief, { live }: AppState): RunBrief {
+  if (!live || live.run !== brief.id) return brief;
+  const { status, step, episode, hz, message } = live;
+  return { ...brief, status, step, episode, hz, message };
+}
+
+function runRow({ app, confirmOf, stepSize }: Rows, run: RunBrief, selected: boolean) {
   const label = runLabel(run);
-  const selected = run.id === selectedRunId;
-  row.item.classList.toggle("selected", selected);
-  setText(row.select, label);
-  row.select.setAttribute("aria-pressed", String(selected));
-  row.select.title = `Show run ${run.id}`;
-  setText(row.status, formatStatus(run.status));
-  row.status.className = `badge status-${run.status}`;
-  setText(row.counters, `episode ${formatCount(run.episode)} · step ${formatCount(run.step)} · ${formatHz(run.hz)}`);
-  // The server's word when it matters: kernels being prepared, or why the run failed.
-  const says = run.status === "failed" || run.message.startsWith("preparing") ? run.message : "";
-  row.message.hidden = says === "";
-  setText(row.message, says);
-  const choice = speedChoice(run.hz);
-  if (row.speed.dataset.choices !== choice.key) {
-    row.speed.dataset.choices = choice.key;
-    replaceChildren(row.speed, options(choice.items, choice.value));
-  }
-  if (document.activeElement !== row.speed) row.speed.value = choice.value;
-  row.speed.setAttribute("aria-label", `Speed of run ${label}`);
-  row.fullSpeed.disabled = run.hz === null || run.hz === undefined;
-  row.fullSpeed.setAttribute("aria-label", `Run ${label} at full speed`);
   const running = run.status === "running";
   const done = run.status === "finished" || run.status === "failed";
-  setText(row.toggle, running ? "Pause" : "Start");
-  row.toggle.setAttribute("aria-label", `${running ? "Pause" : "Start"} run ${label}`);
-  row.toggle.disabled = done;
-  row.toggle.className = running ? "" : "primary";
-  setText(row.step, "Step");
-  row.step.setAttribute("aria-label", `Step run ${label}`);
-  row.step.disabled = running || done;
-  row.reset.setAttribute("aria-label", `Reset run ${label}`);
-  row.remove.refresh();
+  // The server's word when it matters: kernels being prepared, or why the run failed.
+  const says = run.status === "failed" || run.message.startsWith("preparing") ? run.message : "";
+  const speed = speedChoice(run.hz);
+  const act = (work: () => Promise<void>) => () => void attempt(app, work);
+  // Whose run it is: its commands show only to its owner and the teacher (app/access.ts).
+  return html`<li class="run-item ${selected ? "selected" : ""}" data-run=${run.id} data-owner=${run.owner}>
+    <div class="run-head">
+      <button
+        type="button"
+        class="run-select"
+        aria-pressed=${String(selected)}
+        title="Show run ${run.id}"
+        @click=${act(() => selectRun(app, run.id))}
+      >
+        ${label}</button
+      ><span class="badge status-${run.status}">${formatStatus(run.status)}</span>
+    </div>
+    <span class="run-owner" data-testid="run-owner">by ${run.owner}</span>
+    <span class="counters" data-testid="run-counters"
+      >episode ${formatCount(run.episode)} · step ${formatCount(run.step)} · ${formatHz(run.hz)}</span
+    >
+    <p class="run-message" role="status" ?hidden=${says === ""}>${says}</p>
+    <div class="run-speed needs-owner">
+      <select
+        class="speed"
+        aria-label="Speed of run ${label}"
+        title="Steps per second: slow enough to watch each step, or as fast as the machine can learn"
+        @change=${(e: Event) => {
+          const value = (e.target as HTMLSelectElement).value;
+          void attempt(app, () => setRunSpeed(app, run.id, value === FULL_SPEED ? null : Number(value)));
+        }}
+      >
+        ${choices(speed.items, speed.value)}
+      </select>
+      <button
+        type="button"
+        class="small"
+        aria-label="Run ${label} at full speed"
+        title="Learn as fast as the machine can (the live view then shows a sample of the steps)"
+        ?disabled=${run.hz === null || run.hz === undefined}
+        @click=${act(() => setRunSpeed(app, run.id, null))}
+      >
+        Full speed
+      </button>
+    </div>
+    <div class="run-actions needs-owner">
+      <button
+        type="button"
+        class=${running ? "" : "primary"}
+        aria-label="${running ? "Pause" : "Start"} run ${label}"
+        ?disabled=${done}
+        @click=${act(() => commandRun(app, run.id, running ? "pause" : "start"))}
+      >
+        ${running ? "Pause" : "Start"}</button
+      ><button
+        type="button"
+        aria-label="Step run ${label}"
+        ?disabled=${running || done}
+        @click=${act(() => stepRun(app, run.id, stepSize()))}
+      >
+        Step</button
+      ><button type="button" aria-label="Reset run ${label}" @click=${act(() => commandRun(app, run.id, "reset"))}>
+        Reset
+      </button>
+      ${confirmButton(confirmOf(run.id), {
+        // Deleting takes two presses, so a stray click or key cannot throw a run away.
+        text: (armed) => (armed ? "Really delete?" : "Delete"),
+        label: (armed) => (armed ? `Really delete run ${label}?` : `Delete run ${label}`),
+        onConfirm: () =>
+          void attempt(app, async () => {
+            await deleteRun(app, run.id);
+            notify(app, `Deleted run ${label}.`);
+          }),
+      })}
+    </div>
+  </li>`;
 }

@@ -1,9 +1,10 @@
 /**
  * A small SVG chart of means with 95 % bands: learning curves (a line and a shaded band per series) and
  * sensitivity curves (points with error bars joined by lines). Log scales where asked, a legend of
- * the series below, and a title that says what is drawn. Pure drawing: no state, no requests.
+ * the series below, and a title that says what is drawn. Pure drawing (lit-html SVG templates): no state, no requests.
  */
-import { h, s } from "../ui/dom";
+import { html, nothing, svg } from "lit-html";
+import { styleMap } from "lit-html/directives/style-map.js";
 
 export interface ChartSeries {
   label: string;
@@ -86,7 +87,19 @@ function pathOf(points: [number, number][]): string {
   return points.map(([x, y], i) => `${i ? "L" : "M"}${x.toFixed(1)},${y.toFixed(1)}`).join("");
 }
 
-export function bandChart(series: readonly ChartSeries[], options: ChartOptions): HTMLElement {
+/** The chart's scales: from data values to SVG coordinates, and the ranges they cover. */
+interface Frame {
+  sx: Scale;
+  sy: Scale;
+  x0: number;
+  x1: number;
+  y0: number;
+  y1: number;
+  logX: boolean;
+  logY: boolean;
+}
+
+function frameOf(series: readonly ChartSeries[], options: ChartOptions): Frame {
   const logX = Boolean(options.logX);
   const logY = Boolean(options.logY);
   const xs = series.flatMap((one) => one.x);
@@ -104,115 +117,90 @@ export function bandChart(series: readonly ChartSeries[], options: ChartOptions)
       : [x0, x1];
   const sx = scale(xa, xb, M.left, W - M.right, logX);
   const sy = scale(y0, y1, H - M.bottom, M.top, logY);
-  const svg = s("svg", {
-    viewBox: `0 0 ${W} ${H}`,
-    class: "study-chart",
-    role: "img",
-    "aria-label": `${options.title}: ${options.yLabel} against ${options.xLabel}`,
-  });
-  const axes = s("g", { class: "axes" });
-  axes.append(
-    s("rect", { x: M.left, y: M.top, width: W - M.left - M.right, height: H - M.top - M.bottom, class: "frame" }),
-  );
-  for (const v of ticks(y0, y1, logY)) {
-    const y = sy(v);
-    axes.append(s("line", { x1: M.left, x2: W - M.right, y1: y, y2: y, class: "grid" }));
-    axes.append(s("text", { x: M.left - 6, y: y + 4, "text-anchor": "end" }, tickLabel(v)));
-  }
-  const distinct = [...new Set(xs)].sort((a, b) => a - b);
+  return { sx, sy, x0, x1, y0, y1, logX, logY };
+}
+
+/** The frame, the grid and ticks of both axes, and their labels. */
+function axes(series: readonly ChartSeries[], options: ChartOptions, f: Frame) {
+  const distinct = [...new Set(series.flatMap((one) => one.x))].sort((a, b) => a - b);
   const xTicks = options.categories
     ? options.categories.map((_, i) => i)
     : options.style === "bars" && distinct.length <= 8
       ? distinct // the swept values themselves
-      : ticks(x0, x1, logX);
-  for (const v of xTicks) {
-    const x = sx(v);
-    axes.append(s("line", { x1: x, x2: x, y1: H - M.bottom, y2: H - M.bottom + 4, class: "tick" }));
-    const text = options.categories ? (options.categories[v] ?? "") : tickLabel(v);
-    axes.append(s("text", { x, y: H - M.bottom + 16, "text-anchor": "middle" }, text));
+      : ticks(f.x0, f.x1, f.logX);
+  const middle = (M.top + H - M.bottom) / 2;
+  return svg`<g class="axes">
+    <rect x=${M.left} y=${M.top} width=${W - M.left - M.right} height=${H - M.top - M.bottom} class="frame"></rect>
+    ${ticks(f.y0, f.y1, f.logY).map(
+      (v) => svg`<line x1=${M.left} x2=${W - M.right} y1=${f.sy(v)} y2=${f.sy(v)} class="grid"></line>
+        <text x=${M.left - 6} y=${f.sy(v) + 4} text-anchor="end">${tickLabel(v)}</text>`,
+    )}
+    ${xTicks.map(
+      (v) => svg`<line x1=${f.sx(v)} x2=${f.sx(v)} y1=${H - M.bottom} y2=${H - M.bottom + 4} class="tick"></line>
+        <text x=${f.sx(v)} y=${H - M.bottom + 16} text-anchor="middle">${options.categories ? (options.categories[v] ?? "") : tickLabel(v)}</text>`,
+    )}
+    <text x=${(M.left + W - M.right) / 2} y=${H - 6} text-anchor="middle" class="label">${options.xLabel}</text>
+    <text x="12" y=${middle} transform="rotate(-90 12 ${middle})" text-anchor="middle" class="label">${options.yLabel}</text>
+  </g>`;
+}
+
+/** One series: its band (learning curves) or its error bars and points (sensitivity), and its line. */
+function seriesShape(one: ChartSeries, i: number, options: ChartOptions, f: Frame, clip: string) {
+  const color = PALETTE[i % PALETTE.length] as string;
+  const { sx, sy, logY } = f;
+  const at = (k: number, values: (number | null)[]): [number, number] => [
+    sx(one.x[k] as number),
+    sy(values[k] as number),
+  ];
+  const idx = one.x.map((_, k) => k).filter((k) => one.mean[k] !== null && (!logY || (one.mean[k] as number) > 0));
+  const positive = (v: number | null | undefined) => v !== null && v !== undefined && (!logY || v > 0);
+  let marks: unknown = nothing;
+  if (options.style === "band") {
+    const banded = idx.filter((k) => one.high[k] !== null && positive(one.low[k]));
+    const outline = [...banded.map((k) => at(k, one.high)), ...banded.map((k) => at(k, one.low)).reverse()];
+    marks = banded.length > 1 ? svg`<path d="${pathOf(outline)}Z" fill=${color} class="band"></path>` : nothing;
+  } else {
+    marks = svg`${idx
+      .filter((k) => one.high[k] !== null && positive(one.low[k]))
+      .map(
+        (k) =>
+          svg`<line x1=${sx(one.x[k] as number)} x2=${sx(one.x[k] as number)} y1=${sy(one.low[k] as number)} y2=${sy(one.high[k] as number)} stroke=${color} class="errorbar"></line>`,
+      )}${idx.map((k) => svg`<circle cx=${at(k, one.mean)[0]} cy=${at(k, one.mean)[1]} r="3.5" fill=${color} class="point"></circle>`)}`;
   }
-  axes.append(
-    s("text", { x: (M.left + W - M.right) / 2, y: H - 6, "text-anchor": "middle", class: "label" }, options.xLabel),
-  );
-  axes.append(
-    s(
-      "text",
-      {
-        x: 12,
-        y: (M.top + H - M.bottom) / 2,
-        transform: `rotate(-90 12 ${(M.top + H - M.bottom) / 2})`,
-        "text-anchor": "middle",
-        class: "label",
-      },
-      options.yLabel,
-    ),
-  );
+  const line = idx.map((k) => at(k, one.mean));
+  return svg`<g class="series" data-label=${one.label} clip-path="url(#${clip})">
+    ${marks}
+    ${line.length > 0 ? svg`<path d=${pathOf(line)} stroke=${color} class=${one.best ? "line best" : "line"}></path>` : nothing}
+  </g>`;
+}
+
+export function bandChart(series: readonly ChartSeries[], options: ChartOptions) {
+  const f = frameOf(series, options);
   const clip = `clip-${(chartCount += 1)}`;
-  svg.append(
-    s(
-      "defs",
-      {},
-      s(
-        "clipPath",
-        { id: clip },
-        s("rect", { x: M.left, y: M.top, width: W - M.left - M.right, height: H - M.top - M.bottom }),
-      ),
-    ),
-  );
-  svg.append(axes);
-
-  series.forEach((one, i) => {
-    const color = PALETTE[i % PALETTE.length] as string;
-    const group = s("g", { class: "series", "data-label": one.label, "clip-path": `url(#${clip})` });
-    const idx = one.x.map((_, k) => k).filter((k) => one.mean[k] !== null && (!logY || (one.mean[k] as number) > 0));
-    if (options.style === "band") {
-      const banded = idx.filter(
-        (k) => one.low[k] !== null && one.high[k] !== null && (!logY || (one.low[k] as number) > 0),
-      );
-      if (banded.length > 1) {
-        const upper = banded.map((k): [number, number] => [sx(one.x[k] as number), sy(one.high[k] as number)]);
-        const lower = banded.map((k): [number, number] => [sx(one.x[k] as number), sy(one.low[k] as number)]).reverse();
-        group.append(s("path", { d: `${pathOf([...upper, ...lower])}Z`, fill: color, class: "band" }));
-      }
-    } else {
-      for (const k of idx) {
-        const x = sx(one.x[k] as number);
-        const low = one.low[k];
-        const high = one.high[k];
-        if (low === null || high === null || (logY && (low as number) <= 0)) continue;
-        group.append(
-          s("line", { x1: x, x2: x, y1: sy(low as number), y2: sy(high as number), stroke: color, class: "errorbar" }),
-        );
-      }
-      for (const k of idx) {
-        group.append(
-          s("circle", {
-            cx: sx(one.x[k] as number),
-            cy: sy(one.mean[k] as number),
-            r: 3.5,
-            fill: color,
-            class: "point",
-          }),
-        );
-      }
-    }
-    const line = idx.map((k): [number, number] => [sx(one.x[k] as number), sy(one.mean[k] as number)]);
-    if (line.length > 0)
-      group.append(s("path", { d: pathOf(line), stroke: color, class: one.best ? "line best" : "line" }));
-    svg.append(group);
-  });
-
-  const legend = h(
-    "ul",
-    { class: "chart-legend" },
-    series.map((one, i) =>
-      h(
-        "li",
-        {},
-        h("span", { class: "swatch", style: `background:${PALETTE[i % PALETTE.length]}` }),
-        one.label + (one.best ? " (best)" : ""),
-      ),
-    ),
-  );
-  return h("figure", { class: "study-figure" }, h("figcaption", {}, options.title), svg, legend);
+  return html`<figure class="study-figure">
+    <figcaption>${options.title}</figcaption>
+    <svg
+      viewBox="0 0 ${W} ${H}"
+      class="study-chart"
+      role="img"
+      aria-label="${options.title}: ${options.yLabel} against ${options.xLabel}"
+    >
+      <defs>
+        <clipPath id=${clip}>
+          <rect x=${M.left} y=${M.top} width=${W - M.left - M.right} height=${H - M.top - M.bottom}></rect>
+        </clipPath>
+      </defs>
+      ${axes(series, options, f)} ${series.map((one, i) => seriesShape(one, i, options, f, clip))}
+    </svg>
+    <ul class="chart-legend">
+      ${series.map(
+        (one, i) =>
+          html`<li>
+            <span class="swatch" style=${styleMap({ background: PALETTE[i % PALETTE.length] })}></span>${
+              one.label + (one.best ? " (best)" : "")
+            }
+          </li>`,
+      )}
+    </ul>
+  </figure>`;
 }

@@ -1,50 +1,62 @@
-/** The main area's tabs (Live, World editor, Demon editor): real buttons, arrow keys between them. */
-import type { AppStore, Tab } from "../app/state";
-import { h } from "../ui/dom";
+/** The main area's tabs (Live, Protocol, World editor, Demon editor, Studies): real buttons, arrow keys between them. */
+import { html } from "lit-html";
+import type { App, Tab } from "../app/app";
+import { mount } from "../app/view";
+import { host } from "../ui/html";
+import type { Scope } from "../ui/scope";
 
 export interface TabPanel {
   tab: Tab;
   label: string;
-  panel: HTMLElement;
+  /** what the tab shows: an element or a template */
+  panel: unknown;
 }
 
-export function tabs(store: AppStore, panels: TabPanel[]): HTMLElement {
-  const buttons = panels.map(({ tab, label }) =>
-    h(
-      "button",
-      {
-        type: "button",
-        role: "tab",
-        id: `tab-${tab}`,
-        "aria-controls": `panel-${tab}`,
-        onclick: () => store.update({ tab }),
-      },
-      label,
-    ),
-  );
-  const wrappers = panels.map(({ tab, panel }) =>
-    h("div", { role: "tabpanel", id: `panel-${tab}`, "aria-labelledby": `tab-${tab}`, class: "tab-panel" }, panel),
-  );
-
-  const tablist = h("div", { role: "tablist", "aria-label": "Views", class: "tablist" }, buttons);
-  tablist.addEventListener("keydown", (event) => {
-    const index = buttons.indexOf(document.activeElement as HTMLButtonElement);
-    if (index < 0 || (event.key !== "ArrowRight" && event.key !== "ArrowLeft")) return;
-    const next = (index + (event.key === "ArrowRight" ? 1 : buttons.length - 1)) % buttons.length;
-    store.update({ tab: (panels[next] as TabPanel).tab });
-    buttons[next]?.focus();
+export function tabs(app: App, scope: Scope, panels: TabPanel[]): HTMLElement {
+  const element = host(html`<div class="tabs"></div>`);
+  const choose = (tab: Tab) => app.ui.update({ tab });
+  const onKey = (event: KeyboardEvent) => {
+    if (event.key !== "ArrowRight" && event.key !== "ArrowLeft") return;
+    const index = panels.findIndex(({ tab }) => tab === app.ui.state.tab);
+    const next = panels[(index + (event.key === "ArrowRight" ? 1 : panels.length - 1)) % panels.length] as TabPanel;
+    choose(next.tab);
+    element.querySelector<HTMLButtonElement>(`#tab-${next.tab}`)?.focus();
     event.preventDefault();
-  });
-
-  const render = () => {
-    panels.forEach(({ tab }, i) => {
-      const selected = store.state.tab === tab;
-      buttons[i]?.setAttribute("aria-selected", String(selected));
-      buttons[i]?.setAttribute("tabindex", selected ? "0" : "-1");
-      (wrappers[i] as HTMLElement).hidden = !selected;
-    });
   };
-  store.subscribe(render, ["tab"]);
-  render();
-  return h("div", { class: "tabs" }, tablist, wrappers);
+  mount(
+    app,
+    scope,
+    element,
+    ["tab"],
+    ({ tab: shown }) =>
+      html`<div role="tablist" aria-label="Views" class="tablist" @keydown=${onKey}>
+          ${panels.map(
+            ({ tab, label }) =>
+              html`<button
+                type="button"
+                role="tab"
+                id="tab-${tab}"
+                aria-controls="panel-${tab}"
+                aria-selected=${String(tab === shown)}
+                tabindex=${tab === shown ? "0" : "-1"}
+                @click=${() => choose(tab)}
+              >
+                ${label}
+              </button>`,
+          )}
+        </div>
+        ${panels.map(
+          ({ tab, panel }) =>
+            html`<div
+              role="tabpanel"
+              id="panel-${tab}"
+              aria-labelledby="tab-${tab}"
+              class="tab-panel"
+              ?hidden=${tab !== shown}
+            >
+              ${panel}
+            </div>`,
+        )}`,
+  );
+  return element;
 }

@@ -3,11 +3,16 @@
  * run's controls and say what to watch. It offers itself once per browser (remembered in localStorage as
  * soon as it opens): the first time a classroom run is selected, or a run is selected in classroom mode,
  * never before there is a run to show; "Take the tour" starts it on demand. A stop whose panel shows
- * nothing yet is left out, and the dialog is never laid over the upper part of the part it explains
- * (the live view's value-map legend stands at the world's top).
+ * nothing yet is left out, and the dialog is never laid over the upper half of the part it explains
+ * (the live view's value-map legend stands at the world's top): below or above it, the page scrolled to
+ * make room, else beside it (lib/tour-place.ts), placed again when the part changes size.
  */
-import type { AppStore } from "../app/state";
-import { h, setText } from "../ui/dom";
+import { html, render } from "lit-html";
+import { type App, watchState } from "../app/app";
+import { readFlag, writeFlag } from "../lib/stored";
+import { tourPlacement } from "../lib/tour-place";
+import { host } from "../ui/html";
+import type { Scope } from "../ui/scope";
 
 const DONE_KEY = "horde-lab-tour-done";
 
@@ -46,135 +51,136 @@ export const STOPS: Stop[] = [
   },
 ];
 
-function remembered(): boolean {
-  try {
-    return localStorage.getItem(DONE_KEY) === "1";
-  } catch {
-    return false;
-  }
-}
-
-function remember(): void {
-  try {
-    localStorage.setItem(DONE_KEY, "1");
-  } catch {
-    // storage disabled: the tour may come back on the next visit
-  }
-}
-
 export interface Tour {
   element: HTMLElement;
   start: () => void;
 }
 
-export function tour(store: AppStore): Tour {
-  const title = h("h2", { id: "tour-title" });
-  const text = h("p", { id: "tour-text" });
-  const count = h("span", { class: "muted" });
-  const back = h("button", { type: "button" }, "Back");
-  const next = h("button", { type: "button", class: "primary" }, "Next");
-  const skip = h("button", { type: "button" }, "Close the tour");
-  const element = h(
-    "div",
-    {
-      class: "tour",
-      role: "dialog",
-      "aria-labelledby": "tour-title",
-      "aria-describedby": "tour-text",
-      hidden: true,
-    },
-    title,
-    text,
-    h("div", { class: "tour-actions" }, count, skip, back, next),
+/** Where the tour is: its stops (those with something to show), the one shown (-1: none), the part lit. */
+interface Guide {
+  element: HTMLElement;
+  stops: Stop[];
+  at: number;
+  lit: Element | null;
+  /** watches the part lit: one that grows or shrinks while it is explained (charts arriving) has the dialog
+   * placed again */
+  resized: ResizeObserver;
+}
+
+export function tour(app: App, scope: Scope): Tour {
+  const element = host(
+    html`<div class="tour" role="dialog" aria-labelledby="tour-title" aria-describedby="tour-text" hidden></div>`,
   );
-  let at = -1;
-  let stops: Stop[] = [];
-  let lit: Element | null = null;
-
-  const place = () => {
-    const stop = stops[at];
-    const target = stop ? document.querySelector(stop.target) : null;
-    if (!stop || !target) return;
-    lit?.classList.remove("tour-target");
-    lit = target;
-    target.classList.add("tour-target");
-    setText(title, stop.title);
-    setText(text, stop.text);
-    setText(count, `${at + 1} of ${stops.length}`);
-    back.disabled = at === 0;
-    setText(next, at === stops.length - 1 ? "Done" : "Next");
-    // A part taller than the window is shown from its top (where the live view's legend is).
-    const tall = target.getBoundingClientRect().height > window.innerHeight;
-    target.scrollIntoView({ block: tall ? "start" : "center", behavior: "auto" });
-    const box = target.getBoundingClientRect();
-    const width = Math.min(element.offsetWidth || 360, window.innerWidth - 16);
-    const height = element.offsetHeight || 180;
-    let left = Math.max(8, Math.min(box.left + 16, window.innerWidth - width - 8));
-    // Below the part when there is room, else above it, else beside it, else over its lowest part: never over
-    // its top.
-    const below = box.bottom + 8;
-    const above = box.top - height - 8;
-    const beside =
-      box.left - width - 8 >= 8
-        ? box.left - width - 8
-        : box.right + width + 8 <= window.innerWidth
-          ? box.right + 8
-          : null;
-    let top: number;
-    if (below + height <= window.innerHeight - 8) top = below;
-    else if (above >= 8) top = above;
-    else if (beside !== null) {
-      left = beside;
-      top = Math.max(8, Math.min(box.top, window.innerHeight - height - 8));
-    } else top = Math.max(8, Math.min(box.bottom, window.innerHeight) - height - 8);
-    element.style.left = `${left}px`;
-    element.style.top = `${top}px`;
+  const guide: Guide = {
+    element,
+    stops: [],
+    at: -1,
+    lit: null,
+    resized: new ResizeObserver(() => guide.at >= 0 && position(guide, true)),
   };
-
-  const finish = () => {
-    at = -1;
-    element.hidden = true;
-    lit?.classList.remove("tour-target");
-    lit = null;
+  scope.add(() => guide.resized.disconnect());
+  const show = () => {
+    draw(guide, () => show());
+    place(guide);
   };
-
   const start = () => {
-    store.update({ tab: "live" });
-    remember();
-    stops = STOPS.filter((stop) => document.querySelector(`${stop.target} ${stop.content}`) !== null);
-    if (stops.length === 0) return;
-    at = 0;
-    element.hidden = false;
-    place();
-    next.focus();
+    app.ui.update({ tab: "live" });
+    writeFlag(DONE_KEY, true);
+    guide.stops = STOPS.filter((stop) => document.querySelector(`${stop.target} ${stop.content}`) !== null);
+    if (guide.stops.length === 0) return;
+    guide.at = 0;
+    show();
+    element.querySelector<HTMLButtonElement>("button.primary")?.focus();
   };
-
-  next.addEventListener("click", () => {
-    if (at >= stops.length - 1) finish();
-    else {
-      at += 1;
-      place();
+  draw(guide, show);
+  scope.listen<KeyboardEvent>(document, "keydown", (event) => {
+    if (event.key === "Escape" && guide.at >= 0) finish(guide, show);
+  });
+  scope.listen(window, "resize", () => guide.at >= 0 && position(guide, true));
+  scope.listen(window, "scroll", () => guide.at >= 0 && position(guide, false), { passive: true });
+  // First time a classroom run is shown, or a run in classroom mode: the tour offers itself, once the
+  // panels have drawn the run (the state's listeners run before the browser lays them out).
+  watchState(app, scope, ["run", "classroom"], ({ run, classroom }) => {
+    const classroomRun = run?.spec.name?.startsWith("classroom") ?? false;
+    if (guide.at < 0 && run !== null && !readFlag(DONE_KEY) && (classroomRun || classroom)) {
+      const frame = requestAnimationFrame(() => guide.at < 0 && !readFlag(DONE_KEY) && start());
+      scope.add(() => cancelAnimationFrame(frame));
     }
   });
-  back.addEventListener("click", () => {
-    at = Math.max(0, at - 1);
-    place();
-  });
-  skip.addEventListener("click", finish);
-  document.addEventListener("keydown", (event) => {
-    if (event.key === "Escape" && at >= 0) finish();
-  });
-  window.addEventListener("resize", () => at >= 0 && place());
-
-  // First time a classroom run is shown, or a run in classroom mode: the tour offers itself, once the
-  // panels have drawn the run (the store's subscribers run before the browser lays them out).
-  store.subscribe(
-    ({ run, classroom }) => {
-      const classroomRun = run?.spec.name?.startsWith("classroom") ?? false;
-      if (at < 0 && run !== null && !remembered() && (classroomRun || classroom))
-        requestAnimationFrame(() => at < 0 && !remembered() && start());
-    },
-    ["run", "classroom"],
-  );
   return { element, start };
+}
+
+/** The dialog: the stop's title and words, how far along, and Close, Back and Next (Done at the last). */
+function draw(guide: Guide, show: () => void): void {
+  const { stops, at } = guide;
+  const stop = stops[at];
+  guide.element.hidden = stop === undefined;
+  const next = () => {
+    if (guide.at >= guide.stops.length - 1) finish(guide, show);
+    else {
+      guide.at += 1;
+      show();
+    }
+  };
+  const back = () => {
+    guide.at = Math.max(0, guide.at - 1);
+    show();
+  };
+  render(
+    html`<h2 id="tour-title">${stop?.title ?? ""}</h2>
+      <p id="tour-text">${stop?.text ?? ""}</p>
+      <div class="tour-actions">
+        <span class="muted">${stop ? `${at + 1} of ${stops.length}` : ""}</span>
+        <button type="button" @click=${() => finish(guide, show)}>Close the tour</button>
+        <button type="button" ?disabled=${at === 0} @click=${back}>Back</button>
+        <button type="button" class="primary" @click=${next}>${at === stops.length - 1 ? "Done" : "Next"}</button>
+      </div>`,
+    guide.element,
+  );
+}
+
+function finish(guide: Guide, show: () => void): void {
+  guide.at = -1;
+  guide.resized.disconnect();
+  guide.lit?.classList.remove("tour-target");
+  guide.lit = null;
+  show();
+}
+
+/** Light the stop's part, watch its size, and lay the dialog beside it. */
+function place(guide: Guide): void {
+  const stop = guide.stops[guide.at];
+  const target = stop ? document.querySelector(stop.target) : null;
+  if (!stop || !target) return;
+  guide.lit?.classList.remove("tour-target");
+  guide.lit = target;
+  target.classList.add("tour-target");
+  guide.resized.disconnect();
+  guide.resized.observe(target);
+  position(guide, true);
+}
+
+/**
+ * The dialog beside its part (lib/tour-place.ts): `scrolling` lets the page scroll to make room (a new stop,
+ * the part resized); without it, the dialog follows the part where the page stands (the reader scrolled).
+ */
+function position(guide: Guide, scrolling: boolean): void {
+  const { element, lit } = guide;
+  if (!lit) return;
+  const root = document.documentElement;
+  const box = lit.getBoundingClientRect();
+  const maxScroll = Math.max(0, root.scrollHeight - window.innerHeight);
+  const placed = tourPlacement(
+    { top: box.top + window.scrollY, height: box.height, left: box.left, right: box.right },
+    { width: element.offsetWidth, height: element.offsetHeight },
+    {
+      width: root.clientWidth,
+      height: window.innerHeight,
+      minScroll: scrolling ? 0 : window.scrollY,
+      maxScroll: scrolling ? maxScroll : window.scrollY,
+    },
+  );
+  if (placed.scroll !== window.scrollY) window.scrollTo(0, placed.scroll);
+  element.style.left = `${placed.left}px`;
+  element.style.top = `${placed.top}px`;
 }

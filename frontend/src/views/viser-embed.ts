@@ -3,48 +3,42 @@
  * in the dashboard (POST /api/view on every selection, see `selectRun`). Where the server runs without
  * it (`enabled: false`; only `horde serve` starts one) a short note stands instead.
  */
-import type { AppState, AppStore, LiveView } from "../app/state";
-import { h, replaceChildren, section } from "../ui/dom";
+import { html } from "lit-html";
+import type { App, LiveView } from "../app/app";
+import { mount } from "../app/view";
+import { heading, host } from "../ui/html";
+import type { Scope } from "../ui/scope";
 
-export function viserEmbed(store: AppStore): HTMLElement {
-  const body = h("div", { class: "viser-body" });
-  const element = section({ class: "panel viser-panel", id: "viser-title", title: "Live view" }, body);
-
-  let shown: LiveView["state"] | null = null;
-  const render = ({ liveView }: Readonly<AppState>) => {
-    // Built once per state: the frame must not reload when only the run it shows changes.
-    if (liveView.state === shown) return;
-    shown = liveView.state;
-    if (liveView.state === "unknown") {
-      replaceChildren(body, h("p", { class: "muted" }, "Looking for the live view…"));
-    } else if (liveView.state === "on") {
-      replaceChildren(
-        body,
-        h("iframe", {
-          src: liveView.url,
-          title: "The viser live view of the selected run",
-          class: "viser-frame",
-          allow: "fullscreen",
-        }),
-        h(
-          "p",
-          { class: "hint" },
-          "It follows the run selected in the list. ",
-          h("a", { href: liveView.url, target: "_blank", rel: "noopener" }, "Open the live view in its own tab"),
-        ),
-      );
-    } else {
-      replaceChildren(
-        body,
-        h(
-          "p",
-          { class: "note", dataset: { testid: "viser-note" } },
-          `No live view: ${liveView.why.replace(/\.$/, "")}. The table and the charts above still follow the run.`,
-        ),
-      );
-    }
-  };
-  store.subscribe(render, ["liveView"]);
-  render(store.state);
+export function viserEmbed(app: App, scope: Scope): HTMLElement {
+  const element = host(html`<section class="panel viser-panel" aria-labelledby="viser-title"></section>`);
+  mount(
+    app,
+    scope,
+    element,
+    ["liveView"],
+    ({ liveView }) =>
+      html`${heading({ id: "viser-title", title: "Live view" })}
+        <div class="viser-body">${body(liveView)}</div>`,
+  );
   return element;
+}
+
+// The frame is kept while the view stays on: it must not reload when only the run it shows changes.
+function body(view: LiveView) {
+  if (view.state === "unknown") return html`<p class="muted">Looking for the live view…</p>`;
+  if (view.state === "off") {
+    return html`<p class="note" data-testid="viser-note">
+      No live view: ${view.why.replace(/\.$/, "")}. The table and the charts above still follow the run.
+    </p>`;
+  }
+  return html`<iframe
+      src=${view.url}
+      title="The viser live view of the selected run"
+      class="viser-frame"
+      allow="fullscreen"
+    ></iframe>
+    <p class="hint">
+      It follows the run selected in the list.
+      <a href=${view.url} target="_blank" rel="noopener">Open the live view in its own tab</a>
+    </p>`;
 }

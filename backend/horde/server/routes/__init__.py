@@ -7,6 +7,7 @@ from horde.server.routes import (
     exports,
     health,
     learners,
+    overview,
     protocols,
     records,
     runs,
@@ -14,6 +15,7 @@ from horde.server.routes import (
     snapshots,
     stream,
     studies,
+    tokens,
     view,
     worlds,
 )
@@ -33,7 +35,6 @@ ROUTERS: tuple[APIRouter, ...] = (
     demons.writes,
     stream.router,
     view.router,
-    view.writes,
     protocols.router,
     protocols.writes,
     studies.router,
@@ -41,6 +42,10 @@ ROUTERS: tuple[APIRouter, ...] = (
     exports.router,
     records.router,
     records.writes,
+    overview.router,
+    tokens.router,
+    tokens.writes,
+    tokens.me_router,
 )
 
 __all__ = ["ROUTERS"]

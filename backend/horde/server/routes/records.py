@@ -12,14 +12,14 @@ learned message (several queued messages are learned together) with
 `{"type": "learned", "received", "learned", "predictions": [D]}`; a refused record gets
 `{"type": "error", "index", "field", "message"}` and the stream goes on with the next good one. Back-pressure:
 at most QUEUE messages wait to be learned; beyond that the server stops reading the socket, so a fast
-sender waits (TCP flow control) instead of growing the server's memory.
+sender waits (TCP flow control) instead of growing the server's memory. A stream run belongs to whoever
+started it: a student pushes to, or deletes, only their own (403 naming the owner; 4403 on the WebSocket).
 """
 
 from __future__ import annotations
 
 import asyncio
 import contextlib
-import hmac
 import json
 from collections.abc import Mapping
 from typing import Annotated, Any
@@ -28,14 +28,14 @@ import numpy as np
 from fastapi import APIRouter, Path, Query, Response, WebSocket, WebSocketDisconnect, WebSocketException, status
 from pydantic import Field
 
-from horde.runs.errors import FieldProblem, NotFoundError, SpecError
+from horde.runs.access import Access, ForbiddenError
+from horde.runs.errors import FieldProblem, NotFoundError, RunError, SpecError
 from horde.runs.stream_run import HISTORY, MAX_RECORDS_PER_BATCH, PushResult, StreamRun
 from horde.runs.stream_snapshot import StreamSnapshot
-from horde.server.deps import SettingsDep, StreamsDep, write_router
+from horde.server.deps import AccessDep, StreamsDep, WriterDep, write_router
 from horde.server.guard import MAX_JSON_DEPTH, json_problem
-from horde.server.responses import BAD_BODY, BUSY, NOT_FOUND
+from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND
 from horde.server.schemas import DemonMetricsOut, DemonOut, In, Out
-from horde.server.settings import Settings
 from horde.server.sockets import AcceptedSocket
 from horde.server.stream_protocol import StreamClose, close_reason
 from horde.spec import RunSpec
@@ -45,6 +45,7 @@ from horde.worlds.phase_plane import MAX_PHASE_RESOLUTION
 router = APIRouter(prefix="/streams", tags=["streams"])
 writes = write_router(router)
 QUEUE = 8  # WebSocket messages waiting to be learned, at most
+NO_TOKEN = "this server requires a token, HORDE_TOKEN or one issued (Bearer or ?token=)"
 MAX_HISTORY_SERIES = 16  # sensors or demons one history request may name
 
 
@@ -67,6 +68,7 @@ class RecordsIn(In):
 
 class StreamOut(Out):
     id: str
+    owner: str = Field(description="who started it: 'teacher', or the name of the student's token")
     name: str = Field(default="", description="the run spec's name")
     sensors: list[str]
     actions: int
@@ -76,9 +78,10 @@ class StreamOut(Out):
     predictions: dict[str, float] = Field(description="each demon's prediction at the last observation")
 
 
-def _out(run: StreamRun, result: PushResult) -> StreamOut:
+def _out(run: StreamRun, result: PushResult, access: Access) -> StreamOut:
     return StreamOut(
         id=run.id,
+        owner=access.owner_name("stream", run.id),
         name=run.spec.name or "",
         sensors=run.spec.world.sensor_names(),
         actions=run.spec.world.num_actions(),
@@ -95,42 +98,47 @@ def _out(run: StreamRun, result: PushResult) -> StreamOut:
     status_code=status.HTTP_201_CREATED,
     responses={**BAD_BODY, **BUSY},
 )
-def create_stream(spec: RunSpec, streams: StreamsDep) -> StreamOut:
+def create_stream(spec: RunSpec, streams: StreamsDep, me: WriterDep, access: AccessDep) -> StreamOut:
     run = streams.create(spec)
-    return _out(run, run.status())
+    access.claim(me, "stream", run.id)
+    return _out(run, run.status(), access)
 
 
 @router.get("", summary="Every stream run, oldest first, with its counters and predictions")
-def list_streams(streams: StreamsDep) -> list[StreamOut]:
-    return [_out(run, run.status()) for run in sorted(streams.list(), key=lambda r: r.created)]
+def list_streams(streams: StreamsDep, access: AccessDep) -> list[StreamOut]:
+    return [_out(run, run.status(), access) for run in sorted(streams.list(), key=lambda r: r.created)]
 
 
 @router.get("/{stream_id}", summary="A stream run's counters and predictions", responses=NOT_FOUND)
-def get_stream(stream_id: StreamId, streams: StreamsDep) -> StreamOut:
+def get_stream(stream_id: StreamId, streams: StreamsDep, access: AccessDep) -> StreamOut:
     run = streams.get(stream_id)
-    return _out(run, run.status())
+    return _out(run, run.status(), access)
 
 
-@router.get("/{stream_id}/demons", summary="A stream run's demon table", responses=NOT_FOUND)
+@router.get("/{stream_id}/demons", summary="A stream run's demon table", responses={**NOT_FOUND, **CONFLICT})
 def get_stream_demons(stream_id: StreamId, streams: StreamsDep) -> list[DemonOut]:
     """Each demon's prediction at the last observation and its error measures (null where it diverged)."""
     run = streams.get(stream_id)
     out, step_size = run.readout()
-    horde = run.learner.loop.horde
     prediction = np.where(out.diverged, np.nan, out.prediction)  # [D]
     return [
-        DemonOut(name=spec.name, spec=spec, control=horde.is_control(spec.name), prediction=prediction[i],
+        DemonOut(name=spec.name, spec=spec, control=run.control[i], prediction=prediction[i],
                  metrics=DemonMetricsOut(rupee=out.rupee[i], ude=out.ude[i], delta=out.delta[i],
                                          cumulant=out.cumulant[i], diverged=bool(out.diverged[i]),
                                          step_size=step_size[i]),
                  colour=demon_colour(i))
-        for i, spec in enumerate(horde.demon_specs)
+        for i, spec in enumerate(run.spec.demons)
     ]  # fmt: skip
 
 
-@router.get("/{stream_id}/snapshot", summary="A stream run's learner, to import elsewhere", responses=NOT_FOUND)
-def get_stream_snapshot(stream_id: StreamId, streams: StreamsDep) -> StreamSnapshot:
-    return streams.get(stream_id).snapshot()
+@router.get(
+    "/{stream_id}/snapshot",
+    summary="A stream run's learner, to import elsewhere",
+    response_model=StreamSnapshot,
+    responses={**NOT_FOUND, **CONFLICT},
+)
+def get_stream_snapshot(stream_id: StreamId, streams: StreamsDep) -> Response:
+    return Response(streams.get(stream_id).snapshot(), media_type="application/json")
 
 
 @writes.post(
@@ -139,32 +147,39 @@ def get_stream_snapshot(stream_id: StreamId, streams: StreamsDep) -> StreamSnaps
     status_code=status.HTTP_201_CREATED,
     responses={**BAD_BODY, **BUSY},
 )
-def import_stream(snapshot: StreamSnapshot, streams: StreamsDep) -> StreamOut:
+def import_stream(snapshot: StreamSnapshot, streams: StreamsDep, me: WriterDep, access: AccessDep) -> StreamOut:
     run = streams.import_snapshot(snapshot)
-    return _out(run, run.status())
+    access.claim(me, "stream", run.id)
+    return _out(run, run.status(), access)
 
 
 @writes.delete(
     "/{stream_id}", summary="Stop and forget a stream run", status_code=status.HTTP_204_NO_CONTENT, responses=NOT_FOUND
 )
-def delete_stream(stream_id: StreamId, streams: StreamsDep) -> Response:
+def delete_stream(stream_id: StreamId, streams: StreamsDep, me: WriterDep, access: AccessDep) -> Response:
+    streams.get(stream_id)
+    access.check(me, "stream", stream_id)
     streams.delete(stream_id)
+    access.release("stream", stream_id)
     return Response(status_code=status.HTTP_204_NO_CONTENT)
 
 
 @writes.post(
     "/{stream_id}/records",
     summary="Learn a batch of records, in order (all or nothing)",
-    responses={**NOT_FOUND, **BAD_BODY},
+    responses={**NOT_FOUND, **BAD_BODY, **CONFLICT},
 )
-def push_records(stream_id: StreamId, body: RecordsIn, streams: StreamsDep) -> StreamOut:
+def push_records(
+    stream_id: StreamId, body: RecordsIn, streams: StreamsDep, me: WriterDep, access: AccessDep
+) -> StreamOut:
     run = streams.get(stream_id)
+    access.check(me, "stream", stream_id)
     items = [r.model_dump() for r in body.records]
-    _, refused = run.check(items)
-    if refused:
+    result = run.push(items, whole=True)
+    if result.refused:
         raise SpecError([FieldProblem(("body", "records", r.index, *r.field.split(".")), r.message)
-                         for r in refused[:20]])  # fmt: skip
-    return _out(run, run.push(items))
+                         for r in result.refused[:20]])  # fmt: skip
+    return _out(run, result, access)
 
 
 class AxisOut(Out):
@@ -184,7 +199,7 @@ class PhasePlaneOut(Out):
 @router.get(
     "/{stream_id}/phase-plane",
     summary="A demon's value map over two sensors (the others held at their last readings), with the trail",
-    responses=NOT_FOUND,
+    responses={**NOT_FOUND, **CONFLICT},
 )
 def get_phase_plane(
     stream_id: StreamId,
@@ -232,7 +247,7 @@ def _floats(values: np.ndarray) -> list[float | None]:
 @router.get(
     "/{stream_id}/history",
     summary="The recent records' sensors, and each demon's prediction beside the return that followed",
-    responses=NOT_FOUND,
+    responses={**NOT_FOUND, **CONFLICT},
 )
 def get_stream_history(
     stream_id: StreamId,
@@ -255,14 +270,16 @@ def get_stream_history(
     )
 
 
-def _token_ok(websocket: WebSocket, settings: Settings) -> bool:
-    if settings.token is None:
-        return True
-    expected = settings.token.get_secret_value().encode()
-    header = websocket.headers.get("authorization", "")
-    given = header.removeprefix("Bearer ").encode() if header.startswith("Bearer ") else b""
-    given = given or websocket.query_params.get("token", "").encode()
-    return hmac.compare_digest(given, expected)
+def _may_push(websocket: WebSocket, access: Access, stream_id: str) -> None:
+    """Refuse (close) a WebSocket whose token may not push to the stream run: none on a server with roles
+    (4401; a wrong or revoked one was closed with 4401 on accepting), a viewer's or another student's (4403)."""
+    principal = websocket.state.principal
+    if principal is None:
+        raise WebSocketException(StreamClose.UNAUTHORIZED, NO_TOKEN)
+    try:
+        access.check(principal, "stream", stream_id)
+    except ForbiddenError as exc:
+        raise WebSocketException(StreamClose.FORBIDDEN, close_reason(str(exc))) from None
 
 
 def _items(message: Mapping[str, Any]) -> list[Any]:
@@ -298,7 +315,11 @@ async def _learn(queue: asyncio.Queue[list[Any] | None], run: StreamRun, websock
                 await queue.put(None)
                 break
             items = items + more
-        result = await asyncio.to_thread(run.push, items)
+        try:
+            result = await asyncio.to_thread(run.push, items)
+        except RunError as exc:  # its worker died: say so, and end the stream
+            await websocket.send_json({"type": "error", "index": None, "field": "run", "message": str(exc)})
+            return
         for refusal in result.refused:
             await websocket.send_json({"type": "error", "index": refusal.index, "field": refusal.field,
                                        "message": refusal.message})  # fmt: skip
@@ -307,17 +328,19 @@ async def _learn(queue: asyncio.Queue[list[Any] | None], run: StreamRun, websock
 
 
 @router.websocket("/{stream_id}/records")
-async def stream_records(websocket: AcceptedSocket, stream_id: str, settings: SettingsDep, streams: StreamsDep) -> None:
+async def stream_records(websocket: AcceptedSocket, stream_id: str, access: AccessDep, streams: StreamsDep) -> None:
     """Push records, read predictions (see the module). Close codes (StreamClose): 4404 unknown stream run,
-    4401 no token (when HORDE_TOKEN is set: `Authorization: Bearer` or `?token=`), 1008 a page of another
-    site, 4410 the stream run was deleted (what was pushed after that is not learned). The upgrade is
-    accepted before any of these, so that the client sees the code."""
-    if not _token_ok(websocket, settings):
-        raise WebSocketException(StreamClose.UNAUTHORIZED, "this server requires its HORDE_TOKEN")
+    4401 no token, or a wrong or revoked one (when HORDE_TOKEN is set: `Authorization: Bearer` or `?token=`),
+    4403 a viewer's token or another student's stream run, 1008 a page of another site, 4410 the stream run
+    was deleted (what was pushed after that is not learned). The upgrade is accepted before any of these, so
+    that the client sees the code."""
+    if websocket.state.principal is None:
+        raise WebSocketException(StreamClose.UNAUTHORIZED, NO_TOKEN)
     try:
         run = streams.get(stream_id)
     except NotFoundError:
         raise WebSocketException(StreamClose.NOT_FOUND, close_reason(f"no stream run {stream_id!r}")) from None
+    _may_push(websocket, access, stream_id)
     await websocket.send_json({"type": "hello", "sensors": run.spec.world.sensor_names(),
                                "actions": run.spec.world.num_actions(), "demons": run.names})  # fmt: skip
     queue: asyncio.Queue[list[Any] | None] = asyncio.Queue(maxsize=QUEUE)

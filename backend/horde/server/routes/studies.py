@@ -2,6 +2,7 @@
 
 A study runs in the background on the server's executor (Ray on this machine by default, the cluster at
 HORDE_RAY_ADDRESS when set), as `horde study` runs it; its finished tasks go to the store as they finish.
+A study belongs to whoever started it: a student cancels, deletes or resumes only their own.
 """
 
 from __future__ import annotations
@@ -13,10 +14,11 @@ from typing import Annotated
 from fastapi import APIRouter, Body, Path, Query, WebSocketDisconnect, status
 from fastapi.responses import PlainTextResponse, Response
 
+from horde.runs.access import Access
 from horde.runs.errors import NotFoundError, SpecError
 from horde.runs.store import StudyRecord
 from horde.server.convert import timestamp
-from horde.server.deps import CatalogDep, StudiesDep, write_router
+from horde.server.deps import AccessDep, CatalogDep, StudiesDep, WriterDep, write_router
 from horde.server.responses import BAD_BODY, BUSY, CONFLICT, NOT_FOUND
 from horde.server.routes.exports import FILE_RESPONSES
 from horde.server.sockets import AcceptedSocket
@@ -33,13 +35,14 @@ StudyId = Annotated[str, Path(min_length=1, max_length=64, description="the stud
 STREAM_INTERVAL = 0.5  # seconds between progress messages
 
 
-def _out(jobs: StudyJobs, record: StudyRecord) -> StudyOut:
+def _out(jobs: StudyJobs, record: StudyRecord, access: Access) -> StudyOut:
     study = StudySpec.model_validate_json(record.spec)
     progress = jobs.progress(record.id)
     done = progress.done if progress is not None else jobs.tasks_done(record.id)
     base = study.base
     return StudyOut(
         id=record.id,
+        owner=access.owner_name("study", record.id),
         name=record.name,
         scenario=base.name if base else study.scenario,
         status=record.status,
@@ -57,8 +60,8 @@ def _out(jobs: StudyJobs, record: StudyRecord) -> StudyOut:
 
 
 @router.get("", summary="Every study (running, finished, interrupted)")
-def list_studies(jobs: StudiesDep) -> list[StudyOut]:
-    return [_out(jobs, r) for r in jobs.records()]
+def list_studies(jobs: StudiesDep, access: AccessDep) -> list[StudyOut]:
+    return [_out(jobs, r, access) for r in jobs.records()]
 
 
 @writes.post(
@@ -67,7 +70,9 @@ def list_studies(jobs: StudiesDep) -> list[StudyOut]:
     status_code=status.HTTP_202_ACCEPTED,
     responses={**BAD_BODY, **NOT_FOUND, **BUSY},
 )
-def start_study(body: Annotated[StudySpec, Body()], jobs: StudiesDep, catalog: CatalogDep) -> StudyOut:
+def start_study(
+    body: Annotated[StudySpec, Body()], jobs: StudiesDep, catalog: CatalogDep, me: WriterDep, access: AccessDep
+) -> StudyOut:
     """The body is a study, as in a study file: a `scenario` name (or a `base` run spec), `axes` (a field path and its
     values each), `sample`, `runs` per configuration and `measure`. Every axis is checked before any task starts: an
     unknown path, a value the field refuses, or a grid past the bounds is a 422 located at the axis. One study runs
@@ -77,13 +82,14 @@ def start_study(body: Annotated[StudySpec, Body()], jobs: StudiesDep, catalog: C
         record = jobs.start(body, base)
     except SpecError as exc:
         raise SpecError([type(p)(("body", *p.loc), p.msg, p.type) for p in exc.problems]) from None
-    return _out(jobs, record)
+    access.claim(me, "study", record.id)
+    return _out(jobs, record, access)
 
 
 @router.get("/{study_id}", summary="A study: progress, then results per configuration", responses=NOT_FOUND)
-def get_study(study_id: StudyId, jobs: StudiesDep) -> StudyResultsOut:
+def get_study(study_id: StudyId, jobs: StudiesDep, access: AccessDep) -> StudyResultsOut:
     record = jobs.get(study_id)
-    out = _out(jobs, record)
+    out = _out(jobs, record, access)
     results = [StudyConfigOut.model_validate(r) for r in results_json(jobs.summaries(study_id))]
     return StudyResultsOut(**dict(out), results=results, warnings=jobs.warnings(study_id))
 
@@ -93,8 +99,15 @@ def get_study(study_id: StudyId, jobs: StudiesDep) -> StudyResultsOut:
     summary="Cancel a running study (finished tasks are kept), or delete a study that is not running",
     responses=NOT_FOUND,
 )
-def cancel_study(study_id: StudyId, jobs: StudiesDep) -> StudyOut:
-    return _out(jobs, jobs.cancel(study_id))
+def cancel_study(study_id: StudyId, jobs: StudiesDep, me: WriterDep, access: AccessDep) -> StudyOut:
+    jobs.get(study_id)
+    access.check(me, "study", study_id)
+    out = _out(jobs, jobs.cancel(study_id), access)
+    try:
+        jobs.get(study_id)
+    except NotFoundError:  # it was not running: deleted
+        access.release("study", study_id)
+    return out
 
 
 @writes.post(
@@ -103,8 +116,10 @@ def cancel_study(study_id: StudyId, jobs: StudiesDep) -> StudyOut:
     status_code=status.HTTP_202_ACCEPTED,
     responses={**NOT_FOUND, **CONFLICT, **BUSY},
 )
-def resume_study(study_id: StudyId, jobs: StudiesDep) -> StudyOut:
-    return _out(jobs, jobs.resume(study_id))
+def resume_study(study_id: StudyId, jobs: StudiesDep, me: WriterDep, access: AccessDep) -> StudyOut:
+    jobs.get(study_id)
+    access.check(me, "study", study_id)
+    return _out(jobs, jobs.resume(study_id), access)
 
 
 @router.get(
@@ -134,14 +149,14 @@ def export_study(
 
 
 @router.websocket("/{study_id}/stream")
-async def stream_study(websocket: AcceptedSocket, study_id: str, jobs: StudiesDep) -> None:
+async def stream_study(websocket: AcceptedSocket, study_id: str, jobs: StudiesDep, access: AccessDep) -> None:
     """Messages have the shape of GET /api/studies (a StudyOut), twice a second while the study runs; the
     last one is sent when it stops. Close codes: 4404 unknown study, 1000 the study stopped, 1008 a page of
     another site (its `Origin`)."""
     try:
         while True:
             try:
-                out = _out(jobs, jobs.get(study_id))
+                out = _out(jobs, jobs.get(study_id), access)
             except NotFoundError:
                 await websocket.close(code=StreamClose.NOT_FOUND, reason=close_reason(f"no study {study_id!r}"))
                 return

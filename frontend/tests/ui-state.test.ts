@@ -1,29 +1,30 @@
 import { describe, expect, it, vi } from "vitest";
-import { Store } from "../src/app/store";
+import { UiStore } from "../src/app/ui-state";
 
-describe("Store", () => {
+describe("UiStore", () => {
   it("tells listeners which keys changed, and only when something did", () => {
-    const store = new Store({ a: 1, b: "x" });
+    const store = new UiStore({ tab: "live" });
     const listener = vi.fn();
     store.subscribe(listener);
-    store.update({ a: 1 });
+    store.update({ tab: "live" });
     expect(listener).not.toHaveBeenCalled();
-    store.update({ a: 2, b: "x" });
+    store.update({ tab: "world", classroom: false });
     expect(listener).toHaveBeenCalledTimes(1);
-    expect([...listener.mock.calls[0]![1]]).toEqual(["a"]);
-    expect(store.state).toEqual({ a: 2, b: "x" });
+    expect([...listener.mock.calls[0]![1]]).toEqual(["tab"]);
+    expect(store.state.tab).toBe("world");
   });
 
   it("calls a keyed listener only for its keys, until it unsubscribes", () => {
-    const store = new Store({ a: 1, b: "x" });
+    const store = new UiStore();
     const listener = vi.fn();
-    const unsubscribe = store.subscribe(listener, ["b"]);
-    store.update({ a: 5 });
+    const unsubscribe = store.subscribe(listener, ["classroom"]);
+    store.update({ tab: "world" });
     expect(listener).not.toHaveBeenCalled();
-    store.update({ b: "y" });
+    store.update({ classroom: true });
     expect(listener).toHaveBeenCalledTimes(1);
     unsubscribe();
-    store.update({ b: "z" });
+    expect(store.listenerCount).toBe(0);
+    store.update({ classroom: false });
     expect(listener).toHaveBeenCalledTimes(1);
   });
 });

@@ -1,0 +1,279 @@
+"""`Viewer`: what one browser (one viser client) of the live view sees: its run, scene, panel and camera.
+
+Each viser client gets a `Viewer` when it connects. It draws into the client's own scene
+(`client.scene`), builds its panel in the client's own GUI (`client.gui`) and points the client's own
+camera, so a browser's choices (which run, which demons, 3-D, large text) change what that browser sees
+and nothing else. Only the view thread calls `refresh`; see `horde.view.gui` for the callbacks.
+
+`Frame` lets the viewers of one frame share the source's reads and the scene's nodes: thirty browsers
+on one run cost one snapshot and one build of its nodes a frame, not thirty.
+"""
+
+from __future__ import annotations
+
+from collections import OrderedDict
+from collections.abc import Callable, Sequence
+from typing import Any, TypeVar
+
+import numpy as np
+import viser
+
+from horde.runs.access import Access
+from horde.spec import RunSpec
+from horde.view import camera, scene
+from horde.view.apply import SceneApplier
+from horde.view.gui import LARGE_SCALE, ControlPanel
+from horde.view.phase_plane import phase_camera, phase_plane_nodes
+from horde.view.source import ViewSnapshot, ViewSource
+from horde.view.star import star_nodes
+
+T = TypeVar("T")
+Kept = OrderedDict[tuple[object, ...], Any]
+SLOW_HZ = 5.0  # redraws a second of the trail (the largest message) and of the predictions' label (numbers that
+# change every frame at full speed are not read faster); the agent itself moves every frame
+SLOW_NODES = ("/trail", "/predictions")
+
+
+class Frame:
+    """The source's reads (snapshots, value maps, phase planes) and the scene's nodes of one frame, each made once.
+
+    `read(name, *args)` calls the source's method; `memo(key, make)` keeps anything else. A call with the same
+    arguments returns the first call's answer; a call that raises is not kept. `lasting(key, make)` keeps what
+    outlives a frame (a run's world nodes: the same objects frame after frame, which the appliers then skip
+    without comparing them field by field) in `kept`, the view's, at most KEPT of them. Commands do not go
+    through here: the panels send them to the source itself.
+    """
+
+    KEPT = 64
+
+    def __init__(self, source: ViewSource, now: float, kept: Kept | None = None) -> None:
+        self.source = source
+        self.now = now
+        self._answers: dict[tuple[object, ...], object] = {}
+        self._kept: Kept = OrderedDict() if kept is None else kept
+
+    def memo(self, key: tuple[object, ...], make: Callable[[], T]) -> T:
+        if key not in self._answers:
+            self._answers[key] = make()
+        return self._answers[key]  # type: ignore[return-value]
+
+    def lasting(self, key: tuple[object, ...], make: Callable[[], T]) -> T:
+        if key not in self._kept:
+            self._kept[key] = make()
+            while len(self._kept) > self.KEPT:
+                self._kept.popitem(last=False)
+        return self._kept[key]
+
+    def read(self, name: str, *args: object) -> Any:
+        method = getattr(self.source, name)  # AttributeError for reads the source does not offer
+        return self.memo(("read", name, *args), lambda: method(*args))
+
+    def has(self, name: str) -> bool:
+        return hasattr(self.source, name)
+
+
+class Viewer:
+    """One browser's live view.
+
+    Args:
+        client: the viser client.
+        source: the runs (commands go here).
+        panel: the client's panel (`ControlPanel`).
+        key: the dashboard tab this browser belongs to (the `viewer` of `?viewer=` on its WebSocket
+            address), or None for a browser that opened the view on its own.
+        resolution: cells per side of the value map.
+        map_hz: value map refreshes per second while the run moves.
+        chart_hz: chart refreshes per second.
+    """
+
+    def __init__(
+        self,
+        client: viser.ClientHandle,
+        panel: ControlPanel,
+        key: str | None,
+        *,
+        resolution: int,
+        map_hz: float,
+        chart_hz: float,
+    ) -> None:
+        self.client = client
+        self.panel = panel
+        self.key = key
+        self.resolution, self.map_hz, self.chart_hz = resolution, map_hz, chart_hz
+        self.applier = SceneApplier(client.scene)
+        self.closed = False  # the client left (set by the view's disconnect callback)
+        self.choice_version = -1  # the dashboard's last choice taken (LiveView.show)
+        self.last_error = ""  # the last frame's failure (logged once, not every frame)
+        self._shown_run: str | None = None
+        self._demon_names: tuple[str, ...] = ()
+        self._spec: RunSpec | None = None
+        self._map_key: tuple[object, ...] | None = None
+        self._map_time = 0.0
+        self._chart_time = 0.0
+        self._slow_time = 0.0
+
+    @classmethod
+    def connect(
+        cls, client: viser.ClientHandle, source: ViewSource, changed: Any, access: Access | None, key: str | None,
+        *, resolution: int, map_hz: float, chart_hz: float,
+    ) -> Viewer:  # fmt: skip
+        """A viewer with a new panel in the client's own GUI."""
+        panel = ControlPanel(client, source, changed, access)
+        return cls(client, panel, key, resolution=resolution, map_hz=map_hz, chart_hz=chart_hz)
+
+    # ------------------------------------------------------------------------------------------
+    # A frame
+
+    def refresh(self, frame: Frame, runs: Sequence[tuple[str, str]], commands: Callable[[str], bool]) -> None:
+        """One frame: the panel follows the browser's choices, the chosen run is sampled (through this frame's
+        `frame`) and what changed is sent, as one message to the browser (`client.atomic`: its scene and panel
+        change together, and viser's event loop is woken once per browser and frame, not once per change).
+        `commands(run)` says whether the run takes commands at all."""
+        with self.client.atomic():
+            self._refresh(frame, runs, commands)
+
+    def _refresh(self, frame: Frame, runs: Sequence[tuple[str, str]], commands: Callable[[str], bool]) -> None:
+        panel = self.panel
+        panel.set_runs(runs)
+        run_id = panel.run_id
+        panel.commands.sync(run_id, run_id is not None and commands(run_id))
+        three_d_changed, large_changed = panel.sync_looks()
+        if large_changed:  # labels are redrawn at their new size
+            self.applier.label_scale = LARGE_SCALE if panel.large else 1.0
+            self.applier.clear()
+            self._map_key = None
+        if run_id is None:
+            self._show_nothing()
+            return
+        if three_d_changed:
+            self._set_view_mode(panel.three_d)
+            self._map_key = None
+        if frame.has("is_phase") and frame.read("is_phase", run_id):
+            self._refresh_phase(frame, run_id)
+            return
+        shown = tuple(panel.shown)
+        snapshot: ViewSnapshot = frame.read("snapshot", run_id, shown)
+        names = tuple(demon.name for demon in snapshot.spec.demons)
+        if run_id != self._shown_run or names != self._demon_names:
+            self._switch_run(snapshot, names)
+            shown = tuple(panel.shown)
+            snapshot = frame.read("snapshot", run_id, shown)
+        panel.sync_demons()
+        now = frame.now
+        world_spec = snapshot.spec.grid
+        # Keyed by the spec's identity (specs hold lists: no hash); the kept entry holds the spec, so its id is
+        # not reused while the entry lives.
+        colours = snapshot.indicator_colors
+        _, world = frame.lasting(("world", run_id, id(world_spec), tuple(colours.items())),
+                                 lambda: (world_spec, scene.world_nodes(world_spec, colours)))  # fmt: skip
+        agent = frame.memo(("agent", run_id, shown), lambda: scene.agent_nodes(snapshot, shown))
+        drawn = self.applier.drawn
+        if now - self._slow_time >= 1.0 / SLOW_HZ or any(n.name not in drawn for n in agent if n.name in SLOW_NODES):
+            self._slow_time = now
+        else:  # the trail and label drawn stay until their next redraw; the agent moves now
+            agent = [n for n in agent if n.name not in SLOW_NODES] + [drawn[n][0] for n in SLOW_NODES if n in drawn]
+        self.applier.apply(world, "world")
+        self.applier.apply(agent, "agent")
+        self._refresh_map(frame, snapshot)
+        panel.show_state(snapshot)
+        if now - self._chart_time >= 1.0 / self.chart_hz:
+            self._chart_time = now
+            panel.show_charts(snapshot, shown)
+
+    def _show_nothing(self) -> None:
+        if self._shown_run is not None:
+            self.applier.clear()
+            self._shown_run, self._demon_names = None, ()
+            self.panel.set_demons(())
+
+    def _switch_run(self, snapshot: ViewSnapshot, names: tuple[str, ...]) -> None:
+        """A newly chosen run, or demons that joined or left the run shown: new demon widgets."""
+        if snapshot.run_id != self._shown_run:
+            self.applier.clear()
+        self._shown_run, self._demon_names, self._map_key = snapshot.run_id, names, None
+        self.panel.set_demons(names)
+        if self._spec is None or self._spec.world != snapshot.spec.world:
+            self._spec = snapshot.spec
+            self._set_view_mode(self.panel.three_d)
+        self._spec = snapshot.spec
+
+    def _refresh_map(self, frame: Frame, snapshot: ViewSnapshot) -> None:
+        demon = self.panel.value_demon
+        if demon is None:
+            self.applier.apply([], "value_map")
+            return
+        key = (snapshot.run_id, demon, self.panel.three_d, snapshot.total_steps, snapshot.episode)
+        if key == self._map_key:
+            return
+        selection_changed = self._map_key is None or key[:3] != self._map_key[:3]
+        if not selection_changed and frame.now - self._map_time < 1.0 / self.map_hz:
+            return
+        world = snapshot.spec.grid
+
+        def build() -> list[Any]:
+            values = frame.read("value_map", snapshot.run_id, demon, self.resolution)
+            greedy = frame.read("greedy_actions", snapshot.run_id, demon, scene.arrow_resolution(world))
+            return scene.value_map_nodes(world, demon, np.asarray(values), greedy, self.panel.three_d)
+
+        self.applier.apply(frame.memo(("value_map", *key), build), "value_map")
+        self._map_key, self._map_time = key, frame.now
+
+    # ------------------------------------------------------------------------------------------
+    # Runs without a plane (Gymnasium and stream runs): a phase plane of two sensors
+
+    def _refresh_phase(self, frame: Frame, run_id: str) -> None:
+        """The phase plane of the chosen demon over the chosen sensors, redrawn `map_hz` times a second
+        while records arrive, at once when the choice changes."""
+        panel = self.panel
+        sensors, demons, received, learned = frame.read("phase_status", run_id)
+        is_stream = frame.read("is_stream", run_id) if frame.has("is_stream") else True
+        star_of = (lambda demon: frame.read("star", run_id, demon)) if frame.has("star") else (lambda demon: None)
+        if run_id != self._shown_run or demons != self._demon_names:
+            if run_id != self._shown_run:
+                self.applier.clear()
+            self._shown_run, self._demon_names, self._map_key, self._spec = run_id, demons, None, None
+            panel.set_demons(demons, with_shown=not is_stream)
+            if star_of(None) is None:  # the star has no axes
+                panel.set_sensors(sensors)
+            self._point_camera(phase_camera())
+        panel.sync_demons()
+        now = frame.now
+        if is_stream:
+            panel.show_phase_state(received, learned)
+        else:  # a live run of a Gymnasium world: its status, counters and charts as a grid run's
+            shown = tuple(panel.shown)
+            snapshot = frame.read("snapshot", run_id, shown)
+            panel.show_state(snapshot)
+            if now - self._chart_time >= 1.0 / self.chart_hz:
+                self._chart_time = now
+                panel.show_charts(snapshot, shown)
+        key = (run_id, panel.value_demon, panel.phase_x, panel.phase_y, received)
+        if key == self._map_key:
+            return
+        if self._map_key is not None and key[:4] == self._map_key[:4] and now - self._map_time < 1.0 / self.map_hz:
+            return
+        star = star_of(panel.value_demon)
+        if star is not None:  # Baird's star: its seven states and the agent's, in place of a phase plane
+            self.applier.apply(star_nodes(*star), "phase")
+            self._map_key, self._map_time = key, now
+            return
+        phase = frame.read("phase_snapshot", run_id, panel.value_demon, panel.phase_x, panel.phase_y, self.resolution)
+        self.applier.apply(phase_plane_nodes(phase.x, phase.y, phase.demon, phase.values, phase.trail), "phase")
+        self._map_key, self._map_time = key, now
+
+    # ------------------------------------------------------------------------------------------
+    # Camera
+
+    def _set_view_mode(self, three_d: bool) -> None:
+        """Point this browser's camera at the world, from above or tilted."""
+        if self._spec is None or self._spec.world.kind != "grid":
+            return
+        world = self._spec.grid
+        self._point_camera(camera.tilted(world) if three_d else camera.top_down(world))
+
+    def _point_camera(self, pose: camera.CameraPose) -> None:
+        camera = self.client.camera
+        camera.fov = pose.fov
+        camera.up_direction = pose.up
+        camera.position = pose.position
+        camera.look_at = pose.look_at
