@@ -163,7 +163,7 @@ def settle(t):
     for g in range(grp.stage.shape[0]):
         m = coded.counts[g]
         for b in range(grp.block_lo[g], grp.block_hi[g]):
-            learners.settle(b, t.lay, t.wts, coded.features[g, :m], coded.values[g, :m], grp.n_s[g])
+            learners.settle(b, t.lay, t.wts, t.scr, coded.features[g, :m], coded.values[g, :m], grp.n_s[g])
 
 
 @njit(**NO_NRT)
@@ -259,5 +259,5 @@ def freeze_diverged(g, t, stp):
                 wts.theta[woff + row * db + i] = 0.0
                 wts.w[woff + row * db + i] = 0.0
         if found:  # read the block's values again with the cleaned weights (the others' owed paid first)
-            learners.settle(b, lay, wts, stp.x_tp1, stp.v_tp1, stp.n_s)
+            learners.settle(b, lay, wts, t.scr, stp.x_tp1, stp.v_tp1, stp.n_s)
             read_and_observe(b, lay, wts, dem, t.cls, t.scr, stp.x_tp1, stp.v_tp1, stp.n_s)

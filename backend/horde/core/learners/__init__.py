@@ -103,11 +103,11 @@ def finish(code, b, lay, wts, dem, cls, onl, stp, scr):
 
 
 @njit(**NO_NRT)
-def settle(b, lay, wts, x, v, n_s):
+def settle(b, lay, wts, scr, x, v, n_s):
     """Pay what block b owes (TD: its last update, `td_pass`; the gradient family's correction at the last x_{t+1}:
     `gradient.columns`, on the rows x, values v), so that theta can be read whole."""
     if lay.learner[b] == TD_CODE:
-        td_pass.settle(b, lay, wts)
+        td_pass.settle(b, lay, wts, scr)
     elif lay.owes[b]:
         gradient.settle_owed(b, lay, wts, x, v, n_s)
 

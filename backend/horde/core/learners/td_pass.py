@@ -71,11 +71,13 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr):
     db = lay.block_hi[b] - lo
     theta, trace, support, kept = wts.theta, wts.trace, wts.support, wts.nnz[b]
     owed = wts.owed[0, lo : lo + db]
+    pay = scr.ev[0]  # what is owed, in the weights' dtype: float32 pays in float32 (vectorized at twice the width)
     acc = scr.values[0]
     x_tp1, v_tp1 = stp.x_tp1, stp.v_tp1
     k = x_tp1.shape[0]
     for i in range(i0, i1):
         acc[i] = 0.0
+        pay[i] = owed[i]
     s = 0
     m = 0
     while s < kept or m < k:
@@ -89,11 +91,11 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr):
             for c in range(ncls):
                 c0 = max(lay.class_lo[coff + c], i0)
                 c1 = min(lay.class_hi[coff + c], i1)
-                e = np.float64(trace[tr + c])
+                e = trace[tr + c]
                 if value != 0.0:
-                    _pay_and_read(theta, base, owed, e, c0, c1, acc, value)
+                    _pay_and_read(theta, base, pay, e, c0, c1, acc, value)
                 elif e != 0.0:
-                    _pay(theta, base, owed, e, c0, c1)
+                    _pay(theta, base, pay, e, c0, c1)
             s += 1
         elif value != 0.0:  # a row of x_{t+1} outside the support: read only
             for i in range(i0, i1):
@@ -130,7 +132,7 @@ def finish(b, lay, wts, dem, cls, stp, scr):
 
 
 @njit(**NO_NRT)
-def settle(b, lay, wts):
+def settle(b, lay, wts, scr):
     """Pay what block b owes (owed[d] times its class's trace, on the support's rows); owe nothing more."""
     lo, woff, voff, ncls, coff, toff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b], lay.toff[b]
     db = lay.block_hi[b] - lo
@@ -140,13 +142,15 @@ def settle(b, lay, wts):
         owing = owing or owed[i] != 0.0
     if not owing:
         return
-    theta, trace, support = wts.theta, wts.trace, wts.support
+    theta, trace, support, pay = wts.theta, wts.trace, wts.support, scr.ev[0]
+    for i in range(db):
+        pay[i] = owed[i]
     for s in range(wts.nnz[b]):
         row = support[toff + s]
         base = at(woff + row * db)
         for c in range(ncls):
-            e = np.float64(trace[voff + row * ncls + c])
+            e = trace[voff + row * ncls + c]
             if e != 0.0:
-                _pay(theta, base, owed, e, lay.class_lo[coff + c], lay.class_hi[coff + c])
+                _pay(theta, base, pay, e, lay.class_lo[coff + c], lay.class_hi[coff + c])
     for i in range(db):
         owed[i] = 0.0
