@@ -67,8 +67,8 @@ class Bandwidth:
 
     `copy`, `update` and `read` are numpy's on one core, counting a byte once when read and once when
     written (an update moves each byte twice). `in_place[t - 1]` is an in-place update (`a += 1`, the
-    pattern of `theta += ...`) on t threads counting each byte once, the unit of `Engine.unique_bytes`:
-    the bound a step that reads and writes its bytes once can reach."""
+    pattern of `theta += ...`) on t threads counting each byte once; the bench doubles it to count bytes read
+    plus bytes written, its one convention (`bound.py`)."""
 
     copy: float  # numpy copyto: read one array, write another
     update: float  # a += 1.0 by numpy, bytes read plus bytes written

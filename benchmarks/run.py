@@ -4,9 +4,9 @@ Every workload is a `RunSpec` run by `Simulation`, the step a user's run takes (
 `thesis.py`). For each workload and size: demon-updates per second and milliseconds per step
 (wall-clock median of many steps after a warm-up; the process's CPU time beside it), the ratio to
 `reference.py` in the same run (on a subset of the demons, fed the same transitions), and the memory
-traffic of a step counting each byte of weight and trace rows touched once (`Engine.unique_bytes`)
-against the bandwidth measured at the start of the run: `bandwidth_fraction` on wall time and
-`bound_fraction` on CPU time (1.0: the step takes no longer than moving its bytes once). Scale workloads
+traffic of a step in bytes read plus bytes written (`bound.step_bytes`) against an in-place update's rate
+measured at the start of the run in the same convention (`bound.py`): `bandwidth_fraction` on wall time and
+`bound_fraction` on CPU time (1.0: the step moves its bytes as fast as `a += 1`). Scale workloads
 also report their trace supports, their memory per demon, and how far their predictions are from the
 reference's on that subset.
 
@@ -28,7 +28,7 @@ from typing import TextIO
 
 import numpy as np
 
-from benchmarks import measure, thesis, workloads
+from benchmarks import bound, measure, thesis, workloads
 from horde.core.reference import ReferenceHorde
 from horde.core.simulation import Simulation
 from horde.core.threads import cores
@@ -56,7 +56,7 @@ class Row:
     reference_error: float = math.nan  # max |prediction - reference| on the reference subset
     reference_demons: int = 0
     threads: int = 1
-    bound_fraction: float = math.nan  # unique bytes / bandwidth over the CPU time of a step
+    bound_fraction: float = math.nan  # the in-place update's CPU time for the step's bytes over the step's
     single_thread_ms_per_step: float = math.nan  # the same steps on one thread, measured in the same run
     single_thread_cpu_ms_per_step: float = math.nan
     thread_speedup: float = math.nan  # wall ms per step on one thread / on `threads` threads
@@ -156,7 +156,7 @@ def run_thesis(demons: int, plan: Plan, bandwidth: measure.Bandwidth) -> Row:
         ms_per_step=1e3 * timing.wall,
         demon_updates_per_second=updates,
         reference_ratio=updates / (subset / reference),
-        bandwidth_fraction=traffic / timing.wall / bandwidth.for_threads(sim.threads),
+        bandwidth_fraction=traffic / timing.wall / _rate(bandwidth, sim.threads),
         learner="gq+gtd",
         cpu_ms_per_step=1e3 * timing.cpu,
         traffic_mb_per_step=traffic / 1e6,
@@ -168,17 +168,20 @@ def run_thesis(demons: int, plan: Plan, bandwidth: measure.Bandwidth) -> Row:
 
 
 def _traffic(sim: Simulation) -> int:
-    """The unique bytes of one more step (`Engine.unique_bytes`, which needs the features at s_t)."""
-    loop = sim.learner.engine
-    before = tuple(loop.active_features(g) for g in range(len(loop.horde.groups)))
+    """The bytes read plus bytes written of one more step (`bound.step_bytes`)."""
     sim.run(1)
-    return loop.unique_bytes(before)
+    return bound.step_bytes(sim)
+
+
+def _rate(bandwidth: measure.Bandwidth, threads: int) -> float:
+    """An in-place update's bytes read plus bytes written per second on `threads` threads."""
+    return 2.0 * bandwidth.for_threads(threads)
 
 
 def _bound(traffic: int, timing: measure.Timing, bandwidth: measure.Bandwidth, threads: int) -> float:
-    """The CPU time that `threads` threads updating `traffic` bytes in place would take, over the step's
-    CPU time: 1.0 means the step costs no more CPU than reading and writing its bytes once."""
-    return threads * traffic / bandwidth.for_threads(threads) / timing.cpu
+    """The CPU time that `threads` threads updating in place would take for `traffic` bytes (read plus written),
+    over the step's CPU time: 1.0 means the step moves its bytes as fast as `a += 1`."""
+    return threads * traffic / _rate(bandwidth, threads) / timing.cpu
 
 
 def _replay(sim: Simulation, reference: ReferenceHorde, steps: int) -> float:
@@ -235,7 +238,7 @@ def run_scale(name: str, demons: int, learner: str, plan: Plan, bandwidth: measu
         ms_per_step=1e3 * timing.wall,
         demon_updates_per_second=updates,
         reference_ratio=updates / (len(picked) / reference_seconds),
-        bandwidth_fraction=traffic / timing.wall / bandwidth.for_threads(threads),
+        bandwidth_fraction=traffic / timing.wall / _rate(bandwidth, threads),
         learner=learner,
         cpu_ms_per_step=1e3 * timing.cpu,
         traffic_mb_per_step=traffic / 1e6,
@@ -284,13 +287,13 @@ def run(plan: Plan, only: Sequence[str] = WORKLOADS, stream: TextIO | None = Non
     began = time.perf_counter()
     report = Report()
     report.bandwidth = measure.bandwidth(plan.bandwidth_mb, threads=cores())
-    in_place = ", ".join(f"{b / 1e9:.1f}" for b in report.bandwidth.in_place)
+    in_place = ", ".join(f"{2 * b / 1e9:.1f}" for b in report.bandwidth.in_place)
 
     def say(text: str) -> None:
         print(text, file=stream or sys.stderr, flush=True)
 
     say(
-        f"memory bandwidth: in-place update {in_place} GB/s on 1, 2, ... threads (each byte once); numpy "
+        f"memory bandwidth: in-place update {in_place} GB/s on 1, 2, ... threads (bytes read plus written); numpy "
         f"copy {report.bandwidth.copy / 1e9:.1f}, update {report.bandwidth.update / 1e9:.1f}, read "
         f"{report.bandwidth.read / 1e9:.1f} GB/s (bytes read plus bytes written)"
     )
@@ -376,13 +379,14 @@ def format_table(report: Report) -> str:
     ]
     lines.insert(1, "  ".join("-" * w for w in widths))
     if report.bandwidth is not None:
-        in_place = ", ".join(f"{b / 1e9:.1f}" for b in report.bandwidth.in_place)
+        in_place = ", ".join(f"{2 * b / 1e9:.1f}" for b in report.bandwidth.in_place)
         lines.append("")
         lines.append(
-            f"bw frac: a step's unique bytes of weights and traces per wall second over the bandwidth of an "
-            f"in-place update on as many threads ({in_place} GB/s on 1, 2, ... threads, each byte counted "
-            f"once, {report.bandwidth.megabytes} MB, measured in this run); bound: that update's CPU time for "
-            f"the step's bytes over the step's CPU time; "
+            f"convention: bytes read plus bytes written on both sides. bw frac: a step's bytes of weights and "
+            f"traces (support rows read and written, x_t+1's other rows read) per wall second over an in-place "
+            f"update's rate on as many threads ({in_place} GB/s on 1, 2, ... threads, {report.bandwidth.megabytes}"
+            f" MB, measured in this run); bound: that update's CPU time for the step's bytes over the step's CPU "
+            f"time; "
             f"thr: threads; x 1 thr: speed-up over one thread (wall, rounds alternated in this run); x td: "
             f"steps/s over TD's with as many demons (wall, rounds of the two alternated in this run); "
             f"total {report.seconds:.0f} s. The machine may be shared: compare CPU ms with wall ms."
@@ -409,9 +413,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quick", action="store_true", help="a tiny run (a few seconds), for smoke tests")
     parser.add_argument("--json", metavar="PATH", help="also write the figures as JSON")
     parser.add_argument("--only", action="append", choices=WORKLOADS, help="run only this workload (repeatable)")
+    parser.add_argument("--workload", metavar="NAME-LEARNER",
+                        help="instead of the table: one workload (nexting-td, nexting-gtd, nexting-td+autostep, "
+                        "off_policy-gtd, control-gq, ...) against the memory bound (benchmarks/bound.py)")  # fmt: skip
+    parser.add_argument("--demons", type=int, default=8000, help="with --workload: its demons (default 8000)")
+    parser.add_argument("--threads", default="1,2", help="with --workload: thread counts, comma-separated")
+    parser.add_argument("--dtype", default="float64,float32", help="with --workload: dtypes, comma-separated")
 
 
 def bench(args: argparse.Namespace) -> int:
+    if getattr(args, "workload", None):
+        rows, rates = bound.run(args.workload, args.demons, [int(t) for t in args.threads.split(",")],
+                                args.dtype.split(","))  # fmt: skip
+        print(bound.table(rows, rates))
+        if args.json:
+            Path(args.json).write_text(json.dumps([asdict(r) for r in rows], indent=2) + "\n")
+        return 0
     report = run(QUICK if args.quick else FULL, tuple(args.only or WORKLOADS))
     print(format_table(report))
     if args.json:

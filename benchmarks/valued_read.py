@@ -2,7 +2,8 @@
 
     python -m benchmarks.valued_read
 
-`engine.rows.read_in_pairs` (each row multiplied by its feature's value) against the same loop adding the rows
+TD's valued read of issue 29 (`read_in_pairs` below, each row multiplied by its feature's value; the engine
+dropped it in issue 27, when TD's read joined its one pass) against the same loop adding the rows
 as the kernel did before features carried values, at nexting scale (457 active rows of 6065, 8000 demons), in
 one process, alternated rounds of 50 calls each; prints the median and best CPU milliseconds a call.
 """
@@ -15,7 +16,29 @@ import statistics
 import numpy as np
 from numba import njit
 
-from horde.core.engine.rows import at, read_in_pairs
+from horde.core.engine.rows import at
+
+
+@njit(cache=True)
+def read_in_pairs(flat, start, x, v, db, acc):  # type: ignore[no-untyped-def]
+    """acc = sum_j v[j] * row x[j], two rows at a time (TD's read of its new values in issue 29)."""
+    width = acc.shape[0]
+    for i in range(width):
+        acc[i] = 0.0
+    k = x.shape[0]
+    j = 0
+    while j + 1 < k:
+        u0 = at(start + x[j] * db)
+        u1 = at(start + x[j + 1] * db)
+        v0, v1 = v[j], v[j + 1]
+        for i in range(width):
+            acc[i] += v0 * flat[u0 + at(i)] + v1 * flat[u1 + at(i)]
+        j += 2
+    if j < k:
+        u0 = at(start + x[j] * db)
+        v0 = v[j]
+        for i in range(width):
+            acc[i] += v0 * flat[u0 + at(i)]
 
 
 @njit(cache=True)

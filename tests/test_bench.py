@@ -12,7 +12,7 @@ from pathlib import Path
 import numba
 import numpy as np
 import pytest
-from benchmarks import measure, workloads
+from benchmarks import bound, measure
 
 from horde.cli import main
 from horde.core import threads
@@ -73,24 +73,25 @@ def test_bench_can_run_one_workload(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("learner", ["td", "gtd"])
-def test_unique_bytes_counts_each_touched_number_once(learner: str) -> None:
-    """`Engine.unique_bytes` against a plain count over the rows of the last step: theta on the support
-    and at x_{t+1}, for GTD w on the support and at x_t, the trace's rows, each row once."""
-    sim = Simulation(workloads.spec("nexting", 200, learner), np.random.default_rng(3))
-    sim.run(30)
+@pytest.mark.parametrize("dtype", ["float64", "float32"])
+def test_step_bytes_count_bytes_read_plus_bytes_written(learner: str, dtype: str) -> None:
+    """`bound.step_bytes` against a plain count over the rows of the last step: on the support, theta (and GTD's
+    w) and the trace read and written; x_{t+1}'s other rows of theta read; at the dtype's size."""
+    sim = Simulation(bound.spec(f"nexting-{learner}", 200, dtype), np.random.default_rng(3))
     loop = sim.learner.engine
-    before = tuple(loop.active_features(g) for g in range(len(loop.horde.groups)))
-    sim.run(1)
     (block,) = loop.horde.blocks
-    assert len(loop.horde.groups) == 1
-    support = set(loop.t.wts.support[: int(loop.t.wts.nnz[0])].tolist())
-    x_next, x_prev = set(loop.active_features(0).tolist()), set(before[0].tolist())
-    expected = len(support) * block.num_classes * loop.t.wts.trace.itemsize
-    for row in support | x_next | x_prev:
-        expected += 8 * block.size * (row in support or row in x_next)  # theta
-        expected += 8 * block.size * (learner == "gtd" and (row in support or row in x_prev))  # w
-    assert loop.unique_bytes(before) == expected
-    assert block.num_classes > 1 and len(x_next - support) < len(x_next), "x_{t+1}'s rows mostly in the support"
+    size = 4 if dtype == "float32" else 8
+    for _ in range(300):  # a step with rows of x_{t+1} outside the support (a few dozen steps in)
+        sim.run(1)
+        support = set(loop.t.wts.support[: int(loop.t.wts.nnz[0])].tolist())
+        x_next = set(loop.active_features(0).tolist())
+        if sim.total_steps > 30 and x_next - support:
+            break
+    vectors = 2 if learner == "gtd" else 1
+    expected = 2 * len(support) * block.num_classes * size + 2 * len(support) * block.size * size * vectors
+    expected += len(x_next - support) * block.size * size
+    assert bound.step_bytes(sim) == expected
+    assert block.num_classes > 1 and 0 < len(x_next - support) < len(x_next), "x_{t+1}'s rows mostly in the support"
 
 
 def test_bandwidth_in_place_on_each_thread_count() -> None:

@@ -41,4 +41,13 @@ def add_bench_parser(sub: argparse._SubParsersAction) -> None:
         choices=("thesis", "nexting", "off_policy", "control"),
         help="run only this workload (repeatable)",
     )
+    bench.add_argument(
+        "--workload",
+        metavar="NAME-LEARNER",
+        help="instead of the table: one workload (nexting-td, nexting-gtd, ...) against the memory bound, bytes "
+        "read plus written on both sides, per thread count and dtype, rounds alternated",
+    )
+    bench.add_argument("--demons", type=int, default=8000, help="with --workload: its demons (default 8000)")
+    bench.add_argument("--threads", default="1,2", help="with --workload: thread counts, comma-separated")
+    bench.add_argument("--dtype", default="float64,float32", help="with --workload: dtypes, comma-separated")
     bench.set_defaults(func=cmd_bench)

@@ -216,8 +216,11 @@ def engine_arrays(sim: Simulation) -> dict[str, tuple[np.ndarray, np.ndarray, np
     return {name: sim.horde.demon_arrays(state, name) for name in sim.horde.names}
 
 
-def compare(sim: Simulation, ref: ReferenceHorde, step: int, tolerance: float = TOLERANCE) -> float:
-    """Every demon's theta, w, e, prediction and target policy, engine against reference; the largest gap."""
+def compare(
+    sim: Simulation, ref: ReferenceHorde, step: int, tolerance: float = TOLERANCE, relative: bool = False
+) -> float:
+    """Every demon's theta, w, e, prediction and target policy, engine against reference; the largest gap
+    (relative: each gap over max(1, the reference's magnitude), float32's measure)."""
     arrays = engine_arrays(sim)
     hs = sim.horde_state
     largest = 0.0
@@ -226,15 +229,16 @@ def compare(sim: Simulation, ref: ReferenceHorde, step: int, tolerance: float = 
         theta, w, e = arrays[name]
         ours = np.concatenate([sim.horde.weights(hs, name), theta, w, e, hs.prediction[i : i + 1], hs.pi[i]])
         plain = np.concatenate([demon.theta, demon.theta, demon.w, demon.e, [demon.prediction], demon.pi_t])
-        gap = float(np.abs(ours - plain).max())
+        gap = float((np.abs(ours - plain) / (np.maximum(1.0, np.abs(plain)) if relative else 1.0)).max())
         largest = max(largest, gap)
         # one cheap check per demon; the detailed assertions only run to explain a failure
         if not gap <= tolerance:
             where = f"demon {name!r} at step {step}"
-            np.testing.assert_allclose(theta, demon.theta, rtol=0, atol=tolerance, err_msg=f"theta of {where}")
-            np.testing.assert_allclose(w, demon.w, rtol=0, atol=tolerance, err_msg=f"w of {where}")
-            np.testing.assert_allclose(e, demon.e, rtol=0, atol=tolerance, err_msg=f"e of {where}")
-            np.testing.assert_allclose(hs.pi[i], demon.pi_t, rtol=0, atol=tolerance, err_msg=f"pi of {where}")
+            rtol = tolerance if relative else 0.0
+            np.testing.assert_allclose(theta, demon.theta, rtol=rtol, atol=tolerance, err_msg=f"theta of {where}")
+            np.testing.assert_allclose(w, demon.w, rtol=rtol, atol=tolerance, err_msg=f"w of {where}")
+            np.testing.assert_allclose(e, demon.e, rtol=rtol, atol=tolerance, err_msg=f"e of {where}")
+            np.testing.assert_allclose(hs.pi[i], demon.pi_t, rtol=rtol, atol=tolerance, err_msg=f"pi of {where}")
             raise AssertionError(f"prediction of {where}: {hs.prediction[i]} != {demon.prediction}")
     return largest
 

@@ -100,3 +100,36 @@ def test_import_is_bounded_by_the_number_of_runs(settings: Settings) -> None:
         run_id = client.post("/api/runs", json=make_spec()).json()["id"]
         snapshot = client.get(f"/api/runs/{run_id}/snapshot").json()
         assert client.post("/api/runs/import", json=snapshot).status_code == 409
+
+
+def test_a_float32_run_keeps_its_dtype_and_a_snapshot_that_does_not_is_422(
+    client: TestClient, create_run: Callable[..., str]
+) -> None:
+    """`learning.dtype = "float32"` over REST: its snapshot's weights and traces are float32 and resume; a
+    snapshot whose weights are not of its spec's dtype, or a dtype other than float32 / float64, is a 422 naming
+    the field."""
+    import base64
+
+    import numpy as np
+
+    run_id = create_run(make_spec(learning={"dtype": "float32"}))
+    client.post(f"/api/runs/{run_id}/step", json={"steps": 300})
+    snapshot = client.get(f"/api/runs/{run_id}/snapshot").json()
+    assert snapshot["spec"]["learning"]["dtype"] == "float32"
+    assert {snapshot["horde"][name]["dtype"] for name in ("theta.0", "w.0", "e.0", "h.0")} == {"float32"}
+    assert snapshot["horde"]["prediction"]["dtype"] == "float64"  # per-demon numbers stay float64
+    state_a = client.post(f"/api/runs/{run_id}/step", json={"steps": 200}).json()
+    run_b = client.post("/api/runs/import", json=snapshot).json()["id"]
+    state_b = client.post(f"/api/runs/{run_b}/step", json={"steps": 200}).json()
+    # to float32's rounding: where the server cuts its calls decides where an owed update is rounded in
+    for name, value in state_a["predictions"].items():
+        assert abs(state_b["predictions"][name] - value) <= 1e-5 * max(1.0, abs(value)), name
+
+    widened = copy.deepcopy(snapshot)
+    theta = np.frombuffer(base64.b64decode(widened["horde"]["theta.0"]["data"]), "<f4").astype("<f8")
+    widened["horde"]["theta.0"].update(dtype="float64", data=base64.b64encode(theta.tobytes()).decode())
+    assert locs(client.post("/api/runs/import", json=widened)) == [["body", "horde", "theta.0"]]
+    assert locs(client.post("/api/runs", json=make_spec(learning={"dtype": "float16"}))) == [
+        ["body", "RunSpec", "learning", "dtype"]
+    ]
+    assert len(client.get("/api/runs").json()) == 2  # nothing half-imported or created

@@ -134,6 +134,7 @@ class Horde:
         self.cut = cut
         self.plan: Plan = resolve(spec)
         plan = self.plan
+        self.dtype = np.dtype(plan.dtype)  # of the weights, traces and per-weight vectors (`[learning] dtype`)
         self.demon_specs: list[DemonSpec] = list(spec.demons)
         self.demons: tuple[DemonPlan, ...] = plan.demons
         self.names = [d.name for d in plan.demons]

@@ -67,6 +67,7 @@ class Plan:
     grid: WorldSpec | None
     behaviour: BehaviourSpec
     autostep_tau: float
+    dtype: str  # "float64" or "float32": of the weights, traces and per-weight vectors (`[learning] dtype`)
 
 
 def _demon(spec: RunSpec, demon: DemonSpec, stage: int, dependencies: set[str], keys: dict[str, str]) -> DemonPlan:
@@ -128,4 +129,5 @@ def resolve(spec: RunSpec) -> Plan:
         grid=grid,
         behaviour=spec.behaviour,
         autostep_tau=float(spec.learning.autostep_tau),
+        dtype=spec.learning.dtype,
     )

@@ -31,7 +31,8 @@ from horde.runs.snapshot_checks import MAX_COUNT, check_horde, check_interleaved
 from horde.spec import Hz, RunSpec
 
 FORMAT: Literal["horde-snapshot/1"] = "horde-snapshot/1"
-DTYPES: dict[str, str] = {"float64": "<f8", "int64": "<i8", "bool": "|b1"}
+DTYPES: dict[str, str] = {"float64": "<f8", "float32": "<f4", "int64": "<i8", "bool": "|b1"}
+ArrayDtype = Literal["float64", "float32", "int64", "bool"]
 MAX_ARRAY_CHARS = 100_000_000  # base64 characters of one array (75 MB of data)
 
 
@@ -40,7 +41,7 @@ class EncodedArray(BaseModel):
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 
-    dtype: Literal["float64", "int64", "bool"]
+    dtype: ArrayDtype
     shape: list[Annotated[int, Field(ge=0, le=1_000_000_000)]] = Field(max_length=4)
     data: str = Field(max_length=MAX_ARRAY_CHARS)
 
@@ -110,7 +111,7 @@ class Restored:
 
 
 def encode(array: np.ndarray) -> EncodedArray:
-    name: Literal["float64", "int64", "bool"] = "float64"
+    name: ArrayDtype = "float32" if array.dtype == np.float32 else "float64"
     if array.dtype == np.bool_:
         name = "bool"
     elif np.issubdtype(array.dtype, np.integer):
@@ -182,7 +183,7 @@ def _decode_tree(template: Any, encoded: dict[str, Any], where: str) -> Any:
             if not isinstance(value, EncodedArray):
                 raise SpecError.at(("body", where, path), "expected an array")
             array = decode(value, ("body", where, path))
-            if array.shape != leaf.shape or array.dtype.kind != leaf.dtype.kind:
+            if array.shape != leaf.shape or array.dtype != leaf.dtype:  # float32 where the spec's dtype says
                 raise SpecError.at(
                     ("body", where, path),
                     f"has shape {list(array.shape)} of {value.dtype}, "

@@ -18,6 +18,7 @@ from horde.spec.learners import learner_info, learner_names, step_size_problem
 from horde.spec.policies import OWN_VALUE_POLICIES, PolicySpec
 
 StepSize = Literal["constant", "autostep", "tidbd"]
+Dtype = Literal["float64", "float32"]
 MetaStep = Annotated[float, Field(ge=0.0, le=1.0, allow_inf_nan=False)]
 AutostepTau = Annotated[float, Field(ge=1.0, le=1e9, allow_inf_nan=False)]
 StepSizeValue = Annotated[float, Field(ge=0.0, le=10.0, allow_inf_nan=False)]
@@ -153,4 +154,9 @@ class LearningSpec(Model):
     meta_step: MetaStep = Field(default=0.01, description="autostep's mu and tidbd's theta (meta step size)")
     autostep_tau: AutostepTau = Field(
         default=10_000.0, description="autostep's time scale tau of its normaliser v (Mahmood et al. 2012: 1e4)"
+    )
+    dtype: Dtype = Field(
+        default="float64",
+        description="the numbers of the weights, secondary weights, traces and per-weight step sizes: float32 "
+        "halves their memory and the bytes a step moves (sums are still taken in float64)",
     )

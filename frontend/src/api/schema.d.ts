@@ -1304,7 +1304,7 @@ export interface components {
              * Dtype
              * @enum {string}
              */
-            dtype: "float64" | "int64" | "bool";
+            dtype: "float64" | "float32" | "int64" | "bool";
             /** Shape */
             shape: number[];
         };
@@ -1756,6 +1756,13 @@ export interface components {
              * @default 10000
              */
             autostep_tau: number;
+            /**
+             * Dtype
+             * @description the numbers of the weights, secondary weights, traces and per-weight step sizes: float32 halves their memory and the bytes a step moves (sums are still taken in float64)
+             * @default float64
+             * @enum {string}
+             */
+            dtype: "float64" | "float32";
             /**
              * Lambda
              * @default 0.9

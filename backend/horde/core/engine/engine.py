@@ -204,7 +204,7 @@ class Engine:
         w = self.weights(self.t.wts.w, b).copy()
         if self.horde.blocks[b].kernel.scaled_w:
             lo = int(self.horde.block_lo[b])
-            w *= self.t.onl.scale[lo : lo + self.horde.blocks[b].size]
+            w = (w * self.t.onl.scale[lo : lo + self.horde.blocks[b].size]).astype(self.horde.dtype)
         return w
 
     def horde_state(self, weights_only: bool = False) -> HordeState:
@@ -306,35 +306,3 @@ class Engine:
         for into, array in zip((onl.v_old, onl.cls_f, onl.cls_rho_prev, onl.trace2, onl.step_a, onl.step_v,
                                 onl.scale), state, strict=True):  # fmt: skip
             into[...] = array
-
-    # ------------------------------------------------------------------------------------------
-
-    def unique_bytes(self, before: tuple[np.ndarray, ...]) -> int:
-        """Bytes of weights and traces that the last step read or wrote, each byte counted once (a model of
-        the step's memory traffic; `before`: each group's active features at s_t, taken before the step).
-
-        Per block of Db demons, at 8 bytes a number: theta's whole rows at x_{t+1} (A of them for GQ: read,
-        and for GTD / GQ corrected) and on the trace's support (read and written); for GTD / GQ, w's whole
-        rows on the support and, for GTD, at x_t; the trace's rows in the support. Other learners: each of
-        their per-weight vectors (`Kernel.vectors`) on the same rows as theta (an upper bound for those that
-        skip a class whose trace is cut on a row). Per-demon vectors (a few numbers a demon) are left out."""
-        total = 0
-        t = self.t
-        for g, group in enumerate(self.horde.groups):
-            n_s = int(t.grp.n_s[g])
-            x_next = np.unique(t.coded.features[g, : t.coded.counts[g]])
-            x_prev = np.unique(before[g])
-            for b in group.blocks:
-                block = self.horde.blocks[b]
-                actions = self.horde.num_actions if group.action_values else 1
-                support = t.wts.support[int(t.lay.toff[b]) :][: int(t.wts.nnz[b])].astype(np.int64)
-                rows = np.union1d(support, np.concatenate([a * n_s + x_next for a in range(actions)])).size
-                total += support.size * block.num_classes * t.wts.trace.itemsize
-                kernel = block.kernel
-                if kernel.owes and not group.action_values:  # w: on the support and read at x_t (there unless cut)
-                    total += 8 * block.size * (rows + np.union1d(support, x_prev).size)
-                elif kernel.owes:  # x_t's rows (one action's) always stay in the support
-                    total += 8 * block.size * (rows + support.size)
-                else:
-                    total += 8 * block.size * rows * kernel.vectors
-        return total

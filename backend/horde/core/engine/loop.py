@@ -58,8 +58,7 @@ def run(t, rng, max_steps, max_episodes, beh, with_metrics, threads, given):
         result[R_TRUNCATED] = 1.0 if truncated else 0.0
         result[R_SIGN] = 1.0 if terminal > 0 else (-1.0 if terminal < 0 else 0.0)
         result[R_BPROB] = b_prob
-        if terminated or truncated:
-            settle(t)
+        if terminated or truncated:  # (the next episode's `observe` pays what is owed)
             episodes += 1
             returns[1] = returns[0]
             returns[0] = 0.0

@@ -62,10 +62,11 @@ def pack(horde: Horde, world: World | None) -> Tables:
     scr = _scratch(horde, lay, len(progs.node_kind))
     kmax = max((g.coder.k for g in horde.groups), default=1)
     sensors = len(horde.plan.sensors)
+    dtype = horde.dtype  # of every per-weight array (weights, traces, RUPEE's, the adaptive learners')
     wts = Weights(
-        theta=np.zeros(int(off.weights[-1])),
-        w=np.zeros(int(off.weights[-1])),
-        trace=np.zeros(int(off.traces[-1])),
+        theta=np.zeros(int(off.weights[-1]), dtype),
+        w=np.zeros(int(off.weights[-1]), dtype),
+        trace=np.zeros(int(off.traces[-1]), dtype),
         support=np.zeros(int(off.support[-1]), np.int64),
         nnz=np.zeros(len(horde.blocks), np.int64),
         touched=np.zeros(len(horde.blocks), np.int64),
@@ -95,8 +96,8 @@ def pack(horde: Horde, world: World | None) -> Tables:
             inputs=np.zeros(max([1, *(len(g.coder.spec.sensors or []) for g in horde.groups)])),
         ),
         met=Metrics(
-            h=np.zeros(int(off.weights[-1])),
-            u=np.zeros(int(off.weights[-1])),
+            h=np.zeros(int(off.weights[-1]), dtype),
+            u=np.zeros(int(off.weights[-1]), dtype),
             hu=np.zeros(horde.num_demons),
             scale=np.ones(len(horde.groups)),
             tau=np.zeros((len(horde.groups), 2)),
@@ -310,7 +311,7 @@ def _scratch(horde: Horde, lay: Layout, nodes: int) -> Scratch:
         mark=np.zeros(most_rows),
         counts=np.zeros(2, np.int64),
         ex=np.zeros((na, dmax)),
-        ev=np.zeros((2, dmax)),
+        ev=np.zeros((2, dmax), horde.dtype),  # trace values: of the traces' dtype
     )
 
 
@@ -325,16 +326,16 @@ def _online(horde: Horde, lay: Layout, off: Offsets) -> Online:
         np.concatenate([np.tile(b.alpha, int(r)) for b, r in zip(blocks, horde.block_rows, strict=True)])
         if blocks
         else np.zeros(0)
-    )
+    ).astype(horde.dtype)
     return Online(
         v_old=np.zeros(horde.num_demons),
         cls_alpha=cls_alpha,
         cls_beta=cls_beta,
         cls_f=np.zeros(horde.num_classes),
         cls_rho_prev=np.zeros(horde.num_classes),
-        trace2=np.zeros(2 * int(off.traces[-1])),
+        trace2=np.zeros(2 * int(off.traces[-1]), horde.dtype),
         step_a=step_a,
-        step_v=np.zeros(int(off.weights[-1])),
+        step_v=np.zeros(int(off.weights[-1]), horde.dtype),
         scale=np.ones(horde.num_demons),
         meta=np.concatenate([np.asarray(b.meta, dtype=float) for b in blocks]) if blocks else np.zeros(0),
         tau=float(horde.plan.autostep_tau),

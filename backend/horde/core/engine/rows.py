@@ -58,32 +58,6 @@ def sum_rows(flat, start, x, v, db, acc):
 
 
 @njit(**NO_NRT)
-def read_in_pairs(flat, start, x, v, db, acc):
-    """acc = sum_j v[j] * row x[j], two rows at a time (a run of columns, as in `sum_rows`).
-
-    TD's read of its new values: `sum_rows`' four rows at a time made TD 13 to 15 % faster (alternated runs),
-    which would take Autostep under the third of TD's speed that the learners issue asks
-    (docs/performance.md, "Sixth session")."""
-    width = acc.shape[0]
-    for i in range(width):
-        acc[i] = 0.0
-    k = x.shape[0]
-    j = 0
-    while j + 1 < k:
-        u0 = at(start + x[j] * db)
-        u1 = at(start + x[j + 1] * db)
-        v0, v1 = v[j], v[j + 1]
-        for i in range(width):
-            acc[i] += v0 * flat[u0 + at(i)] + v1 * flat[u1 + at(i)]
-        j += 2
-    if j < k:
-        u0 = at(start + x[j] * db)
-        v0 = v[j]
-        for i in range(width):
-            acc[i] += v0 * flat[u0 + at(i)]
-
-
-@njit(**NO_NRT)
 def read_range(woff, db, actions, n_s, theta, x, v, i0, i1, out):
     """Values at the active state features (x, v) of the block at woff ([actions n_s, db] weights) for its
     demons i0 <= i < i1: out[a, i0:i1] for every action a of action values, or a = 0."""

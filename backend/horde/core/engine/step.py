@@ -65,7 +65,7 @@ def learn_block(b, t, stp, threads):
         columns_on_threads(threads, code_, b, lay, t.wts, t.dem, t.cls, t.onl, t.met, stp, t.scr)
     else:
         learners.columns(code_, b, 0, db, lay, t.wts, t.dem, t.cls, t.onl, stp, t.scr)
-    learners.finish(code_, b, lay, t.wts, t.cls, t.onl, stp, t.scr)
+    learners.finish(code_, b, lay, t.wts, t.dem, t.cls, t.onl, stp, t.scr)
 
 
 @njit(**NO_NRT, inline="always")
@@ -127,7 +127,9 @@ def group_metrics(g, t, stp, threads):
 @njit(**NO_NRT)
 def observe(t, x, y, sensors):
     """An episode starts at (x, y) with these sensors: demons that forget their weights (reset = "episode") do,
-    traces go to zero, and every group reads its demons' values, policies and predictions there."""
+    traces go to zero, and every group reads its demons' values, policies and predictions there. What the
+    learners owe is paid first (on the traces and features it is owed on, which this clears)."""
+    settle(t)
     lay, grp, dem, cls, coded, wts = t.lay, t.grp, t.dem, t.cls, t.coded, t.wts
     for b in range(lay.learner.shape[0]):
         lo, rows, woff = lay.block_lo[b], lay.rows[b], lay.woff[b]
@@ -161,7 +163,7 @@ def settle(t):
     for g in range(grp.stage.shape[0]):
         m = coded.counts[g]
         for b in range(grp.block_lo[g], grp.block_hi[g]):
-            learners.settle(b, t.lay, t.wts, coded.features[g, :m], coded.values[g, :m], grp.n_s[g])
+            learners.settle(b, t.lay, t.wts, t.scr, coded.features[g, :m], coded.values[g, :m], grp.n_s[g])
 
 
 @njit(**NO_NRT)
@@ -257,5 +259,5 @@ def freeze_diverged(g, t, stp):
                 wts.theta[woff + row * db + i] = 0.0
                 wts.w[woff + row * db + i] = 0.0
         if found:  # read the block's values again with the cleaned weights (the others' owed paid first)
-            learners.settle(b, lay, wts, stp.x_tp1, stp.v_tp1, stp.n_s)
+            learners.settle(b, lay, wts, t.scr, stp.x_tp1, stp.v_tp1, stp.n_s)
             read_and_observe(b, lay, wts, dem, t.cls, t.scr, stp.x_tp1, stp.v_tp1, stp.n_s)

@@ -27,7 +27,7 @@ dispatched on by its code below.
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
-from horde.core.learners import adaptive, emphatic, gradient, online, tdrc, true_online
+from horde.core.learners import adaptive, emphatic, gradient, online, td_pass, tdrc, true_online
 from horde.core.learners.adaptive import adaptive_td_update
 from horde.core.learners.base import Kernel, OnlineState, online_zeros
 from horde.core.learners.emphatic import etd_update
@@ -58,7 +58,9 @@ def kernel_for(learner: str, step_size: str = "constant") -> Kernel:
 @njit(**NO_NRT, inline="always")
 def prepare(code, b, lay, wts, dem, cls, onl, stp, scr):
     """Block b's shared work before its columns (see the module)."""
-    if code in (TD_CODE, GTD_CODE, GQ_CODE):
+    if code == TD_CODE:
+        td_pass.prepare(b, lay, cls, scr)
+    elif code in (GTD_CODE, GQ_CODE):
         gradient.prepare(code, b, lay, wts, dem, cls, stp, scr)
     elif code in (TOTD_CODE, TOGTD_CODE):
         true_online.prepare(code, b, lay, wts, dem, cls, onl, stp, scr)
@@ -73,7 +75,9 @@ def prepare(code, b, lay, wts, dem, cls, onl, stp, scr):
 @njit(**NO_NRT, inline="always")
 def columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
     """Block b's demons i0 <= i < i1 learn the transition (see the module)."""
-    if code in (TD_CODE, GTD_CODE, GQ_CODE):
+    if code == TD_CODE:
+        td_pass.columns(b, i0, i1, lay, wts, dem, cls, stp, scr)
+    elif code in (GTD_CODE, GQ_CODE):
         gradient.columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr)
     elif code == TDRC_CODE:
         gradient.columns(GTD_CODE, b, i0, i1, lay, wts, dem, cls, stp, scr)
@@ -86,9 +90,11 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
 
 
 @njit(**NO_NRT, inline="always")
-def finish(code, b, lay, wts, cls, onl, stp, scr):
+def finish(code, b, lay, wts, dem, cls, onl, stp, scr):
     """Block b after every column learned (see the module)."""
-    if code in (TD_CODE, GTD_CODE, GQ_CODE):
+    if code == TD_CODE:
+        td_pass.finish(b, lay, wts, dem, cls, stp, scr)
+    elif code in (GTD_CODE, GQ_CODE):
         gradient.finish(code, b, lay, cls, stp, scr)
     elif code == TDRC_CODE:
         tdrc.finish(b, lay, wts, cls, onl, stp, scr)
@@ -97,10 +103,12 @@ def finish(code, b, lay, wts, cls, onl, stp, scr):
 
 
 @njit(**NO_NRT)
-def settle(b, lay, wts, x, v, n_s):
-    """Pay what block b owes (the gradient family's correction at the last x_{t+1}: `gradient.columns`) on the
-    rows x (values v), so that theta can be read whole."""
-    if lay.owes[b]:
+def settle(b, lay, wts, scr, x, v, n_s):
+    """Pay what block b owes (TD: its last update, `td_pass`; the gradient family's correction at the last x_{t+1}:
+    `gradient.columns`, on the rows x, values v), so that theta can be read whole."""
+    if lay.learner[b] == TD_CODE:
+        td_pass.settle(b, lay, wts, scr)
+    elif lay.owes[b]:
         gradient.settle_owed(b, lay, wts, x, v, n_s)
 
 

@@ -27,8 +27,8 @@ class Kernel:
         code: the kernel's code in the compiled step (unique; `horde.core.learners` dispatches on it).
         learner: the declared learner (`horde.spec.learners`).
         step_size: the step-size mode it learns with ("constant", "autostep", "tidbd").
-        vectors: per-weight arrays its step reads and writes on the trace's rows, theta included (for
-            `Engine.unique_bytes`); the gradient family's w is counted by its own rule (`owes`).
+        vectors: per-weight arrays its step reads and writes on the trace's rows, theta included (for the
+            bench's count of a step's bytes, `benchmarks/bound.py`).
         owes: it owes its correction at x_{t+1} to the next step (`gradient.settle_owed` pays it).
         dutch: its trace holds alpha (and alpha_w): only demons of one step size share one.
         keeps_state: it keeps numbers beyond the weights and traces (`Online`: snapshots save them).

@@ -12,16 +12,17 @@ Per demon (`update` below is the readable numpy form; `reference.gq_step`, `gtd_
 GTD(lambda)'s x_bar_tp1 is phi(s_{t+1}). The thesis printed the w update with phi_{t+1} and one shared step
 size: both are errors.
 
-The compiled kernel (`prepare`, `columns`, `finish`, called by the engine's step through
-`horde.core.learners`): `prepare` writes each class's trace decay and what x_t adds, and merges the traces
-(`engine.traces.merge`); `columns` learns a run of the block's demons, touching only their columns, in one
-pass over the support's weight rows (each read and written once; rows read two at a time: more memory streams
-in flight made sparse rows 1.3 to 1.6 times faster). The correction at x_{t+1} is owed to the next step (see
+The compiled kernel of GTD and GQ (`prepare`, `columns`, `finish`, called by the engine's step through
+`horde.core.learners`; TD's is `td_pass`, which defers its whole update by one step): `prepare` writes each
+class's trace decay and what x_t adds, and merges the traces (`engine.traces.merge`); `columns` learns a run
+of the block's demons, touching only their columns, in one pass over the support's weight rows (each read
+and written once; rows read two at a time: more memory streams in flight made sparse rows 1.3 to 1.6 times
+faster). The correction at x_{t+1} is owed to the next step (see
 `columns`), which `settle_owed` pays before anyone else reads theta. The secondary weights may be kept
 scaled per demon (`Scratch.scales`, 1 but for tdrc, whose h decays by its regulariser at every step).
 
-Why one module of about 480 lines: the family's three learners share one kernel, and its numpy form and
-registration sit beside it.
+Why one module of about 450 lines: the family's three learners' numpy form and registration, and GTD's and
+GQ's shared kernel.
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ import numpy as np
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
-from horde.core.engine.rows import at, dot, pay_and_read, read_in_pairs, read_range, spread, square, sum_rows
+from horde.core.engine.rows import at, dot, pay_and_read, read_range, spread, square, sum_rows
 from horde.core.engine.rows import td_error as td_error_at
 from horde.core.engine.traces import merge
 from horde.core.engine.values import observe_range, value_policy
@@ -159,7 +160,7 @@ def prepare(code, b, lay, wts, dem, cls, stp, scr):
         scr.decay[c] = cls.gamma[coff + c] * lay.lam[b] * rho
         scr.add[c] = 1.0 if gq else rho
     shift = stp.action * stp.n_s if gq else 0
-    kept, dropped = merge(b, lay, wts, scr, stp.x_t, stp.v_t, shift, code != TD_CODE)
+    kept, dropped = merge(b, lay, wts, scr, stp.x_t, stp.v_t, shift, True)
     scr.counts[0] = kept
     scr.counts[1] = dropped
     if gq and ncls > 1:
@@ -202,7 +203,6 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr):
     db = lay.block_hi[b] - lo
     width = i1 - i0
     gq = code == GQ_CODE
-    td = code == TD_CODE
     own = lay.policy[b] != FIXED
     x_t, v_t, x_tp1, v_tp1, n_s = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1, stp.n_s
     theta, w, trace, owed = wts.theta, wts.w, wts.trace, wts.owed
@@ -211,7 +211,7 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr):
     rows, rows_f, dropped = scr.rows, scr.rows_f, scr.counts[1]
     A = dem.q.shape[1]
     shift = stp.action * n_s if gq else 0
-    owing = code != TD_CODE and not gq  # pays on the support (GTD, tdrc: given policies only); GQ pays below
+    owing = not gq  # pays on the support (GTD, tdrc: given policies only); GQ pays below
 
     # Values at s_{t+1} under the weights before this update, the target policy there, delta.
     if gq:
@@ -252,31 +252,29 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr):
 
     # alpha_w (w . x_t) under the old w; the rows of x_t left without a trace lose it here.
     step_x = w_dot_x[i0:i1]
-    if not td:
-        sum_rows(w, woff + shift * db + i0, x_t, v_t, db, step_x)
+    sum_rows(w, woff + shift * db + i0, x_t, v_t, db, step_x)
+    for i in range(width):
+        a_w = dem.alpha_w[lo + i0 + i]
+        step_x[i] = step_x[i] * a_w * scr.scales[1, i0 + i] if a_w != 0.0 else 0.0
+    end = rows.shape[0] - 1
+    owed_ = owed[0, lo + i0 : lo + i1]  # (GQ has paid already: 0)
+    for j in range(dropped):
+        start = at(woff + rows[end - j] * db + i0)
+        f = rows_f[end - j]
         for i in range(width):
-            a_w = dem.alpha_w[lo + i0 + i]
-            step_x[i] = step_x[i] * a_w * scr.scales[1, i0 + i] if a_w != 0.0 else 0.0
-        end = rows.shape[0] - 1
-        owed_ = owed[0, lo + i0 : lo + i1]  # (GQ has paid already: 0)
-        for j in range(dropped):
-            start = at(woff + rows[end - j] * db + i0)
-            f = rows_f[end - j]
-            for i in range(width):
-                w[start + at(i)] -= f * step_x[i]
-                theta[start + at(i)] -= f * owed_[i]
+            w[start + at(i)] -= f * step_x[i]
+            theta[start + at(i)] -= f * owed_[i]
 
     if ncls == 1:
-        _one_class_pass(td, b, i0, i1, lay, wts, scr, step_x)
+        _one_class_pass(b, i0, i1, lay, wts, scr, step_x)
     else:
-        _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, td, gq, own)
+        _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, gq, own)
 
     # The correction at x_bar_{t+1} (owed: see above) and the new values at s_{t+1}.
-    if not td:
-        for i in range(i0, i1):
-            a_i = dem.alpha[lo + i]
-            g1 = cls.gamma_tp1[lay.slot_class[lo + i]]
-            w_dot_e[i] = a_i * g1 * (1.0 - lay.lam[b]) * w_dot_e[i] * scr.scales[2, i] if a_i != 0.0 else 0.0
+    for i in range(i0, i1):
+        a_i = dem.alpha[lo + i]
+        g1 = cls.gamma_tp1[lay.slot_class[lo + i]]
+        w_dot_e[i] = a_i * g1 * (1.0 - lay.lam[b]) * w_dot_e[i] * scr.scales[2, i] if a_i != 0.0 else 0.0
     if gq:
         # As for GTD below, for each action's rows at s_{t+1}; e . x_bar(s_{t+1}, a) from the support pass
         # (`gather`; one class: one sum per action).
@@ -292,7 +290,7 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr):
                 o = w_dot_e[i] * pi_next[a, i]
                 values[a, i] += ad[i] * ex[a, i] - o * own_dot
                 owed[a, lo + i] = o
-    elif owing:
+    else:
         # theta' . x_{t+1} = theta . x_{t+1} + alpha delta (e . x_{t+1}) - owed (x_{t+1} . x_{t+1}): the update
         # added alpha delta e to every row (a row cut from the support has trace 0 and was not updated), and
         # x_t's rows paid what they owed (already taken from the values above).
@@ -308,13 +306,11 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr):
             for i in range(c0, c1):
                 values[0, i] += ad[i] * e_dot_x - w_dot_e[i] * own_dot
                 owed[0, lo + i] = w_dot_e[i]
-    else:  # TD: the new values at s_{t+1}, read
-        read_in_pairs(theta, woff + i0, x_tp1, v_tp1, db, values[0, i0:i1])
     observe_range(b, i0, i1, lay, dem, cls, values)
 
 
 @njit(**NO_NRT)
-def _one_class_pass(td, b, i0, i1, lay, wts, scr, step_x):
+def _one_class_pass(b, i0, i1, lay, wts, scr, step_x):
     """The weight pass of a one-class block over its support, in row order, two rows at a time: theta += ad e;
     GTD / GQ: w . e, w += awd e - f step_x, theta pays f owed (f: x_t's value on the row, e the class's trace).
 
@@ -334,43 +330,33 @@ def _one_class_pass(td, b, i0, i1, lay, wts, scr, step_x):
             e1 = rows_e[s + 1]
             f1 = rows_f[s + 1]
             u1 = at(woff + rows[s + 1] * db + i0)
-            if td:
-                for i in range(width):
-                    a = ad[i0 + i]
-                    theta[u0 + at(i)] += a * e0
-                    theta[u1 + at(i)] += a * e1
-            else:
-                for i in range(width):
-                    a = ad[i0 + i]
-                    aw = awd[i0 + i]
-                    sx = step_x[i]
-                    o = owed[lo + i0 + i]
-                    j0 = u0 + at(i)
-                    j1 = u1 + at(i)
-                    v0 = w[j0]
-                    v1 = w[j1]
-                    w_dot_e[i0 + i] += v0 * e0 + v1 * e1
-                    theta[j0] += a * e0 - f0 * o
-                    theta[j1] += a * e1 - f1 * o
-                    w[j0] = v0 + aw * e0 - f0 * sx
-                    w[j1] = v1 + aw * e1 - f1 * sx
+            for i in range(width):
+                a = ad[i0 + i]
+                aw = awd[i0 + i]
+                sx = step_x[i]
+                o = owed[lo + i0 + i]
+                j0 = u0 + at(i)
+                j1 = u1 + at(i)
+                v0 = w[j0]
+                v1 = w[j1]
+                w_dot_e[i0 + i] += v0 * e0 + v1 * e1
+                theta[j0] += a * e0 - f0 * o
+                theta[j1] += a * e1 - f1 * o
+                w[j0] = v0 + aw * e0 - f0 * sx
+                w[j1] = v1 + aw * e1 - f1 * sx
             s += 2
         else:  # the last row alone
-            if td:
-                for i in range(width):
-                    theta[u0 + at(i)] += ad[i0 + i] * e0
-            else:
-                for i in range(width):
-                    j0 = u0 + at(i)
-                    wv = w[j0]
-                    w_dot_e[i0 + i] += wv * e0
-                    theta[j0] += ad[i0 + i] * e0 - f0 * owed[lo + i0 + i]
-                    w[j0] = wv + awd[i0 + i] * e0 - f0 * step_x[i]
+            for i in range(width):
+                j0 = u0 + at(i)
+                wv = w[j0]
+                w_dot_e[i0 + i] += wv * e0
+                theta[j0] += ad[i0 + i] * e0 - f0 * owed[lo + i0 + i]
+                w[j0] = wv + awd[i0 + i] * e0 - f0 * step_x[i]
             s += 1
 
 
 @njit(**NO_NRT)
-def _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, td, gq, own):
+def _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, gq, own):
     """The weight pass of a block of several classes: each support row's trace values spread over the classes'
     demons (own-value blocks: the trace row itself), two rows at a time; GQ gathers e . x_bar per demon."""
     lo, woff, voff, ncls, coff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b]
@@ -397,15 +383,7 @@ def _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, td, gq, own):
         u1 = at(woff + r1 * db + i0)
         f0 = rows_f[s]
         f1 = rows_f[s + 1] if pair else 0.0
-        if td and pair:
-            for i in range(width):
-                a = ad[i]
-                theta[u0 + at(i)] += a * np.float64(e0[i])
-                theta[u1 + at(i)] += a * np.float64(e1[i])
-        elif td:
-            for i in range(width):
-                theta[u0 + at(i)] += ad[i] * np.float64(e0[i])
-        elif pair:
+        if pair:
             for i in range(width):
                 a = ad[i]
                 aw = awd[i]

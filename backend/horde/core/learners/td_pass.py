@@ -1,0 +1,156 @@
+"""TD(lambda)'s compiled kernel: one pass over the weight rows a step, each update deferred by one step.
+
+TD's update theta += alpha delta_t e_t needs delta_t, which needs theta . x_{t+1}: a step that applies its own
+update reads x_{t+1}'s rows for the TD error, then reads and writes the support's, then reads x_{t+1}'s again
+for the new values (three passes; docs/performance.md, "Why 0.7 is not reached"). Here the update is owed
+instead: `Weights.owed[0, d]` holds alpha delta_t of demon d, and the trace e_t is left as it is, so theta
+owes owed[d] e_t. The next step's one pass over the union of the support's rows and x_{t+2}'s (`columns`)
+pays it row by row and reads the values at x_{t+2} from the rows just paid: each row read and written once,
+x_{t+2}'s other rows read once. The trace then moves to e_{t+1} (`finish`: the merge, after the pass that
+still needed e_t), and the new values at s_{t+2} come from the update's algebra,
+
+    theta_{t+2} . x_{t+2} = theta_{t+1} . x_{t+2} + alpha delta_{t+1} (e_{t+1} . x_{t+2}),
+
+with e . x one sum per trace class. What is owed is paid (`settle`) wherever something outside the pass reads
+theta: the end of a call of the loop, an episode's start (traces cleared, demons that forget their weights),
+a freeze (the block's values read again): `horde.core.engine.step.settle`, `step.observe`,
+`step.freeze_diverged`. So nothing outside the loop sees a weight that owes.
+
+Within a row, each trace class's demons are one contiguous run of the row (`Layout.class_lo`, `class_hi`):
+the class's trace value is one number for the run. float32 weights and traces are read into float64 sums.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from horde.core.engine.layout import NO_NRT
+from horde.core.engine.rows import at
+from horde.core.engine.rows import td_error as td_error_at
+from horde.core.engine.traces import merge
+from horde.core.engine.values import observe_range
+
+NONE = np.int64(2**62)  # past every row: a walk's list that has ended
+
+
+@njit(**NO_NRT, inline="always")
+def prepare(b, lay, cls, scr):
+    """What this step's merge (in `finish`) decays each class's trace by (gamma_t lambda rho_t) and what x_t adds
+    (rho_t); the traces themselves still hold e_{t-1}, which the pass pays with."""
+    ncls, coff = lay.ncls[b], lay.coff[b]
+    for c in range(ncls):
+        rho = cls.rho[coff + c]
+        scr.decay[c] = cls.gamma[coff + c] * lay.lam[b] * rho
+        scr.add[c] = rho
+
+
+@njit(**NO_NRT, inline="always")
+def _pay(theta, base, owed, e, c0, c1):
+    """theta pays owed[i] e on the row at base, columns c0 <= i < c1."""
+    for i in range(c0, c1):
+        u = at(i)
+        theta[base + u] += owed[u] * e
+
+
+@njit(**NO_NRT, inline="always")
+def _pay_and_read(theta, base, owed, e, c0, c1, acc, value):
+    """`_pay`, and acc[i] += value times the paid weight (as stored: float32 rounds before it is read)."""
+    for i in range(c0, c1):
+        u = at(i)
+        theta[base + u] += owed[u] * e
+        acc[u] += value * theta[base + u]
+
+
+@njit(**NO_NRT)
+def columns(b, i0, i1, lay, wts, dem, cls, stp, scr):
+    """Block b's demons i0 <= i < i1: one walk over the support's rows and x_{t+1}'s (both sorted) pays what the
+    last step owes on the support and sums the values at x_{t+1} from the paid rows (into scr.values[0]); then
+    the TD errors, and alpha delta owed for the next pass (0 for a frozen demon)."""
+    lo, woff, voff, ncls, coff, toff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b], lay.toff[b]
+    db = lay.block_hi[b] - lo
+    theta, trace, support, kept = wts.theta, wts.trace, wts.support, wts.nnz[b]
+    owed = wts.owed[0, lo : lo + db]
+    pay = scr.ev[0]  # what is owed, in the weights' dtype: float32 pays in float32 (vectorized at twice the width)
+    acc = scr.values[0]
+    x_tp1, v_tp1 = stp.x_tp1, stp.v_tp1
+    k = x_tp1.shape[0]
+    for i in range(i0, i1):
+        acc[i] = 0.0
+        pay[i] = owed[i]
+    s = 0
+    m = 0
+    while s < kept or m < k:
+        r_s = support[toff + s] if s < kept else NONE
+        r_m = x_tp1[m] if m < k else NONE
+        row = min(r_s, r_m)
+        base = at(woff + row * db)
+        value = v_tp1[m] if r_m == row else 0.0
+        if r_s == row:
+            tr = voff + row * ncls
+            for c in range(ncls):
+                c0 = max(lay.class_lo[coff + c], i0)
+                c1 = min(lay.class_hi[coff + c], i1)
+                e = trace[tr + c]
+                if value != 0.0:
+                    _pay_and_read(theta, base, pay, e, c0, c1, acc, value)
+                elif e != 0.0:
+                    _pay(theta, base, pay, e, c0, c1)
+            s += 1
+        elif value != 0.0:  # a row of x_{t+1} outside the support: read only
+            for i in range(i0, i1):
+                u = at(i)
+                acc[u] += value * theta[base + u]
+        if r_m == row:
+            m += 1
+    for i in range(i0, i1):
+        d = lo + i
+        dl = td_error_at(dem.r[d], dem.z[d], cls.gamma_tp1[lay.slot_class[d]], acc[i], dem.q[d, 0])
+        dem.delta[d] = dl
+        owed[i] = dem.alpha[d] * dl if dem.alpha[d] != 0.0 else 0.0  # a frozen demon stays exactly as it is
+
+
+@njit(**NO_NRT, inline="always")
+def finish(b, lay, wts, dem, cls, stp, scr):
+    """After every column: the traces move to e_t (the merge), the values at s_{t+1} take the owed update's part
+    (alpha delta (e_t . x_{t+1}), one sum per class) and become the demons' values and predictions; each class's
+    continuation moves to s_{t+1}."""
+    lo, voff, ncls, coff = lay.block_lo[b], lay.voff[b], lay.ncls[b], lay.coff[b]
+    db = lay.block_hi[b] - lo
+    merge(b, lay, wts, scr, stp.x_t, stp.v_t, 0, False)
+    trace, owed, values = wts.trace, wts.owed[0], scr.values
+    x_tp1, v_tp1 = stp.x_tp1, stp.v_tp1
+    for c in range(ncls):
+        e_dot_x = 0.0
+        for j in range(x_tp1.shape[0]):
+            e_dot_x += v_tp1[j] * np.float64(trace[voff + x_tp1[j] * ncls + c])
+        for i in range(lay.class_lo[coff + c], lay.class_hi[coff + c]):
+            values[0, i] += owed[lo + i] * e_dot_x
+    observe_range(b, 0, db, lay, dem, cls, values)
+    for c in range(ncls):
+        cls.gamma[coff + c] = cls.gamma_tp1[coff + c]
+
+
+@njit(**NO_NRT)
+def settle(b, lay, wts, scr):
+    """Pay what block b owes (owed[d] times its class's trace, on the support's rows); owe nothing more."""
+    lo, woff, voff, ncls, coff, toff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b], lay.toff[b]
+    db = lay.block_hi[b] - lo
+    owed = wts.owed[0, lo : lo + db]
+    owing = False
+    for i in range(db):
+        owing = owing or owed[i] != 0.0
+    if not owing:
+        return
+    theta, trace, support, pay = wts.theta, wts.trace, wts.support, scr.ev[0]
+    for i in range(db):
+        pay[i] = owed[i]
+    for s in range(wts.nnz[b]):
+        row = support[toff + s]
+        base = at(woff + row * db)
+        for c in range(ncls):
+            e = trace[voff + row * ncls + c]
+            if e != 0.0:
+                _pay(theta, base, pay, e, lay.class_lo[coff + c], lay.class_hi[coff + c])
+    for i in range(db):
+        owed[i] = 0.0
