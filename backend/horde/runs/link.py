@@ -193,7 +193,7 @@ class WorkerLink:
             self._moved_at = time.monotonic()
 
     def _beat(self, beat: m.Beat) -> None:
-        if beat.progress != self._progress:
+        if beat.progress != self._progress or beat.doing == m.COMPILING:
             self._progress = beat.progress
             self._moved_at = time.monotonic()
         self.doing = beat.doing

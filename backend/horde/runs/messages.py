@@ -42,6 +42,9 @@ from horde.runs.store import RunRecord
 from horde.spec import BehaviourSpec, DemonSpec, RunSpec
 
 BEAT_SECONDS = 1.0  # a worker says it is alive this often, however busy
+# What a worker says it does while numba compiles (or loads) its kernels: its main loop does not turn meanwhile,
+# for a minute or more on a cold cache, and that is work, not a stall.
+COMPILING = "preparing the learning kernels"
 
 # ----------------------------------------------------------------------------------------------
 # What starts a worker (its first message)

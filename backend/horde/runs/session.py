@@ -42,6 +42,12 @@ MAX_BATCH = 100_000
 PREPARING = "preparing the learning kernels (compiling them takes about a minute on a machine's first run)"
 _kernels_ready = threading.Event()
 
+
+def kernels_ready() -> bool:
+    """Whether this process has called the learning kernels once (compiled or loaded them)."""
+    return _kernels_ready.is_set()
+
+
 new_source = new_simulation  # run_setup.new_simulation picks the source for the world's kind
 
 

@@ -41,7 +41,7 @@ from horde.runs.errors import ConflictError, SpecError
 from horde.runs.readout import state_values, value_map
 from horde.runs.recorder import Recorder
 from horde.runs.run_setup import check_limits, new_simulation
-from horde.runs.session import RunSession, Source
+from horde.runs.session import RunSession, Source, kernels_ready
 from horde.runs.snapshot import Snapshot, capture, from_bytes, restore
 from horde.runs.weights import Readable, Reader, evaluate_in_thread, greedy_actions, phase_values, star_values
 from horde.runs.worker_life import Channel, GoneError, Heart, crash
@@ -177,13 +177,24 @@ class RunWorker:
             except Exception as exc:  # the loop never dies
                 self.session.fail(exc)
 
+    def _learn(self, steps: int | None, deadline: float | None) -> None:
+        """The session's learning; while the kernels are first compiled (or loaded) the heartbeat says so."""
+        compiling = not kernels_ready()
+        if compiling:
+            self.heart.busy(m.COMPILING)
+        try:
+            self.session.learn(steps, deadline)
+        finally:
+            if compiling:
+                self.heart.idle()
+
     def _run_chunk(self) -> None:
         """Full speed: messages first, then about CHUNK_SECONDS of learning."""
         self._drain()
         session = self.session
         if session.status != "running" or session.hz is not None:
             return
-        session.learn(None, time.monotonic() + CHUNK_SECONDS)
+        self._learn(None, time.monotonic() + CHUNK_SECONDS)
         self.recorder.publish(session, force=False)
         self.recorder.maybe_snapshot(session)
 
@@ -204,7 +215,7 @@ class RunWorker:
         hz = session.hz
         now = time.monotonic()
         due = min(1 + int((now - self._next_step_at) * hz), max(1, int(hz * CHUNK_SECONDS)))
-        session.learn(due, None)
+        self._learn(due, None)
         self._next_step_at = max(self._next_step_at + due / hz, now - MAX_LAG)
         self.recorder.publish(session, force=False)
         self.recorder.maybe_snapshot(session)
