@@ -20,6 +20,7 @@ from playwright.sync_api import expect
 
 from horde.server import Settings
 from horde.view.live import VIEWER_KEY
+from polling import wait_until
 
 from .conftest import (
     ON_DASHBOARD,
@@ -346,6 +347,13 @@ def test_evaluate_a_demon_and_see_truth_beside_prediction(page: Page, server: Se
     caption = chart.locator("figcaption").inner_text()
     assert "from the start at step" in caption and f"prediction {prediction}" in caption, caption
     assert f"truth {truth.removesuffix(' exact')} (exact)" in caption, caption
+    # The next evaluation a few hundred steps on (well inside the 2000 rows of history the chart shows): an
+    # evaluation of the same weights would be the same mark, the later.
+    (first,) = [
+        e["step"] for e in server.client.get(f"/api/runs/{run_id}/evaluations").json() if e["demon"] == "steps_to_end"
+    ]
+    assert f"at step {first:,}" in caption, caption
+    wait_until(lambda: server.client.get(f"/api/runs/{run_id}").json()["step"] >= first + 300, "the run to go on", 30)
     page.get_by_role("button", name="Evaluate steps_to_end").click()
     expect(chart, "a second evaluation, a second mark").to_have_attribute("data-marks", "2", timeout=30_000)
     assert "ring" in page.locator(".charts-panel > p").inner_text()

@@ -147,6 +147,7 @@ def test_evaluate(client: TestClient, create_run: Callable[..., str]) -> None:
     request = {"demon": "steps", "from": [0, 0], "episodes": 50, "cap": 2000, "seed": 1}
     body = client.post(f"/api/runs/{run_id}/evaluate", json=request).json()
     assert body["episodes"] == 50 and body["cap"] == 2000 and body["from"] == [0, 0]
+    assert body["step"] == 2000  # the step whose weights were evaluated: the dashboard marks it there
     assert body["truth"] > 0 and body["stderr"] > 0
     assert abs(body["error"] - (body["prediction"] - body["truth"])) < 1e-9
     assert client.post(f"/api/runs/{run_id}/evaluate", json=request).json() == body  # seeded: repeatable

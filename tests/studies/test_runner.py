@@ -14,7 +14,7 @@ import pytest
 
 from horde.runs.store import Store
 from horde.scenarios import find_scenario
-from horde.studies.runner import InProcess, create_study, run_study, summarize_study
+from horde.studies.runner import InProcess, RayGoneError, create_study, run_study, summarize_study
 from horde.studies.spec import StudySpec
 
 SMALL = {
@@ -54,6 +54,30 @@ def test_a_cancelled_study_resumes_with_only_the_unfinished_tasks(tmp_path: Path
     assert len(after) == 8
     for key, task in before.items():
         assert after[key] == task  # the same row, not redone
+    store.close()
+
+
+class DiesAfter(InProcess):
+    """Runs `tasks` tasks, then its Ray ends under it (as `RayExecutor.map` says it)."""
+
+    def __init__(self, tasks: int) -> None:
+        self.tasks = tasks
+
+    def map(self, tasks, measure, on_done, cancelled):  # type: ignore[no-untyped-def]
+        super().map(tasks[: self.tasks], measure, on_done, cancelled)
+        raise RayGoneError("Ray ended under it (its driver was told to exit, code 1)")
+
+
+def test_a_study_whose_ray_ends_fails_saying_how_far_it_got_and_resumes(tmp_path: Path) -> None:
+    store = Store(tmp_path)
+    record, _ = create_study(store, StudySpec.model_validate(SMALL), find_scenario("classroom-offpolicy"))
+    with pytest.raises(RayGoneError):
+        run_study(store, record.id, DiesAfter(2))
+    failed = store.get_study(record.id)
+    assert failed is not None and failed.status == "failed"
+    assert failed.message == ("Ray ended under it (its driver was told to exit, code 1) after 2 of 8 tasks; its "
+                              "finished tasks are kept: resume it once Ray is back")  # fmt: skip
+    assert run_study(store, record.id, InProcess()) == "finished" and store.count_study_tasks(record.id) == 8
     store.close()
 
 

@@ -120,6 +120,7 @@ class Evaluation:
     prediction: float
     truth: Truth
     seed: int
+    step: int  # the run's step whose weights were evaluated
     exact: float | None = None  # the exact answer at `start`, on a lattice world that has one
 
 
@@ -212,7 +213,7 @@ def evaluate(
     if view.horde_state.diverged[demon]:
         prediction = math.nan  # reported as null, as everywhere else
     truth = monte_carlo(view.horde, view.horde_state, name, (x, y), episodes, cap, rng, stop)
-    return Evaluation(name, (x, y), prediction, truth, seed, exact_at(view, name, (x, y)))
+    return Evaluation(name, (x, y), prediction, truth, seed, view.total_steps, exact_at(view, name, (x, y)))
 
 
 def _start_point(world: WorldSpec) -> tuple[float, float]:
@@ -253,7 +254,7 @@ def _evaluate_rollouts(view: Readable, name: str, demon: int, episodes: int, cap
     diverged = bool(view.horde_state.diverged[demon])
     prediction = math.nan if diverged else float(view.horde_state.prediction[demon])
     truth = Truth(float(returns.mean()), stderr, len(returns), cap, capped)
-    return Evaluation(name, tuple(float(s) for s in state.sensors), prediction, truth, seed)
+    return Evaluation(name, tuple(float(s) for s in state.sensors), prediction, truth, seed, view.total_steps)
 
 
 def exact_at(view: Readable, name: str, point: tuple[float, float]) -> float | None:

@@ -210,5 +210,6 @@ def evaluation_out(evaluation: Evaluation) -> EvaluationOut:
         cap=truth.cap,
         capped=truth.capped,
         seed=evaluation.seed,
+        step=evaluation.step,
         exact=evaluation.exact,
     )

@@ -416,6 +416,10 @@ class EvaluationOut(Out):
     cap: int
     capped: int = Field(description="rollouts still running at the cap")
     seed: int
+    step: int | None = Field(
+        default=None,
+        description="the run's step whose weights were evaluated (null in evaluations kept before runs said so)",
+    )
     exact: MaybeFloat = Field(
         default=None, description="the exact answer at `from` on a small lattice world (no noise), else null"
     )

@@ -35,6 +35,10 @@ class CancelledError(Exception):
     """The study was asked to stop; its finished tasks are kept."""
 
 
+class RayGoneError(Exception):
+    """The Ray a study ran on ended or failed under it (not one of its tasks); its finished tasks are kept."""
+
+
 @dataclass(frozen=True)
 class Task:
     config: int
@@ -125,6 +129,12 @@ class RayExecutor:
                 ready, _ = ray.wait(list(pending), num_returns=1, timeout=0.5)
                 for ref in ready:
                     on_done(pending.pop(ref), ray.get(ref))
+        except ray.exceptions.RayTaskError:  # a task's own failure: as it is
+            raise
+        except SystemExit as exc:  # what Ray's core worker does to its driver when its node has gone
+            raise RayGoneError(f"Ray ended under it (its driver was told to exit, code {exc.code})") from None
+        except ray.exceptions.RayError as exc:
+            raise RayGoneError(f"Ray failed under it ({type(exc).__name__}: {exc})") from exc
         finally:
             for ref in pending:
                 ray.cancel(ref, force=True)
@@ -200,6 +210,10 @@ def run_study(
     except (CancelledError, KeyboardInterrupt):  # Ctrl-C on the command line is a cancel too
         store.set_study_status(study_id, "cancelled", f"cancelled after {done} of {total} tasks")
         return "cancelled"
+    except RayGoneError as exc:
+        store.set_study_status(study_id, "failed", f"{exc} after {done} of {total} tasks; its finished tasks "
+                               "are kept: resume it once Ray is back")  # fmt: skip
+        raise
     except BaseException as exc:
         store.set_study_status(study_id, "failed", f"{type(exc).__name__}: {exc}")
         raise

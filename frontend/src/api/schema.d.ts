@@ -1380,6 +1380,11 @@ export interface components {
             /** Stderr */
             stderr: number | null;
             /**
+             * Step
+             * @description the run's step whose weights were evaluated (null in evaluations kept before runs said so)
+             */
+            step?: number | null;
+            /**
              * Truth
              * @description mean realised return over the rollouts
              */

@@ -88,8 +88,8 @@ function figure(multiple: Multiple) {
 }
 
 /**
- * Every evaluation of the run shown, by demon, at the step the stream had reached when it came back
- * (the charts mark each at its step).
+ * Every evaluation of the run shown, by demon, at the step of the weights it evaluated (the charts mark each
+ * at its step); two of one step are one mark, the later.
  */
 function watchMarks(app: App, scope: Scope): Map<string, EvaluationMark[]> {
   const marks = new Map<string, EvaluationMark[]>();
@@ -99,7 +99,8 @@ function watchMarks(app: App, scope: Scope): Map<string, EvaluationMark[]> {
     for (const [demon, evaluation] of Object.entries(now.evaluations)) {
       const truth = truthLine(evaluation);
       if (evaluation === marked.evaluations[demon] || truth === null) continue;
-      const step = now.live?.step ?? now.run?.step ?? 0;
+      // The step of the weights evaluated (an evaluation just after another may read the same copy of them).
+      const step = evaluation.step ?? now.live?.step ?? now.run?.step ?? 0;
       marks.set(demon, [...(marks.get(demon) ?? []), { step, prediction: evaluation.prediction, truth }]);
     }
     marked = { runId: now.selectedRunId, evaluations: now.evaluations };
