@@ -13,6 +13,7 @@ import copy
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
+from unittest import mock
 
 import numpy as np
 import pytest
@@ -89,6 +90,27 @@ def test_non_finite_weights_and_traces_are_refused(client: TestClient, snapshot:
         message = refused_at(client, spoiled(snapshot, "horde", path, set_at(3, value)), ["body", "horde", path])
         assert "finite" in message
     refused_at(client, spoiled(snapshot, "horde", "prediction", set_at(0, value)), ["body", "horde", "prediction"])
+
+
+def test_arrays_their_data_cannot_fill_are_refused_before_a_worker_is_started(
+    client: TestClient, snapshot: dict[str, Any]
+) -> None:
+    """Schemathesis's slowest answer (12 s under its load): shapes of 10**8 x 10**4 over a few bytes, refused
+    only once a worker had been forked to build the run. Now refused on arrival, as the document is read."""
+    executor = client.app.state.manager.executor  # type: ignore[attr-defined]
+    never = mock.patch.object(executor, "spawn", side_effect=AssertionError("a worker was started"))
+    never.start()
+    huge = copy.deepcopy(snapshot)
+    huge["horde"]["theta.0"] = {"dtype": "int64", "shape": [231031272, 33876], "data": ""}
+    message = refused_at(client, huge, ["body", "horde", "theta.0"])
+    assert message == "0 bytes do not fill shape [231031272, 33876] of int64"
+    short = copy.deepcopy(snapshot)
+    short["stop_reference"] = [{"dtype": "float32", "shape": [], "data": "AAA="}]  # 2 bytes where 4 are needed
+    assert refused_at(client, short, ["body", "stop_reference", 0]) == "2 bytes do not fill shape [] of float32"
+    not_base64 = copy.deepcopy(snapshot)
+    not_base64["world"]["x"]["data"] = "AAAAA"
+    assert "not valid base64" in refused_at(client, not_base64, ["body", "world", "x"])
+    never.stop()
 
 
 def test_counts_beyond_sqlite_integers_are_refused(client: TestClient, snapshot: dict[str, Any]) -> None:

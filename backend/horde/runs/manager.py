@@ -31,7 +31,7 @@ from horde.runs.readout import Evaluation
 from horde.runs.run_setup import Limits, check_limits
 from horde.runs.run_view import STATUSES, RunStatus, RunView, Summary
 from horde.runs.saver import Saver
-from horde.runs.snapshot import Snapshot
+from horde.runs.snapshot import Snapshot, check_sizes
 from horde.runs.store import RunRecord, Store
 from horde.runs.worker import serve_run
 from horde.spec import RunSpec
@@ -222,6 +222,7 @@ class RunManager:
     def import_snapshot(self, snapshot: Snapshot) -> RunView:
         """A new run that continues exactly where the snapshot's run stood (paused, or finished)."""
         check_limits(snapshot.spec, self.limits)
+        check_sizes(snapshot)
         status: RunStatus = snapshot.status
         if status != "finished":
             status = "paused" if snapshot.total_steps > 0 else "created"

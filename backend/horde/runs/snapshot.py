@@ -120,6 +120,35 @@ def encode(array: np.ndarray) -> EncodedArray:
     return EncodedArray(dtype=name, shape=list(array.shape), data=base64.b64encode(data).decode("ascii"))
 
 
+def _data_bytes(encoded: EncodedArray) -> int | None:
+    """How many bytes the array's base64 stands for (None when its length cannot be base64's)."""
+    data = encoded.data
+    if len(data) % 4:
+        return None
+    return len(data) // 4 * 3 - (len(data[-2:]) - len(data[-2:].rstrip("=")))
+
+
+def check_sizes(snapshot: Snapshot) -> None:
+    """Every array's data fills its declared shape: checked on the document as it arrives, before a worker is
+    started for it (the rest, against the spec, needs the run built: `restore`).
+
+    Raises:
+        SpecError: naming the first array that does not.
+    """
+    arrays: list[tuple[tuple[str | int, ...], EncodedArray]] = [
+        *((("body", "world", k), a) for k, a in snapshot.world.items()),
+        *((("body", "horde", k), a) for k, a in snapshot.horde.items() if isinstance(a, EncodedArray)),
+        *((("body", "online", k), a) for k, a in (snapshot.online or {}).items()),
+        *((("body", "stop_reference", i), a) for i, a in enumerate(snapshot.stop_reference or [])),
+    ]
+    for loc, encoded in arrays:
+        size, needed = _data_bytes(encoded), math.prod(encoded.shape) * np.dtype(DTYPES[encoded.dtype]).itemsize
+        if size is None:
+            raise SpecError.at(loc, "data is not valid base64 (its length is not a multiple of 4)")
+        if size != needed:
+            raise SpecError.at(loc, f"{size} bytes do not fill shape {encoded.shape} of {encoded.dtype}")
+
+
 def decode(encoded: EncodedArray, loc: tuple[str | int, ...]) -> np.ndarray:
     """The array back, writable.
 
