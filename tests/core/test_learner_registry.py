@@ -17,7 +17,7 @@ from horde.spec import DemonSpec, learner_info, learner_names
 from horde.spec.demons import _learner_choices
 
 README = Path(__file__).resolve().parents[2] / "README.md"
-EXPECTED = ["etd", "gq", "gtd", "td", "tdrc", "true_online_gtd", "true_online_td"]
+EXPECTED = ["etd", "gq", "gtd", "gtd1", "gtd2", "td", "tdrc", "true_online_gtd", "true_online_td"]
 
 
 def test_the_registry_holds_every_learner_with_a_kernel_for_each_of_its_step_sizes() -> None:
