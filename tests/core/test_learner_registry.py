@@ -51,7 +51,8 @@ def test_the_oracle_steps_every_learner() -> None:
     ref.observe(0.0, 0.0, sensors)
     ref.learn(0, 0.25, 0.0, 100.0, {**sensors, "y": 100.0}, False)
     assert [d.delta for d in ref.demons.values()] == [1.0] * len(EXPECTED)  # zero weights: delta = r
-    assert all(d.theta.any() for d in ref.demons.values()), "every learner moved its weights"
+    # every learner moved its weights (GTD2's and the original GTD's theta follow w, still 0 here: w moved)
+    assert all(d.theta.any() or d.w.any() for d in ref.demons.values()), "every learner moved its weights"
 
 
 def test_the_readme_explains_every_learner() -> None:

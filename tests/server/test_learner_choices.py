@@ -39,7 +39,7 @@ def test_the_demon_table_shows_each_demon_its_step_size(client: TestClient, crea
         ({"learner": "etd", "step_size": "tidbd"}, ["demons", 1], "derived for TD(lambda) only"),
         ({"learner": "td", "step_size": "sgd"}, ["demons", 1, "step_size"], "Input should be"),
         ({"learner": "td", "step_size": "autostep", "meta_step": 2.0}, ["demons", 1, "meta_step"], "less than"),
-        ({"learner": "lstd"}, ["demons", 1, "learner"], "unknown learner 'lstd' (known: etd, gq, gtd, gtd1, gtd2, td, tdrc"),
+        ({"learner": "lstd"}, ["demons", 1, "learner"], "unknown learner 'lstd' (known: etd, gq, gtd, gtd1, gtd2, td"),
         (
             {"learner": "tdrc", "parameters": {"gamma": 1}},
             ["demons", 1, "parameters", "gamma"],
