@@ -280,7 +280,7 @@ def test_the_expected_update_is_zero_at_the_td_fixed_point_and_stable(learner: s
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("learner, alpha, alpha_w, episodes", [("gtd2", 0.2, 0.4, 1500), ("gtd1", 0.2, 0.4, 3000)])
+@pytest.mark.parametrize("learner, alpha, alpha_w, episodes", [("gtd2", 0.2, 0.4, 1500), ("gtd1", 0.2, 0.1, 3000)])
 def test_the_engine_reaches_the_td_fixed_point_of_boyans_chain(learner: str, alpha: float, alpha_w: float,
                                                                episodes: int) -> None:  # fmt: skip
     """The engine on Boyan's chain (the scenario's world and features): after the episodes every state's value is
