@@ -89,14 +89,11 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
     """Block b's demons i0 <= i < i1 learn the transition (see the module)."""
     if code == TD_CODE:
         td_pass.columns(b, i0, i1, lay, wts, dem, cls, stp, scr)
-    elif code in (GTD_CODE, GQ_CODE):
-        gradient.columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr, FOLLOWS_DELTA)
-    elif code == TDRC_CODE:
-        gradient.columns(GTD_CODE, b, i0, i1, lay, wts, dem, cls, stp, scr, FOLLOWS_DELTA)
-    elif code == GTD2_CODE:
-        gradient.columns(GTD_CODE, b, i0, i1, lay, wts, dem, cls, stp, scr, FOLLOWS_W)
-    elif code == GTD1_CODE:
-        gradient.columns(GTD_CODE, b, i0, i1, lay, wts, dem, cls, stp, scr, FOLLOWS_U)
+    elif code in (GTD_CODE, GQ_CODE, TDRC_CODE, GTD2_CODE, GTD1_CODE):
+        # One call with run-time numbers: numba compiles a copy of a function for each literal argument, and
+        # gradient.columns is the largest kernel (it reads `code` only to tell GQ from the others).
+        form = FOLLOWS_W if code == GTD2_CODE else FOLLOWS_U if code == GTD1_CODE else FOLLOWS_DELTA
+        gradient.columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr, form)
     elif code in (TOTD_CODE, TOGTD_CODE):
         true_online.columns(b, i0, i1, lay, wts, dem, stp, scr, onl)
     elif code == ETD_CODE:
