@@ -12,7 +12,8 @@ Per demon (`update` below is the readable numpy form; `reference.gq_step`, `gtd_
 GTD(lambda)'s x_bar_tp1 is phi(s_{t+1}). The thesis printed the w update with phi_{t+1} and one shared step
 size: both are errors.
 
-The compiled kernel of GTD and GQ (`prepare`, `columns`, `finish`, called by the engine's step through
+The compiled kernel of GTD and GQ (also TDRC's, GTD2's and the original GTD's: `columns`' `form`; `prepare`,
+`columns`, `finish`, called by the engine's step through
 `horde.core.learners`; TD's is `td_pass`, which defers its whole update by one step): `prepare` writes each
 class's trace decay and what x_t adds, and merges the traces (`engine.traces.merge`); `columns` learns a run
 of the block's demons, touching only their columns, in one pass over the support's weight rows (each read
