@@ -12,7 +12,7 @@ DIST := $(FRONTEND)/dist/index.html
 FRONTEND_SOURCES := $(shell find $(FRONTEND)/src -type f 2>/dev/null) \
 	$(addprefix $(FRONTEND)/,index.html vite.config.ts tsconfig.json package.json)
 
-.PHONY: serve test lint typecheck pytest vitest setup frontend api-types screenshots clean
+.PHONY: serve test lint typecheck pytest vitest setup frontend api-types screenshots clean warm
 
 setup: $(INSTALLED)
 
@@ -51,11 +51,23 @@ vitest: $(NODE_MODULES)
 	cd $(FRONTEND) && npm test
 
 # Needs the built dashboard for the browser tests; tests/test_api_types.py checks that the committed
-# API types match the server's OpenAPI schema.
-pytest: $(INSTALLED) $(DIST)
-	$(BIN)/python -m pytest
+# API types match the server's OpenAPI schema. Two processes run the tests that share no timing bound
+# (pytest-xdist, a file to a process), then one runs those marked `serial` (a bound on time, or the
+# whole machine) alone. The engine's kernels are compiled first (`warm`): see horde/warm.py for why.
+pytest: $(INSTALLED) $(DIST) warm
+	$(BIN)/python -m pytest -n 2 --dist loadfile -m "not serial"
+	$(BIN)/python -m pytest -m serial
 
-test: lint typecheck vitest pytest
+# The engine's kernels compiled into numba's cache for every dtype (minutes on a cold cache, a second after).
+warm: $(INSTALLED)
+	$(BIN)/python -m horde.warm
+
+# The kernels compile in the background while the dashboard builds and the checks run (they compile nothing).
+test: $(INSTALLED)
+	$(BIN)/python -m horde.warm & warm=$$!; \
+	$(MAKE) lint typecheck vitest frontend; checks=$$?; \
+	wait $$warm && test $$checks -eq 0
+	$(MAKE) pytest
 
 # The browser tests write their screenshots to test-artifacts/screenshots; this refreshes the ones the
 # README and docs/ show, on purpose (make test never touches docs/).

@@ -9,6 +9,7 @@ from __future__ import annotations
 import re
 import time
 
+import pytest
 from playwright.sync_api import Browser, expect
 
 from .conftest import (
@@ -23,7 +24,7 @@ SECONDS = 10.0  # measured while both pages stream
 MAX_FRAME_GAP_MS = 3000.0  # generous: a frame gap this long is a page that froze
 MAX_CLICK_S = 15.0
 
-pytestmark = ON_DASHBOARD
+pytestmark = [*ON_DASHBOARD, pytest.mark.serial]  # a pause within a bound while nexting learns: alone
 
 FRAME_GAPS = """() => {
   window.__gaps = [];

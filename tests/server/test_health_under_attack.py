@@ -32,6 +32,8 @@ from horde.server import Settings
 from .helpers import make_spec
 from .test_restart import server
 
+pytestmark = pytest.mark.serial  # a bound of 100 ms: alone
+
 HEALTH_LIMIT = 0.1  # seconds: the median check
 STALL = 1.0  # seconds: no check may take longer
 PRIORITY = -5  # niceness of the server and the poller, where allowed

@@ -31,6 +31,8 @@ import pytest
 from .helpers import WORLD, make_spec, wait_for, wait_protocol
 from .test_restart import server
 
+pytestmark = pytest.mark.serial  # kills at random moments of a server under a bound on what is lost: alone
+
 KILLS = 10  # the figure (ten random kill -9s); each restart forks the workers anew
 STORE_KILLS = 10
 MAX_LOST_SECONDS = 5.0

@@ -63,8 +63,8 @@ def learn_block(b, t, stp, threads):
     db = lay.block_hi[b] - lay.block_lo[b]
     if threads > 1 and db >= PARALLEL_MIN:
         columns_on_threads(threads, code_, b, lay, t.wts, t.dem, t.cls, t.onl, t.met, stp, t.scr)
-    else:
-        learners.columns(code_, b, 0, db, lay, t.wts, t.dem, t.cls, t.onl, stp, t.scr)
+    else:  # from db - db: 0 typed int64, as the threads' i0 is (a literal 0 would compile every kernel again)
+        learners.columns(code_, b, db - db, db, lay, t.wts, t.dem, t.cls, t.onl, stp, t.scr)
     learners.finish(code_, b, lay, t.wts, t.dem, t.cls, t.onl, stp, t.scr)
 
 
@@ -120,8 +120,8 @@ def group_metrics(g, t, stp, threads):
         db = lay.block_hi[b] - lay.block_lo[b]
         if threads > 1 and db >= PARALLEL_MIN:
             columns_on_threads(threads, METRICS, b, lay, t.wts, t.dem, t.cls, t.onl, t.met, stp, t.scr)
-        else:
-            metrics.columns(b, 0, db, lay, t.wts, t.dem, t.met, stp)
+        else:  # from db - db: 0 typed int64, as in `learn_block`
+            metrics.columns(b, db - db, db, lay, t.wts, t.dem, t.met, stp)
 
 
 @njit(**NO_NRT)
