@@ -7,9 +7,10 @@ objective through the secondary weights alone:
 * `gtd2`: GTD2 (Sutton, Maei, Precup, Bhatnagar, Silver, Szepesvari & Wiewiora 2009, "Fast gradient-descent
   methods for temporal-difference learning with linear function approximation"), stochastic gradient descent
   on the MSPBE. With lambda and rho: theta follows A^T w = E[(x_t - gamma_tp1 x_tp1) e_t^T] w, which equals
-  E[(w . x_t) x_t - gamma_tp1 (1 - lambda) (w . e_t) x_tp1] under the behaviour (Maei 2011's identity
-  E[x_t e_t^T] = E[x_t x_t^T] + lambda E[gamma_tp1 x_tp1 e_t^T]); the form Ghiassian & Sutton 2021 (the collision
-  task's comparison) and Ghiassian et al. 2020 (TDRC) write, with the trace e_t = rho_t (x_t + gamma_t lambda e_{t-1}):
+  E[(w . x_t) x_t - gamma_tp1 (1 - lambda) (w . e_t) x_tp1] under the behaviour (E[x_t e_t^T] = E[x_t x_t^T]
+  + lambda E[gamma_tp1 x_tp1 e_t^T] in the stationary process, as E_b[rho_t | s_t] = 1); the form Ghiassian &
+  Sutton 2021 write (the collision task's comparison of off-policy learners), with the trace
+  e_t = rho_t (x_t + gamma_t lambda e_{t-1}):
       delta_t = r_tp1 + (1 - gamma_tp1) z_tp1 + gamma_tp1 theta . x_tp1 - theta . x_t
       theta  += alpha   ((w . x_t) x_t - gamma_tp1 (1 - lambda) (w . e_t) x_tp1)
       w      += alpha_w (delta_t e_t - (w . x_t) x_t)
@@ -17,7 +18,7 @@ objective through the secondary weights alone:
 * `gtd1`: the original GTD (Sutton, Szepesvari & Maei 2008, "A convergent O(n) algorithm for off-policy
   temporal-difference learning with linear function approximation"), stochastic gradient descent on the norm of
   the expected TD update, E[rho delta x]^T E[rho delta x]; u estimates E[rho_t delta_t x_t]. Lambda = 0 only
-  (the paper's; no published lambda form): a demon that sets lambda > 0 is refused (a 422 naming `lambda`),
+  (the paper's setting; no published form with traces is known here): a demon that sets lambda > 0 is refused,
   and one that leaves it out learns with lambda = 0 whatever [learning] says. With e_t = rho_t x_t:
       theta  += alpha (x_t - gamma_tp1 x_tp1) (u . e_t)
       u      += beta (delta_t e_t - u)            (beta: the demon's alpha_w)
