@@ -35,7 +35,8 @@ WORKLOADS = (
     ("off_policy", 8000, "gtd", 30),
     ("control", 2000, "gq", 20),
 )
-NEW_ONLY = (("nexting", 8000, "tdrc", 30),)  # learners the tree before the change does not have
+# learners the tree before the change does not have (issue 29's TDRC; issue 25's GTD2 and original GTD)
+NEW_ONLY = (("nexting", 8000, "tdrc", 30), ("nexting", 8000, "gtd2", 30), ("nexting", 8000, "gtd1", 30))
 
 SNIPPET = """
 import json, resource, sys, time

@@ -78,8 +78,8 @@ EXPERIMENTS: tuple[Experiment, ...] = (
     Experiment("fig-11-5", "Figures 11.5 and 11.6: Baird's counterexample", "study", "fig-11-5-baird",
                "TD's error grows without bound; TDC's falls; emphatic TD's rises, then turns back down.",
                (Setting("alpha", ("demons.v.alpha",), "0.0003, 0.001, 0.003, 0.01"),)),
-    Experiment("boyan-learners", "Boyan's chain: TD, GTD, true online GTD, TDRC", "study", "boyan-chain-learners",
-               "Every learner's error falls; TD and TDRC fastest, the gradient learners slower.",
+    Experiment("boyan-learners", "Boyan's chain: TD, GTD, GTD2, TDC, TDRC", "study", "boyan-chain-learners",
+               "Every learner's error falls; TD and TDRC fastest, then TDC, GTD2, and the original GTD slowest.",
                (Setting("alpha", ("learning.alpha",), "0.1"),)),
 )  # fmt: skip
 

@@ -176,6 +176,32 @@ DEMONS: list[dict[str, Any]] = [
             ],
         },
     },
+    # GTD2 in one block of two trace classes (one target policy 0 on half the actions: x_t's rows lose their
+    # trace), and the original GTD (lambda left out: 0 whatever [learning] says; u kept scaled)
+    {
+        "name": "gtd2_follow",
+        "learner": "gtd2",
+        "policy": {"kind": "fixed", "probabilities": [0.0, 0.5, 0.5, 0.0]},
+        "cumulant": {"sensor": "bump"},
+        "lambda": 0.6,
+        "alpha_w": 0.05,
+    },
+    {
+        "name": "gtd2_fixed",
+        "learner": "gtd2",
+        "policy": {"kind": "fixed", "probabilities": [0.4, 0.1, 0.1, 0.4]},
+        "outcome": {"sensor": "in:goal"},
+        "lambda": 0.6,
+        "alpha_w": 0.05,
+    },
+    {
+        "name": "gtd1_fixed",
+        "learner": "gtd1",
+        "policy": {"kind": "fixed", "probabilities": [0.4, 0.1, 0.1, 0.4]},
+        "cumulant": {"sensor": "bump"},
+        "discount": 0.9,
+        "alpha_w": 0.05,
+    },
     {
         "name": "sensed_ctl",
         "policy": "greedy",
@@ -319,3 +345,5 @@ def test_many_steps_a_call_land_where_one_step_a_call_does(case: str, cut: float
     np.testing.assert_allclose(many.horde_state.prediction, one.horde_state.prediction, rtol=0, atol=TOLERANCE)
     gtd = [n for n, d in zip(one.horde.names, spec.demons, strict=True) if d.learner == "gtd"]
     assert sum(np.abs(ones[n][1]).max() > 1e-3 for n in gtd) >= 3, "GTD demons learned a w (so owed corrections)"
+    for name in ("gtd2_follow", "gtd2_fixed", "gtd1_fixed"):  # theta follows w: owed corrections and moves
+        assert np.abs(ones[name][1]).max() > 1e-3 and np.abs(ones[name][0]).max() > 1e-3, name

@@ -55,7 +55,7 @@ def demons(features: list[dict[str, Any]]) -> list[dict[str, Any]]:
             policy = next(policies)
             out.append({"name": f"{name}_{mode}", "learner": name, "step_size": mode, "policy": policy,
                         "features": next(kinds), "cumulant": {"sensor": "bump"}, "continuation": next(continuations),
-                        "lambda": 0.7})  # fmt: skip
+                        "lambda": 0.7 if learner_info(name).traces else 0.0})  # fmt: skip
     first = out[1]
     condition = {"demon": "base", "thresholds": [0.0]}
     out.append({**first, "name": "conditioned", "features": {**features[0], "condition": condition}})

@@ -60,8 +60,8 @@ def test_the_lab_runs_a_figure_and_draws_its_curves_with_bands(browser: Browser,
         expect(figure.locator(".lab-caption")).to_contain_text("Boyan's chain")
         expect(figure.get_by_test_id("lab-status")).to_have_text("finished", timeout=120_000)
         curves = figure.locator(".study-curves svg.study-chart")
-        expect(curves.locator("path.line")).to_have_count(4)  # TD, GTD, true online GTD, TDRC
-        expect(curves.locator("path.band")).to_have_count(4)
+        expect(curves.locator("path.line")).to_have_count(5)  # TD, GTD, GTD2, TDC, TDRC
+        expect(curves.locator("path.band")).to_have_count(5)
         box = curves.locator("path.band").first.bounding_box()
         assert box is not None and box["height"] > 2 and box["width"] > 100  # two runs differ: a band, not a line
         SHOTS.mkdir(parents=True, exist_ok=True)

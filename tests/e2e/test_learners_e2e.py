@@ -21,6 +21,8 @@ def test_an_autostep_demon_joins_and_shows_its_step_size(page: Page, server: Ser
     run_id, form = new_demon(page, server, "auto_steps")
     learners = form.get_by_label("Learner").locator("option")
     expect(learners.filter(has_text="tdrc: TDRC")).to_have_count(1)  # the registry's (GET /api/learners)
+    expect(learners.filter(has_text="gtd2: GTD2")).to_have_count(1)
+    expect(learners.filter(has_text="gtd1: GTD, the original")).to_have_count(1)
     form.get_by_label("Learner").select_option("td")
     options = form.get_by_label("Step size").locator("option").all_inner_texts()
     assert any(text.startswith("autostep (TD only):") for text in options), options  # one line of explanation

@@ -39,7 +39,7 @@ def test_the_demon_table_shows_each_demon_its_step_size(client: TestClient, crea
         ({"learner": "etd", "step_size": "tidbd"}, ["demons", 1], "derived for TD(lambda) only"),
         ({"learner": "td", "step_size": "sgd"}, ["demons", 1, "step_size"], "Input should be"),
         ({"learner": "td", "step_size": "autostep", "meta_step": 2.0}, ["demons", 1, "meta_step"], "less than"),
-        ({"learner": "lstd"}, ["demons", 1, "learner"], "unknown learner 'lstd' (known: etd, gq, gtd, td, tdrc"),
+        ({"learner": "lstd"}, ["demons", 1, "learner"], "unknown learner 'lstd' (known: etd, gq, gtd, gtd1, gtd2, td"),
         (
             {"learner": "tdrc", "parameters": {"gamma": 1}},
             ["demons", 1, "parameters", "gamma"],
@@ -47,6 +47,7 @@ def test_the_demon_table_shows_each_demon_its_step_size(client: TestClient, crea
         ),
         ({"learner": "tdrc", "parameters": {"beta": -1}}, ["demons", 1, "parameters", "beta"], "must lie in [0, 1000]"),
         ({"learner": "gtd", "parameters": {"beta": 1}}, ["demons", 1, "parameters", "beta"], "(its parameters: none)"),
+        ({"learner": "gtd1", "lambda": 0.5}, ["demons", 1, "lambda"], "'gtd1' is defined for lambda = 0 only"),
     ],
 )
 def test_undefined_combinations_and_bad_parameters_are_422_naming_the_field(

@@ -28,6 +28,7 @@ from horde.spec import (
     RunSpec,
     SensorExpr,
     check_demon_graph,
+    demon_lambda,
     demon_step_size,
 )
 
@@ -88,7 +89,29 @@ def td_step(theta: Vector, w: Vector, e: Vector, t: Transition, alpha: float, al
     return theta + alpha * delta * e, w, e, delta
 
 
-STEPS = {"gq": gq_step, "gtd": gtd_step, "td": td_step}
+def gtd2_step(theta: Vector, w: Vector, e: Vector, t: Transition, alpha: float, alpha_w: float) -> Weights:
+    """GTD2(lambda) (Sutton, Maei, Precup, Bhatnagar, Silver, Szepesvari & Wiewiora 2009; with lambda and rho as
+    Ghiassian & Sutton 2021 write it): the trace e = rho_t (x_t + gamma_t lambda e),
+    theta += alpha ((w . x_t) x_t - gamma_{t+1} (1 - lambda) (w . e) x_{t+1}), w += alpha_w (delta e - (w . x_t) x_t).
+    Returns (theta, w, e, delta)."""
+    e = t.rho_t * (t.phi_t + t.gamma_t * t.lam * e)
+    delta = t.delta(theta)
+    w_dot_x = w @ t.phi_t
+    new_theta = theta + alpha * (w_dot_x * t.phi_t - t.gamma_tp1 * (1 - t.lam) * (w @ e) * t.phi_tp1)
+    return new_theta, w + alpha_w * (delta * e - w_dot_x * t.phi_t), e, delta
+
+
+def gtd1_step(theta: Vector, u: Vector, e: Vector, t: Transition, alpha: float, beta: float) -> Weights:
+    """The original GTD (Sutton, Szepesvari & Maei 2008), lambda = 0, rho_t in the trace e = rho_t x_t:
+    theta += alpha (x_t - gamma_{t+1} x_{t+1}) (u . e), u += beta (delta e - u). Returns (theta, u, e, delta)."""
+    if t.lam != 0.0:
+        raise ValueError("the original GTD is defined for lambda = 0 only")
+    e = t.rho_t * t.phi_t
+    delta = t.delta(theta)
+    return theta + alpha * (t.phi_t - t.gamma_tp1 * t.phi_tp1) * (u @ e), u + beta * (delta * e - u), e, delta
+
+
+STEPS = {"gq": gq_step, "gtd": gtd_step, "td": td_step, "gtd2": gtd2_step, "gtd1": gtd1_step}
 
 
 def tdrc_step(theta: Vector, w: Vector, e: Vector, t: Transition, alpha: float, alpha_h: float, beta: float) -> Weights:
@@ -390,7 +413,7 @@ class ReferenceHorde:
             features = d.features or spec.features
             n = features.state_size() * (self.num_actions if d.action_values else 1)
             k = features.active_count()
-            lam = d.lambda_ if d.lambda_ is not None else spec.learning.lambda_
+            lam = demon_lambda(d, spec.learning)
             alpha = (d.alpha if d.alpha is not None else spec.learning.alpha) / k
             alpha_w = (d.alpha_w if d.alpha_w is not None else spec.learning.alpha_w) / k
             mode, meta = demon_step_size(d, spec.learning)

@@ -32,7 +32,15 @@ from horde.spec.base import (
     Probability,
     SensorName,
 )
-from horde.spec.demons import AutostepTau, DemonSpec, LearningSpec, MetaStep, StepSize, demon_step_size
+from horde.spec.demons import (
+    AutostepTau,
+    DemonSpec,
+    LearningSpec,
+    MetaStep,
+    StepSize,
+    demon_lambda,
+    demon_step_size,
+)
 from horde.spec.expressions import (
     AddExpr,
     Expr,
@@ -163,6 +171,7 @@ __all__ = [
     "check_demon_graph",
     "check_world_fit",
     "demon_dependencies",
+    "demon_lambda",
     "demon_step_size",
     "expr_children",
     "expr_interval",

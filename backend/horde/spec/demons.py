@@ -39,6 +39,13 @@ def demon_step_size(demon: DemonSpec, learning: LearningSpec) -> tuple[str, floa
     return mode, meta
 
 
+def demon_lambda(demon: DemonSpec, learning: LearningSpec) -> float:
+    """A demon's lambda: its own, else [learning]'s where its learner has a form with traces, else 0."""
+    if demon.lambda_ is not None:
+        return float(demon.lambda_)
+    return float(learning.lambda_) if learner_info(demon.learner).traces else 0.0
+
+
 class DemonSpec(Model):
     """A question (policy, cumulant, outcome, continuation) and its answer (features, learner, step sizes)."""
 
@@ -109,6 +116,10 @@ class DemonSpec(Model):
             )
         if self.step_size is not None and (problem := step_size_problem(self.learner, self.step_size)):
             raise ValueError(problem)
+        if not info.traces and self.lambda_:
+            raise field_error("DemonSpec", ("lambda",), "lambda_zero_only",
+                              f"learner {self.learner!r} is defined for lambda = 0 only (no published form with "
+                              "traces)", self.lambda_)  # fmt: skip
         if self.initial_weights is not None and self.reset == "episode":
             raise ValueError("initial_weights and reset = 'episode' do not go together: a demon that forgets its "
                              "weights at every episode start starts each episode from 0")  # fmt: skip

@@ -42,6 +42,8 @@ class LearnerInfo:
             softmax / epsilon-greedy target policy, and a behaviour may act on it.
         secondary: keeps a second weight vector learned at `alpha_w` (gradient corrections).
         step_sizes: the step-size modes with a published form for it ("constant", "autostep", "tidbd").
+        traces: it has a published form with lambda > 0; False: lambda = 0 only (a demon's lambda > 0 is
+            refused, and one that leaves lambda out learns with 0 whatever [learning] says: `demon_lambda`).
         parameters: its own numbers, with defaults and bounds.
     """
 
@@ -52,6 +54,7 @@ class LearnerInfo:
     secondary: bool = False
     step_sizes: tuple[str, ...] = ("constant",)
     parameters: tuple[Parameter, ...] = ()
+    traces: bool = True
 
     def parameter(self, name: str) -> Parameter | None:
         return next((p for p in self.parameters if p.name == name), None)

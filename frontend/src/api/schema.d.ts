@@ -1182,7 +1182,7 @@ export interface components {
              * @default gq
              * @enum {string}
              */
-            learner: "etd" | "gq" | "gtd" | "td" | "tdrc" | "true_online_gtd" | "true_online_td";
+            learner: "etd" | "gq" | "gtd" | "gtd1" | "gtd2" | "td" | "tdrc" | "true_online_gtd" | "true_online_td";
             /**
              * Meta Step
              * @description meta step size of autostep (mu) or tidbd (theta); defaults to [learning]
@@ -1260,7 +1260,7 @@ export interface components {
              * @default gq
              * @enum {string}
              */
-            learner: "etd" | "gq" | "gtd" | "td" | "tdrc" | "true_online_gtd" | "true_online_td";
+            learner: "etd" | "gq" | "gtd" | "gtd1" | "gtd2" | "td" | "tdrc" | "true_online_gtd" | "true_online_td";
             /**
              * Meta Step
              * @description meta step size of autostep (mu) or tidbd (theta); defaults to [learning]

@@ -5,7 +5,8 @@ compiled kernel for the engine.
 * `true_online`: true online TD(lambda), true online GTD(lambda);
 * `emphatic`: emphatic TD(lambda);
 * `adaptive`: TD(lambda) with Autostep / TIDBD step sizes;
-* `tdrc`: TD with regularized corrections (GTD's kernel, h kept scaled).
+* `tdrc`: TD with regularized corrections (GTD's kernel, h kept scaled);
+* `gtd2`: GTD2(lambda) and the original GTD (lambda = 0): GTD's kernel, theta following the secondary weights.
 
 Importing this package registers every learner with the spec (`horde.spec.learners`), so that a demon may
 name it, the API lists it (`GET /api/learners`) and the dashboard offers it. A learner module declares
@@ -27,20 +28,31 @@ dispatched on by its code below.
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
-from horde.core.learners import adaptive, emphatic, gradient, online, td_pass, tdrc, true_online
+from horde.core.learners import adaptive, emphatic, gradient, gtd2, online, td_pass, tdrc, true_online
 from horde.core.learners.adaptive import adaptive_td_update
 from horde.core.learners.base import Kernel, OnlineState, online_zeros
 from horde.core.learners.emphatic import etd_update
-from horde.core.learners.gradient import LearnerParams, LearnerState, dot_sparse, update, zeros
+from horde.core.learners.gradient import (
+    FOLLOWS_DELTA,
+    FOLLOWS_U,
+    FOLLOWS_W,
+    LearnerParams,
+    LearnerState,
+    dot_sparse,
+    update,
+    zeros,
+)
+from horde.core.learners.gtd2 import gtd1_update, gtd2_update
 from horde.core.learners.tdrc import tdrc_update
 from horde.core.learners.true_online import true_online_gtd_update, true_online_td_update
 
-FAMILIES = (gradient, true_online, emphatic, adaptive, tdrc)
+FAMILIES = (gradient, true_online, emphatic, adaptive, tdrc, gtd2)
 KERNELS: dict[int, Kernel] = {k.code: k for m in FAMILIES for k in m.KERNELS}
 assert len(KERNELS) == sum(len(m.KERNELS) for m in FAMILIES), "two kernels have one code"
 GQ_CODE, GTD_CODE, TD_CODE = gradient.GQ_CODE, gradient.GTD_CODE, gradient.TD_CODE
 TOTD_CODE, TOGTD_CODE, ETD_CODE = true_online.TOTD_CODE, true_online.TOGTD_CODE, emphatic.ETD_CODE
 TIDBD_CODE, AUTOSTEP_CODE, TDRC_CODE = adaptive.TIDBD_CODE, adaptive.AUTOSTEP_CODE, tdrc.TDRC_CODE
+GTD2_CODE, GTD1_CODE = gtd2.GTD2_CODE, gtd2.GTD1_CODE
 
 
 def kernel_for(learner: str, step_size: str = "constant") -> Kernel:
@@ -60,13 +72,13 @@ def prepare(code, b, lay, wts, dem, cls, onl, stp, scr):
     """Block b's shared work before its columns (see the module)."""
     if code == TD_CODE:
         td_pass.prepare(b, lay, cls, scr)
-    elif code in (GTD_CODE, GQ_CODE):
+    elif code in (GTD_CODE, GQ_CODE, GTD2_CODE):
         gradient.prepare(code, b, lay, wts, dem, cls, stp, scr)
     elif code in (TOTD_CODE, TOGTD_CODE):
         true_online.prepare(code, b, lay, wts, dem, cls, onl, stp, scr)
     elif code == ETD_CODE:
         emphatic.prepare(b, lay, wts, dem, cls, onl, stp, scr)
-    elif code == TDRC_CODE:
+    elif code in (TDRC_CODE, GTD1_CODE):  # w kept scaled (GTD1: u, shrunk by its beta)
         tdrc.prepare(b, lay, wts, dem, cls, onl, stp, scr)
     else:
         adaptive.prepare(code, b, lay, wts, cls, onl, stp, scr)
@@ -77,10 +89,11 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
     """Block b's demons i0 <= i < i1 learn the transition (see the module)."""
     if code == TD_CODE:
         td_pass.columns(b, i0, i1, lay, wts, dem, cls, stp, scr)
-    elif code in (GTD_CODE, GQ_CODE):
-        gradient.columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr)
-    elif code == TDRC_CODE:
-        gradient.columns(GTD_CODE, b, i0, i1, lay, wts, dem, cls, stp, scr)
+    elif code in (GTD_CODE, GQ_CODE, TDRC_CODE, GTD2_CODE, GTD1_CODE):
+        # One call with run-time numbers: numba compiles a copy of a function for each literal argument, and
+        # gradient.columns is the largest kernel (it reads `code` only to tell GQ from the others).
+        form = FOLLOWS_W if code == GTD2_CODE else FOLLOWS_U if code == GTD1_CODE else FOLLOWS_DELTA
+        gradient.columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr, form)
     elif code in (TOTD_CODE, TOGTD_CODE):
         true_online.columns(b, i0, i1, lay, wts, dem, stp, scr, onl)
     elif code == ETD_CODE:
@@ -94,9 +107,9 @@ def finish(code, b, lay, wts, dem, cls, onl, stp, scr):
     """Block b after every column learned (see the module)."""
     if code == TD_CODE:
         td_pass.finish(b, lay, wts, dem, cls, stp, scr)
-    elif code in (GTD_CODE, GQ_CODE):
+    elif code in (GTD_CODE, GQ_CODE, GTD2_CODE):
         gradient.finish(code, b, lay, cls, stp, scr)
-    elif code == TDRC_CODE:
+    elif code in (TDRC_CODE, GTD1_CODE):
         tdrc.finish(b, lay, wts, cls, onl, stp, scr)
     else:
         online.finish(b, lay, cls, onl)
@@ -115,9 +128,9 @@ def settle(b, lay, wts, scr, x, v, n_s):
 @njit(**NO_NRT)
 def episode_start(lay, wts, onl):
     """An episode starts: the learners that keep state beyond the weights restart it where a demon forgets its
-    weights (`adaptive.reset`, `tdrc.episode_start`)."""
+    weights (`adaptive.reset`, `tdrc.episode_start`: TDRC's h and the original GTD's u are kept scaled)."""
     adaptive.reset(lay, onl)
-    tdrc.episode_start(lay, wts, onl)
+    tdrc.episode_start(TDRC_CODE, GTD1_CODE, lay, onl)
 
 
 __all__ = [
@@ -135,6 +148,9 @@ __all__ = [
     "etd_update",
     "finish",
     "gradient",
+    "gtd1_update",
+    "gtd2",
+    "gtd2_update",
     "kernel_for",
     "online_zeros",
     "prepare",

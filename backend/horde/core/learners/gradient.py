@@ -12,7 +12,8 @@ Per demon (`update` below is the readable numpy form; `reference.gq_step`, `gtd_
 GTD(lambda)'s x_bar_tp1 is phi(s_{t+1}). The thesis printed the w update with phi_{t+1} and one shared step
 size: both are errors.
 
-The compiled kernel of GTD and GQ (`prepare`, `columns`, `finish`, called by the engine's step through
+The compiled kernel of GTD and GQ (also TDRC's, GTD2's and the original GTD's: `columns`' `form`; `prepare`,
+`columns`, `finish`, called by the engine's step through
 `horde.core.learners`; TD's is `td_pass`, which defers its whole update by one step): `prepare` writes each
 class's trace decay and what x_t adds, and merges the traces (`engine.traces.merge`); `columns` learns a run
 of the block's demons, touching only their columns, in one pass over the support's weight rows (each read
@@ -50,6 +51,7 @@ TD = register(LearnerInfo(
     step_sizes=("constant", "autostep", "tidbd"),
 ))  # fmt: skip
 TD_CODE, GTD_CODE, GQ_CODE = 0, 1, 2  # the engine's kernel codes
+FOLLOWS_DELTA, FOLLOWS_W, FOLLOWS_U = 0, 1, 2  # what theta follows besides the correction (`columns`)
 KERNELS = (
     Kernel(TD_CODE, "td"),
     Kernel(GTD_CODE, "gtd", vectors=2, owes=True),
@@ -187,9 +189,14 @@ def finish(code, b, lay, cls, stp, scr):
 
 
 @njit(**NO_NRT)
-def columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr):
+def columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr, form):
     """Block b's demons i0 <= i < i1 learn the transition, after `prepare`: only their columns of the weights
     and of the per-demon scratch (values, pi_next, work, ex, ev) are touched.
+
+    `form` says what theta follows besides the correction (`gtd2` declares the last two): FOLLOWS_DELTA, alpha
+    delta_t e_t (GQ, GTD, TDRC); FOLLOWS_W, alpha (w . x_t) x_t (GTD2); FOLLOWS_U, alpha rho_t (u . x_t) x_t,
+    and u learns without its -(u . x_t) x_t (the original GTD, lambda = 0: u . e_t = rho_t u . x_t). Either of
+    the last two is paid with the correction owed on x_t's rows (below), so the pass is the same.
 
     The gradient correction at x_{t+1} (theta -= alpha gamma (1 - lambda) (w . e) x_bar_{t+1}; for GQ on
     every action's rows, weighted by the target policy there) is owed rather than applied: `owed[a, d]`
@@ -212,6 +219,7 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr):
     A = dem.q.shape[1]
     shift = stp.action * n_s if gq else 0
     owing = not gq  # pays on the support (GTD, tdrc: given policies only); GQ pays below
+    shared = 0.0
 
     # Values at s_{t+1} under the weights before this update, the target policy there, delta.
     if gq:
@@ -245,7 +253,7 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr):
         dl = td_error_at(dem.r[d], dem.z[d], g1, v_next, v_t_d)
         dem.delta[d] = dl
         # a frozen demon (step size 0) stays exactly as it is, even when its delta is not finite
-        ad[i] = dem.alpha[d] * dl if dem.alpha[d] != 0.0 else 0.0
+        ad[i] = dem.alpha[d] * dl if dem.alpha[d] != 0.0 and form == FOLLOWS_DELTA else 0.0
         awd[i] = dem.alpha_w[d] * dl * scr.scales[0, i] if dem.alpha_w[d] != 0.0 else 0.0
         w_dot_e[i] = 0.0
         w_dot_x[i] = 0.0
@@ -253,9 +261,17 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr):
     # alpha_w (w . x_t) under the old w; the rows of x_t left without a trace lose it here.
     step_x = w_dot_x[i0:i1]
     sum_rows(w, woff + shift * db + i0, x_t, v_t, db, step_x)
+    if form != FOLLOWS_DELTA:  # theta += move x_t, paid with what x_t's rows owe; the values: + move x_t . x_{t+1}
+        for i in range(width):
+            d = lo + i0 + i
+            move = dem.alpha[d] * step_x[i] * scr.scales[2, i0 + i] if dem.alpha[d] != 0.0 else 0.0
+            if form == FOLLOWS_U:
+                move *= scr.add[lay.slot_class[d] - coff]  # rho_t (`prepare`)
+            owed[0, d] -= move
+            values[0, i0 + i] += move * shared
     for i in range(width):
         a_w = dem.alpha_w[lo + i0 + i]
-        step_x[i] = step_x[i] * a_w * scr.scales[1, i0 + i] if a_w != 0.0 else 0.0
+        step_x[i] = step_x[i] * a_w * scr.scales[1, i0 + i] if a_w != 0.0 and form != FOLLOWS_U else 0.0
     end = rows.shape[0] - 1
     owed_ = owed[0, lo + i0 : lo + i1]  # (GQ has paid already: 0)
     for j in range(dropped):

@@ -105,10 +105,11 @@ def finish(b, lay, wts, cls, onl, stp, scr):
 
 
 @njit(**NO_NRT)
-def episode_start(lay, wts, onl):
-    """Demons that forget their weights at an episode start (their w was just set to 0) restart their scale."""
+def episode_start(code, other, lay, onl):
+    """Demons of the kernels `code` and `other` (TDRC's, and another that keeps w scaled with `prepare` and
+    `finish`) that forget their weights at an episode start (their w was just set to 0) restart their scale."""
     for b in range(lay.learner.shape[0]):
-        if lay.learner[b] != TDRC_CODE:
+        if lay.learner[b] != code and lay.learner[b] != other:
             continue
         for s in range(lay.block_lo[b], lay.block_hi[b]):
             if lay.reset[s]:
