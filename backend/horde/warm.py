@@ -1,7 +1,7 @@
 """Compile the engine's kernels into numba's on-disk cache for every dtype, one after the other, in this process:
 `python -m horde.warm`.
 
-On a cold cache the engine's loop takes about two and a half minutes of one core to compile, once per dtype;
+On a cold cache the engine's loop takes about two minutes of one core to compile, once per dtype;
 every later process loads it from the cache in about a second. `make test` runs this first, while it lints and
 type-checks, because the tests then run in several processes at once: numba's cache is safe to read from many
 processes, but two processes compiling the same function at once can overwrite each other's cache entries (it
