@@ -35,6 +35,10 @@ from schemathesis.specs.openapi.checks import (
 
 from horde.server import Settings, create_app
 
+# One process: schemathesis gives every operation's item the same test id, and pytest-xdist runs items by id, so
+# in two processes it ran one operation instead of all sixty (make test's serial part runs it whole).
+pytestmark = pytest.mark.serial
+
 MAX_EXAMPLES = 20
 DATA = Path(tempfile.mkdtemp(prefix="horde-schemathesis-"))
 APP = create_app(Settings(data=DATA, token=None, max_runs=16, snapshot_every=3600.0, study_executor="local"))
