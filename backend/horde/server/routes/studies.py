@@ -38,7 +38,9 @@ STREAM_INTERVAL = 0.5  # seconds between progress messages
 def _out(jobs: StudyJobs, record: StudyRecord, access: Access) -> StudyOut:
     study = StudySpec.model_validate_json(record.spec)
     progress = jobs.progress(record.id)
-    done = progress.done if progress is not None else jobs.tasks_done(record.id)
+    # The store's count once the study has stopped: its driver writes each task, then its status, before the
+    # last Progress message reaches this process (a `finished` study must not read 7 of 8).
+    done = progress.done if progress is not None and record.status == "running" else jobs.tasks_done(record.id)
     base = study.base
     return StudyOut(
         id=record.id,
