@@ -133,17 +133,20 @@ class StudyJobs:
         return StudyInit(data, study_id, "ray", self._address)
 
     def _ended(self, study_id: str, why: str | None) -> None:
-        """The study's driver ended; `why` it failed, if it died before it could say (the store then says it)."""
+        """The study's driver ended; `why` it failed, if it could not store that itself (the store then says it).
+        The study leaves the running ones only once the store holds how it ended (`_current` relies on that)."""
         with self._lock:
-            progress = self._running.pop(study_id, None)
+            progress = self._running.get(study_id)
         if why is not None:
             record = self._store.get_study(study_id)
             if record is not None and record.status == "running":
                 done = progress.done if progress is not None else self._store.count_study_tasks(study_id)
                 total = progress.total if progress is not None else record.tasks
                 on_ray = " (Ray may have gone away under it)" if self._kind == "ray" else ""
-                self._store.set_study_status(study_id, "failed", f"its driver died ({why}){on_ray} after {done} of "
+                self._store.set_study_status(study_id, "failed", f"its driver ended ({why}){on_ray} after {done} of "
                                              f"{total} tasks; its finished tasks are kept: resume it")  # fmt: skip
+        with self._lock:
+            self._running.pop(study_id, None)
         if progress is not None:
             progress.ended.set()
 
@@ -160,7 +163,12 @@ class StudyJobs:
 
     def _current(self, record: StudyRecord) -> StudyRecord:
         if record.status == "running" and record.id not in self._running:
-            # left running by a process that stopped (a killed CLI, a restarted server): resumable
+            # Read again: its driver may have stored how it ended since `record` was read (and then left the
+            # running ones). Still running: left so by a process that stopped (a killed CLI, a restarted
+            # server), resumable.
+            again = self._store.get_study(record.id)
+            if again is not None and again.status != "running":
+                return again
             return StudyRecord(**{**record.__dict__, "status": "interrupted"})
         if record.status == "created" and record.id in self._running:
             return StudyRecord(**{**record.__dict__, "status": "running"})
@@ -231,7 +239,8 @@ class _StudyDriver:
         elif isinstance(message, Finished):
             if self.progress.link is not None:
                 self.progress.link.stopping = True
-            self.jobs._ended(self.study_id, None)
+            # A failure the driver could not store itself (its store refused the write, say) is stored here.
+            self.jobs._ended(self.study_id, message.failure.message if message.failure is not None else None)
 
     def on_reply(self, command: Command | None, reply: Reply) -> None:
         pass
