@@ -29,6 +29,7 @@ from horde.worlds.gym_spaces import resolve_world
 from horde.worlds.state_values import demon_truth
 
 from .test_online_learners import BEHAVIOUR_RIGHT, CHAIN, TARGET_RIGHT, exact_chain_values
+from .test_tdrc import equals_the_oracle_on_a_random_stream
 
 ORACLE = {"gtd2": reference.gtd2_step, "gtd1": reference.gtd1_step}
 NUMPY = {"gtd2": learners.gtd2_update, "gtd1": learners.gtd1_update}
@@ -202,31 +203,7 @@ def test_the_engine_equals_the_oracle_on_a_random_stream() -> None:
         for learner in ("gtd2", "gtd1")
     ]  # fmt: skip
     spec = stream_spec(demons)
-    loop, ref = Learner(Horde(spec, cut=0.0)), reference.ReferenceHorde(spec)
-    rng = np.random.default_rng(5)
-    names = spec.world.sensor_names()
-    first = np.array([0.0, 0.0])
-    loop.observe(first)
-    ref.observe(0.0, 0.0, dict(zip(names, first.tolist(), strict=True)))
-    largest = 0.0
-    for step in range(600):
-        action = int(rng.random() < 0.5)
-        sensors = np.array([float(rng.integers(2)), rng.normal() * 0.3])
-        ends = step % 50 == 49
-        loop.learn(sensors, [action], [0.5], terminated=ends)
-        ref.learn(action, 0.5, 0.0, 0.0, dict(zip(names, sensors.tolist(), strict=True)), ends)
-        if ends:
-            loop.observe(first)
-            ref.observe(0.0, 0.0, dict(zip(names, first.tolist(), strict=True)))
-        state = loop.horde_state()
-        for i, name in enumerate(loop.horde.names):
-            theta, w, e = loop.horde.demon_arrays(state, name)
-            plain = ref.demons[name]
-            for ours, theirs in ((theta, plain.theta), (w, plain.w), (e, plain.e),
-                                 (state.prediction[i : i + 1], [plain.prediction])):  # fmt: skip
-                gap = float(np.abs(ours - theirs).max())
-                largest = max(largest, gap)
-                assert gap < 1e-9, (step, name, ours, theirs)
+    loop, largest = equals_the_oracle_on_a_random_stream(spec)
     for name in ("gtd2_1", "gtd1_3"):
         theta, w, _ = loop.horde.demon_arrays(loop.horde_state(), name)
         assert np.abs(w).max() > 1e-3 and np.abs(theta).max() > 1e-3, f"{name} learned something"
