@@ -46,7 +46,7 @@ ROW_BYTES_PER_SECOND = 8_000_000
 VIEW_BYTES_PER_SECOND = 16_000_000
 VIEW_ARRAYS = 7  # [D] arrays in a published view
 # RMSVE and RMSPBE (a forward pass over every state) are measured on a history row at most this often while a run
-# runs, and at most at a twentieth of the main loop's time (random-walk-1000's three demons: about 1 ms a
+# runs, and at most at a twentieth of the main loop's time (random-walk-1000's three demons: 0.5 ms a
 # measurement, docs/performance.md); the rows between carry the latest measurement. The last row of a step
 # command or a pause is always measured.
 STATE_ERRORS_INTERVAL = 0.1

@@ -33,6 +33,7 @@ measurement costs a forward pass over the N states and O(n N) per demon.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -120,6 +121,7 @@ class DemonTruth:
     lam: float
     M: np.ndarray  # [N, N]
     r: np.ndarray  # [N]
+    trace: np.ndarray | None = None  # [N, N] (I - lambda M)^-1; None for lambda 0 (the identity)
 
     def rmsve(self, values: np.ndarray) -> float:
         """sqrt(sum_s d_s (v_s - v_pi,s)^2)."""
@@ -145,11 +147,14 @@ class DemonTruth:
         return float(np.sqrt(max(float(g @ np.linalg.pinv(C) @ g), 0.0)))
 
 
-def demon_truth(horde: Horde, name: str, chain: Model | None = None, spec: RunSpec | None = None) -> DemonTruth | None:
+def demon_truth(horde: Horde, name: str, chain: Model | None = None, spec: RunSpec | None = None,
+                cache: dict[object, Any] | None = None) -> DemonTruth | None:  # fmt: skip
     """The demon's truth over the states (see the module); None where the world's transitions are not known, the
     demon learns action values, its question reads predictions or its target policy (or the behaviour) reads
     action values. `spec`: the run's spec when its behaviour changed since the Horde was built (default the
-    Horde's)."""
+    Horde's). `cache`: shared by calls for demons of one Horde and spec, it keeps what their questions share (the
+    behaviour's distribution; a question's M, r and exact values; a question's and lambda's trace solve), each
+    a solve over the N states (1000 states: a fifth of a second)."""
     spec = spec if spec is not None else horde.spec
     chain = chain if chain is not None else model_of(spec)
     demon = horde.plan.demons[horde.index[name]]
@@ -157,9 +162,33 @@ def demon_truth(horde: Horde, name: str, chain: Model | None = None, spec: RunSp
         return None
     if any(expr_predictions(e) for e in (demon.cumulant, demon.outcome, demon.continuation)):
         return None
-    pi, d = _probs(demon.policy, spec, chain), state_distribution(spec, chain)
+    cache = {} if cache is None else cache
+    if "d" not in cache:
+        cache["d"] = state_distribution(spec, chain)
+    pi, d = _probs(demon.policy, spec, chain), cache["d"]
     if pi is None or d is None:
         return None
+    n = len(chain.states)
+    question = repr((demon.policy, demon.cumulant, demon.outcome, demon.continuation, demon.discount))
+    if question not in cache:
+        cache[question] = _question(spec, chain, demon, pi)
+    M, r, exact = cache[question]
+    group = next(g for g in horde.groups if horde.index[name] in g.demons)
+    X = group.coder.dense(np.zeros(n), np.zeros(n), sensors=state_sensors(spec, chain))  # [N, n]
+    lam = float(demon.lam)
+    if (question, lam) not in cache:  # (I - lambda M)^-1 r, and (I - lambda M)^-1 itself (None: lambda 0, I)
+        trace = np.linalg.inv(np.eye(n) - lam * M) if lam != 0.0 else None
+        cache[question, lam] = (trace, trace @ r if trace is not None else r)
+    trace, trace_r = cache[question, lam]
+    moved = (np.eye(n) - M) @ X  # [N, n]
+    A = X.T @ (d[:, None] * (trace @ moved if trace is not None else moved))  # [n, n], O(N^2 n), not O(N^3)
+    b = X.T @ (d * trace_r)
+    w = np.linalg.lstsq(A, b, rcond=None)[0]
+    return DemonTruth(chain.states, exact, X @ w, d, X, lam, M, r, trace)
+
+
+def _question(spec: RunSpec, chain: Model, demon: Any, pi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """M [N, N], r [N] and the exact values [N] of a demon's question under its target policy pi [N, A]."""
     rows = _rows(spec, chain.obs, chain.reward, chain.terminated.astype(float))
     names = spec.world.sensor_names()
     values = Program([demon.cumulant, demon.outcome, demon.continuation], {n: i for i, n in enumerate(names)},
@@ -170,17 +199,7 @@ def demon_truth(horde: Horde, name: str, chain: Model | None = None, spec: RunSp
     M = _matrix(chain, weight * gamma)
     r = np.zeros(len(chain.states))
     np.add.at(r, chain.src, weight * (values[:, 0] + (1.0 - gamma) * values[:, 1]))
-    n = len(chain.states)
-    exact = np.linalg.solve(np.eye(n) - M, r)
-    group = next(g for g in horde.groups if horde.index[name] in g.demons)
-    sensors = state_sensors(spec, chain)
-    X = group.coder.dense(np.zeros(n), np.zeros(n), sensors=sensors)
-    lam = float(demon.lam)
-    trace = np.linalg.inv(np.eye(n) - lam * M)
-    A = X.T @ (d[:, None] * (trace @ ((np.eye(n) - M) @ X)))  # [n, n], O(N^2 n), not O(N^3)
-    b = X.T @ (d * (trace @ r))
-    w = np.linalg.lstsq(A, b, rcond=None)[0]
-    return DemonTruth(chain.states, exact, X @ w, d, X, lam, M, r)
+    return M, r, np.linalg.solve(np.eye(len(chain.states)) - M, r)
 
 
 @dataclass(frozen=True)
@@ -198,7 +217,8 @@ class _Projection:
     def of(cls, column: int, truth: DemonTruth) -> _Projection:
         n = len(truth.states)
         D = truth.distribution
-        K = np.linalg.solve((np.eye(n) - truth.lam * truth.M).T, D[:, None] * truth.features).T  # [n, N]
+        weighted = D[:, None] * truth.features  # [N, n]
+        K = (truth.trace.T @ weighted if truth.trace is not None else weighted).T  # [n, N] X^T D (I - lambda M)^-1
         C = truth.features.T @ (D[:, None] * truth.features)  # [n, n]
         return cls(column, truth.exact, D, K @ truth.r, K @ (np.eye(n) - truth.M), np.linalg.pinv(C))
 
@@ -249,9 +269,10 @@ def state_errors(horde: Horde, spec: RunSpec | None = None) -> StateErrors | Non
     chain = model_of(spec)
     if chain is None:
         return None
-    projections = []
+    projections: list[_Projection] = []
+    cache: dict[object, Any] = {}
     for column, name in enumerate(horde.names):
-        truth = demon_truth(horde, name, chain, spec)
+        truth = demon_truth(horde, name, chain, spec, cache)
         if truth is not None:
             projections.append(_Projection.of(column, truth))
     return StateErrors(horde, chain, projections)
@@ -273,10 +294,11 @@ def values_report(horde: Horde, state: HordeState, names: list[str]) -> dict[str
         return {}
     predicted = predictions_at_states(horde, state, chain, names)
     out: dict[str, dict[str, object]] = {}
+    cache: dict[object, Any] = {}
     for j, name in enumerate(names):
         values = predicted[:, j]
         row: dict[str, object] = {"states": chain.states.tolist(), "values": values.tolist()}
-        truth = demon_truth(horde, name, chain)
+        truth = demon_truth(horde, name, chain, cache=cache)
         if truth is not None:
             row.update(exact=truth.exact.tolist(), fixed_point=truth.fixed_point.tolist(), rmsve=truth.rmsve(values),
                        rms_error=truth.rms(values), rmspbe=truth.rmspbe(values),
