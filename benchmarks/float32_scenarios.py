@@ -185,7 +185,7 @@ def judge_baird(name: str, spec: Any) -> Judged:
     largest = max(abs(rows[n].prediction) for n in bounded)
     holds = rows["td"].diverged and all(not rows[n].diverged and abs(rows[n].prediction) < 100 for n in bounded)
     td = "diverged" if rows["td"].diverged else f"not diverged ({rows['td'].prediction:.3g})"
-    return Judged(f"td {td}; gtd, gq, etd |prediction| at most {largest:.3g}", holds)
+    return Judged(f"td {td}; gtd, gq, etd predictions within ±{largest:.3g}", holds)
 
 
 def judge_log(name: str, spec: Any) -> Judged:
@@ -221,7 +221,7 @@ CRITERIA: dict[str, tuple[str, str, Judge | None]] = {
     "mountaincar-nexting": ("the represented questions vs the realised returns", "10 % relative", judge_mountaincar),
     "acrobot-offpolicy": ("all 24 questions vs rollouts of the target policy", "0.05 or 5 %", judge_acrobot),
     **dict.fromkeys(CHAINS, CHAIN),
-    "baird": ("TD diverged; GTD, GQ, ETD bounded", "|prediction| < 100", judge_baird),
+    "baird": ("TD diverged; GTD, GQ, ETD bounded", "predictions within ±100", judge_baird),
     "mountaincar-log": ("position demons vs the log's realised returns", "5 % relative", judge_log),
     "nexting": (f"predictions after {NEXTING_STEPS:,} steps, float32 vs float64", "1e-5 of their scale", None),
 }
@@ -245,7 +245,7 @@ def check(name: str, dtypes: tuple[str, ...] = DTYPES) -> Row:
         for dtype in dtypes:
             found[dtype], wall, cpu = _timed(lambda dtype=dtype: nexting_predictions(with_dtype(spec, dtype)))
             scale = float(np.abs(found[dtype]).max())
-            figure, holds = f"largest |prediction| {scale:.4g}", None
+            figure, holds = f"predictions within ±{scale:.4g}", None
             if dtype != "float64" and "float64" in found:
                 gap = float(np.abs(found[dtype] - found["float64"]).max()) / float(np.abs(found["float64"]).max())
                 figure, holds = f"{gap:.2e} of float64's scale", gap <= NEXTING_BOUND
