@@ -92,14 +92,20 @@ class SceneApplier:
     whose text (and position) alone changed, replaces the ones that changed otherwise, and removes the owner's
     nodes that are no longer listed. Call it inside `client.atomic()` so that a client sees one consistent frame.
     Labels are drawn `label_scale` times their normal size (Large text); change it, then `clear`, to redraw them.
+    A list given is never changed afterwards (the viewers share them): the very list an owner's nodes were last
+    applied from is skipped at once (a run's world and value map, frame after frame, for every browser).
     """
 
     def __init__(self, scene: viser.SceneApi, label_scale: float = 1.0) -> None:
         self.scene = scene
         self.label_scale = label_scale
         self.drawn: dict[str, tuple[Node, viser.SceneNodeHandle, str]] = {}
+        self._applied: dict[str, list[Node]] = {}  # owner -> the list its nodes were last applied from
 
     def apply(self, nodes: list[Node], owner: str) -> None:
+        if self._applied.get(owner) is nodes:
+            return
+        self._applied[owner] = nodes
         listed = {node.name for node in nodes}
         for name, (_, handle, node_owner) in list(self.drawn.items()):
             if node_owner == owner and name not in listed:
@@ -125,3 +131,4 @@ class SceneApplier:
         for _, handle, _ in self.drawn.values():
             handle.remove()
         self.drawn.clear()
+        self._applied.clear()
