@@ -203,6 +203,7 @@ def test_the_browsers_of_one_run_share_one_value_map_a_period() -> None:
             view.show(f"dashboard-tab-{k}", run)
             view.refresh()
             time.sleep(1.0 / map_hz / 3)
+        handles = {name: clients[0].viewer.applier.drawn[name] for name in ("/trail", "/value_map/texture")}
         source.value_maps = 0
         began = time.monotonic()
         while time.monotonic() - began < 1.5:
@@ -212,6 +213,9 @@ def test_the_browsers_of_one_run_share_one_value_map_a_period() -> None:
         assert 2 <= source.value_maps <= elapsed * map_hz + 1, f"{source.value_maps} maps in {elapsed:.2f} s"
         textures = [c.viewer.applier.drawn["/value_map/texture"][0] for c in clients]
         assert all(texture is textures[0] for texture in textures), "every browser draws the one map"
+        for name, (node, handle, _) in handles.items():  # a new trail or map updates the browser's node in place
+            now = clients[0].viewer.applier.drawn[name]
+            assert now[0] is not node and now[1] is handle, name
     finally:
         view.stop()
         source.manager.stop()

@@ -17,13 +17,20 @@ from horde.view.nodes import Node, same_content
 _ENCODED: weakref.WeakKeyDictionary[Node, tuple[str, bytes]] = weakref.WeakKeyDictionary()
 
 
-def _add_image(scene: viser.SceneApi, node: Node) -> viser.ImageHandle:
-    """`scene.add_image` of the node's image, with its PNG encoded once per node (viser's own message and handle,
-    as `add_image` makes them, but with the bytes given)."""
+def _encoded(node: Node) -> tuple[str, bytes]:
+    """The node's image as PNG, encoded once per node."""
     assert node.image is not None
     encoded = _ENCODED.get(node)
     if encoded is None:
         encoded = _ENCODED[node] = _encode_image_binary(node.image, "png")
+    return encoded
+
+
+def _add_image(scene: viser.SceneApi, node: Node) -> viser.ImageHandle:
+    """`scene.add_image` of the node's image, with its PNG encoded once per node (viser's own message and handle,
+    as `add_image` makes them, but with the bytes given)."""
+    assert node.image is not None
+    encoded = _encoded(node)
     message = _messages.ImageMessage(
         name=node.name,
         props=_messages.ImageProps(
@@ -85,11 +92,16 @@ def add_node(scene: viser.SceneApi, node: Node, label_scale: float = 1.0) -> vis
     raise ValueError(f"unknown node kind {node.kind!r}")
 
 
+DATA_FIELD = {"lines": "points", "image": "image"}  # the kinds whose data alone is updated in place
+DATA_FIELDS = tuple(DATA_FIELD.values())
+
+
 class SceneApplier:
     """The nodes drawn so far, by name and by owner (a part of the scene refreshed on its own).
 
     `apply(nodes, owner)` adds the new nodes, moves the ones whose position alone changed, rewrites the labels
-    whose text (and position) alone changed, replaces the ones that changed otherwise, and removes the owner's
+    whose text (and position) alone changed, updates lines and images whose data alone changed (a trail, a value
+    map), replaces the ones that changed otherwise, and removes the owner's
     nodes that are no longer listed. Call it inside `client.atomic()` so that a client sees one consistent frame.
     Labels are drawn `label_scale` times their normal size (Large text); change it, then `clear`, to redraw them.
     A list given is never changed afterwards (the viewers share them): the very list an owner's nodes were last
@@ -117,6 +129,15 @@ class SceneApplier:
                 continue
             if old is not None and same_content(old[0], node, ignore=("position",)):
                 old[1].position = np.asarray(node.position)
+                self.drawn[node.name] = (node, old[1], owner)
+                continue
+            if old is not None and node.kind in DATA_FIELD and same_content(old[0], node, ignore=DATA_FIELDS):
+                # Lines (the trail) or an image (a value map) with new data alone: the data is updated in place (one
+                # update message), not the node made anew (a new handle, and its type hints, on every redraw)
+                if node.kind == "lines":
+                    old[1].points = node.points  # type: ignore[attr-defined]  # a LineSegmentsHandle
+                else:
+                    old[1]._data = _encoded(node)[1]  # type: ignore[attr-defined]  # an ImageHandle's PNG
                 self.drawn[node.name] = (node, old[1], owner)
                 continue
             if old is not None and node.kind == "label" and same_content(old[0], node, ignore=("position", "text")):
