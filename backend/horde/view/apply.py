@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import weakref
+from typing import Any
 
 import numpy as np
 import trimesh
@@ -10,7 +11,7 @@ import viser
 from viser import _messages
 from viser._scene_api import _encode_image_binary
 
-from horde.view.nodes import Node, same_content
+from horde.view.nodes import Node, changed_fields
 
 # An image node's PNG, encoded once however many browsers' scenes show it (the viewers of one frame share their
 # nodes: horde.view.viewer.Frame). Encoding a 256 x 256 value map takes 3-4 ms; thirty browsers took 0.1 s a frame.
@@ -93,7 +94,6 @@ def add_node(scene: viser.SceneApi, node: Node, label_scale: float = 1.0) -> vis
 
 
 DATA_FIELD = {"lines": "points", "image": "image"}  # the kinds whose data alone is updated in place
-DATA_FIELDS = tuple(DATA_FIELD.values())
 
 
 class SceneApplier:
@@ -125,27 +125,32 @@ class SceneApplier:
                 del self.drawn[name]
         for node in nodes:
             old = self.drawn.get(node.name)
-            if old is not None and same_content(old[0], node):
+            changed = changed_fields(old[0], node) if old is not None else None
+            if changed is None or "kind" in changed:
+                self.drawn[node.name] = (node, add_node(self.scene, node, self.label_scale), owner)
                 continue
-            if old is not None and same_content(old[0], node, ignore=("position",)):
-                old[1].position = np.asarray(node.position)
-                self.drawn[node.name] = (node, old[1], owner)
+            if not changed:
                 continue
-            if old is not None and node.kind in DATA_FIELD and same_content(old[0], node, ignore=DATA_FIELDS):
+            assert old is not None
+            target: Any = old[1]  # its kind's handle: a LineSegmentsHandle has points, an ImageHandle _data, ...
+            data = DATA_FIELD.get(node.kind)
+            if changed <= {"position"}:
+                target.position = np.asarray(node.position)
+            elif data is not None and changed <= {data, "position"}:
                 # Lines (the trail) or an image (a value map) with new data alone: the data is updated in place (one
                 # update message), not the node made anew (a new handle, and its type hints, on every redraw)
                 if node.kind == "lines":
-                    old[1].points = node.points  # type: ignore[attr-defined]  # a LineSegmentsHandle
+                    target.points = node.points
                 else:
-                    old[1]._data = _encoded(node)[1]  # type: ignore[attr-defined]  # an ImageHandle's PNG
-                self.drawn[node.name] = (node, old[1], owner)
-                continue
-            if old is not None and node.kind == "label" and same_content(old[0], node, ignore=("position", "text")):
-                old[1].text = node.text  # type: ignore[attr-defined]  # a LabelHandle: its text, sent alone
-                old[1].position = np.asarray(node.position)
-                self.drawn[node.name] = (node, old[1], owner)
-                continue
-            self.drawn[node.name] = (node, add_node(self.scene, node, self.label_scale), owner)
+                    target._data = _encoded(node)[1]  # an ImageHandle's PNG
+                if "position" in changed:
+                    target.position = np.asarray(node.position)
+            elif node.kind == "label" and changed <= {"position", "text"}:
+                target.text = node.text  # a LabelHandle: its text, sent alone
+                target.position = np.asarray(node.position)
+            else:
+                target = add_node(self.scene, node, self.label_scale)
+            self.drawn[node.name] = (node, target, owner)
 
     def clear(self) -> None:
         """Remove every node drawn."""

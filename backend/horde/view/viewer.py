@@ -74,7 +74,7 @@ class Frame:
         slot = ("recent", *key)
         kept = self._kept.get(slot)
         if kept is not None and (kept[1] == state or self.now - kept[0] < max_age):
-            return kept[2]  # type: ignore[no-any-return]
+            return kept[2]
         value = make()
         self._kept[slot] = (self.now, state, value)
         self._kept.move_to_end(slot)
