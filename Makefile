@@ -52,9 +52,11 @@ vitest: $(NODE_MODULES)
 
 # Needs the built dashboard for the browser tests; tests/test_api_types.py checks that the committed
 # API types match the server's OpenAPI schema. Two processes run the tests that share no timing bound
-# (pytest-xdist, a file to a process), then one runs those marked `serial` (a bound on time, or the
-# whole machine) alone. The engine's kernels are compiled first (`warm`): see horde/warm.py for why.
-pytest: $(INSTALLED) $(DIST) warm
+# (pytest-xdist, a file to a process, the tests named float32 together: tests/conftest.py), then one runs
+# those marked `serial` (a bound on time, or the whole machine) alone. The engine's float64 kernels are
+# compiled first (`warm`, see horde/warm.py); the float32 ones by the one process that runs the float32 tests.
+pytest: $(INSTALLED) $(DIST)
+	$(BIN)/python -m horde.warm float64
 	$(BIN)/python -m pytest -n 2 --dist loadfile -m "not serial"
 	$(BIN)/python -m pytest -m serial
 
@@ -62,9 +64,10 @@ pytest: $(INSTALLED) $(DIST) warm
 warm: $(INSTALLED)
 	$(BIN)/python -m horde.warm
 
-# The kernels compile in the background while the dashboard builds and the checks run (they compile nothing).
+# The float64 kernels compile in the background while the dashboard builds and the checks run (they compile
+# nothing).
 test: $(INSTALLED)
-	$(BIN)/python -m horde.warm & warm=$$!; \
+	$(BIN)/python -m horde.warm float64 & warm=$$!; \
 	$(MAKE) lint typecheck vitest frontend; checks=$$?; \
 	wait $$warm && test $$checks -eq 0
 	$(MAKE) pytest

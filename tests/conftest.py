@@ -1,5 +1,6 @@
-"""Settings every test shares: the in-process test client's `Host` is allowed; and no two tests that make test
-runs in two processes share one id.
+"""Settings every test shares: the in-process test client's `Host` is allowed; no two tests that make test
+runs in two processes share one id; and those two processes take the tests a file at a time, but every test
+whose id names float32 goes to one process (`Float32Together`).
 
 Starlette's TestClient sends `Host: testserver`, which the server's DNS-rebinding guard refuses
 (server/hosts.py). The tests' servers accept that one name through HORDE_ALLOWED_HOSTS, as a user
@@ -12,6 +13,7 @@ import os
 from collections import Counter
 
 import pytest
+from xdist.scheduler import LoadFileScheduling
 
 os.environ["HORDE_ALLOWED_HOSTS"] = '["testserver"]'
 
@@ -24,3 +26,17 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     if shared:
         raise pytest.UsageError(f"tests share an id, and pytest-xdist would run one of each: {shared[:3]}; "
                                 "make their ids unique or mark them `serial`")  # fmt: skip
+
+
+class Float32Together(LoadFileScheduling):
+    """`--dist loadfile` (make test), except that the tests whose id names float32 are one unit of work: only
+    the process that runs them compiles the engine's float32 kernels (about two minutes on a fresh clone; make
+    test compiles float64's before the tests, horde/warm.py), while the other runs other files. A test that
+    runs the engine in float32 says so in its name or its parameters."""
+
+    def _split_scope(self, nodeid: str) -> str:
+        return "float32" if "float32" in nodeid else super()._split_scope(nodeid)
+
+
+def pytest_xdist_make_scheduler(config: pytest.Config, log: object) -> LoadFileScheduling | None:
+    return Float32Together(config, log) if config.getvalue("dist") == "loadfile" else None

@@ -50,11 +50,12 @@ EXPERIMENTS: tuple[Experiment, ...] = (
                "them; with a larger alpha they get there sooner but keep shaking.",
                (Setting("alpha", ("learning.alpha",), "0.002"), Setting("lambda", ("learning.lambda",), "0.8"))),
     Experiment("boyan", "Boyan's chain, live (Sutton et al. 2009)", "run", "boyan-chain",
-               "Four learners fall from 0 toward the line -2 s; TD and TDRC arrive first, the gradient learners lag.",
+               "Six learners fall from 0 toward the line -2 s; TD and TDRC arrive first, the gradient learners lag, "
+               "the original GTD (gtd1) last.",
                (Setting("alpha", ("learning.alpha",), "0.1"),)),
     Experiment("walk-1000", "1000-state random walk, live (example 9.1)", "run", "random-walk-1000",
-               "State aggregation draws a staircase, the Fourier basis a smooth curve; both bend toward the S-shaped "
-               "truth.",
+               "State aggregation draws a staircase, the Fourier basis a smooth curve, the polynomial of order 1 a "
+               "line; all bend toward the S-shaped truth.",
                (Setting("alpha", ("learning.alpha",), "0.002"),
                 Setting("order", ("demons.fourier.features.order",), "5"))),
     Experiment("fig-12-3", "Figure 12.3: TD(lambda), error against alpha", "study", "fig-12-3-td-lambda",

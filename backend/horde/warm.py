@@ -1,12 +1,12 @@
-"""Compile the engine's kernels into numba's on-disk cache for every dtype, one after the other, in this process:
-`python -m horde.warm`.
+"""Compile the engine's kernels into numba's on-disk cache, one dtype after the other, in this process:
+`python -m horde.warm [float64] [float32]` (both when none is named).
 
 On a cold cache the engine's loop takes about two minutes of one core to compile, once per dtype;
-every later process loads it from the cache in about a second. `make test` runs this first, while it lints and
-type-checks, because the tests then run in several processes at once: numba's cache is safe to read from many
-processes, but two processes compiling the same function at once can overwrite each other's cache entries (it
-numbers a function's entries by how many its index held when it read it), and a process that later loads the
-wrong entry crashes. Once this has run, nothing is compiled twice.
+every later process loads it from the cache in about a second. `make test` compiles float64's first, while it
+lints and type-checks, because the tests then run in two processes at once, and each would otherwise compile
+the same kernels (two processes may compile at once safely, `horde.core._locked_cache_saves`, but each pays the
+two minutes). The float32 kernels are left to the one process that runs the float32 tests (tests/conftest.py),
+so their compile overlaps the other process's tests.
 """
 
 from __future__ import annotations
@@ -22,8 +22,13 @@ from horde.spec.demons import Dtype
 SCENARIO = "experiment1"  # one grid run compiles the whole loop: a Gymnasium or stream world reuses it
 
 
-def main() -> None:
-    for dtype in get_args(Dtype):
+def main(argv: list[str] | None = None) -> None:
+    dtypes = get_args(Dtype)
+    chosen = sys.argv[1:] if argv is None else argv
+    unknown = [name for name in chosen if name not in dtypes]
+    if unknown:
+        raise SystemExit(f"horde.warm: {unknown[0]!r} is not a dtype; choose from {', '.join(dtypes)}")
+    for dtype in chosen or dtypes:
         began = time.monotonic()
         spec = find_scenario(SCENARIO)
         spec = spec.model_copy(update={"learning": spec.learning.model_copy(update={"dtype": dtype})})

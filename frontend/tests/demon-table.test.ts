@@ -1,8 +1,9 @@
 // @vitest-environment happy-dom
-import { describe, expect, it } from "vitest";
+import { afterEach, describe, expect, it, vi } from "vitest";
 import type { Demon, Run, RunState } from "../src/api/types";
 import { type App, createApp } from "../src/app/app";
 import { keys } from "../src/app/queries";
+import { MISSING } from "../src/lib/format";
 import { Scope } from "../src/ui/scope";
 import { demonTable } from "../src/views/demon-table";
 
@@ -76,4 +77,41 @@ describe("demonTable", () => {
     show(app, [demon("a", 1)], { ...state({ a: 2 }), status: "finished" });
     expect(remove.disabled).toBe(true);
   });
+
+  it("shows each demon's latest RMSVE and RMSPBE beside RUPEE on a chain, and no such columns elsewhere", async () => {
+    // The server's history: a chain run's rows carry rmsve and rmspbe; CartPole's have none (null).
+    const rollouts = { kind: "rollouts", note: "" };
+    const chain = { ...run, id: "chain1", evaluation: rollouts, spec: { world: { id: "horde/RandomWalk19-v0" } } };
+    const cartPole = { ...run, id: "cartpole1", evaluation: rollouts, spec: { world: { id: "CartPole-v1" } } };
+    const asked: string[] = [];
+    vi.stubGlobal("fetch", async (input: Request | string) => {
+      const url = typeof input === "string" ? input : input.url;
+      asked.push(url);
+      const demon = decodeURIComponent(url.split("/demons/")[1]!.split("/")[0]!);
+      const errors = url.includes("chain1") ? { rmsve: [0.25], rmspbe: [demon === "a" ? 0.125 : null] } : {};
+      const body = { demon, every: 1, capacity: 16, step: [9], prediction: [0], rmsve: null, rmspbe: null, ...errors };
+      return new Response(JSON.stringify(body), { headers: { "content-type": "application/json" } });
+    });
+    const app = createApp();
+    const table = demonTable(app, new Scope());
+    const head = () => [...table.querySelectorAll("thead th")].map((th) => th.textContent?.trim());
+    app.client.setQueryData(keys.run(chain.id), chain);
+    app.client.setQueryData(keys.demons(chain.id), [demon("a", 1), demon("b", 2)]);
+    app.ui.update({ selectedRunId: chain.id });
+    await vi.waitFor(() => expect(head()).toContain("RMSVE"));
+    expect(head()).toContain("RMSPBE");
+    expect(table.querySelector('tr[data-demon="a"] [data-field="rmsve"]')?.textContent).toBe("0.250");
+    expect(table.querySelector('tr[data-demon="a"] [data-field="rmspbe"]')?.textContent).toBe("0.125");
+    expect(table.querySelector('tr[data-demon="b"] [data-field="rmspbe"]')?.textContent).toBe(MISSING);
+    expect(asked.every((url) => url.includes("limit=1"))).toBe(true);
+    // Another Gymnasium world records none: the history says so, and the columns go (absent, not 0).
+    app.client.setQueryData(keys.run(cartPole.id), cartPole);
+    app.client.setQueryData(keys.demons(cartPole.id), [demon("a", 1)]);
+    app.ui.update({ selectedRunId: cartPole.id });
+    await vi.waitFor(() => expect(asked.some((url) => url.includes("cartpole1"))).toBe(true));
+    await vi.waitFor(() => expect(head()).not.toContain("RMSVE"));
+    expect(table.querySelector('[data-field="rmsve"]')).toBeNull();
+  });
 });
+
+afterEach(() => vi.unstubAllGlobals());

@@ -1,5 +1,5 @@
 import { describe, expect, it } from "vitest";
-import { type LearnerInfo, STEP_SIZE_TEXT, choices, learnerChoices } from "../src/lib/learners";
+import { type LearnerInfo, STEP_SIZE_TEXT, choices, learnerChoices, noTracesWhy } from "../src/lib/learners";
 
 const TDRC: LearnerInfo = {
   name: "tdrc",
@@ -7,6 +7,7 @@ const TDRC: LearnerInfo = {
   paper: "Ghiassian et al. 2020",
   action_values: false,
   secondary: true,
+  traces: true,
   step_sizes: ["constant"],
   parameters: [{ name: "beta", default: 1, low: 0, high: 1000, text: "the regularisation of h" }],
 };
@@ -23,5 +24,12 @@ describe("learner and step-size choices", () => {
       expect(text.length).toBeLessThan(80);
     }
     expect(choices(STEP_SIZE_TEXT)[1]).toEqual(["autostep", STEP_SIZE_TEXT.autostep]);
+  });
+
+  it("says why a learner without traces takes no λ, and nothing for one with traces or not known yet", () => {
+    const gtd1: LearnerInfo = { ...TDRC, name: "gtd1", traces: false };
+    expect(noTracesWhy([TDRC, gtd1], "gtd1")).toContain("λ 0 only");
+    expect(noTracesWhy([TDRC, gtd1], "tdrc")).toBeNull();
+    expect(noTracesWhy([], "gtd1")).toBeNull();
   });
 });

@@ -6,6 +6,8 @@ from __future__ import annotations
 
 from playwright.sync_api import Browser
 
+from polling import wait_until
+
 from .conftest import (
     ON_DASHBOARD,
     SHOTS,
@@ -35,8 +37,9 @@ def test_the_dashboard_embeds_the_live_view_of_the_selected_run(browser: Browser
         page.goto(server.url)
         page.locator(f'li.run-item[data-run="{run}"] button.run-select').click()
         page.locator(f'li.run-item.selected[data-run="{run}"]').wait_for()
-        shown = api.get("/api/view", params={"viewer": page_viewer(page)}).json()["run"]
-        assert shown == run, "selecting a run shows it in the live view"
+        viewer = page_viewer(page)  # the page tells the server its choice after the selection shows: poll
+        wait_until(lambda: api.get("/api/view", params={"viewer": viewer}).json()["run"] == run,
+                   "selecting a run shows it in the live view", 15)  # fmt: skip
 
         frame = page.frame_locator("iframe.viser-frame")
         view = viser_view(page, api.get("/api/view").json()["url"])

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any
 
+from polling import wait_until
 from stream_specs import LIGHT_WHEEL, nexting, robot, tiled
 
 from .conftest import ON_DASHBOARD, SHOTS, RunningServer, page_viewer, viser_view
@@ -77,8 +78,9 @@ def test_pushed_records_draw_the_strip_chart_and_the_phase_plane(server: Running
         assert api.post(f"/api/streams/{stream}/records", json={"records": records(300, 200)}).status_code == 200
         page.locator('[data-testid="stream-strip"] p.hint', has_text="500 records learned").wait_for(timeout=15_000)
         # The same embedded live view now draws the stream run's phase plane.
-        shown = api.get("/api/view", params={"viewer": page_viewer(page)}).json()["run"]
-        assert shown == stream, "selecting a stream run shows it in the live view"
+        viewer = page_viewer(page)  # the page tells the server its choice after the selection shows: poll
+        wait_until(lambda: api.get("/api/view", params={"viewer": viewer}).json()["run"] == stream,
+                   "selecting a stream run shows it in the live view", 15)  # fmt: skip
         frame = page.frame_locator("iframe.viser-frame")
         frame.locator("body").wait_for(timeout=15_000)
         viser = viser_view(page, api.get("/api/view").json()["url"])

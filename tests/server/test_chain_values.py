@@ -52,3 +52,27 @@ def test_the_lab_lists_its_experiments_and_prepares_them_with_a_set_up(client: T
     bad = client.post("/api/lab/walk-1000/prepare", json={"setup": {"order": "40"}})
     assert bad.status_code == 422 and ["body", "setup", "order"] in locs(bad), bad.text
     assert client.post("/api/lab/nothing/prepare", json={}).status_code == 404
+
+
+def test_a_chain_runs_history_records_rmsve_and_rmspbe_as_the_values_report_computes_them(client: TestClient) -> None:
+    """Issue 25: RMSVE and RMSPBE are online measures, recorded in the run's history as RUPEE is. The recorded
+    ones (`StateErrors`: projections computed once) equal GET .../values' (`DemonTruth`: the solve written
+    out) at the same weights; a world without discrete states has none (null, not 0)."""
+    run = client.post("/api/runs", json={"scenario": "random-walk-19"}).json()["id"]  # lambda 0.8: the trace
+    for steps in (300, 700):
+        assert client.post(f"/api/runs/{run}/step", json={"steps": steps}).status_code == 200
+        for demon in ("td", "true_online_td"):
+            history = client.get(f"/api/runs/{run}/demons/{demon}/history").json()
+            values = client.get(f"/api/runs/{run}/demons/{demon}/values").json()
+            assert history["step"][-1] == client.get(f"/api/runs/{run}").json()["step"]
+            assert history["rmsve"][-1] == pytest.approx(values["rmsve"], rel=1e-9), demon
+            assert history["rmspbe"][-1] == pytest.approx(values["rmspbe"], rel=1e-6, abs=1e-12), demon
+            assert all(v is not None and v > 0 for v in history["rmsve"]), "every row carries a measurement"
+    assert history["rmsve"][-1] < history["rmsve"][0], "the error falls as the demon learns"
+    grid = client.post("/api/runs", json={"scenario": "experiment1"}).json()["id"]
+    client.post(f"/api/runs/{grid}/step", json={"steps": 20})
+    demon = client.get(f"/api/runs/{grid}/demons").json()[0]["name"]
+    history = client.get(f"/api/runs/{grid}/demons/{demon}/history").json()
+    assert history["prediction"] and history["rmsve"] is None and history["rmspbe"] is None
+    export = client.get(f"/api/runs/{grid}/export/history?format=json").json()
+    assert export and export[0]["rmsve"] is None and "rmspbe" in export[0]

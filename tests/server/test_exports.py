@@ -23,7 +23,8 @@ def test_a_runs_history_exports_as_csv_and_json_with_the_same_rows(
     assert response.status_code == 200 and response.headers["content-type"].startswith("text/csv")
     assert f'filename="run-{run_id}-history.csv"' in response.headers["content-disposition"]
     rows = list(csv.DictReader(io.StringIO(response.text)))
-    assert list(rows[0]) == ["step", "demon", "prediction", "cumulant", "delta", "rupee", "ude"]
+    assert list(rows[0]) == ["step", "demon", "prediction", "cumulant", "delta", "rupee", "ude", "rmsve", "rmspbe"]
+    assert all(r["rmsve"] == r["rmspbe"] == "" for r in rows), "the grid has no discrete states: empty, not 0"
     as_json = client.get(f"/api/runs/{run_id}/export/history", params={"format": "json"}).json()
     assert len(rows) == len(as_json) > 0
     for row, record in zip(rows, as_json, strict=True):

@@ -64,6 +64,8 @@ def test_the_learners_route_lists_the_registry(client: TestClient) -> None:
     assert sorted(learners) == sorted(learner_names()) and "tdrc" in learners
     assert learners["gq"]["action_values"] and not learners["gtd"]["action_values"]
     assert learners["td"]["step_sizes"] == ["constant", "autostep", "tidbd"]
+    assert learners["td"]["traces"] and learners["gtd"]["traces"] and learners["gtd2"]["traces"], "their (lambda)"
+    assert not learners["gtd1"]["traces"], "the original GTD: lambda 0 only, the editor shows lambda 0 fixed"
     beta = {p["name"]: p for p in learners["tdrc"]["parameters"]}["beta"]
     assert (beta["default"], beta["low"], beta["high"]) == (1.0, 0.0, 1000.0)
     for item in learners.values():

@@ -67,10 +67,13 @@ def test_an_intermediate_lambda_beats_0_and_1_at_its_best_alpha(walk19: tuple) -
 
 def test_true_online_td_is_as_good_as_td_at_every_alpha_and_degrades_less(walk19: tuple) -> None:
     """Both demons learn from the same runs (paired). At every alpha and lambda true online TD(lambda)'s error is
-    at most 5 % above TD(lambda)'s: at small alpha the two are close (measured: at alpha 0.1 and 0.3 with lambda
-    0.8 true online is 2 to 3 % above, within the bands; at lambda 0 they are the same learner), so "at least as
-    good" holds within that slack, not strictly. Where alpha is large it degrades far less: at alpha 1 with
-    lambda 0.8 and 1, TD(lambda)'s error is several times true online's (TD(1) is marked diverged)."""
+    at most 5 % above TD(lambda)'s: at small alpha the two are close (at lambda 0 they are the same learner), so
+    "at least as good" holds within that slack, not strictly. The excess is real, not noise, so a paired criterion
+    (the difference's 95 % interval not above 0) would fail: over 200 paired runs true online is above by 1.6 %
+    at alpha 0.1 (200 runs of 200), 4.6 % at 0.2 and 1.2 % at 0.3 with lambda 0.8, each interval above 0, and the
+    book's pseudocode written apart from the engine gives the same (`python -m benchmarks.true_online_paired
+    --book`; README, figure 12.8). Where alpha is large it degrades far less: at alpha 1 with lambda 0.8 and 1,
+    TD(lambda)'s error is several times true online's (TD(1) is marked diverged)."""
     td, true_online = walk19
     for s in td:
         other = by(true_online, **s.axes)[0]

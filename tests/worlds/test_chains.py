@@ -79,9 +79,11 @@ def features(spec: RunSpec, demon: int, states: list[int]) -> np.ndarray:
             for k, i in enumerate(table[s]):
                 X[j, i] += f.values[s][k] if f.values is not None else 1.0
         return X
-    assert f.kind == "fourier" and f.sensors is not None
+    assert f.kind in ("fourier", "polynomial") and f.sensors is not None
     low, high = f.sensors[0].low, f.sensors[0].high
     u = (np.array(states, dtype=float) - low) / (high - low)
+    if f.kind == "polynomial":  # 1, u, u^2, ..., u^order
+        return u[:, None] ** np.arange((f.order or 0) + 1)
     return np.cos(np.pi * np.outer(u, np.arange((f.order or 0) + 1)))
 
 

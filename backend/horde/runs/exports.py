@@ -16,11 +16,11 @@ from typing import Any, Literal
 import tomli_w
 
 from horde.core.experiment import ProtocolResult
-from horde.runs.history import QUANTITIES, History
+from horde.runs.history import ALL_QUANTITIES, History
 from horde.spec import RunSpec
 
 Format = Literal["csv", "json"]
-HISTORY_FIELDS = ("step", "demon", *QUANTITIES)
+HISTORY_FIELDS = ("step", "demon", *ALL_QUANTITIES)
 PROTOCOL_FIELDS = ("demon", "prediction", "truth", "truth_stderr", "error", "thesis", "positive", "negative", "none")
 
 
@@ -30,13 +30,15 @@ def finite_or_none(value: Any) -> Any:
 
 
 def history_records(history: History) -> list[dict[str, Any]]:
-    """Every kept row of every demon: step, demon, prediction, cumulant, delta, rupee, ude (by step, then demon)."""
+    """Every kept row of every demon: step, demon, prediction, cumulant, delta, rupee, ude, rmsve, rmspbe (by step,
+    then demon; the last two empty on a world without discrete states)."""
     rows: list[dict[str, Any]] = []
     for name in history.names:
         series = history.series(name)
         for i, step in enumerate(series.steps.tolist()):
             row: dict[str, Any] = {"step": step, "demon": name}
-            row.update({q: finite_or_none(float(series.values[q][i])) for q in QUANTITIES})
+            row.update({q: finite_or_none(float(series.values[q][i])) if q in series.values else None
+                        for q in ALL_QUANTITIES})  # fmt: skip
             rows.append(row)
     order = {name: i for i, name in enumerate(history.names)}
     rows.sort(key=lambda r: (r["step"], order[r["demon"]]))

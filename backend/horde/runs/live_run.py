@@ -38,7 +38,7 @@ from horde.runs import messages as m
 from horde.runs.collector import building
 from horde.runs.errors import BusyError, ConflictError, NotFoundError, SaveError
 from horde.runs.events import EventLog
-from horde.runs.history import History
+from horde.runs.history import History, quantities_of
 from horde.runs.link import COMMAND_TIMEOUT, Listener, WorkerGoneError, WorkerLink
 from horde.runs.run_setup import Limits
 from horde.runs.run_view import RunStatus, RunView, Summary, Worker, published_view, stored_view
@@ -75,7 +75,7 @@ class LiveRun:
         self.created_at = created_at if created_at is not None else time.time()
         self.hooks = hooks
         self._spawn = spawn
-        self.history = History(self.names, limits.history, limits.history_every)
+        self.history = self._new_history()
         self.events = EventLog(limits.events)
         self.link: WorkerLink | None = None
         self._lock = threading.Lock()
@@ -90,6 +90,9 @@ class LiveRun:
         self._launched = False  # updates that come before the worker's Ready is taken in wait for it
         self._early: list[m.Update] = []
         self._view = stored_view(run_id, self.spec, "created", "", None, self.created_at)
+
+    def _new_history(self) -> History:
+        return History(self.names, self.limits.history, self.limits.history_every, quantities_of(self.spec))
 
     @property
     def names(self) -> list[str]:
@@ -128,7 +131,7 @@ class LiveRun:
             with building():
                 spec = pickle.loads(ready.spec)
             self.spec = spec
-            self.history = History(self.names, self.limits.history, self.limits.history_every)
+            self.history = self._new_history()
         with self._lock:
             self.link, self._gone, self._stall = link, "", ""
             early, self._early, self._launched = self._early, [], True
@@ -202,10 +205,11 @@ class LiveRun:
             if update.history == "remap":  # the demons changed: the rows of those still there are kept
                 self.history = self.history.remap(self.names)
             elif update.history == "new":  # a reset run
-                self.history = History(self.names, self.limits.history, self.limits.history_every)
-            if update.rows is not None and update.rows.values.shape[2] == len(self.history.names):
-                for k, step in enumerate(update.rows.steps):
-                    self.history.record(int(step), *update.rows.values[:, k])
+                self.history = self._new_history()
+            rows = update.rows
+            if rows is not None and rows.values.shape[::2] == (len(self.history.quantities), len(self.history.names)):
+                for k, step in enumerate(rows.steps):
+                    self.history.record(int(step), *rows.values[:, k])
             if update.skipped:
                 self.events.skip(update.skipped)
             for e in update.events:
@@ -381,7 +385,7 @@ class LiveRun:
             self.call(m.Reset(), "reset")
             return self.view
         self._published, self._launched = None, False
-        self.history = History(self.names, self.limits.history, self.limits.history_every)
+        self.history = self._new_history()
         init = m.RunInit(self.id, self.limits, spec=self.spec, message="reset", created_at=self.created_at,
                          persist=self.store is not None, first_save=True, hooks=self.hooks)  # fmt: skip
         view = self.launch(init)

@@ -23,12 +23,14 @@ import numpy as np
 from horde.core.engine.layout import FOREVER
 from horde.core.simulation import Simulation
 from horde.core.world import WorldState
-from horde.runs.history import QUANTITIES, History
+from horde.runs.history import QUANTITIES, History, quantities_of
 from horde.runs.messages import EventData, FromWorker, PublishedView, Rows, Save, SaveDone, Update
 from horde.runs.run_setup import Limits
 from horde.runs.session import RunSession
 from horde.runs.snapshot import encode_frozen, freeze, to_bytes
 from horde.runs.store import RunRecord
+from horde.spec import RunSpec
+from horde.worlds.state_values import StateErrors, state_errors
 
 log = logging.getLogger(__name__)
 
@@ -43,6 +45,11 @@ MAX_PUBLISH_INTERVAL = 0.5  # ... and at least this often, however long a view t
 ROW_BYTES_PER_SECOND = 8_000_000
 VIEW_BYTES_PER_SECOND = 16_000_000
 VIEW_ARRAYS = 7  # [D] arrays in a published view
+# RMSVE and RMSPBE (a forward pass over every state) are measured on a history row at most this often while a run
+# runs, and at most at a twentieth of the main loop's time (random-walk-1000's three demons: 0.5 ms a
+# measurement, docs/performance.md); the rows between carry the latest measurement. The last row of a step
+# command or a pause is always measured.
+STATE_ERRORS_INTERVAL = 0.1
 
 
 @dataclass(frozen=True)
@@ -66,16 +73,18 @@ class Recorder:
         created_at: the run's creation time.
         names: the demons, for the history.
         persist: whether saves are made at all (a server with a store).
+        spec: the run's spec (what its history rows hold: `history.quantities_of`); default: no state errors.
     """
 
     def __init__(self, run_id: str, limits: Limits, send: Callable[[FromWorker], None], created_at: float,
-                 names: list[str], persist: bool = True) -> None:  # fmt: skip
+                 names: list[str], persist: bool = True, spec: RunSpec | None = None) -> None:  # fmt: skip
         self.id = run_id
         self.limits = limits
         self.send = send
         self.created_at = created_at
         self.persist_saves = persist
-        self.history = History(names, limits.history, limits.history_every)
+        self.quantities = quantities_of(spec) if spec is not None else QUANTITIES
+        self.history = History(names, limits.history, limits.history_every, self.quantities)
         self.snapshot_cost = SnapshotCost()
         self._rows: list[tuple[int, np.ndarray]] = []  # rows not yet sent: (step, [Q, D])
         self._history: Literal["", "remap", "new"] = ""
@@ -93,6 +102,10 @@ class Recorder:
         self._diverged = 0  # demons diverged at the latest divergence check
         self._spec: object = None
         self._spec_text = ""
+        self._errors: tuple[object, object, StateErrors | None] = (None, None, None)  # for (Horde, spec)
+        self._latest_errors: tuple[np.ndarray, np.ndarray] | None = None  # [D] RMSVE and RMSPBE
+        self._next_errors = 0.0
+        self._measured_at = -1  # the step of the latest measurement
 
     # ------------------------------------------------------------------------------------------
     # History
@@ -105,11 +118,17 @@ class Recorder:
         if session.paced_for_rows() or time.monotonic() >= self._next_row:  # a paced run's burst of catching up too
             self.record(session)
 
-    def record(self, session: RunSession) -> None:
+    def record(self, session: RunSession, measure: bool = False) -> None:
+        """A history row now; `measure`: with RMSVE and RMSPBE measured at this row's weights (else when due)."""
         sim = session.sim
         out = sim.readout()  # O(D): no weights are copied
         prediction = np.where(out.diverged, np.nan, out.prediction)  # [D] a frozen demon's 0s are no answer: null
-        row = np.stack([prediction, out.cumulant, out.delta, out.rupee, out.ude])  # [Q, D]
+        quantities = [prediction, out.cumulant, out.delta, out.rupee, out.ude]
+        if len(self.quantities) > len(quantities):
+            quantities.extend(self._state_errors(session, measure))
+        row = np.stack(quantities)  # [Q, D]
+        if self._rows and self._rows[-1][0] == sim.total_steps:  # measured again at the same step: one row
+            self._rows.pop()
         self._rows.append((sim.total_steps, row))
         if len(self._rows) > self.history.rows:  # older ones would be overwritten in the API's ring anyway
             del self._rows[: len(self._rows) - self.history.rows]
@@ -117,14 +136,39 @@ class Recorder:
         spacing = row.nbytes / ROW_BYTES_PER_SECOND
         self._next_row = time.monotonic() + max(self.limits.history_interval, spacing)
 
+    def measure_end(self, session: RunSession) -> None:
+        """After a step command or a pause: the last row at the run's step, with RMSVE and RMSPBE measured there
+        (nothing on a world without them)."""
+        if len(self.quantities) > len(QUANTITIES) and self._measured_at != session.sim.total_steps:
+            self.record(session, measure=True)
+
+    def _state_errors(self, session: RunSession, measure: bool) -> tuple[np.ndarray, np.ndarray]:
+        """[D] RMSVE and [D] RMSPBE: measured now when asked or due, else the latest measurement."""
+        sim = session.sim
+        D = sim.horde.num_demons
+        latest = self._latest_errors
+        now = time.monotonic()
+        if not measure and latest is not None and len(latest[0]) == D and now < self._next_errors:
+            return latest
+        horde, spec, errors = self._errors
+        if horde is not sim.horde or spec is not session.spec:  # the truths: once per set of demons and behaviour
+            errors = state_errors(sim.horde, session.spec)
+            self._errors = (sim.horde, session.spec, errors)
+        cpu = time.thread_time()  # what a measurement costs (the truths above are made once)
+        latest = errors.measure(sim.view_state()) if errors is not None else (np.full(D, np.nan), np.full(D, np.nan))
+        self._latest_errors, self._measured_at = latest, sim.total_steps
+        self._next_errors = now + max(STATE_ERRORS_INTERVAL, 20 * (time.thread_time() - cpu))
+        return latest
+
     def recorded_to(self) -> int:
         """The step of the latest history row."""
         return self._last_row
 
     def remap(self, names: list[str]) -> None:
         """The demons changed: the API process remaps its history (`History.remap`) at the next update."""
-        self.history = History(names, self.limits.history, self.limits.history_every)
+        self.history = History(names, self.limits.history, self.limits.history_every, self.quantities)
         self._rows.clear()
+        self._latest_errors, self._measured_at = None, -1
         self._history = self._history or "remap"
 
     def new_history(self, names: list[str]) -> None:
@@ -192,7 +236,7 @@ class Recorder:
             return None
         steps = np.array([step for step, _ in self._rows], dtype=np.int64)  # [R]
         values = np.stack([row for _, row in self._rows], axis=1)  # [Q, R, D]
-        assert values.shape[0] == len(QUANTITIES)
+        assert values.shape[0] == len(self.quantities)
         self._rows.clear()
         return Rows(steps, values)
 

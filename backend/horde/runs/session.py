@@ -55,7 +55,8 @@ class Recording(Protocol):
     """What a session asks of its recorder (`horde.runs.recorder.Recorder`)."""
 
     def maybe_record(self, session: RunSession) -> None: ...
-    def record(self, session: RunSession) -> None: ...
+    def record(self, session: RunSession, measure: bool = False) -> None: ...
+    def measure_end(self, session: RunSession) -> None: ...
     def recorded_to(self) -> int: ...
     def save_quietly(self, session: RunSession, snapshot: bool) -> None: ...
     def publish(self, session: RunSession, force: bool = True) -> Any: ...
@@ -225,7 +226,8 @@ class RunSession:
     def pause(self) -> None:
         self.require(("running",), "pause")
         if self._rec.recorded_to() < self.sim.total_steps:  # the history (and its charts) ends where the run stands
-            self._rec.record(self)
+            self._rec.record(self, measure=True)
+        self._rec.measure_end(self)
         self.set_status("paused", f"paused at step {self.sim.total_steps}")
 
     def reset(self) -> None:
@@ -240,6 +242,7 @@ class RunSession:
         if self.status == "created":
             self.set_status("paused", "stepped")
         self.learn(min(steps, self.limits.max_step_request), None)
+        self._rec.measure_end(self)  # RMSVE and RMSPBE where the steps ended
 
     def patch(self, set_hz: bool, hz: float | None, behaviour: BehaviourSpec | None) -> None:
         if behaviour is not None:

@@ -134,7 +134,7 @@ class RunWorker:
                                   summary=init.summary, stop_reference=reference)  # fmt: skip
         self.session.spec = spec
         self.recorder = Recorder(init.run_id, init.limits, self.channel.send, init.created_at, sim.horde.names,
-                                 init.persist)  # fmt: skip
+                                 init.persist, spec)  # fmt: skip
         self.session.recorder = self.recorder
         keep_out_of_collector()
         # A new run is saved before it is listed: its row, and an imported run's snapshot (a fresh one is its spec

@@ -194,6 +194,8 @@ def history_out(demon: str, series: Series, every: int, capacity: int) -> Histor
         delta=v["delta"].tolist(),
         rupee=v["rupee"].tolist(),
         ude=v["ude"].tolist(),
+        rmsve=v["rmsve"].tolist() if "rmsve" in v else None,
+        rmspbe=v["rmspbe"].tolist() if "rmspbe" in v else None,
     )
 
 

@@ -399,6 +399,19 @@ class HistoryOut(Out):
     delta: list[MaybeFloat]
     rupee: list[MaybeFloat]
     ude: list[MaybeFloat]
+    rmsve: list[MaybeFloat] | None = Field(
+        default=None,
+        description="on a world of discrete states with known transitions (the chains, Baird's star): the RMS error "
+        "of the demon's values over the states against the true values, weighted by the behaviour's distribution "
+        "over states (on-policy: the book's mu), measured at most every 0.1 s while the run runs and at the last "
+        "row of a step or pause (rows between carry the latest measurement); null elsewhere (no states to measure "
+        "over), null entries for a demon without a truth (action values, a question that reads other demons)",
+    )
+    rmspbe: list[MaybeFloat] | None = Field(
+        default=None,
+        description="as rmsve: the root of the projected Bellman error with the demon's own lambda, under the same "
+        "weighting (0 at the TD fixed point)",
+    )
 
 
 class EvaluationOut(Out):

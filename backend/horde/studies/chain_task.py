@@ -17,6 +17,7 @@ After training: `values` (every state's prediction), `exact`, `states`.
 from __future__ import annotations
 
 import time
+from typing import Any
 
 import numpy as np
 
@@ -42,7 +43,8 @@ def run_model_task(spec: RunSpec, run: int, measure: MeasureSpec, marks: list[in
         raise ValueError(f"a study on a Gymnasium world needs one whose transitions are known (the chains, Baird's "
                          f"star); {getattr(spec.world, 'id', '')!r} is not one")  # fmt: skip
     names = list(measure.demons) if measure.demons is not None else horde.prediction_demons()
-    truths = {name: demon_truth(horde, name, chain) for name in names}
+    cache: dict[object, Any] = {}  # what the demons' questions share
+    truths = {name: demon_truth(horde, name, chain, cache=cache) for name in names}
     missing = [name for name, truth in truths.items() if truth is None]
     if missing:
         raise ValueError(f"measure.demons: no exact answer for {', '.join(missing)} (a question reading predictions "

@@ -21,6 +21,7 @@ package (Baird's star too) with Gymnasium; the environments' classes are in `hor
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Any
 
@@ -159,8 +160,10 @@ def baird_model() -> Model:
     return Model(**{**model.__dict__, "start": np.full(UPPER + 1, 1.0 / (UPPER + 1))})
 
 
+@functools.lru_cache(maxsize=16)
 def model(env_id: str, states: int | None = None) -> Model | None:
-    """The transitions of a registered chain (or Baird's star); None for any other world."""
+    """The transitions of a registered chain (or Baird's star); None for any other world. Kept once made (the
+    1000-state walk's takes about half a second); its arrays are read, never written."""
     if env_id == BAIRD_ID:
         return baird_model()
     info = CHAINS.get(env_id)

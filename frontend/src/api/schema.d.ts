@@ -1602,6 +1602,16 @@ export interface components {
             every: number;
             /** Prediction */
             prediction: (number | null)[];
+            /**
+             * Rmspbe
+             * @description as rmsve: the root of the projected Bellman error with the demon's own lambda, under the same weighting (0 at the TD fixed point)
+             */
+            rmspbe?: (number | null)[] | null;
+            /**
+             * Rmsve
+             * @description on a world of discrete states with known transitions (the chains, Baird's star): the RMS error of the demon's values over the states against the true values, weighted by the behaviour's distribution over states (on-policy: the book's mu), measured at most every 0.1 s while the run runs and at the last row of a step or pause (rows between carry the latest measurement); null elsewhere (no states to measure over), null entries for a demon without a truth (action values, a question that reads other demons)
+             */
+            rmsve?: (number | null)[] | null;
             /** Rupee */
             rupee: (number | null)[];
             /** Step */
@@ -1739,6 +1749,11 @@ export interface components {
              * @description one line for people choosing it
              */
             text: string;
+            /**
+             * Traces
+             * @description learns with eligibility traces (lambda > 0); false: lambda 0 only (a demon's lambda > 0 is a 422, and one that leaves lambda out learns with 0 whatever [learning] says)
+             */
+            traces: boolean;
         };
         /**
          * LearningSpec

@@ -30,6 +30,8 @@ export const keys = {
   protocols: ["protocols"] as const,
   protocol: (jobId: string) => ["protocol", jobId] as const,
   histories: (runId: string, demons: readonly string[]) => ["histories", runId, ...demons] as const,
+  /** the demons' latest RMSVE and RMSPBE, from their histories' last rows (null: the run records none) */
+  stateErrors: (runId: string, demons: readonly string[]) => ["state-errors", runId, ...demons] as const,
   streams: ["streams"] as const,
   streamHistory: (streamId: string, sensors: readonly string[], demons: readonly string[]) =>
     ["stream-history", streamId, sensors.join(","), demons.join(",")] as const,
@@ -58,6 +60,7 @@ export type Root =
   | "protocols"
   | "protocol"
   | "histories"
+  | "state-errors"
   | "streams"
   | "stream-history"
   | "stream-demons"

@@ -19,6 +19,7 @@ import type {
   WorldRecord,
 } from "../api/types";
 import type { LearnerInfo } from "../lib/learners";
+import { type StateErrors, latestErrors } from "../lib/state-errors";
 import { type Query, keys } from "./queries";
 import { VIEWER_KEY } from "./viewer-key";
 
@@ -69,6 +70,22 @@ export const reads = {
       Promise.all(
         demons.map((name) =>
           unwrap(api.GET("/api/runs/{run_id}/demons/{name}/history", { params: { path: { run_id: runId, name } } })),
+        ),
+      ),
+  }),
+  /** the demons' latest RMSVE and RMSPBE: each history's last row (null when the run records none) */
+  stateErrors: (runId: string, demons: readonly string[]): Query<Map<string, StateErrors> | null> => ({
+    queryKey: keys.stateErrors(runId, demons),
+    queryFn: async () =>
+      latestErrors(
+        await Promise.all(
+          demons.map((name) =>
+            unwrap(
+              api.GET("/api/runs/{run_id}/demons/{name}/history", {
+                params: { path: { run_id: runId, name }, query: { limit: 1 } },
+              }),
+            ),
+          ),
         ),
       ),
   }),

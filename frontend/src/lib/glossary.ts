@@ -93,6 +93,14 @@ export const GLOSSARY = {
     term: "RUPEE",
     text: "Root of the Unbiased Projected Error Estimate (White, 2015): how far the demon still is from the best answer its features allow. It falls as the demon learns.",
   },
+  rmsve: {
+    term: "RMSVE",
+    text: "Root mean squared value error (Sutton & Barto 2018, section 9.2): how far the demon's values at every state are from the true values, each state weighted by how often the behaviour visits it (the on-policy distribution μ when the demon's policy is the behaviour's). Shown on worlds of discrete states with known transitions (the chains, Baird's star), measured from the weights as the run goes.",
+  },
+  rmspbe: {
+    term: "RMSPBE",
+    text: "Root mean squared projected Bellman error (Sutton et al. 2009), with the demon's own λ and the same weighting as RMSVE: how far its values are from the TD fixed point, the best its features allow for TD. 0 at the fixed point even where the features cannot match the truth (then RMSVE stays above 0).",
+  },
   ude: {
     term: "UDE",
     text: "Unexpected Demon Error (White, 2015): the recent average TD error over its spread. A jump means something surprised the demon.",

@@ -23,6 +23,16 @@ export function learnerChoices(infos: readonly LearnerInfo[]): (readonly [string
   return infos.map((info) => [info.name, `${info.name}: ${info.text}`] as const);
 }
 
+/**
+ * Why a learner takes no λ, or null when it learns with traces (or is not known yet): the registry's `traces`
+ * is false for a learner with a published form at λ 0 only (gtd1, the original GTD): the server keeps it at 0.
+ */
+export function noTracesWhy(infos: readonly LearnerInfo[], learner: string): string | null {
+  const info = infos.find((i) => i.name === learner);
+  if (!info || info.traces) return null;
+  return `${info.name} learns with λ 0 only: its paper gives no form with eligibility traces`;
+}
+
 /** [value, label] pairs for a select, in the order of the texts. */
 export function choices<K extends string>(texts: Record<K, string>): (readonly [K, string])[] {
   return (Object.keys(texts) as K[]).map((key) => [key, texts[key]] as const);

@@ -217,6 +217,8 @@ export interface InputOptions<E extends Element = HTMLInputElement> {
   list?: string;
   onInput?: (event: Event) => void;
   onChange?: (event: Event) => void;
+  /** shown but not editable (a number input: the hint says why) */
+  disabled?: boolean;
 }
 
 /**
@@ -237,6 +239,7 @@ export function numberInput(c: Control, o: InputOptions): TemplateResult {
     data-path=${ifDefined(c.path)}
     data-field=${ifDefined(o.field)}
     .value=${o.current === undefined ? noChange : live(o.current)}
+    ?disabled=${o.disabled ?? false}
     @input=${o.onInput}
     @change=${o.onChange}
     ${ref(o.ref)}

@@ -10,7 +10,7 @@ import { mount } from "../app/view";
 import { ApiError, errorMessage } from "../api/client";
 import type { DemonSpec } from "../api/types";
 import { runLabel } from "../lib/format";
-import { STEP_SIZE_TEXT, choices as choicesOf, learnerChoices } from "../lib/learners";
+import { STEP_SIZE_TEXT, choices as choicesOf, learnerChoices, noTracesWhy } from "../lib/learners";
 import { regionNames, sensorNames } from "../lib/world";
 import { FormErrors, bound, generalError, numberField, selectField, textField } from "../ui/form";
 import { choices, host } from "../ui/html";
@@ -150,17 +150,25 @@ function answerFields(text: DemonText, now: AppState, errors: FormErrors, redraw
       { label, path: key, errors, ...more },
       { name: key, placeholder: placeholder == null ? "" : String(placeholder), ...bound(text, key) },
     );
+  // A learner without traces (gtd1) learns with λ 0 whatever is typed: the field says so instead.
+  const noTraces = noTracesWhy(now.learners, text.learner);
+  const lambda =
+    noTraces === null
+      ? number("λ (lambda)", "lambda", { term: "lambda" }, learning?.lambda)
+      : numberField(
+          { label: "λ (lambda)", path: "lambda", errors, term: "lambda", hint: noTraces },
+          { name: "lambda", current: "0", disabled: true },
+        );
   return html`<fieldset>
     <legend>Answer: how to learn it</legend>
     ${selectField(
       { label: "Learner", path: "learner", errors, term: "learner" },
-      { name: "learner", ...bound(text, "learner") },
+      { name: "learner", ...bound(text, "learner", redraw) },
       choices(learnerChoices(now.learners), text.learner),
     )}
     ${featuresFields(text.features, errors, redraw)}
     <div class="row">
-      ${number("λ (lambda)", "lambda", { term: "lambda" }, learning?.lambda)}
-      ${number("α (alpha)", "alpha", { term: "alpha" }, learning?.alpha)}
+      ${lambda} ${number("α (alpha)", "alpha", { term: "alpha" }, learning?.alpha)}
       ${number("α_w (alpha_w)", "alpha_w", { term: "alphaW" }, learning?.alpha_w)}
     </div>
     <div class="row">
@@ -188,6 +196,7 @@ async function submit(app: App, editor: Editor, errors: FormErrors, draw: () => 
   if (runId === null) return;
   const spec = errors.readOrShow(() => readDemon(editor.text));
   if (spec === null) return;
+  if (noTracesWhy(state(app).learners, spec.learner ?? "") !== null) delete spec.lambda; // what was typed before
   editor.busy = true;
   draw();
   try {

@@ -8,6 +8,7 @@ import type { Demon, EvaluationKind } from "../api/types";
 import { exprText } from "../lib/expr";
 import { formatNumber, formatRelativeError, formatTruth, truthOf } from "../lib/format";
 import { type Term, tip } from "../lib/glossary";
+import type { StateErrors } from "../lib/state-errors";
 import { type Confirm, confirmButton } from "../ui/confirm";
 import { brokenName, term } from "../ui/html";
 
@@ -27,6 +28,8 @@ export interface RowContext {
   closed: boolean;
   /** the world offers an evaluation of a demon's question */
   evaluable: boolean;
+  /** each demon's latest RMSVE and RMSPBE (their columns); null on a world without discrete states */
+  errors: ReadonlyMap<string, StateErrors> | null;
 }
 
 /** The words of a target policy's kind that have a glossary entry of their own; the others (greedy,
@@ -49,7 +52,7 @@ function questionOf(demon: Demon) {
 const th = (word: Term, label: string, cls = "num") =>
   html`<th scope="col" rowspan="2" class=${cls} title=${tip(word)}><span class="term">${label}</span></th>`;
 
-export function tableHead(kind: EvaluationKind) {
+export function tableHead(kind: EvaluationKind, errors = false) {
   const evaluated = { grid: "At the start", rollouts: "From the agent's state", none: "No" }[kind];
   return html`<thead>
     <tr>
@@ -57,7 +60,8 @@ export function tableHead(kind: EvaluationKind) {
       <th scope="colgroup" colspan="3" class="group" title=${tip("truth")}>
         <span class="term">${evaluated}: evaluation</span>
       </th>
-      ${th("thesis", "Thesis")} ${th("rupee", "RUPEE")} ${th("ude", "UDE")} ${th("stepSize", "α now")}
+      ${th("thesis", "Thesis")} ${th("rupee", "RUPEE")} ${th("ude", "UDE")}
+      ${errors ? html`${th("rmsve", "RMSVE")} ${th("rmspbe", "RMSPBE")}` : nothing} ${th("stepSize", "α now")}
       <th scope="col" rowspan="2"><span class="visually-hidden">Actions</span></th>
     </tr>
     <tr>
@@ -106,6 +110,12 @@ export function demonRow(context: RowContext, demon: Demon, index: number) {
     <td class="num">${formatNumber(thesis[name])}</td>
     <td class="num">${formatNumber(metrics?.rupee)}</td>
     <td class="num">${formatNumber(metrics?.ude)}</td>
+    ${
+      context.errors
+        ? html`<td class="num" data-field="rmsve">${formatNumber(context.errors.get(name)?.rmsve)}</td>
+            <td class="num" data-field="rmspbe">${formatNumber(context.errors.get(name)?.rmspbe)}</td>`
+        : nothing
+    }
     <td class="num">${formatNumber(metrics?.step_size)}</td>
     <td>
       <div class="row-actions needs-owner">

@@ -2,7 +2,8 @@
  * The live demon table of the selected run: per demon its prediction now (at the agent's state), the
  * truth once evaluated (beside the prediction there and the error: from the world's start on the grid world,
  * from the agent's state on a world evaluated by rollouts; a world with no evaluation says why), the
- * thesis's number when the scenario has one, RUPEE, UDE, the step size it takes now (α now: adaptive
+ * thesis's number when the scenario has one, RUPEE, UDE, on a world of discrete states RMSVE and RMSPBE (the
+ * latest of the run's history, read every second while it runs), the step size it takes now (α now: adaptive
  * demons tune theirs), and a `diverged` mark; a colour dot and a chart
  * toggle under each name, and an Evaluate and a Remove button per demon (removing takes two presses).
  * Above it a summary (how many demons learn, how many diverged, mean RUPEE) and a filter. At Horde scale
@@ -16,11 +17,14 @@ import { repeat } from "lit-html/directives/repeat.js";
 import { styleMap } from "lit-html/directives/style-map.js";
 import { attempt, evaluateDemon, notify, removeDemon } from "../app/actions";
 import { type App, type AppState, state, watchState } from "../app/app";
+import { watchQuery } from "../app/queries";
+import { reads } from "../app/reads";
 import type { Demon } from "../api/types";
 import { evaluationKind, gridWorld } from "../api/types";
 import { type DemonFilter, demonSummary, filterDemons } from "../lib/demons";
 import { formatNumber } from "../lib/format";
 import { readNumber } from "../lib/parse";
+import { MAX_ERROR_DEMONS, type StateErrors } from "../lib/state-errors";
 import { startPoint } from "../lib/world";
 import { Confirm } from "../ui/confirm";
 import { choices, heading, host } from "../ui/html";
@@ -32,7 +36,8 @@ const DEFAULT_ROLLOUTS = 100;
 /** Above this many shown demons the table scrolls in its own box and keeps only the rows in sight. */
 export const VIRTUAL_FROM = 60;
 const ROW_ESTIMATE_PX = 72;
-const COLUMNS = 9;
+const COLUMNS = 9; // and 2 more with RMSVE and RMSPBE
+const ERRORS_REFRESH_MS = 1000;
 const SHOW: [DemonFilter["show"], string][] = [
   ["all", "all demons"],
   ["learning", "learning"],
@@ -57,6 +62,8 @@ interface Table {
   virtualizer: Virtualizer<HTMLDivElement, HTMLTableRowElement>;
   /** the names of the demons shown, in order (the virtualizer's keys) */
   names: string[];
+  /** each demon's latest RMSVE and RMSPBE; null where the run records none */
+  errors: Map<string, StateErrors> | null;
   draw: () => void;
 }
 
@@ -85,6 +92,7 @@ export function demonTable(app: App, scope: Scope): HTMLElement {
       onChange: () => table.draw(),
     }),
     names: [],
+    errors: null,
     draw: () => {
       if (drawing || scope.disposed) return;
       drawing = true;
@@ -97,10 +105,58 @@ export function demonTable(app: App, scope: Scope): HTMLElement {
     },
   };
   watchState(app, scope, ["run", "demons", "live", "evaluations", "charted"], table.draw);
+  watchErrors(table);
   table.draw();
   // The virtualizer watches the scroll box (its size, its scrolling) until the table goes.
   scope.add(table.virtualizer._didMount());
   return element;
+}
+
+/**
+ * RMSVE and RMSPBE from the last row of each demon's history: read every second while the run runs, and after
+ * a step of a paused one, on a simulated world beyond the grid (evaluated by rollouts: the Gymnasium worlds, of
+ * which only the chains and Baird's star record them; the first answer says whether this run does) of at most
+ * MAX_ERROR_DEMONS demons.
+ */
+function watchErrors(table: Table): void {
+  const { app, scope } = table;
+  let readAtStep: number | null = null;
+  const watchOf = (now: AppState) => {
+    const runId = now.selectedRunId ?? "";
+    const names = now.demons.map((d) => d.name);
+    const query = reads.stateErrors(runId, names);
+    return {
+      queryKey: query.queryKey,
+      queryFn: () => {
+        readAtStep = state(app).live?.step ?? null;
+        return query.queryFn();
+      },
+      every: now.live?.status === "running" ? ERRORS_REFRESH_MS : (false as const),
+      enabled:
+        runId !== "" &&
+        evaluationKind(now.run) === "rollouts" &&
+        names.length > 0 &&
+        names.length <= MAX_ERROR_DEMONS &&
+        now.tab === "live",
+    };
+  };
+  const onRead = (errors: Map<string, StateErrors> | null) => {
+    table.errors = errors;
+    table.draw();
+  };
+  const watcher = watchQuery(app.client, watchOf(state(app)), onRead, undefined, scope);
+  watchState(app, scope, ["selectedRunId", "run", "demons", "tab"], (now) => {
+    const watch = watchOf(now);
+    if (!watch.enabled && table.errors !== null) onRead(null);
+    watcher.update(watch);
+    if (watch.enabled) void watcher.refetch();
+  });
+  watchState(app, scope, ["live"], (now) => {
+    const watch = watchOf(now);
+    watcher.update(watch);
+    const step = now.live?.step ?? null;
+    if (watch.enabled && now.live?.status !== "running" && step !== readAtStep) void watcher.refetch();
+  });
 }
 
 function panel(table: Table, now: AppState) {
@@ -220,10 +276,11 @@ function demonsTable(table: Table, now: AppState, shown: Demon[]) {
     thesis: run.spec.thesis?.predictions ?? {},
     closed: status === "finished" || status === "failed",
     evaluable: kind !== "none",
+    errors: table.errors,
   };
   const spacer = (px: number) =>
     html`<tr class="spacer" aria-hidden="true" ?hidden=${px === 0}>
-      <td colspan=${COLUMNS} style=${styleMap({ height: `${px}px` })}></td>
+      <td colspan=${COLUMNS + (table.errors ? 2 : 0)} style=${styleMap({ height: `${px}px` })}></td>
     </tr>`;
   // Keyed by name: a row's DOM stays while its numbers change 30 times a second, and is moved only
   // when the order changes (a row taken out of the page, even for a moment, loses the focus and the
@@ -232,7 +289,7 @@ function demonsTable(table: Table, now: AppState, shown: Demon[]) {
     <caption>
       Demons of ${run.name ?? run.id.slice(0, 6)}: evaluated ${from}
     </caption>
-    ${tableHead(kind)}
+    ${tableHead(kind, table.errors !== null)}
     <tbody>
       ${spacer(before)}${repeat(
         visible,

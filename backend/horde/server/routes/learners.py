@@ -24,6 +24,10 @@ class LearnerOut(BaseModel):
     paper: str
     action_values: bool = Field(description="learns action values: may follow its own greedy / softmax policy")
     secondary: bool = Field(description="keeps a second weight vector learned at alpha_w")
+    traces: bool = Field(
+        description="learns with eligibility traces (lambda > 0); false: lambda 0 only (a demon's lambda > 0 is a "
+        "422, and one that leaves lambda out learns with 0 whatever [learning] says)"
+    )
     step_sizes: list[str] = Field(description="the step-size modes it is defined for")
     parameters: list[ParameterOut] = Field(description="its own numbers, set in a demon's `parameters`")
 
@@ -43,6 +47,7 @@ def list_learners() -> list[LearnerOut]:
                 paper=info.paper,
                 action_values=info.action_values,
                 secondary=info.secondary,
+                traces=info.traces,
                 step_sizes=list(info.step_sizes),
                 parameters=parameters,
             )
