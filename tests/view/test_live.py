@@ -210,7 +210,7 @@ def test_the_browsers_of_one_run_share_one_value_map_a_period() -> None:
             view.refresh()
             time.sleep(0.01)
         elapsed = time.monotonic() - began
-        assert 2 <= source.value_maps <= elapsed * map_hz + 1, f"{source.value_maps} maps in {elapsed:.2f} s"
+        assert 1 <= source.value_maps <= elapsed * map_hz + 1, f"{source.value_maps} maps in {elapsed:.2f} s"
         textures = [c.viewer.applier.drawn["/value_map/texture"][0] for c in clients]
         assert all(texture is textures[0] for texture in textures), "every browser draws the one map"
         for name, (node, handle, _) in handles.items():  # a new trail or map updates the browser's node in place
