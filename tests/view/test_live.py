@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import socket
 import threading
+import time
 import urllib.request
+from collections import OrderedDict
 from collections.abc import Iterator, Sequence
 from dataclasses import replace
 from pathlib import Path
@@ -24,6 +26,7 @@ from horde.view import LiveView, ManagerSource, camera
 from horde.view.apply import SceneApplier
 from horde.view.nodes import Node
 from horde.view.source import ViewSnapshot
+from horde.view.viewer import Frame
 from polling import wait_until
 from serving import free_port
 
@@ -151,6 +154,71 @@ class JoiningSource(ManagerSource):
     def snapshot(self, run_id: str, demons: Sequence[str] | None = None) -> ViewSnapshot:
         snap = super().snapshot(run_id, demons)
         return snap if self.spec_override is None else replace(snap, spec=self.spec_override)
+
+
+def test_a_frame_remakes_what_it_keeps_recent_at_most_once_a_period() -> None:
+    kept: Any = OrderedDict()
+    made: list[tuple[float, int]] = []
+
+    def at(now: float, state: int) -> tuple[float, int]:
+        def make() -> tuple[float, int]:
+            made.append((now, state))
+            return made[-1]
+
+        return Frame(None, now, kept).recent(("map",), state, 0.5, make)  # type: ignore[arg-type]
+
+    assert at(0.0, 1) == (0.0, 1)
+    assert at(0.0, 2) == (0.0, 1), "the same frame (another browser): the same answer"
+    assert at(0.4, 2) == (0.0, 1), "moved, but less than a period ago"
+    assert at(0.5, 2) == (0.5, 2)
+    assert at(9.0, 2) == (0.5, 2), "not moved since: kept however old"
+    assert made == [(0.0, 1), (0.5, 2)]
+
+
+class CountingSource(ManagerSource):
+    """A ManagerSource that counts the value maps the view asks of the runs' workers."""
+
+    value_maps = 0
+
+    def value_map(self, run_id: str, demon: str, resolution: int) -> np.ndarray:
+        self.value_maps += 1
+        return super().value_map(run_id, demon, resolution)
+
+
+def test_the_browsers_of_one_run_share_one_value_map_a_period() -> None:
+    """Many browsers of a moving run cost its worker the value maps of one: the map is remade at most `map_hz`
+    times a second for every browser that shows it, whenever each connected, and each draws the same nodes (one
+    PNG). Before, each browser kept its own clock: browsers that came in different frames asked for their own
+    maps, about one per browser and period (thirty browsers, thirty maps every third of a second)."""
+    source = runs_of(load_scenario(SCENARIOS / "experiment1.toml"), source=CountingSource)
+    assert isinstance(source, CountingSource)
+    run = source.list_runs()[0][0]
+    map_hz = 4.0
+    view = started_by_hand(source, map_hz=map_hz)
+    try:
+        source.play(run)  # 50 steps a second: the run moves between frames
+        clients = []
+        for k in range(3):  # each browser comes in a frame of its own, a third of a period after the last
+            clients.append(RawClient(view, f"dashboard-tab-{k}"))
+            view.show(f"dashboard-tab-{k}", run)
+            view.refresh()
+            time.sleep(1.0 / map_hz / 3)
+        handles = {name: clients[0].viewer.applier.drawn[name] for name in ("/trail", "/value_map/texture")}
+        source.value_maps = 0
+        began = time.monotonic()
+        while time.monotonic() - began < 1.5:
+            view.refresh()
+            time.sleep(0.01)
+        elapsed = time.monotonic() - began
+        assert 1 <= source.value_maps <= elapsed * map_hz + 1, f"{source.value_maps} maps in {elapsed:.2f} s"
+        textures = [c.viewer.applier.drawn["/value_map/texture"][0] for c in clients]
+        assert all(texture is textures[0] for texture in textures), "every browser draws the one map"
+        for name, (node, handle, _) in handles.items():  # a new trail or map updates the browser's node in place
+            now = clients[0].viewer.applier.drawn[name]
+            assert now[0] is not node and now[1] is handle, name
+    finally:
+        view.stop()
+        source.manager.stop()
 
 
 def test_demons_joining_the_run_shown_keep_the_choices_still_possible() -> None:

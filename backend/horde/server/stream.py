@@ -168,7 +168,8 @@ class StreamHub:
                 message = await client.queue.get()
                 if message is None:
                     break
-                await asyncio.wait_for(websocket.send_text(message), self.send_timeout)
+                async with asyncio.timeout(self.send_timeout):  # no task a send, as wait_for makes on 3.11
+                    await websocket.send_text(message)
         except asyncio.CancelledError:
             raise
         except Exception:  # a send that timed out, or a broken connection

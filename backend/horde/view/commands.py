@@ -23,6 +23,7 @@ import viser
 from horde.runs.access import Access, ForbiddenError, Principal, UnauthorizedError
 from horde.view.source import CommandRefusedError, ViewSource
 
+SCALARS = (bool, int, float, str)  # the values `set_value` compares itself
 SPEED_RANGE = (1, 200)  # steps per second the speed slider offers (a faster run is shown at its end)
 
 
@@ -40,7 +41,14 @@ def removed(handle: Any) -> bool:
 
 
 def set_value(handle: Any, value: object) -> None:
-    """Assign a GUI input's value (viser sends it only if it changed); nothing for a removed widget."""
+    """Assign a GUI input's value (viser sends it only if it changed); nothing for a removed widget. A value of the
+    very type and value the widget holds is left at once (the view assigns a dozen values a browser and frame:
+    most are unchanged, and viser's setter would coerce and compare each)."""
+    impl = getattr(handle, "_impl", None)
+    held = getattr(impl, "value", None)
+    same = type(held) is type(value) and isinstance(value, SCALARS) and held == value
+    if same and not getattr(impl, "is_button", False):
+        return
     if removed(handle):
         return
     try:

@@ -41,14 +41,19 @@ class Node:
 
 
 def _same_value(a: object, b: object) -> bool:
+    if a is b:
+        return True
     if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
-        return isinstance(a, np.ndarray) and isinstance(b, np.ndarray) and np.array_equal(a, b)
+        return (isinstance(a, np.ndarray) and isinstance(b, np.ndarray) and a.shape == b.shape
+                and np.array_equal(a, b))  # fmt: skip
     return a == b
 
 
 FIELDS = tuple(f.name for f in fields(Node))
 
 
-def same_content(a: Node, b: Node, ignore: tuple[str, ...] = ()) -> bool:
-    """Whether two nodes draw the same thing (arrays compared by value), apart from `ignore`d fields."""
-    return a is b or all(_same_value(getattr(a, name), getattr(b, name)) for name in FIELDS if name not in ignore)
+def changed_fields(a: Node, b: Node) -> frozenset[str]:
+    """The fields in which two nodes differ (arrays compared by value, each field once)."""
+    if a is b:
+        return frozenset()
+    return frozenset(name for name in FIELDS if not _same_value(getattr(a, name), getattr(b, name)))

@@ -42,8 +42,10 @@ class Frame:
     `read(name, *args)` calls the source's method; `memo(key, make)` keeps anything else. A call with the same
     arguments returns the first call's answer; a call that raises is not kept. `lasting(key, make)` keeps what
     outlives a frame (a run's world nodes: the same objects frame after frame, which the appliers then skip
-    without comparing them field by field) in `kept`, the view's, at most KEPT of them. Commands do not go
-    through here: the panels send them to the source itself.
+    without comparing them field by field) in `kept`, the view's, at most KEPT of them; `recent(key, state,
+    max_age, make)` keeps what is remade as a run moves, but at most once per `max_age` seconds for all the
+    viewers (a run's value map: one read of its worker and one PNG however many browsers show it, and the
+    same nodes for each). Commands do not go through here: the panels send them to the source itself.
     """
 
     KEPT = 64
@@ -65,6 +67,20 @@ class Frame:
             while len(self._kept) > self.KEPT:
                 self._kept.popitem(last=False)
         return self._kept[key]
+
+    def recent(self, key: tuple[object, ...], state: object, max_age: float, make: Callable[[], T]) -> T:
+        """What `make` made for `key` in this frame or an earlier one, while `state` (say, the run's step) has not
+        changed or for `max_age` seconds after it was made; made anew (and kept) otherwise."""
+        slot = ("recent", *key)
+        kept = self._kept.get(slot)
+        if kept is not None and (kept[1] == state or self.now - kept[0] < max_age):
+            return kept[2]
+        value = make()
+        self._kept[slot] = (self.now, state, value)
+        self._kept.move_to_end(slot)
+        while len(self._kept) > self.KEPT:
+            self._kept.popitem(last=False)
+        return value
 
     def read(self, name: str, *args: object) -> Any:
         method = getattr(self.source, name)  # AttributeError for reads the source does not offer
@@ -119,8 +135,6 @@ class Viewer:
         self._shown_run: str | None = None
         self._demon_names: tuple[str, ...] = ()
         self._spec: RunSpec | None = None
-        self._map_key: tuple[object, ...] | None = None
-        self._map_time = 0.0
         self._chart_time = 0.0
         self._slow_time = 0.0
 
@@ -153,13 +167,11 @@ class Viewer:
         if large_changed:  # labels are redrawn at their new size
             self.applier.label_scale = LARGE_SCALE if panel.large else 1.0
             self.applier.clear()
-            self._map_key = None
         if run_id is None:
             self._show_nothing()
             return
         if three_d_changed:
             self._set_view_mode(panel.three_d)
-            self._map_key = None
         if frame.has("is_phase") and frame.read("is_phase", run_id):
             self._refresh_phase(frame, run_id)
             return
@@ -202,7 +214,7 @@ class Viewer:
         """A newly chosen run, or demons that joined or left the run shown: new demon widgets."""
         if snapshot.run_id != self._shown_run:
             self.applier.clear()
-        self._shown_run, self._demon_names, self._map_key = snapshot.run_id, names, None
+        self._shown_run, self._demon_names = snapshot.run_id, names
         self.panel.set_demons(names)
         if self._spec is None or self._spec.world != snapshot.spec.world:
             self._spec = snapshot.spec
@@ -210,25 +222,23 @@ class Viewer:
         self._spec = snapshot.spec
 
     def _refresh_map(self, frame: Frame, snapshot: ViewSnapshot) -> None:
+        """The value map of the demon chosen, remade `map_hz` times a second while the run moves: once for every
+        browser that shows the same map (`Frame.recent`), so thirty browsers of a run ask its worker for one map,
+        not thirty, and the applier finds the same nodes it drew (sending nothing) until the next one."""
         demon = self.panel.value_demon
         if demon is None:
             self.applier.apply([], "value_map")
             return
-        key = (snapshot.run_id, demon, self.panel.three_d, snapshot.total_steps, snapshot.episode)
-        if key == self._map_key:
-            return
-        selection_changed = self._map_key is None or key[:3] != self._map_key[:3]
-        if not selection_changed and frame.now - self._map_time < 1.0 / self.map_hz:
-            return
-        world = snapshot.spec.grid
+        world, three_d = snapshot.spec.grid, self.panel.three_d
 
-        def build() -> list[Any]:
+        def build() -> list[Node]:
             values = frame.read("value_map", snapshot.run_id, demon, self.resolution)
             greedy = frame.read("greedy_actions", snapshot.run_id, demon, scene.arrow_resolution(world))
-            return scene.value_map_nodes(world, demon, np.asarray(values), greedy, self.panel.three_d)
+            return scene.value_map_nodes(world, demon, np.asarray(values), greedy, three_d)
 
-        self.applier.apply(frame.memo(("value_map", *key), build), "value_map")
-        self._map_key, self._map_time = key, frame.now
+        key = ("value_map", snapshot.run_id, demon, three_d, self.resolution)
+        nodes = frame.recent(key, (snapshot.total_steps, snapshot.episode), 1.0 / self.map_hz, build)
+        self.applier.apply(nodes, "value_map")
 
     # ------------------------------------------------------------------------------------------
     # Runs without a plane (Gymnasium and stream runs): a phase plane of two sensors
@@ -243,7 +253,7 @@ class Viewer:
         if run_id != self._shown_run or demons != self._demon_names:
             if run_id != self._shown_run:
                 self.applier.clear()
-            self._shown_run, self._demon_names, self._map_key, self._spec = run_id, demons, None, None
+            self._shown_run, self._demon_names, self._spec = run_id, demons, None
             panel.set_demons(demons, with_shown=not is_stream)
             if star_of(None) is None:  # the star and the chains have no axes
                 panel.set_sensors(sensors)
@@ -259,19 +269,18 @@ class Viewer:
             if now - self._chart_time >= 1.0 / self.chart_hz:
                 self._chart_time = now
                 panel.show_charts(snapshot, shown)
-        key = (run_id, panel.value_demon, panel.phase_x, panel.phase_y, received)
-        if key == self._map_key:
-            return
-        if self._map_key is not None and key[:4] == self._map_key[:4] and now - self._map_time < 1.0 / self.map_hz:
-            return
-        picture = star_of(panel.value_demon)
-        if picture is not None:  # Baird's star or a chain: its states and the agent's, in place of a phase plane
-            self.applier.apply(picture, "phase")
-            self._map_key, self._map_time = key, now
-            return
-        phase = frame.read("phase_snapshot", run_id, panel.value_demon, panel.phase_x, panel.phase_y, self.resolution)
-        self.applier.apply(phase_plane_nodes(phase.x, phase.y, phase.demon, phase.values, phase.trail), "phase")
-        self._map_key, self._map_time = key, now
+        demon, x, y = panel.value_demon, panel.phase_x, panel.phase_y
+
+        def build() -> list[Node]:
+            picture = star_of(demon)
+            if picture is not None:  # Baird's star or a chain: its states and the agent's, in place of a phase plane
+                return picture
+            phase = frame.read("phase_snapshot", run_id, demon, x, y, self.resolution)
+            return phase_plane_nodes(phase.x, phase.y, phase.demon, phase.values, phase.trail)
+
+        # Remade map_hz times a second while records arrive, once for every browser that shows it (Frame.recent).
+        key = ("phase", run_id, demon, x, y, self.resolution)
+        self.applier.apply(frame.recent(key, received, 1.0 / self.map_hz, build), "phase")
 
     # ------------------------------------------------------------------------------------------
     # Camera
