@@ -113,12 +113,13 @@ def test_a_diverging_demon_is_frozen_and_the_others_go_on() -> None:
     assert not np.array_equal(sim.horde.weights(later, "calm"), learned), "the others go on learning"
 
 
-@pytest.mark.parametrize("learner", ["gtd", "td"])
+@pytest.mark.parametrize("learner", ["gtd", "tdrc", "td"])
 def test_when_a_demon_is_frozen_its_block_reads_its_values_from_whole_weights(learner: str) -> None:
-    """A GTD demon owes its correction at x_{t+1} to the next step (`learners.gradient`), a TD demon its whole
-    update (`learners.td_pass`). When a demon of its block is frozen, the block's values at s_{t+1} are read
-    again from theta, so what the others owe must be paid first: right after the freeze, `calm`'s prediction
-    is its weights times its features. `wild` diverges near step 200, when `calm` owes something."""
+    """A demon of GTD or of the learners sharing its kernel owes its whole update to the next step
+    (`learners.gtd_pass`), a TD demon too (`learners.td_pass`). When a demon of its block is frozen, the block's
+    values at s_{t+1} are read again from theta, so what the others owe must be paid first: right after the
+    freeze, `calm`'s prediction is its weights times its features. `wild` diverges near step 200, when `calm`
+    owes something."""
     target = {"kind": "fixed", "probabilities": [0.7, 0.1, 0.1, 0.1]}
     demons: list[dict[str, Any]] = [
         {"name": "wild", "learner": learner, "policy": target, "cumulant": {"sensor": "x"}, "alpha": 2,

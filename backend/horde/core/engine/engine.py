@@ -301,8 +301,14 @@ class Engine:
                              onl.step_a.copy(), onl.step_v.copy(), onl.scale.copy())  # fmt: skip
 
     def load_adaptive_state(self, state: AdaptiveState) -> None:
-        """Copy an `adaptive_state()` of an engine of the same spec back."""
+        """Copy an `adaptive_state()` of an engine of the same spec back, after `load`: a w kept scaled (tdrc, the
+        original GTD) keeps the scale 1 that `load` gave it, since `load` took w as the equations read it (the
+        saved scale multiplied the restored w a second time: a snapshot's TDRC demon came back with h times s)."""
         onl = self.t.onl
         for into, array in zip((onl.v_old, onl.cls_f, onl.cls_rho_prev, onl.trace2, onl.step_a, onl.step_v,
                                 onl.scale), state, strict=True):  # fmt: skip
             into[...] = array
+        for b, block in enumerate(self.horde.blocks):
+            if block.kernel.scaled_w:
+                lo = int(self.horde.block_lo[b])
+                onl.scale[lo : lo + block.size] = 1.0

@@ -36,6 +36,8 @@ ALIGN = 8  # column runs start at multiples of 8 numbers (64 bytes, a cache line
 # (a diverging GQ demon reached 1.6e307 before its numbers overflowed): the demon is marked diverged and frozen.
 MAX_MAGNITUDE = 1e12
 FOREVER = 2**62  # "no limit" for step and episode counts
+OWED_ROWS = 5  # rows of `Weights.owed` at least (GTD's five numbers a demon owes, `learners.gtd_pass`)
+EV_ROWS = 10  # rows of `Scratch.ev` (`learners.gtd_pass`: what is owed in the weights' dtype, and six cells)
 
 
 class Layout(NamedTuple):
@@ -160,9 +162,11 @@ class Weights(NamedTuple):
     w: np.ndarray  # secondary weights (gradient corrections; tdrc's h, kept scaled; adaptive TD's h)
     trace: np.ndarray  # blocks' [rows, C_b] at voff
     support: np.ndarray  # blocks' sorted support rows at toff
+    support_f: np.ndarray  # x_t's value on each support row at the last merge (`learners.gtd_pass`; float64)
     nnz: np.ndarray  # [B] support rows of each block
     touched: np.ndarray  # [B] support rows after the last step
-    owed: np.ndarray  # [A, D] the gradient correction at the last x_{t+1}, owed by theta (`learners.gradient`)
+    owed: np.ndarray  # [max(A, 5), D] what the last step left owed: GQ's correction at x_{t+1} per action
+    # (`learners.gradient`), TD's alpha delta (`td_pass`), GTD's five numbers (`gtd_pass.OWED_*`)
 
 
 class Demons(NamedTuple):
@@ -265,7 +269,8 @@ class Scratch(NamedTuple):
     mark: np.ndarray  # [most rows] x_bar's value on a row at s_{t+1} (GQ's support pass; else 0)
     counts: np.ndarray  # [2] int: the support rows kept and x_t's rows dropped by the block's last merge
     ex: np.ndarray  # [A, dmax] e . x_bar(s_{t+1}, a) per demon
-    ev: np.ndarray  # [2, dmax] a support row's trace values spread over the demons
+    ev: np.ndarray  # [EV_ROWS, dmax] in the weights' dtype: a support row's trace values spread over the demons (GQ),
+    # what is owed as the one-pass kernels pay it (`td_pass`, `gtd_pass`)
 
 
 class Step(NamedTuple):

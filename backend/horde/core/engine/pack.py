@@ -12,6 +12,8 @@ import numpy as np
 
 from horde.core.engine.blocks import POLICY_CODES
 from horde.core.engine.layout import (
+    EV_ROWS,
+    OWED_ROWS,
     Agent,
     Classes,
     Coded,
@@ -68,9 +70,10 @@ def pack(horde: Horde, world: World | None) -> Tables:
         w=np.zeros(int(off.weights[-1]), dtype),
         trace=np.zeros(int(off.traces[-1]), dtype),
         support=np.zeros(int(off.support[-1]), np.int64),
+        support_f=np.zeros(int(off.support[-1])),
         nnz=np.zeros(len(horde.blocks), np.int64),
         touched=np.zeros(len(horde.blocks), np.int64),
-        owed=np.zeros((horde.num_actions, horde.num_demons)),
+        owed=np.zeros((max(horde.num_actions, OWED_ROWS), horde.num_demons)),
     )
     for b, theta in enumerate(horde.initial_theta()):  # demons with initial_weights start from them
         wts.theta[off.weights[b] : off.weights[b + 1]] = theta.ravel()
@@ -311,7 +314,7 @@ def _scratch(horde: Horde, lay: Layout, nodes: int) -> Scratch:
         mark=np.zeros(most_rows),
         counts=np.zeros(2, np.int64),
         ex=np.zeros((na, dmax)),
-        ev=np.zeros((2, dmax), horde.dtype),  # trace values: of the traces' dtype
+        ev=np.zeros((EV_ROWS, dmax), horde.dtype),  # trace values, what is owed: of the weights' dtype
     )
 
 

@@ -1,11 +1,11 @@
 """The learners: one module per learner family, each with its registration, its readable numpy form and its
 compiled kernel for the engine.
 
-* `gradient`: GQ(lambda), GTD(lambda), off-policy TD(lambda);
+* `gradient`: GQ(lambda), GTD(lambda), off-policy TD(lambda) (GQ's kernel; TD's is `td_pass`, GTD's `gtd_pass`);
 * `true_online`: true online TD(lambda), true online GTD(lambda);
 * `emphatic`: emphatic TD(lambda);
 * `adaptive`: TD(lambda) with Autostep / TIDBD step sizes;
-* `tdrc`: TD with regularized corrections (GTD's kernel, h kept scaled);
+* `tdrc`: TD with regularized corrections (GTD's kernel `gtd_pass`, h kept scaled);
 * `gtd2`: GTD2(lambda) and the original GTD (lambda = 0): GTD's kernel, theta following the secondary weights.
 
 Importing this package registers every learner with the spec (`horde.spec.learners`), so that a demon may
@@ -28,21 +28,13 @@ dispatched on by its code below.
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
-from horde.core.learners import adaptive, emphatic, gradient, gtd2, online, td_pass, tdrc, true_online
+from horde.core.learners import adaptive, emphatic, gradient, gtd2, gtd_pass, online, td_pass, tdrc, true_online
 from horde.core.learners.adaptive import adaptive_td_update
 from horde.core.learners.base import Kernel, OnlineState, online_zeros
 from horde.core.learners.emphatic import etd_update
-from horde.core.learners.gradient import (
-    FOLLOWS_DELTA,
-    FOLLOWS_U,
-    FOLLOWS_W,
-    LearnerParams,
-    LearnerState,
-    dot_sparse,
-    update,
-    zeros,
-)
+from horde.core.learners.gradient import LearnerParams, LearnerState, dot_sparse, update, zeros
 from horde.core.learners.gtd2 import gtd1_update, gtd2_update
+from horde.core.learners.gtd_pass import FOLLOWS_DELTA, FOLLOWS_U, FOLLOWS_W
 from horde.core.learners.tdrc import tdrc_update
 from horde.core.learners.true_online import true_online_gtd_update, true_online_td_update
 
@@ -72,14 +64,14 @@ def prepare(code, b, lay, wts, dem, cls, onl, stp, scr):
     """Block b's shared work before its columns (see the module)."""
     if code == TD_CODE:
         td_pass.prepare(b, lay, cls, scr)
-    elif code in (GTD_CODE, GQ_CODE, GTD2_CODE):
-        gradient.prepare(code, b, lay, wts, dem, cls, stp, scr)
+    elif code in (GTD_CODE, TDRC_CODE, GTD2_CODE, GTD1_CODE):  # TDRC's h, GTD1's u kept scaled (`tdrc`)
+        gtd_pass.prepare(b, lay, dem, cls, onl, scr, code in (TDRC_CODE, GTD1_CODE))
+    elif code == GQ_CODE:
+        gradient.prepare(b, lay, wts, dem, cls, stp, scr)
     elif code in (TOTD_CODE, TOGTD_CODE):
         true_online.prepare(code, b, lay, wts, dem, cls, onl, stp, scr)
     elif code == ETD_CODE:
         emphatic.prepare(b, lay, wts, dem, cls, onl, stp, scr)
-    elif code in (TDRC_CODE, GTD1_CODE):  # w kept scaled (GTD1: u, shrunk by its beta)
-        tdrc.prepare(b, lay, wts, dem, cls, onl, stp, scr)
     else:
         adaptive.prepare(code, b, lay, wts, cls, onl, stp, scr)
 
@@ -89,11 +81,12 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
     """Block b's demons i0 <= i < i1 learn the transition (see the module)."""
     if code == TD_CODE:
         td_pass.columns(b, i0, i1, lay, wts, dem, cls, stp, scr)
-    elif code in (GTD_CODE, GQ_CODE, TDRC_CODE, GTD2_CODE, GTD1_CODE):
-        # One call with run-time numbers: numba compiles a copy of a function for each literal argument, and
-        # gradient.columns is the largest kernel (it reads `code` only to tell GQ from the others).
+    elif code in (GTD_CODE, TDRC_CODE, GTD2_CODE, GTD1_CODE):
+        # One call with a run-time number: numba compiles a copy of a function for each literal argument.
         form = FOLLOWS_W if code == GTD2_CODE else FOLLOWS_U if code == GTD1_CODE else FOLLOWS_DELTA
-        gradient.columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr, form)
+        gtd_pass.columns(b, i0, i1, lay, wts, dem, cls, stp, scr, form)
+    elif code == GQ_CODE:
+        gradient.columns(b, i0, i1, lay, wts, dem, cls, stp, scr)
     elif code in (TOTD_CODE, TOGTD_CODE):
         true_online.columns(b, i0, i1, lay, wts, dem, stp, scr, onl)
     elif code == ETD_CODE:
@@ -107,20 +100,24 @@ def finish(code, b, lay, wts, dem, cls, onl, stp, scr):
     """Block b after every column learned (see the module)."""
     if code == TD_CODE:
         td_pass.finish(b, lay, wts, dem, cls, stp, scr)
-    elif code in (GTD_CODE, GQ_CODE, GTD2_CODE):
-        gradient.finish(code, b, lay, cls, stp, scr)
-    elif code in (TDRC_CODE, GTD1_CODE):
-        tdrc.finish(b, lay, wts, cls, onl, stp, scr)
+    elif code in (GTD_CODE, TDRC_CODE, GTD2_CODE, GTD1_CODE):
+        gtd_pass.finish(b, lay, wts, dem, cls, onl, stp, scr, code in (TDRC_CODE, GTD1_CODE))
+    elif code == GQ_CODE:
+        gradient.finish(b, lay, cls, stp, scr)
     else:
         online.finish(b, lay, cls, onl)
 
 
 @njit(**NO_NRT)
 def settle(b, lay, wts, scr, x, v, n_s):
-    """Pay what block b owes (TD: its last update, `td_pass`; the gradient family's correction at the last x_{t+1}:
-    `gradient.columns`, on the rows x, values v), so that theta can be read whole."""
-    if lay.learner[b] == TD_CODE:
+    """Pay what block b owes (TD: its last update, `td_pass`; GTD, TDRC, GTD2, GTD1: theirs, `gtd_pass`, with the
+    rows x of the last x_{t+1}, values v; GQ: its correction at the last x_{t+1}, `gradient.columns`), so that theta
+    and w can be read whole."""
+    code = lay.learner[b]
+    if code == TD_CODE:
         td_pass.settle(b, lay, wts, scr)
+    elif code in (GTD_CODE, TDRC_CODE, GTD2_CODE, GTD1_CODE):
+        gtd_pass.settle(b, lay, wts, x, v)
     elif lay.owes[b]:
         gradient.settle_owed(b, lay, wts, x, v, n_s)
 
@@ -151,6 +148,7 @@ __all__ = [
     "gtd1_update",
     "gtd2",
     "gtd2_update",
+    "gtd_pass",
     "kernel_for",
     "online_zeros",
     "prepare",

@@ -29,7 +29,8 @@ class Kernel:
         step_size: the step-size mode it learns with ("constant", "autostep", "tidbd").
         vectors: per-weight arrays its step reads and writes on the trace's rows, theta included (for the
             bench's count of a step's bytes, `benchmarks/bound.py`).
-        owes: it owes its correction at x_{t+1} to the next step (`gradient.settle_owed` pays it).
+        owes: it owes part of its update to the next step (`learners.settle` pays it: GQ its correction at x_{t+1},
+            GTD and its forms their whole update, `gtd_pass`).
         dutch: its trace holds alpha (and alpha_w): only demons of one step size share one.
         keeps_state: it keeps numbers beyond the weights and traces (`Online`: snapshots save them).
         scaled_w: its secondary weights are kept scaled per demon (the true w is `Online.scale` times them).

@@ -12,18 +12,16 @@ Per demon (`update` below is the readable numpy form; `reference.gq_step`, `gtd_
 GTD(lambda)'s x_bar_tp1 is phi(s_{t+1}). The thesis printed the w update with phi_{t+1} and one shared step
 size: both are errors.
 
-The compiled kernel of GTD and GQ (also TDRC's, GTD2's and the original GTD's: `columns`' `form`; `prepare`,
-`columns`, `finish`, called by the engine's step through
-`horde.core.learners`; TD's is `td_pass`, which defers its whole update by one step): `prepare` writes each
-class's trace decay and what x_t adds, and merges the traces (`engine.traces.merge`); `columns` learns a run
-of the block's demons, touching only their columns, in one pass over the support's weight rows (each read
-and written once; rows read two at a time: more memory streams in flight made sparse rows 1.3 to 1.6 times
-faster). The correction at x_{t+1} is owed to the next step (see
-`columns`), which `settle_owed` pays before anyone else reads theta. The secondary weights may be kept
-scaled per demon (`Scratch.scales`, 1 but for tdrc, whose h decays by its regulariser at every step).
+The compiled kernel here is GQ's (`prepare`, `columns`, `finish`, called by the engine's step through
+`horde.core.learners`; TD's is `td_pass`, GTD's (and TDRC's, GTD2's, the original GTD's) `gtd_pass`, each of
+which defers its whole update by one step): `prepare` writes each class's trace decay and what x_t adds, and
+merges the traces (`engine.traces.merge`); `columns` learns a run of the block's demons, touching only their
+columns: each action's rows at s_{t+1} paid and read, w read at x_t, then one pass over the support's weight
+rows (each read and written once; rows read two at a time: more memory streams in flight made sparse rows 1.3
+to 1.6 times faster). The correction at x_{t+1} is owed to the next step (see `columns`), which
+`settle_owed` pays before anyone else reads theta.
 
-Why one module of about 450 lines: the family's three learners' numpy form and registration, and GTD's and
-GQ's shared kernel.
+Why one module of about 400 lines: the family's three learners' numpy form and registration, and GQ's kernel.
 """
 
 from __future__ import annotations
@@ -34,7 +32,7 @@ import numpy as np
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
-from horde.core.engine.rows import at, dot, pay_and_read, read_range, spread, square, sum_rows
+from horde.core.engine.rows import at, pay_and_read, spread, square, sum_rows
 from horde.core.engine.rows import td_error as td_error_at
 from horde.core.engine.traces import merge
 from horde.core.engine.values import observe_range, value_policy
@@ -51,7 +49,6 @@ TD = register(LearnerInfo(
     step_sizes=("constant", "autostep", "tidbd"),
 ))  # fmt: skip
 TD_CODE, GTD_CODE, GQ_CODE = 0, 1, 2  # the engine's kernel codes
-FOLLOWS_DELTA, FOLLOWS_W, FOLLOWS_U = 0, 1, 2  # what theta follows besides the correction (`columns`)
 KERNELS = (
     Kernel(TD_CODE, "td"),
     Kernel(GTD_CODE, "gtd", vectors=2, owes=True),
@@ -150,36 +147,29 @@ def update(
 
 
 @njit(**NO_NRT, inline="always")
-def prepare(code, b, lay, wts, dem, cls, stp, scr):
-    """Block b's traces for this step (nothing per demon): each class decays by gamma_t lambda rho_t, x_t adds
-    rho_t (TD, GTD) or 1 (GQ, whose x_t is of the action taken); then `merge`. GQ marks x_bar's rows at s_{t+1}
-    (every action's block) with x_tp1's values, for its support pass (`columns`)."""
+def prepare(b, lay, wts, dem, cls, stp, scr):
+    """Block b's traces for this step (nothing per demon): each class decays by gamma_t lambda rho_t, x_t (of the
+    action taken) adds 1; then `merge`. Several classes: x_bar's rows at s_{t+1} (every action's block) are
+    marked with x_tp1's values, for the support pass (`columns`)."""
     lo, ncls, coff = lay.block_lo[b], lay.ncls[b], lay.coff[b]
-    gq = code == GQ_CODE
     own = lay.policy[b] != FIXED
     for c in range(ncls):
         rho = dem.pi[lo + c, stp.action] / stp.b_prob if own else cls.rho[coff + c]
         scr.decay[c] = cls.gamma[coff + c] * lay.lam[b] * rho
-        scr.add[c] = 1.0 if gq else rho
-    shift = stp.action * stp.n_s if gq else 0
-    kept, dropped = merge(b, lay, wts, scr, stp.x_t, stp.v_t, shift, True)
+        scr.add[c] = 1.0
+    kept, dropped = merge(b, lay, wts, scr, stp.x_t, stp.v_t, stp.action * stp.n_s, True)
     scr.counts[0] = kept
     scr.counts[1] = dropped
-    if gq and ncls > 1:
+    if ncls > 1:
         for a in range(lay.actions[b]):
             for j in range(stp.x_tp1.shape[0]):
                 scr.mark[a * stp.n_s + stp.x_tp1[j]] = stp.v_tp1[j]
-    db = lay.block_hi[b] - lo
-    for i in range(db):  # how w is kept: as it is (tdrc's `prepare` writes its scales after this)
-        scr.scales[0, i] = 1.0
-        scr.scales[1, i] = 1.0
-        scr.scales[2, i] = 1.0
 
 
 @njit(**NO_NRT, inline="always")
-def finish(code, b, lay, cls, stp, scr):
-    """After every column learned: GQ's marks cleared; each class's continuation moves to s_{t+1}."""
-    if code == GQ_CODE and lay.ncls[b] > 1:
+def finish(b, lay, cls, stp, scr):
+    """After every column learned: the marks cleared; each class's continuation moves to s_{t+1}."""
+    if lay.ncls[b] > 1:
         for a in range(lay.actions[b]):
             for j in range(stp.x_tp1.shape[0]):
                 scr.mark[a * stp.n_s + stp.x_tp1[j]] = 0.0
@@ -189,27 +179,20 @@ def finish(code, b, lay, cls, stp, scr):
 
 
 @njit(**NO_NRT)
-def columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr, form):
-    """Block b's demons i0 <= i < i1 learn the transition, after `prepare`: only their columns of the weights
+def columns(b, i0, i1, lay, wts, dem, cls, stp, scr):
+    """Block b's GQ demons i0 <= i < i1 learn the transition, after `prepare`: only their columns of the weights
     and of the per-demon scratch (values, pi_next, work, ex, ev) are touched.
 
-    `form` says what theta follows besides the correction (`gtd2` declares the last two): FOLLOWS_DELTA, alpha
-    delta_t e_t (GQ, GTD, TDRC); FOLLOWS_W, alpha (w . x_t) x_t (GTD2); FOLLOWS_U, alpha rho_t (u . x_t) x_t,
-    and u learns without its -(u . x_t) x_t (the original GTD, lambda = 0: u . e_t = rho_t u . x_t). Either of
-    the last two is paid with the correction owed on x_t's rows (below), so the pass is the same.
-
-    The gradient correction at x_{t+1} (theta -= alpha gamma (1 - lambda) (w . e) x_bar_{t+1}; for GQ on
-    every action's rows, weighted by the target policy there) is owed rather than applied: `owed[a, d]`
-    holds it, and the next step pays it on its x_t's rows (the same rows). GTD pays in its pass over the
-    support, which visits them anyway; GQ while it reads its values at x_{t+1} (the other actions' rows
-    are in no support). The new values at s_{t+1} then come from the update's algebra instead of a pass
-    that corrects and reads those rows again: theta' . x = theta . x + alpha delta (e . x) - owed (x . x),
-    with e . x one sum per trace class, or per demon from the support pass (`mark`, `ex`)."""
+    The gradient correction at x_{t+1} (theta -= alpha gamma (1 - lambda) (w . e) x_bar_{t+1}, on every action's
+    rows, weighted by the target policy there) is owed rather than applied: `owed[a, d]` holds it, and the next
+    step pays it on its x_t's rows (the same rows) while it reads its values at x_{t+1} (the other actions'
+    rows are in no support). The new values at s_{t+1} then come from the update's algebra instead of a pass
+    that corrects and reads those rows again: theta' . x = theta . x + alpha delta (e . x) - owed (x . x), with
+    e . x one sum per action (one class) or per demon from the support pass (`mark`, `ex`)."""
     lo = lay.block_lo[b]
-    woff, voff, ncls, coff = lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b]
+    woff, voff, ncls = lay.woff[b], lay.voff[b], lay.ncls[b]
     db = lay.block_hi[b] - lo
     width = i1 - i0
-    gq = code == GQ_CODE
     own = lay.policy[b] != FIXED
     x_t, v_t, x_tp1, v_tp1, n_s = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1, stp.n_s
     theta, w, trace, owed = wts.theta, wts.w, wts.trace, wts.owed
@@ -217,123 +200,80 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr, form):
     ad, awd, w_dot_e, w_dot_x = scr.work[0], scr.work[1], scr.work[2], scr.work[3]
     rows, rows_f, dropped = scr.rows, scr.rows_f, scr.counts[1]
     A = dem.q.shape[1]
-    shift = stp.action * n_s if gq else 0
-    owing = not gq  # pays on the support (GTD, tdrc: given policies only); GQ pays below
-    shared = 0.0
+    shift = stp.action * n_s
 
-    # Values at s_{t+1} under the weights before this update, the target policy there, delta.
-    if gq:
-        for a in range(lay.actions[b]):
-            pay_and_read(theta, woff + a * n_s * db + i0, x_t, v_t, x_tp1, v_tp1, db, owed[a, lo + i0 : lo + i1],
-                         values[a, i0:i1])  # fmt: skip
-            for i in range(i0, i1):
-                ex[a, i] = 0.0
-    else:
-        read_range(woff, db, 1, n_s, theta, x_tp1, v_tp1, i0, i1, values)
-    if owing:  # theta still owes the last step's correction on x_t's rows
-        shared = dot(x_t, v_t, x_tp1, v_tp1)
+    # Values at s_{t+1} under the weights before this update (the last correction paid), the target policy
+    # there, delta.
+    for a in range(lay.actions[b]):
+        pay_and_read(theta, woff + a * n_s * db + i0, x_t, v_t, x_tp1, v_tp1, db, owed[a, lo + i0 : lo + i1],
+                     values[a, i0:i1])  # fmt: skip
         for i in range(i0, i1):
-            values[0, i] -= owed[0, lo + i] * shared
+            ex[a, i] = 0.0
     for i in range(i0, i1):
         d = lo + i
         g1 = cls.gamma_tp1[lay.slot_class[d]]
-        if gq:
-            if own:
-                value_policy(lay.policy[b], values[:, i], lay.temperature[d], lay.epsilon[d], pi_next[:, i])
-            else:
-                for a in range(A):
-                    pi_next[a, i] = cls.pi_given[lay.slot_class[d], a]
-            v_next = 0.0
-            for a in range(A):
-                v_next += pi_next[a, i] * values[a, i]
-            v_t_d = dem.q[d, stp.action]
+        if own:
+            value_policy(lay.policy[b], values[:, i], lay.temperature[d], lay.epsilon[d], pi_next[:, i])
         else:
-            v_next = values[0, i]
-            v_t_d = dem.q[d, 0]
-        dl = td_error_at(dem.r[d], dem.z[d], g1, v_next, v_t_d)
+            for a in range(A):
+                pi_next[a, i] = cls.pi_given[lay.slot_class[d], a]
+        v_next = 0.0
+        for a in range(A):
+            v_next += pi_next[a, i] * values[a, i]
+        dl = td_error_at(dem.r[d], dem.z[d], g1, v_next, dem.q[d, stp.action])
         dem.delta[d] = dl
         # a frozen demon (step size 0) stays exactly as it is, even when its delta is not finite
-        ad[i] = dem.alpha[d] * dl if dem.alpha[d] != 0.0 and form == FOLLOWS_DELTA else 0.0
-        awd[i] = dem.alpha_w[d] * dl * scr.scales[0, i] if dem.alpha_w[d] != 0.0 else 0.0
+        ad[i] = dem.alpha[d] * dl if dem.alpha[d] != 0.0 else 0.0
+        awd[i] = dem.alpha_w[d] * dl if dem.alpha_w[d] != 0.0 else 0.0
         w_dot_e[i] = 0.0
         w_dot_x[i] = 0.0
 
     # alpha_w (w . x_t) under the old w; the rows of x_t left without a trace lose it here.
     step_x = w_dot_x[i0:i1]
     sum_rows(w, woff + shift * db + i0, x_t, v_t, db, step_x)
-    if form != FOLLOWS_DELTA:  # theta += move x_t, paid with what x_t's rows owe; the values: + move x_t . x_{t+1}
-        for i in range(width):
-            d = lo + i0 + i
-            move = dem.alpha[d] * step_x[i] * scr.scales[2, i0 + i] if dem.alpha[d] != 0.0 else 0.0
-            if form == FOLLOWS_U:
-                move *= scr.add[lay.slot_class[d] - coff]  # rho_t (`prepare`)
-            owed[0, d] -= move
-            values[0, i0 + i] += move * shared
     for i in range(width):
         a_w = dem.alpha_w[lo + i0 + i]
-        step_x[i] = step_x[i] * a_w * scr.scales[1, i0 + i] if a_w != 0.0 and form != FOLLOWS_U else 0.0
+        step_x[i] = step_x[i] * a_w if a_w != 0.0 else 0.0
     end = rows.shape[0] - 1
-    owed_ = owed[0, lo + i0 : lo + i1]  # (GQ has paid already: 0)
     for j in range(dropped):
         start = at(woff + rows[end - j] * db + i0)
         f = rows_f[end - j]
         for i in range(width):
             w[start + at(i)] -= f * step_x[i]
-            theta[start + at(i)] -= f * owed_[i]
 
     if ncls == 1:
         _one_class_pass(b, i0, i1, lay, wts, scr, step_x)
     else:
-        _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, gq, own)
+        _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, own)
 
-    # The correction at x_bar_{t+1} (owed: see above) and the new values at s_{t+1}.
+    # The correction at x_bar_{t+1} (owed: see above) and the new values at s_{t+1}, for each action's rows
+    # there; e . x_bar(s_{t+1}, a) from the support pass (`gather`; one class: one sum per action).
     for i in range(i0, i1):
         a_i = dem.alpha[lo + i]
         g1 = cls.gamma_tp1[lay.slot_class[lo + i]]
-        w_dot_e[i] = a_i * g1 * (1.0 - lay.lam[b]) * w_dot_e[i] * scr.scales[2, i] if a_i != 0.0 else 0.0
-    if gq:
-        # As for GTD below, for each action's rows at s_{t+1}; e . x_bar(s_{t+1}, a) from the support pass
-        # (`gather`; one class: one sum per action).
-        own_dot = square(v_tp1)
-        for a in range(lay.actions[b]):
-            if ncls == 1:
-                e_dot_x = 0.0
-                for j in range(x_tp1.shape[0]):
-                    e_dot_x += v_tp1[j] * np.float64(trace[voff + a * n_s + x_tp1[j]])
-                for i in range(i0, i1):
-                    ex[a, i] = e_dot_x
-            for i in range(i0, i1):
-                o = w_dot_e[i] * pi_next[a, i]
-                values[a, i] += ad[i] * ex[a, i] - o * own_dot
-                owed[a, lo + i] = o
-    else:
-        # theta' . x_{t+1} = theta . x_{t+1} + alpha delta (e . x_{t+1}) - owed (x_{t+1} . x_{t+1}): the update
-        # added alpha delta e to every row (a row cut from the support has trace 0 and was not updated), and
-        # x_t's rows paid what they owed (already taken from the values above).
-        own_dot = square(v_tp1)
-        for c in range(ncls):
-            c0 = max(lay.class_lo[coff + c], i0) if ncls > 1 else i0
-            c1 = min(lay.class_hi[coff + c], i1) if ncls > 1 else i1
-            if c0 >= c1:
-                continue
+        w_dot_e[i] = a_i * g1 * (1.0 - lay.lam[b]) * w_dot_e[i] if a_i != 0.0 else 0.0
+    own_dot = square(v_tp1)
+    for a in range(lay.actions[b]):
+        if ncls == 1:
             e_dot_x = 0.0
             for j in range(x_tp1.shape[0]):
-                e_dot_x += v_tp1[j] * np.float64(trace[voff + x_tp1[j] * ncls + c])
-            for i in range(c0, c1):
-                values[0, i] += ad[i] * e_dot_x - w_dot_e[i] * own_dot
-                owed[0, lo + i] = w_dot_e[i]
+                e_dot_x += v_tp1[j] * np.float64(trace[voff + a * n_s + x_tp1[j]])
+            for i in range(i0, i1):
+                ex[a, i] = e_dot_x
+        for i in range(i0, i1):
+            o = w_dot_e[i] * pi_next[a, i]
+            values[a, i] += ad[i] * ex[a, i] - o * own_dot
+            owed[a, lo + i] = o
     observe_range(b, i0, i1, lay, dem, cls, values)
 
 
 @njit(**NO_NRT)
 def _one_class_pass(b, i0, i1, lay, wts, scr, step_x):
     """The weight pass of a one-class block over its support, in row order, two rows at a time: theta += ad e;
-    GTD / GQ: w . e, w += awd e - f step_x, theta pays f owed (f: x_t's value on the row, e the class's trace).
-
-    Its arrays are read into locals once: the pass is the hot loop of a thesis-scale step."""
+    w . e, w += awd e - f step_x (f: x_t's value on the row, e the class's trace)."""
     lo, woff = lay.block_lo[b], lay.woff[b]
     db = lay.block_hi[b] - lo
-    theta, w, owed = wts.theta, wts.w, wts.owed[0]
+    theta, w = wts.theta, wts.w
     rows, rows_e, rows_f, kept = scr.rows, scr.rows_e, scr.rows_f, scr.counts[0]
     ad, awd, w_dot_e = scr.work[0], scr.work[1], scr.work[2]
     width = i1 - i0
@@ -350,14 +290,13 @@ def _one_class_pass(b, i0, i1, lay, wts, scr, step_x):
                 a = ad[i0 + i]
                 aw = awd[i0 + i]
                 sx = step_x[i]
-                o = owed[lo + i0 + i]
                 j0 = u0 + at(i)
                 j1 = u1 + at(i)
                 v0 = w[j0]
                 v1 = w[j1]
                 w_dot_e[i0 + i] += v0 * e0 + v1 * e1
-                theta[j0] += a * e0 - f0 * o
-                theta[j1] += a * e1 - f1 * o
+                theta[j0] += a * e0
+                theta[j1] += a * e1
                 w[j0] = v0 + aw * e0 - f0 * sx
                 w[j1] = v1 + aw * e1 - f1 * sx
             s += 2
@@ -366,19 +305,19 @@ def _one_class_pass(b, i0, i1, lay, wts, scr, step_x):
                 j0 = u0 + at(i)
                 wv = w[j0]
                 w_dot_e[i0 + i] += wv * e0
-                theta[j0] += ad[i0 + i] * e0 - f0 * owed[lo + i0 + i]
+                theta[j0] += ad[i0 + i] * e0
                 w[j0] = wv + awd[i0 + i] * e0 - f0 * step_x[i]
             s += 1
 
 
 @njit(**NO_NRT)
-def _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, gq, own):
+def _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, own):
     """The weight pass of a block of several classes: each support row's trace values spread over the classes'
-    demons (own-value blocks: the trace row itself), two rows at a time; GQ gathers e . x_bar per demon."""
+    demons (own-value blocks: the trace row itself), two rows at a time; e . x_bar gathered per demon."""
     lo, woff, voff, ncls, coff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b]
     db = lay.block_hi[b] - lo
     width = i1 - i0
-    theta, w, trace, owed = wts.theta, wts.w, wts.trace, wts.owed[0, lo + i0 : lo + i1]
+    theta, w, trace = wts.theta, wts.w, wts.trace
     rows, rows_f, kept = scr.rows, scr.rows_f, scr.counts[0]
     ad, awd, dot_e = scr.work[0, i0:i1], scr.work[1, i0:i1], scr.work[2, i0:i1]
     e0 = scr.ev[0, i0:i1]
@@ -411,8 +350,8 @@ def _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, gq, own):
                 v0 = w[j0]
                 v1 = w[j1]
                 dot_e[i] += v0 * a0 + v1 * a1
-                theta[j0] += a * a0 - f0 * owed[i]
-                theta[j1] += a * a1 - f1 * owed[i]
+                theta[j0] += a * a0
+                theta[j1] += a * a1
                 w[j0] = v0 + aw * a0 - f0 * sx
                 w[j1] = v1 + aw * a1 - f1 * sx
         else:
@@ -421,12 +360,12 @@ def _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, gq, own):
                 j0 = u0 + at(i)
                 v0 = w[j0]
                 dot_e[i] += v0 * a0
-                theta[j0] += ad[i] * a0 - f0 * owed[i]
+                theta[j0] += ad[i] * a0
                 w[j0] = v0 + awd[i] * a0 - f0 * step_x[i]
-        if gq:  # (the second row first: the order of the sums, as before the engine's layout changed)
-            if pair:
-                _gather(scr.mark, r1, stp.n_s, e1, scr.ex, i0)
-            _gather(scr.mark, r0, stp.n_s, e0, scr.ex, i0)
+        # (the second row first: the order of the sums, as before the engine's layout changed)
+        if pair:
+            _gather(scr.mark, r1, stp.n_s, e1, scr.ex, i0)
+        _gather(scr.mark, r0, stp.n_s, e0, scr.ex, i0)
         s += 2 if pair else 1
 
 

@@ -27,11 +27,10 @@ linear solve of `worlds/state_values.py`.
 
 `gtd2_update` and `gtd1_update` below are the readable numpy forms; `reference.gtd2_step`, `gtd1_step` the oracle.
 
-The compiled kernel is the gradient family's (`gradient.columns`, told what theta follows: `FOLLOWS_W`,
-`FOLLOWS_U`): theta's move along x_t is known before the pass (w . x_t is read first anyway), so it is paid
-with the correction x_t's rows owe, and the pass is GTD's. The original GTD's u shrinks by (1 - beta) at every
-step, which would touch every weight: u is kept scaled per demon as TDRC keeps h (`tdrc.prepare`, `finish`,
-with its regulariser 1 and no -(u . x) x).
+The compiled kernel is GTD's one pass (`gtd_pass.columns`, told what theta follows: `FOLLOWS_W`, `FOLLOWS_U`):
+theta's move along x_t is owed to the next step with the rest of the update (`gtd_pass`'s M) and paid in the
+same walk. The original GTD's u shrinks by (1 - beta) at every step, which would touch every weight: u is kept
+scaled per demon as TDRC keeps h (`tdrc.move_scales`, with its regulariser 1 and no -(u . x) x).
 """
 
 from __future__ import annotations

@@ -8,11 +8,11 @@ Per demon, with GTD(lambda)'s trace e_t = rho_t (x_t + gamma_t lambda e_{t-1}) (
     h      += alpha_h (delta_t e_t - (h . x_t) x_t) - alpha_h beta h,     alpha_h = eta alpha
 `tdrc_update` below is the readable numpy form; `reference.tdrc_step` the oracle.
 
-The compiled kernel is the gradient family's (`gradient.columns`, as GTD's): the regulariser shrinks all of h
-at every step, which would touch every weight; h is kept scaled instead, h = s w with s per demon
-(`Online.scale`), so that the shrink is one multiplication of s, and the family's pass over the trace's rows
-moves w with its step divided by the new s (`Scratch.scales`). A scale below SCALE_FLOOR is folded back into
-w (one pass over the demon's column, about every 1e5 steps at the default step sizes).
+The compiled kernel is GTD's one pass (`gtd_pass`): the regulariser shrinks all of h at every step, which would
+touch every weight; h is kept scaled instead, h = s w with s per demon (`Online.scale`), so that the shrink is
+one multiplication of s, and the pass moves w with its step divided by the new s (`move_scales`,
+`Scratch.scales`). A scale below SCALE_FLOOR is folded back into w (one pass over the demon's column, about
+every 1e5 steps at the default step sizes: `gtd_pass.finish`).
 """
 
 from __future__ import annotations
@@ -21,9 +21,8 @@ import numpy as np
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
-from horde.core.learners import gradient
 from horde.core.learners.base import Kernel
-from horde.core.learners.gradient import GTD_CODE, LearnerParams, LearnerState, update
+from horde.core.learners.gradient import LearnerParams, LearnerState, update
 from horde.spec.learners import LearnerInfo, Parameter, register
 
 TDRC = register(LearnerInfo(
@@ -69,14 +68,14 @@ def tdrc_update(
 
 
 # ----------------------------------------------------------------------------------------------
-# The compiled kernel: GTD's, with h kept scaled
+# The compiled kernel: GTD's (`gtd_pass`), with h kept scaled
 
 
 @njit(**NO_NRT)
-def prepare(b, lay, wts, dem, cls, onl, stp, scr):
-    """GTD's trace merge (`gradient.prepare`), then each demon's scale of h moves on: s' = s (1 - alpha_h beta),
-    and the family's pass takes w's step divided by s', alpha_h (w . x_t) times s / s' and w . e times s."""
-    gradient.prepare(GTD_CODE, b, lay, wts, dem, cls, stp, scr)
+def move_scales(b, lay, dem, onl, scr):
+    """Each demon's scale of h moves on, s' = s (1 - alpha_h beta), and the gradient pass (`gtd_pass`) takes w's
+    step divided by s' (`Scratch.scales[0]`), alpha_h (w . x_t) times s / s' ([1]) and w . e, w . x times s ([2]).
+    (`gtd_pass.finish` folds a scale below SCALE_FLOOR back into w.)"""
     lo = lay.block_lo[b]
     for i in range(lay.block_hi[b] - lo):
         d = lo + i
@@ -91,23 +90,9 @@ def prepare(b, lay, wts, dem, cls, onl, stp, scr):
 
 
 @njit(**NO_NRT)
-def finish(b, lay, wts, cls, onl, stp, scr):
-    """GTD's end of a step; a scale below SCALE_FLOOR (or a demon's h shrunk to nothing) folded back into w."""
-    gradient.finish(GTD_CODE, b, lay, cls, stp, scr)
-    lo, woff, rows = lay.block_lo[b], lay.woff[b], lay.rows[b]
-    db = lay.block_hi[b] - lo
-    for i in range(db):
-        s = onl.scale[lo + i]
-        if s < SCALE_FLOOR:
-            for row in range(rows):
-                wts.w[woff + row * db + i] *= s
-            onl.scale[lo + i] = 1.0
-
-
-@njit(**NO_NRT)
 def episode_start(code, other, lay, onl):
-    """Demons of the kernels `code` and `other` (TDRC's, and another that keeps w scaled with `prepare` and
-    `finish`) that forget their weights at an episode start (their w was just set to 0) restart their scale."""
+    """Demons of the kernels `code` and `other` (TDRC's, and another that keeps w scaled with `move_scales`) that
+    forget their weights at an episode start (their w was just set to 0) restart their scale."""
     for b in range(lay.learner.shape[0]):
         if lay.learner[b] != code and lay.learner[b] != other:
             continue

@@ -1,0 +1,327 @@
+"""GTD(lambda) (TDC) and the learners sharing its kernel (TDRC, GTD2, the original GTD): one pass over the weight
+rows a step, each update deferred by one step (as `td_pass` defers TD's).
+
+A step of GTD (`gradient.update`, `reference.gtd_step`) needs three sums before it may write any weight: theta .
+x_{t+1} (the TD error), w . x_t and w . e_t; done in its own step, it reads x_{t+1}'s rows of theta, x_t's of w,
+then reads and writes the support's rows of both (three passes). Here each step's update is owed instead, as
+five numbers a demon (`Weights.owed`, rows OWED_*):
+
+    theta owes  A e_t + M x_t - C x_{t+1}      A = alpha delta_t (TDC, TDRC; 0 for GTD2 and the original GTD)
+                                               M = theta's move along x_t (GTD2: alpha (w . x_t); GTD: alpha rho_t
+                                                   (u . x_t); 0 for TDC, TDRC)
+                                               C = alpha gamma_{t+1} (1 - lambda) (w . e_t), the correction
+    w owes      B e_t - D x_t                  B = alpha_w delta_t, D = alpha_w (w . x_t) (0 for the original GTD)
+
+(times the scales of a w kept scaled: `tdrc.move_scales`). The next step's one walk over the union of the last
+support, x_{t+1} and x_{t+2} (`columns`; as the step sees them, the support of e_{t-1}, x_t and x_{t+1}) pays all
+of it row by row and reads from the rows just paid: theta . x_{t+1}, w . x_t and w . e_t, where e_t's value on a
+row is computed in the walk from e_{t-1}'s exactly as the merge will store it (decay, add, cut, the trace's
+dtype), so the cut costs nothing. Each support row of theta and w is read and written once, x_{t+1}'s other
+rows of theta read once. x_t's value on each support row is kept beside it (`Weights.support_f`) for the
+terms along x_t; x_t's rows that the merge leaves without a trace pay them at once, after the walk (they are in
+no support: at cut 0 only where rho_t = 0). The traces then move to e_t (`finish`: the merge, after the walk
+that still needed e_{t-1}), and the values at s_{t+1} come from the update's algebra,
+
+    theta_{t+1} . x_{t+1} = theta_t . x_{t+1} + A (e_t . x_{t+1}) + M (x_t . x_{t+1}) - C (x_{t+1} . x_{t+1}).
+
+What is owed is paid (`settle`, through `learners.settle`) wherever something outside the walk reads theta or w:
+the end of a call of the loop, an episode's start, a freeze (`engine.step`). A frozen demon owes nothing.
+
+Within a row, each trace class's demons are one contiguous run of the row (`Layout.class_lo`, `class_hi`). In
+float32 the walk pays in float32 (what is owed and the row's numbers copied into the weights' dtype,
+`Scratch.ev`), and sums in float64.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from horde.core.engine.layout import EV_ROWS, NO_NRT, OWED_ROWS
+from horde.core.engine.rows import at, dot, square
+from horde.core.engine.rows import td_error as td_error_at
+from horde.core.engine.traces import merge
+from horde.core.engine.values import observe_range
+from horde.core.learners.tdrc import SCALE_FLOOR, move_scales
+
+FOLLOWS_DELTA, FOLLOWS_W, FOLLOWS_U = 0, 1, 2  # what theta follows besides the correction (see the module)
+OWED_C, OWED_A, OWED_B, OWED_D, OWED_M = 0, 1, 2, 3, 4  # rows of `Weights.owed` (C: as GQ's correction, row 0)
+NONE = np.int64(2**62)  # past every row: a walk's list that has ended
+# Scratch.ev's rows, in the weights' dtype: what is owed as the walk pays it (K: A or M, whichever the form
+# has; B, C, D), then cells of one number for a thread (at its first column) that round a row's numbers to the
+# weights' dtype (e_t's values, x_t's, x_{t-1}'s, of two rows).
+EV_K, EV_B, EV_C, EV_D, EV_CELLS = 0, 1, 2, 3, 4
+assert OWED_ROWS == 5 and EV_ROWS == EV_CELLS + 6
+
+
+@njit(**NO_NRT, inline="always")
+def prepare(b, lay, dem, cls, onl, scr, scaled):
+    """What this step's trace moves by (decay gamma_t lambda rho_t, x_t adds rho_t: the merge is in `finish`), and
+    how w is kept (`scaled`: tdrc's and the original GTD's scale moves on, `tdrc.move_scales`; else as it is)."""
+    ncls, coff = lay.ncls[b], lay.coff[b]
+    for c in range(ncls):
+        rho = cls.rho[coff + c]
+        scr.decay[c] = cls.gamma[coff + c] * lay.lam[b] * rho
+        scr.add[c] = rho
+    if scaled:
+        move_scales(b, lay, dem, onl, scr)
+    else:
+        for i in range(lay.block_hi[b] - lay.block_lo[b]):
+            scr.scales[0, i] = 1.0
+            scr.scales[1, i] = 1.0
+            scr.scales[2, i] = 1.0
+
+
+@njit(**NO_NRT, inline="always")
+def _cell(ev, r, i0, value):
+    """value in the weights' dtype (row r of ev at the thread's first column: its own cell)."""
+    ev[r, i0] = value
+    return ev[r, i0]
+
+
+@njit(**NO_NRT, inline="always")
+def _new_trace(e_old, decay, add, f, cut, ev, r, i0):
+    """e_t's value on a row as the merge will store it (`traces.merge`: decay, add, cut, the trace's dtype)."""
+    t = e_old * decay + add * f
+    return _cell(ev, r, i0, t if abs(t) >= cut else 0.0)
+
+
+@njit(**NO_NRT, inline="always")
+def _pay_one(theta, w, base, c0, c1, own, sums, ev, acc):
+    """One row's columns c0 <= i < c1: theta pays K k - C f, w pays B o - D p (own = (k, o, f, p) in the weights'
+    dtype; k: e_{t-1}'s value on the row or x_{t-1}'s, as the form has it; o: e_{t-1}'s; f: x_t's; p:
+    x_{t-1}'s); then the sums from the paid row (sums = (g, x, n), float64): theta . x_{t+1} (g: x_{t+1}'s value),
+    w . x_t (x: x_t's), w . e_t (n: e_t's)."""
+    pay_k, pay_b, pay_c, pay_d = ev[EV_K], ev[EV_B], ev[EV_C], ev[EV_D]
+    acc_v, acc_wx, acc_we = acc[0], acc[1], acc[2]
+    k, o, f, p = own
+    g, x, n = sums
+    for i in range(c0, c1):
+        u = at(i)
+        j = base + u
+        th = theta[j] + pay_k[u] * k - pay_c[u] * f
+        theta[j] = th
+        wv = w[j] + pay_b[u] * o - pay_d[u] * p
+        w[j] = wv
+        acc_v[u] += g * th
+        acc_wx[u] += x * wv
+        acc_we[u] += n * wv
+
+
+@njit(**NO_NRT, inline="always")
+def _pay_two(theta, w, bases, c0, c1, own, sums, ev, acc):
+    """`_pay_one` on two rows at once (more memory streams in flight; the per-demon numbers read once): each of
+    own = (k, o, f, p) and sums = (g, x, n) holds both rows' numbers, the first row's first."""
+    pay_k, pay_b, pay_c, pay_d = ev[EV_K], ev[EV_B], ev[EV_C], ev[EV_D]
+    acc_v, acc_wx, acc_we = acc[0], acc[1], acc[2]
+    k0, k1, o0, o1, f0, f1, p0, p1 = own
+    g0, g1, x0, x1, n0, n1 = sums
+    base0, base1 = bases
+    for i in range(c0, c1):
+        u = at(i)
+        j0 = base0 + u
+        j1 = base1 + u
+        a_k, a_b, a_c, a_d = pay_k[u], pay_b[u], pay_c[u], pay_d[u]
+        th0 = theta[j0] + a_k * k0 - a_c * f0
+        th1 = theta[j1] + a_k * k1 - a_c * f1
+        theta[j0] = th0
+        theta[j1] = th1
+        wv0 = w[j0] + a_b * o0 - a_d * p0
+        wv1 = w[j1] + a_b * o1 - a_d * p1
+        w[j0] = wv0
+        w[j1] = wv1
+        acc_v[u] += g0 * th0 + g1 * th1
+        acc_wx[u] += x0 * wv0 + x1 * wv1
+        acc_we[u] += n0 * wv0 + n1 * wv1
+
+
+@njit(**NO_NRT)
+def _pay_rows(b, i0, i1, lay, wts, scr, r, x, q, g, two, form):
+    """Row r[0] (and r[1], `two`) of the walk, each class's run of columns i0 <= i < i1 (see `_pay_one`): x_t's
+    values x, x_{t-1}'s q, x_{t+1}'s g (pairs, float64)."""
+    lo, woff, voff, ncls, coff, cut = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b], lay.cut
+    db = lay.block_hi[b] - lo
+    theta, w, trace, ev, acc = wts.theta, wts.w, wts.trace, scr.ev, scr.work[1:4]
+    r0, r1 = r
+    bases = (at(woff + r0 * db), at(woff + r1 * db))
+    f0, p0 = _cell(ev, EV_CELLS + 2, i0, x[0]), _cell(ev, EV_CELLS + 4, i0, q[0])
+    f1, p1 = _cell(ev, EV_CELLS + 3, i0, x[1]), _cell(ev, EV_CELLS + 5, i0, q[1])
+    for c in range(ncls):
+        c0 = max(lay.class_lo[coff + c], i0)
+        c1 = min(lay.class_hi[coff + c], i1)
+        if c0 >= c1:
+            continue
+        o0 = trace[voff + r0 * ncls + c]  # (a row off the last support has trace 0)
+        n0 = np.float64(_new_trace(o0, scr.decay[c], scr.add[c], x[0], cut, ev, EV_CELLS, i0))
+        k0 = o0 if form == FOLLOWS_DELTA else p0
+        if two:
+            o1 = trace[voff + r1 * ncls + c]
+            n1 = np.float64(_new_trace(o1, scr.decay[c], scr.add[c], x[1], cut, ev, EV_CELLS + 1, i0))
+            k1 = o1 if form == FOLLOWS_DELTA else p1
+            _pay_two(theta, w, bases, c0, c1, (k0, k1, o0, o1, f0, f1, p0, p1), (g[0], g[1], x[0], x[1], n0, n1),
+                     ev, acc)  # fmt: skip
+        else:
+            _pay_one(theta, w, bases[0], c0, c1, (k0, o0, f0, p0), (g[0], x[0], n0), ev, acc)
+
+
+@njit(**NO_NRT)
+def columns(b, i0, i1, lay, wts, dem, cls, stp, scr, form):
+    """Block b's demons i0 <= i < i1 (see the module): one walk over the last support, x_t and x_{t+1} pays what
+    the last step owes and sums theta . x_{t+1}, w . x_t and w . e_t from the paid rows (the rows that pay, two at
+    a time); then the TD errors and what this step owes; x_t's rows left without a trace pay its terms along
+    x_t at once."""
+    if i0 >= i1:
+        return
+    lo, woff, voff, ncls, coff, toff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b], lay.toff[b]
+    db = lay.block_hi[b] - lo
+    theta, w, trace, support, support_f, old = wts.theta, wts.w, wts.trace, wts.support, wts.support_f, wts.nnz[b]
+    owed, ev, cut = wts.owed, scr.ev, lay.cut
+    acc_v, acc_wx, acc_we = scr.work[1], scr.work[2], scr.work[3]  # theta . x_{t+1}, w . x_t, w . e_t
+    x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
+    nt, k = x_t.shape[0], x_tp1.shape[0]
+    for i in range(i0, i1):
+        d = lo + i
+        ev[EV_K, i] = owed[OWED_A, d] + owed[OWED_M, d]  # (one of the two is 0: `form`)
+        ev[EV_B, i] = owed[OWED_B, d]
+        ev[EV_C, i] = owed[OWED_C, d]
+        ev[EV_D, i] = owed[OWED_D, d]
+        acc_v[i] = 0.0
+        acc_wx[i] = 0.0
+        acc_we[i] = 0.0
+    s = 0
+    j = 0
+    m = 0
+    waiting = False  # a row that pays, held for its pair (r0: the row; x0, q0, g0: x_t's, x_{t-1}'s, x_{t+1}'s)
+    r0 = np.int64(0)
+    x0 = q0 = g0 = 0.0
+    while s < old or j < nt or m < k:
+        r_s = support[toff + s] if s < old else NONE
+        r_j = x_t[j] if j < nt else NONE
+        r_m = x_tp1[m] if m < k else NONE
+        row = min(r_s, min(r_j, r_m))
+        g = v_tp1[m] if r_m == row else 0.0
+        if r_s == row or r_j == row:
+            x = v_t[j] if r_j == row else 0.0
+            q = support_f[toff + s] if r_s == row else 0.0
+            if waiting:
+                _pay_rows(b, i0, i1, lay, wts, scr, (r0, row), (x0, x), (q0, q), (g0, g), True, form)
+            else:
+                r0, x0, q0, g0 = row, x, q, g
+            waiting = not waiting
+            s += 1 if r_s == row else 0
+            j += 1 if r_j == row else 0
+        elif g != 0.0:  # a row of x_{t+1} alone: theta read only (it owes nothing there)
+            base = at(woff + row * db)
+            for i in range(i0, i1):
+                u = at(i)
+                acc_v[u] += g * theta[base + u]
+        m += 1 if r_m == row else 0
+    if waiting:
+        _pay_rows(b, i0, i1, lay, wts, scr, (r0, r0), (x0, x0), (q0, q0), (g0, g0), False, form)
+    lam = lay.lam[b]
+    for i in range(i0, i1):
+        d = lo + i
+        g1 = cls.gamma_tp1[lay.slot_class[d]]
+        dl = td_error_at(dem.r[d], dem.z[d], g1, acc_v[i], dem.q[d, 0])
+        dem.delta[d] = dl
+        scr.values[0, i] = acc_v[i]
+        a, a_w = dem.alpha[d], dem.alpha_w[d]  # a frozen demon (step sizes 0) owes nothing, whatever its delta
+        owed[OWED_A, d] = a * dl if a != 0.0 and form == FOLLOWS_DELTA else 0.0
+        owed[OWED_B, d] = a_w * dl * scr.scales[0, i] if a_w != 0.0 else 0.0
+        owed[OWED_D, d] = a_w * acc_wx[i] * scr.scales[1, i] if a_w != 0.0 and form != FOLLOWS_U else 0.0
+        move = a * acc_wx[i] * scr.scales[2, i] if a != 0.0 and form != FOLLOWS_DELTA else 0.0
+        owed[OWED_M, d] = move * scr.add[lay.slot_class[d] - coff] if form == FOLLOWS_U else move  # (rho_t)
+        owed[OWED_C, d] = a * g1 * (1.0 - lam) * acc_we[i] * scr.scales[2, i] if a != 0.0 else 0.0
+    # x_t's rows that the merge will leave without a trace (in no support next step): its terms along x_t now
+    for j in range(nt):
+        row = x_t[j]
+        f = v_t[j]
+        left = False
+        for c in range(ncls):
+            e_new = _new_trace(trace[voff + row * ncls + c], scr.decay[c], scr.add[c], f, cut, ev, EV_CELLS, i0)
+            left = left or e_new != 0.0
+        if left:
+            continue
+        base = at(woff + row * db)
+        for i in range(i0, i1):
+            u = at(i)
+            w[base + u] -= f * owed[OWED_D, lo + i]
+            theta[base + u] += f * owed[OWED_M, lo + i]
+
+
+@njit(**NO_NRT, inline="always")
+def finish(b, lay, wts, dem, cls, onl, stp, scr, scaled):
+    """After every column: the traces move to e_t (the merge; x_t's value on each support row kept beside it), the
+    values at s_{t+1} take what this step owes (the module's algebra) and become the demons' values and
+    predictions; each class's continuation moves to s_{t+1}; a w kept scaled folds a scale below SCALE_FLOOR."""
+    lo, voff, ncls, coff, toff = lay.block_lo[b], lay.voff[b], lay.ncls[b], lay.coff[b], lay.toff[b]
+    db = lay.block_hi[b] - lo
+    kept, _ = merge(b, lay, wts, scr, stp.x_t, stp.v_t, 0, False)
+    for s in range(kept):
+        wts.support_f[toff + s] = scr.rows_f[s]
+    trace, owed, values = wts.trace, wts.owed, scr.values
+    x_tp1, v_tp1 = stp.x_tp1, stp.v_tp1
+    shared = dot(stp.x_t, stp.v_t, x_tp1, v_tp1)
+    own_dot = square(v_tp1)
+    for c in range(ncls):
+        e_dot_x = 0.0
+        for j in range(x_tp1.shape[0]):
+            e_dot_x += v_tp1[j] * np.float64(trace[voff + x_tp1[j] * ncls + c])
+        for i in range(lay.class_lo[coff + c], lay.class_hi[coff + c]):
+            d = lo + i
+            values[0, i] += owed[OWED_A, d] * e_dot_x + owed[OWED_M, d] * shared - owed[OWED_C, d] * own_dot
+    observe_range(b, 0, db, lay, dem, cls, values)
+    for c in range(ncls):
+        cls.gamma[coff + c] = cls.gamma_tp1[coff + c]
+    if scaled:
+        _fold(b, lay, wts, onl)
+
+
+@njit(**NO_NRT)
+def _fold(b, lay, wts, onl):
+    """A demon's scale of w below SCALE_FLOOR folded back into w (and into what w owes, in the same units)."""
+    lo, woff, rows = lay.block_lo[b], lay.woff[b], lay.rows[b]
+    db = lay.block_hi[b] - lo
+    for i in range(db):
+        s = onl.scale[lo + i]
+        if s < SCALE_FLOOR:
+            for row in range(rows):
+                wts.w[woff + row * db + i] *= s
+            wts.owed[OWED_B, lo + i] *= s
+            wts.owed[OWED_D, lo + i] *= s
+            onl.scale[lo + i] = 1.0
+
+
+@njit(**NO_NRT)
+def settle(b, lay, wts, x, v):
+    """Pay what block b owes (the module's five numbers a demon: on the support's rows, with x_t's value kept
+    beside each, and on the rows x of x_{t+1}, values v); owe nothing more."""
+    lo, woff, voff, ncls, coff, toff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b], lay.toff[b]
+    db = lay.block_hi[b] - lo
+    owed = wts.owed
+    owing = False
+    for r in range(OWED_ROWS):
+        for i in range(db):
+            owing = owing or owed[r, lo + i] != 0.0
+    if not owing:
+        return
+    theta, w, trace, support = wts.theta, wts.w, wts.trace, wts.support
+    pay_a, pay_b, pay_c = owed[OWED_A, lo : lo + db], owed[OWED_B, lo : lo + db], owed[OWED_C, lo : lo + db]
+    pay_d, pay_m = owed[OWED_D, lo : lo + db], owed[OWED_M, lo : lo + db]
+    for s in range(wts.nnz[b]):
+        row = support[toff + s]
+        f = wts.support_f[toff + s]
+        base = at(woff + row * db)
+        for c in range(ncls):
+            e = np.float64(trace[voff + row * ncls + c])
+            for i in range(lay.class_lo[coff + c], lay.class_hi[coff + c]):
+                u = at(i)
+                theta[base + u] += pay_a[u] * e + pay_m[u] * f
+                w[base + u] += pay_b[u] * e - pay_d[u] * f
+    for j in range(x.shape[0]):
+        base = at(woff + x[j] * db)
+        for i in range(db):
+            theta[base + at(i)] -= v[j] * pay_c[at(i)]
+    for r in range(OWED_ROWS):
+        for i in range(db):
+            owed[r, lo + i] = 0.0
