@@ -15,7 +15,7 @@ import math
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
-from horde.core.engine.rows import at
+from horde.core.engine.rows import at, fold_floor
 from horde.core.metrics import RUPEE_ALPHA_H, RUPEE_BETA, UDE_BETA
 
 SCALE_FLOOR = 1e-200  # RUPEE's lazily decayed average is folded back in below this scale
@@ -29,7 +29,8 @@ def start_group(g, grp, lay, met):
     met.tau[g, 1] = (1 - UDE_BETA) * met.tau[g, 1] + UDE_BETA
     beta = RUPEE_BETA / met.tau[g, 0]
     decayed = met.scale[g] * (1.0 - beta)
-    if decayed < SCALE_FLOOR:  # fold the scale back in (the first step's beta is 1): one pass over the group
+    # fold the scale back in (the first step's beta is 1): one pass over the group
+    if decayed < fold_floor(met.u, SCALE_FLOOR):
         for b in range(grp.block_lo[g], grp.block_hi[g]):
             woff, size = lay.woff[b], lay.rows[b] * (lay.block_hi[b] - lay.block_lo[b])
             for j in range(woff, woff + size):

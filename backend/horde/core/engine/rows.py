@@ -180,3 +180,15 @@ def walk(rows, kept, s, x_t, v_t, j, x_tp1, v_tp1, m):
         on_next = v_tp1[m]
         m += 1
     return row, in_support, on_x, on_next, s + (1 if in_support else 0), j, m
+
+
+FLOAT32_FOLD = 1e-20  # a scale kept beside float32 vectors is folded back in below this (see `fold_floor`)
+
+
+@njit(**NO_NRT)
+def fold_floor(vectors, float64_floor):
+    """The scale below which a lazily kept scale (TDRC's and the original GTD's s of h = s w, RUPEE's of u) is
+    folded back into the per-weight `vectors` it divides: `float64_floor` for float64 vectors, FLOAT32_FOLD for
+    float32. A vector is kept divided by its scale, so it grows as the scale shrinks: float32's largest number
+    is 3.4e38, and a scale of 1e-40 made TDRC's w and RUPEE's u infinite; above 1e-20 a value up to 1e18 fits."""
+    return FLOAT32_FOLD if vectors.itemsize == 4 else float64_floor

@@ -38,7 +38,7 @@ import numpy as np
 from numba import njit
 
 from horde.core.engine.layout import EV_ROWS, NO_NRT, OWED_ROWS
-from horde.core.engine.rows import at, dot, square
+from horde.core.engine.rows import at, dot, fold_floor, square
 from horde.core.engine.rows import td_error as td_error_at
 from horde.core.engine.traces import merge
 from horde.core.engine.values import observe_range
@@ -64,7 +64,7 @@ def prepare(b, lay, dem, cls, onl, scr, scaled):
         scr.decay[c] = cls.gamma[coff + c] * lay.lam[b] * rho
         scr.add[c] = rho
     if scaled:
-        move_scales(b, lay, dem, onl, scr)
+        move_scales(b, lay, dem, onl, scr, fold_floor(scr.ev, SCALE_FLOOR))
     else:
         for i in range(lay.block_hi[b] - lay.block_lo[b]):
             scr.scales[0, i] = 1.0
@@ -279,12 +279,14 @@ def finish(b, lay, wts, dem, cls, onl, stp, scr, scaled):
 
 @njit(**NO_NRT)
 def _fold(b, lay, wts, onl):
-    """A demon's scale of w below SCALE_FLOOR folded back into w (and into what w owes, in the same units)."""
+    """A demon's scale of w below SCALE_FLOOR (float32: `rows.fold_floor`) folded back into w (and into what w
+    owes, in the same units)."""
     lo, woff, rows = lay.block_lo[b], lay.woff[b], lay.rows[b]
     db = lay.block_hi[b] - lo
+    floor = fold_floor(wts.w, SCALE_FLOOR)
     for i in range(db):
         s = onl.scale[lo + i]
-        if s < SCALE_FLOOR:
+        if s < floor:
             for row in range(rows):
                 wts.w[woff + row * db + i] *= s
             wts.owed[OWED_B, lo + i] *= s

@@ -72,7 +72,7 @@ def tdrc_update(
 
 
 @njit(**NO_NRT)
-def move_scales(b, lay, dem, onl, scr):
+def move_scales(b, lay, dem, onl, scr, floor):
     """Each demon's scale of h moves on, s' = s (1 - alpha_h beta), and the gradient pass (`gtd_pass`) takes w's
     step divided by s' (`Scratch.scales[0]`), alpha_h (w . x_t) times s / s' ([1]) and w . e, w . x times s ([2]).
     (`gtd_pass.finish` folds a scale below SCALE_FLOOR back into w.)"""
@@ -82,7 +82,7 @@ def move_scales(b, lay, dem, onl, scr):
         s = onl.scale[d]
         s_next = s * (1.0 - dem.alpha_w[d] * lay.beta[d])  # a frozen demon (alpha_w 0) keeps its scale
         if s_next == 0.0:  # alpha_h beta = 1 drops h whole at every step (no setting of the paper's comes near)
-            s_next = SCALE_FLOOR
+            s_next = floor  # (SCALE_FLOOR, or float32's: `rows.fold_floor`)
         scr.scales[0, i] = 1.0 / s_next
         scr.scales[1, i] = s / s_next
         scr.scales[2, i] = s
