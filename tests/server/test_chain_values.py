@@ -76,3 +76,20 @@ def test_a_chain_runs_history_records_rmsve_and_rmspbe_as_the_values_report_comp
     assert history["prediction"] and history["rmsve"] is None and history["rmspbe"] is None
     export = client.get(f"/api/runs/{grid}/export/history?format=json").json()
     assert export and export[0]["rmsve"] is None and "rmspbe" in export[0]
+
+
+def test_a_question_with_no_finite_answer_has_no_truth_and_its_run_learns_on(client: TestClient) -> None:
+    """A discount of 1 on Baird's star (which never ends) asks for an infinite sum: I - M is singular. Its run
+    still learns (its history carries no RMSVE for that demon, not a failed run), and its values have no truth,
+    while a discounted demon beside it has one."""
+    demons = [{"name": "forever", "learner": "td", "step_size": "autostep", "discount": 1.0},
+              {"name": "discounted", "learner": "td", "discount": 0.9}]  # fmt: skip
+    run = client.post("/api/runs", json={"scenario": "baird", "demons": demons}).json()["id"]
+    state = client.post(f"/api/runs/{run}/step", json={"steps": 50})
+    assert state.status_code == 200 and state.json()["step"] == 50, state.text
+    assert client.get(f"/api/runs/{run}").json()["status"] != "failed"
+    forever = client.get(f"/api/runs/{run}/demons/forever/values")
+    assert forever.status_code == 200 and forever.json().get("exact") is None, forever.text
+    assert client.get(f"/api/runs/{run}/demons/discounted/values").json()["exact"] is not None
+    history = client.get(f"/api/runs/{run}/demons/forever/history").json()
+    assert history["rmsve"] is not None and all(v is None for v in history["rmsve"]), history["rmsve"]

@@ -151,11 +151,19 @@ class Recorder:
         if not measure and latest is not None and len(latest[0]) == D and now < self._next_errors:
             return latest
         horde, spec, errors = self._errors
-        if horde is not sim.horde or spec is not session.spec:  # the truths: once per set of demons and behaviour
-            errors = state_errors(sim.horde, session.spec)
-            self._errors = (sim.horde, session.spec, errors)
-        cpu = time.thread_time()  # what a measurement costs (the truths above are made once)
-        latest = errors.measure(sim.view_state()) if errors is not None else (np.full(D, np.nan), np.full(D, np.nan))
+        cpu = time.thread_time()
+        try:  # a measure never stops the run it measures: what it cannot measure reads NaN
+            if horde is not sim.horde or spec is not session.spec:  # the truths: once per set of demons and behaviour
+                errors = state_errors(sim.horde, session.spec)
+                self._errors = (sim.horde, session.spec, errors)
+            cpu = time.thread_time()  # what a measurement costs (the truths above are made once)
+            latest = errors.measure(sim.view_state()) if errors is not None else None
+        except Exception:
+            log.exception("RMSVE and RMSPBE could not be measured; they read NaN for this run")
+            self._errors = (sim.horde, session.spec, None)
+            latest = None
+        if latest is None:
+            latest = (np.full(D, np.nan), np.full(D, np.nan))
         self._latest_errors, self._measured_at = latest, sim.total_steps
         self._next_errors = now + max(STATE_ERRORS_INTERVAL, 20 * (time.thread_time() - cpu))
         return latest

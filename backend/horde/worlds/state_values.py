@@ -172,13 +172,21 @@ def demon_truth(horde: Horde, name: str, chain: Model | None = None, spec: RunSp
     question = repr((demon.policy, demon.cumulant, demon.outcome, demon.continuation, demon.discount))
     if question not in cache:
         cache[question] = _question(spec, chain, demon, pi)
+    if cache[question] is None:
+        return None
     M, r, exact = cache[question]
     group = next(g for g in horde.groups if horde.index[name] in g.demons)
     X = group.coder.dense(np.zeros(n), np.zeros(n), sensors=state_sensors(spec, chain))  # [N, n]
     lam = float(demon.lam)
     if (question, lam) not in cache:  # (I - lambda M)^-1 r, and (I - lambda M)^-1 itself (None: lambda 0, I)
-        trace = np.linalg.inv(np.eye(n) - lam * M) if lam != 0.0 else None
-        cache[question, lam] = (trace, trace @ r if trace is not None else r)
+        try:
+            trace = np.linalg.inv(np.eye(n) - lam * M) if lam != 0.0 else None
+        except np.linalg.LinAlgError:  # lambda 1 on a question that never ends: no projected Bellman error
+            cache[question, lam] = None
+        else:
+            cache[question, lam] = (trace, trace @ r if trace is not None else r)
+    if cache[question, lam] is None:
+        return None
     trace, trace_r = cache[question, lam]
     moved = (np.eye(n) - M) @ X  # [N, n]
     A = X.T @ (d[:, None] * (trace @ moved if trace is not None else moved))  # [n, n], O(N^2 n), not O(N^3)
@@ -187,8 +195,12 @@ def demon_truth(horde: Horde, name: str, chain: Model | None = None, spec: RunSp
     return DemonTruth(chain.states, exact, X @ w, d, X, lam, M, r, trace)
 
 
-def _question(spec: RunSpec, chain: Model, demon: Any, pi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """M [N, N], r [N] and the exact values [N] of a demon's question under its target policy pi [N, A]."""
+def _question(
+    spec: RunSpec, chain: Model, demon: Any, pi: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """M [N, N], r [N] and the exact values [N] of a demon's question under its target policy pi [N, A]; None
+    where the question has no finite answer (a continuation of 1 on a world that never ends, as a discount of 1
+    on Baird's star: I - M is singular)."""
     rows = _rows(spec, chain.obs, chain.reward, chain.terminated.astype(float))
     names = spec.world.sensor_names()
     values = Program([demon.cumulant, demon.outcome, demon.continuation], {n: i for i, n in enumerate(names)},
@@ -199,7 +211,10 @@ def _question(spec: RunSpec, chain: Model, demon: Any, pi: np.ndarray) -> tuple[
     M = _matrix(chain, weight * gamma)
     r = np.zeros(len(chain.states))
     np.add.at(r, chain.src, weight * (values[:, 0] + (1.0 - gamma) * values[:, 1]))
-    return M, r, np.linalg.solve(np.eye(len(chain.states)) - M, r)
+    try:
+        return M, r, np.linalg.solve(np.eye(len(chain.states)) - M, r)
+    except np.linalg.LinAlgError:
+        return None
 
 
 @dataclass(frozen=True)
