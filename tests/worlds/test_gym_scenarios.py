@@ -5,24 +5,15 @@ These run the scenarios' full protocols (a minute or more each on a busy machine
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
 import pytest
+from benchmarks.float32_scenarios import representable
 
 from horde.scenarios import load_scenario
 from horde.worlds.protocol import run_gym_protocol
 
 SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
-
-
-def representable(name: str) -> bool:
-    """The MountainCar questions the features represent (README): the discounted position and velocity at every
-    timescale and policy, and "above x" for x below 0 (the valley) up to gamma 0.95."""
-    if name.startswith(("position_", "velocity_")):
-        return True
-    above = re.fullmatch(r"above(-?[0-9.]+)_g([0-9.]+)_\w+", name)
-    return above is not None and float(above.group(1)) < 0 and float(above.group(2)) <= 0.95
 
 
 @pytest.mark.slow
