@@ -15,7 +15,7 @@ import { ref } from "lit-html/directives/ref.js";
 import { repeat } from "lit-html/directives/repeat.js";
 import { styleMap } from "lit-html/directives/style-map.js";
 import { type App, type AppState, chartedDemons, state, watchState } from "../app/app";
-import { watchQuery } from "../app/queries";
+import { followRunRead } from "../app/run-reads";
 import { reads } from "../app/reads";
 import { mount } from "../app/view";
 import type { Evaluation, History } from "../api/types";
@@ -115,34 +115,13 @@ function watchMarks(app: App, scope: Scope): Map<string, EvaluationMark[]> {
  * choice, the run or an evaluation changes, and after a step of a paused run.
  */
 function watchHistories(app: App, scope: Scope, onRead: (read: History[]) => void): void {
-  let readAtStep: number | null = null;
-  const watchOf = (now: AppState) => {
-    const runId = now.selectedRunId ?? "";
-    const query = reads.histories(runId, chartedDemons(now));
-    return {
-      queryKey: query.queryKey,
-      queryFn: () => {
-        readAtStep = state(app).live?.step ?? null;
-        return query.queryFn();
-      },
-      every: now.live?.status === "running" ? REFRESH_MS : (false as const),
-      enabled: runId !== "" && chartedDemons(now).length > 0 && now.tab === "live",
-    };
-  };
-  // A demon removed or a run deleted between two reads fails a reading: the next one catches up.
-  const histories = watchQuery(app.client, watchOf(state(app)), onRead, undefined, scope);
+  const readOf = (now: AppState) => ({
+    query: reads.histories(now.selectedRunId ?? "", chartedDemons(now)),
+    every: REFRESH_MS,
+    enabled: (now.selectedRunId ?? "") !== "" && chartedDemons(now).length > 0 && now.tab === "live",
+  });
   const topics = ["selectedRunId", "charted", "tab", "classroom", "demons", "evaluations", "large"] as const;
-  watchState(app, scope, topics, (now) => {
-    const watch = watchOf(now);
-    histories.update(watch);
-    if (watch.enabled) void histories.refetch();
-  });
-  watchState(app, scope, ["live"], (now) => {
-    const watch = watchOf(now);
-    histories.update(watch);
-    const step = now.live?.step ?? null;
-    if (watch.enabled && now.live?.status !== "running" && step !== readAtStep) void histories.refetch();
-  });
+  followRunRead(app, scope, topics, readOf, onRead);
 }
 
 /** The truth to draw: [value, low, high] (low = high = value when exact), or null before an evaluation. */

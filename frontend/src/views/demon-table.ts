@@ -17,7 +17,7 @@ import { repeat } from "lit-html/directives/repeat.js";
 import { styleMap } from "lit-html/directives/style-map.js";
 import { attempt, evaluateDemon, notify, removeDemon } from "../app/actions";
 import { type App, type AppState, state, watchState } from "../app/app";
-import { watchQuery } from "../app/queries";
+import { followRunRead } from "../app/run-reads";
 import { reads } from "../app/reads";
 import type { Demon } from "../api/types";
 import { evaluationKind, gridWorld } from "../api/types";
@@ -119,44 +119,27 @@ export function demonTable(app: App, scope: Scope): HTMLElement {
  * MAX_ERROR_DEMONS demons.
  */
 function watchErrors(table: Table): void {
-  const { app, scope } = table;
-  let readAtStep: number | null = null;
-  const watchOf = (now: AppState) => {
-    const runId = now.selectedRunId ?? "";
+  const onRead = (errors: Map<string, StateErrors> | null) => {
+    table.errors = errors;
+    table.draw();
+  };
+  const readOf = (now: AppState) => {
     const names = now.demons.map((d) => d.name);
-    const query = reads.stateErrors(runId, names);
     return {
-      queryKey: query.queryKey,
-      queryFn: () => {
-        readAtStep = state(app).live?.step ?? null;
-        return query.queryFn();
-      },
-      every: now.live?.status === "running" ? ERRORS_REFRESH_MS : (false as const),
+      query: reads.stateErrors(now.selectedRunId ?? "", names),
+      every: ERRORS_REFRESH_MS,
       enabled:
-        runId !== "" &&
+        (now.selectedRunId ?? "") !== "" &&
         evaluationKind(now.run) === "rollouts" &&
         names.length > 0 &&
         names.length <= MAX_ERROR_DEMONS &&
         now.tab === "live",
     };
   };
-  const onRead = (errors: Map<string, StateErrors> | null) => {
-    table.errors = errors;
-    table.draw();
+  const clear = () => {
+    if (table.errors !== null) onRead(null);
   };
-  const watcher = watchQuery(app.client, watchOf(state(app)), onRead, undefined, scope);
-  watchState(app, scope, ["selectedRunId", "run", "demons", "tab"], (now) => {
-    const watch = watchOf(now);
-    if (!watch.enabled && table.errors !== null) onRead(null);
-    watcher.update(watch);
-    if (watch.enabled) void watcher.refetch();
-  });
-  watchState(app, scope, ["live"], (now) => {
-    const watch = watchOf(now);
-    watcher.update(watch);
-    const step = now.live?.step ?? null;
-    if (watch.enabled && now.live?.status !== "running" && step !== readAtStep) void watcher.refetch();
-  });
+  followRunRead(table.app, table.scope, ["selectedRunId", "run", "demons", "tab"], readOf, onRead, clear);
 }
 
 function panel(table: Table, now: AppState) {
