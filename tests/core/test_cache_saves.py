@@ -27,7 +27,8 @@ def slow_read(self):
 caching.IndexDataCacheFile._load_index = slow_read
 sys.path.insert(0, sys.argv[1])
 go = Path(sys.argv[1]) / "go"
-while not go.exists():
+deadline = time.monotonic() + 60
+while not go.exists() and time.monotonic() < deadline:
     time.sleep(0.01)
 import twice
 print(twice.plus_one(1.5 if sys.argv[2] == "float" else 1))
@@ -49,9 +50,15 @@ def test_two_processes_compiling_one_function_keep_both_entries(tmp_path: Path) 
     pipes = {"stdout": subprocess.PIPE, "stderr": subprocess.PIPE, "text": True}
     procs = [subprocess.Popen([sys.executable, "-c", COMPILE, str(tmp_path), kind], env=env, **pipes)
              for kind in ("float", "int")]  # fmt: skip
-    time.sleep(0.5)  # both import numba before they may compile (an ordering, not a timing assertion)
-    (tmp_path / "go").touch()
-    outputs = [p.communicate(timeout=120) for p in procs]
+    try:
+        time.sleep(0.5)  # both import numba before they may compile (an ordering, not a timing assertion)
+        (tmp_path / "go").touch()
+        outputs = [p.communicate(timeout=120) for p in procs]
+    finally:
+        for p in procs:  # ours, by their ids, if a wait above ran out
+            if p.poll() is None:
+                p.kill()
+                p.wait(timeout=10)
     assert [p.returncode for p in procs] == [0, 0], outputs
     assert [out.strip() for out, _ in outputs] == ["2.5", "2"]
 
