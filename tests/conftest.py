@@ -1,6 +1,10 @@
-"""Settings every test shares: the in-process test client's `Host` is allowed; no two tests that make test
-runs in two processes share one id; and those two processes take the tests a file at a time, but every test
-whose id names float32 goes to one process (`Float32Together`).
+"""Settings every test shares: the in-process test client's `Host` is allowed; Hypothesis sets no deadline; no two
+tests that make test runs in two processes share one id; and those two processes take the tests a file at a
+time, but every test whose id names float32 goes to one process (`Float32Together`).
+
+Hypothesis' default deadline (200 ms an example) fails an example that compiles a kernel on a cold numba
+cache (2 s; seen in tests/core/test_features.py after an edit to the engine): a property test asserts
+results, and its time is bounded by the test's timeout (pytest-timeout) like every other test's.
 
 Starlette's TestClient sends `Host: testserver`, which the server's DNS-rebinding guard refuses
 (server/hosts.py). The tests' servers accept that one name through HORDE_ALLOWED_HOSTS, as a user
@@ -13,9 +17,12 @@ import os
 from collections import Counter
 
 import pytest
+from hypothesis import settings
 from xdist.scheduler import LoadFileScheduling
 
 os.environ["HORDE_ALLOWED_HOSTS"] = '["testserver"]'
+settings.register_profile("horde", deadline=None)
+settings.load_profile("horde")
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
