@@ -374,9 +374,9 @@ def _gather(mark, row, n_s, e, ex, i0):
     """ex[a, i0 + i] += e[i] times x_bar's value on the support row `row` at s_{t+1} for action a (`mark`)."""
     m = mark[row]
     if m != 0.0:
-        a = row // n_s
-        for i in range(e.shape[0]):
-            ex[a, i0 + i] += m * np.float64(e[i])
+        ex_a = ex[row // n_s]
+        for i in range(e.shape[0]):  # (a row view and unsigned offsets: the loop vectorizes, `rows.at`)
+            ex_a[at(i0 + i)] += m * np.float64(e[i])
 
 
 @njit(**NO_NRT)
