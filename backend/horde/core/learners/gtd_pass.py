@@ -38,7 +38,7 @@ import numpy as np
 from numba import njit
 
 from horde.core.engine.layout import EV_ROWS, NO_NRT, OWED_ROWS
-from horde.core.engine.rows import at, dot, fold_floor, square
+from horde.core.engine.rows import add_row, at, dot, fold_floor, square
 from horde.core.engine.rows import td_error as td_error_at
 from horde.core.engine.traces import merge
 from horde.core.engine.values import observe_range
@@ -220,10 +220,7 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr, form):
             s += 1 if r_s == row else 0
             j += 1 if r_j == row else 0
         elif g != 0.0:  # a row of x_{t+1} alone: theta read only (it owes nothing there)
-            base = at(woff + row * db)
-            for i in range(i0, i1):
-                u = at(i)
-                acc_v[u] += g * theta[base + u]
+            add_row(i0, i1, at(woff + row * db), theta, acc_v, g)
         m += 1 if r_m == row else 0
     if waiting:
         _pay_rows(b, i0, i1, lay, wts, scr, (r0, r0), (x0, x0), (q0, q0), (g0, g0), False, form)
