@@ -36,15 +36,26 @@ START_TIMEOUT = 120.0  # seconds for the head to accept a driver
 GCS_RECONNECT_SECONDS = 10  # a driver of this Ray gives its GCS up after this long (Ray's default: 60)
 
 
-def free_port() -> int:
-    """A free TCP port on loopback, outside Ray's worker range."""
-    for _ in range(200):
-        with socket.socket() as s:
+def free_ports(count: int) -> list[int]:
+    """`count` distinct free TCP ports on loopback, outside Ray's worker range. Every socket stays bound until all
+    are chosen: ports taken one at a time can repeat (the system handed a just-closed port to the next bind, and
+    Ray's head refused to start with its GCS and runtime-env agent on one port)."""
+    ports: list[int] = []
+    with contextlib.ExitStack() as bound:
+        for _ in range(200 + count):
+            s = bound.enter_context(socket.socket())
             s.bind((LOOPBACK, 0))
             port = int(s.getsockname()[1])
-        if port not in RAY_WORKER_PORTS:
-            return port
+            if port not in RAY_WORKER_PORTS:
+                ports.append(port)
+            if len(ports) == count:
+                return ports
     raise RuntimeError("no free port outside 10002-19999")
+
+
+def free_port() -> int:
+    """A free TCP port on loopback, outside Ray's worker range."""
+    return free_ports(1)[0]
 
 
 def ray_command() -> str:
@@ -102,11 +113,10 @@ class LocalRay:
             return self._address
 
     def _start(self) -> None:
-        port = free_port()
-        ports = {"--port": port, "--node-manager-port": free_port(), "--object-manager-port": free_port(),
-                 "--dashboard-agent-listen-port": free_port(),
-                 "--dashboard-agent-grpc-port": free_port(), "--metrics-export-port": free_port(),
-                 "--runtime-env-agent-port": free_port()}  # fmt: skip
+        flags = ("--port", "--node-manager-port", "--object-manager-port", "--dashboard-agent-listen-port",
+                 "--dashboard-agent-grpc-port", "--metrics-export-port", "--runtime-env-agent-port")  # fmt: skip
+        ports = dict(zip(flags, free_ports(len(flags)), strict=True))
+        port = ports["--port"]
         command = [ray_command(), "start", "--head", "--block", f"--node-ip-address={LOOPBACK}",
                    f"--num-cpus={self.cpus}", "--include-dashboard=false", "--disable-usage-stats",
                    *(f"{flag}={value}" for flag, value in ports.items())]  # fmt: skip
