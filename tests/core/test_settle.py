@@ -1,12 +1,13 @@
 """What the learners owe is settled wherever something outside the compiled loop reads the weights.
 
-TD defers each update by one step (`learners.td_pass`), GTD and the learners sharing its kernel (TDRC, GTD2, the
-original GTD) theirs (`learners.gtd_pass`), GQ its correction at x_{t+1} (`learners.gradient`): theta and w owe
-between the steps of a call. Each test below reads the weights at one such place after many steps in one call
-(so with something owed), against the plain reference fed the same transitions one step at a time, for a Horde
-of TD demons and one of the GTD family (`family`); each fails when the settling that guards its place is taken
-out (checked: the end of a call, `loop.run`; an episode's start, `step.observe`; a freeze,
-`step.freeze_diverged`, in tests/core/test_fast.py), and the GTD family's when `gtd_pass.settle` is.
+TD, emphatic TD and true online TD defer each update by one step (`learners.td_pass`), GTD and the learners
+sharing its kernel (TDRC, GTD2, the original GTD) theirs (`learners.gtd_pass`), GQ its correction at x_{t+1}
+(`learners.gradient`): theta and w owe between the steps of a call. Each test below reads the weights at one such
+place after many steps in one call (so with something owed), against the plain reference fed the same
+transitions one step at a time, for a Horde of TD demons, one of the GTD family, one of emphatic TD and one of
+true online TD (`family`); each fails when the settling that guards its place is taken out (checked: the end of
+a call, `loop.run`; an episode's start, `step.observe`; a freeze, `step.freeze_diverged`, in
+tests/core/test_fast.py), and each family's when its learner's settle is.
 """
 
 from __future__ import annotations
@@ -38,6 +39,20 @@ FAMILIES: dict[str, list[dict[str, Any]]] = {
          "reset": "episode"},
         {"name": "y", "learner": "gtd2", "policy": TARGET, "cumulant": {"sensor": "y"}, "discount": 0.8},
         {"name": "y1", "learner": "gtd1", "policy": TARGET, "cumulant": {"sensor": "y"}, "discount": 0.8},
+    ],
+    "etd": [  # emphatic TD on TD's kernel: the followon and emphasis in the trace, two classes, one forgetting
+        {"name": "bump", "learner": "etd", "policy": TARGET, "cumulant": {"sensor": "bump"}, "discount": 0.9},
+        {"name": "x", "learner": "etd", "policy": "uniform", "cumulant": {"sensor": "x"}, "discount": 0.5},
+        {"name": "bump2", "learner": "etd", "policy": TARGET, "cumulant": {"sensor": "bump"}, "discount": 0.9,
+         "reset": "episode"},
+    ],
+    "true_online_td": [  # the walk pays along x_{t-1} too; two classes (alpha 0.2 and 0.1: a dutch trace holds it)
+        {"name": "bump", "learner": "true_online_td", "policy": TARGET, "cumulant": {"sensor": "bump"},
+         "discount": 0.9},
+        {"name": "x", "learner": "true_online_td", "policy": "uniform", "cumulant": {"sensor": "x"}, "discount": 0.5,
+         "alpha": 0.1},
+        {"name": "bump2", "learner": "true_online_td", "policy": TARGET, "cumulant": {"sensor": "bump"},
+         "discount": 0.9, "reset": "episode"},
     ],
 }  # fmt: skip
 
@@ -90,7 +105,7 @@ def assert_weights(sim: Simulation, ref: ReferenceHorde) -> None:
         assert state.prediction[i] == pytest.approx(ref.demons[name].prediction, abs=TOLERANCE), name
         assert np.abs(ref.demons[name].theta).max() > 1e-2, f"{name} learned"
         learner = ref.demons[name].spec.learner
-        assert learner == "td" or np.abs(ref.demons[name].w).max() > 1e-3, f"{name} learned a w"
+        assert learner in ("td", "etd", "true_online_td") or np.abs(ref.demons[name].w).max() > 1e-3, f"{name} learned a w"
 
 
 def test_a_call_ends_owing_nothing(family: str) -> None:
@@ -139,3 +154,19 @@ def test_a_demon_joining_keeps_the_others_whole_weights(family: str) -> None:
         theta, w, _ = joined.horde.demon_arrays(state, name)
         np.testing.assert_allclose(theta, ref.demons[name].theta, rtol=0, atol=TOLERANCE, err_msg=name)
         np.testing.assert_allclose(w, ref.demons[name].w, rtol=0, atol=TOLERANCE, err_msg=f"{name}'s w")
+
+
+def test_true_online_td_pays_the_rows_of_x_t_that_the_cut_leaves_without_a_trace() -> None:
+    """True online TD owes fix_t x_t as well as coef_t e_t; where the cut leaves a row of x_t without a trace, the
+    next walk does not reach it, so `true_online.finish` pays it at once. A cut of 0.05 drops the fresh rows of
+    steps with rho_t below 1 (what x_t adds there is about 0.02) and keeps the rows seen lately: after every call
+    the demons' predictions are their weights times the features, as the algebra of the values assumes."""
+    data = spec(10_000, "true_online_td").model_dump(by_alias=True)
+    sim = Simulation(RunSpec.model_validate(data), cut=0.05)
+    for _ in range(300):
+        sim.step()
+        state = sim.horde_state
+        for i, name in enumerate(sim.horde.names):
+            theta = sim.horde.weights(state, name)
+            assert state.prediction[i] == pytest.approx(theta[state.features[0]].sum(), abs=1e-12), name
+    assert np.abs(sim.horde.weights(sim.horde_state, "bump")).max() > 1e-2, "it learned"

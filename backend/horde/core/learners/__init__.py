@@ -2,8 +2,8 @@
 compiled kernel for the engine.
 
 * `gradient`: GQ(lambda), GTD(lambda), off-policy TD(lambda) (GQ's kernel; TD's is `td_pass`, GTD's `gtd_pass`);
-* `true_online`: true online TD(lambda), true online GTD(lambda);
-* `emphatic`: emphatic TD(lambda);
+* `true_online`: true online TD(lambda) (its walk `td_pass.walk`), true online GTD(lambda);
+* `emphatic`: emphatic TD(lambda) (TD's kernel `td_pass`, the emphasis in its trace);
 * `adaptive`: TD(lambda) with Autostep / TIDBD step sizes;
 * `tdrc`: TD with regularized corrections (GTD's kernel `gtd_pass`, h kept scaled);
 * `gtd2`: GTD2(lambda) and the original GTD (lambda = 0): GTD's kernel, theta following the secondary weights.
@@ -71,7 +71,7 @@ def prepare(code, b, lay, wts, dem, cls, onl, stp, scr):
     elif code in (TOTD_CODE, TOGTD_CODE):
         true_online.prepare(code, b, lay, wts, dem, cls, onl, stp, scr)
     elif code == ETD_CODE:
-        emphatic.prepare(b, lay, wts, dem, cls, onl, stp, scr)
+        emphatic.prepare(b, lay, cls, onl, scr)
     else:
         adaptive.prepare(code, b, lay, wts, cls, onl, stp, scr)
 
@@ -79,7 +79,7 @@ def prepare(code, b, lay, wts, dem, cls, onl, stp, scr):
 @njit(**NO_NRT, inline="always")
 def columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
     """Block b's demons i0 <= i < i1 learn the transition (see the module)."""
-    if code == TD_CODE:
+    if code in (TD_CODE, ETD_CODE):  # emphatic TD is TD's kernel with the emphasis in its trace (`emphatic`)
         td_pass.columns(b, i0, i1, lay, wts, dem, cls, stp, scr)
     elif code in (GTD_CODE, TDRC_CODE, GTD2_CODE, GTD1_CODE):
         # One call with a run-time number: numba compiles a copy of a function for each literal argument.
@@ -88,9 +88,7 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
     elif code == GQ_CODE:
         gradient.columns(b, i0, i1, lay, wts, dem, cls, stp, scr)
     elif code in (TOTD_CODE, TOGTD_CODE):
-        true_online.columns(b, i0, i1, lay, wts, dem, stp, scr, onl)
-    elif code == ETD_CODE:
-        emphatic.columns(b, i0, i1, lay, wts, dem, stp, scr, onl)
+        true_online.columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr, onl)
     else:
         adaptive.columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr)
 
@@ -104,18 +102,22 @@ def finish(code, b, lay, wts, dem, cls, onl, stp, scr):
         gtd_pass.finish(b, lay, wts, dem, cls, onl, stp, scr, code in (TDRC_CODE, GTD1_CODE))
     elif code == GQ_CODE:
         gradient.finish(b, lay, cls, stp, scr)
+    elif code == ETD_CODE:
+        emphatic.finish(b, lay, wts, dem, cls, onl, stp, scr)
+    elif code == TOTD_CODE:
+        true_online.finish(b, lay, wts, dem, cls, onl, stp, scr)
     else:
         online.finish(b, lay, cls, onl)
 
 
 @njit(**NO_NRT)
 def settle(b, lay, wts, scr, x, v, n_s):
-    """Pay what block b owes (TD: its last update, `td_pass`; GTD, TDRC, GTD2, GTD1: theirs, `gtd_pass`, with the
-    rows x of the last x_{t+1}, values v; GQ: its correction at the last x_{t+1}, `gradient.columns`), so that theta
-    and w can be read whole."""
+    """Pay what block b owes (TD, emphatic TD, true online TD: its last update, `td_pass`; GTD, TDRC, GTD2, GTD1:
+    theirs, `gtd_pass`, with the rows x of the last x_{t+1}, values v; GQ: its correction at the last x_{t+1},
+    `gradient.columns`), so that theta and w can be read whole."""
     code = lay.learner[b]
-    if code == TD_CODE:
-        td_pass.settle(b, lay, wts, scr)
+    if code in (TD_CODE, ETD_CODE, TOTD_CODE):
+        td_pass.settle(b, lay, wts, scr, code == TOTD_CODE)
     elif code in (GTD_CODE, TDRC_CODE, GTD2_CODE, GTD1_CODE):
         gtd_pass.settle(b, lay, wts, x, v)
     elif lay.owes[b]:

@@ -1,7 +1,9 @@
 """Emphatic TD(lambda) (Sutton, Mahmood & White 2016, JMLR 17(73)), interest 1 in every state.
 
 The followon trace F and the emphasis M are the same for a whole trace class, so the engine shares the trace
-as TD's is. Readable numpy form below; `reference.etd_step` is the oracle; the compiled kernel below.
+as TD's is. Readable numpy form below; `reference.etd_step` is the oracle. The compiled kernel is TD's
+(`td_pass`: one pass over the rows a step, each update owed to the next) with the emphasis in what x_t adds to
+the trace: ETD's update, alpha delta_t e_t, has TD's form.
 """
 
 from __future__ import annotations
@@ -10,9 +12,8 @@ import numpy as np
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
-from horde.core.engine.traces import merge
+from horde.core.learners import td_pass
 from horde.core.learners.base import Kernel, OnlineState, check_online, target
-from horde.core.learners.online import class_bounds, dutch_columns, read_errors, store_values
 from horde.spec.learners import LearnerInfo, register
 
 ETD = register(LearnerInfo(
@@ -47,29 +48,24 @@ def etd_update(
 
 
 @njit(**NO_NRT)
-def prepare(b, lay, wts, dem, cls, onl, stp, scr):
+def prepare(b, lay, cls, onl, scr):
     """Block b before its columns: each class's followon F_t = rho_{t-1} gamma_t F_{t-1} + 1 and emphasis
-    M_t = lambda + (1 - lambda) F_t; its trace decays by gamma_t lambda rho_t and x_t adds rho_t M_t. The values
-    at s_{t+1} and the TD errors are read before any weight moves; the weight pass takes alpha delta."""
-    lo, ncls, coff, lam_b = lay.block_lo[b], lay.ncls[b], lay.coff[b], lay.lam[b]
+    M_t = lambda + (1 - lambda) F_t; its trace will decay by gamma_t lambda rho_t and x_t add rho_t M_t. The rest
+    is TD's (`td_pass`): the update is owed to the next step, so that each step is one pass over the rows."""
+    ncls, coff, lam_b = lay.ncls[b], lay.coff[b], lay.lam[b]
     for c in range(ncls):
         g_t, rho = cls.gamma[coff + c], cls.rho[coff + c]
         scr.decay[c] = g_t * lam_b * rho
         f = onl.cls_rho_prev[coff + c] * g_t * onl.cls_f[coff + c] + 1.0
         onl.cls_f[coff + c] = f
         scr.add[c] = rho * (lam_b + (1.0 - lam_b) * f)
-    class_bounds(b, lay, onl)
-    read_errors(b, lay, wts, dem, cls, onl, stp, scr)
-    coef, fix, dlv = scr.work[0], scr.work[1], scr.work[6]
-    for i in range(lay.block_hi[b] - lo):
-        coef[i] = dem.alpha[lo + i] * dlv[i]
-        fix[i] = 0.0
-    kept, _ = merge(b, lay, wts, scr, stp.x_t, stp.v_t, 0, False)
-    scr.counts[0] = kept
 
 
 @njit(**NO_NRT)
-def columns(b, i0, i1, lay, wts, dem, stp, scr, onl):
-    """Block b's demons i0 <= i < i1: theta += alpha delta e over the support, then their new values."""
-    dutch_columns(False, b, i0, i1, lay, wts, stp, scr, onl)
-    store_values(b, i0, i1, lay, dem, scr)
+def finish(b, lay, wts, dem, cls, onl, stp, scr):
+    """TD's end of a step (`td_pass.finish`: the merge, the values at s_{t+1}); each class's rho_t becomes
+    rho_{t-1} for the next followon."""
+    td_pass.finish(b, lay, wts, dem, cls, stp, scr)
+    coff = lay.coff[b]
+    for c in range(lay.ncls[b]):
+        onl.cls_rho_prev[coff + c] = cls.rho[coff + c]

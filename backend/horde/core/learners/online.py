@@ -1,10 +1,12 @@
-"""What the compiled learners beyond the gradient family share: their classes' runs of demons, the TD errors read
-before any weight moves, the walk that updates theta over the trace's rows, and the end of a step.
+"""What the compiled learners that apply their own update within the step share (true online GTD, the adaptive
+step sizes): their classes' runs of demons, the TD errors read before any weight moves, the walk that updates
+theta over the trace's rows, and the end of a step. (TD, emphatic TD and true online TD owe their update to the
+next step instead: `td_pass`.)
 
-True online TD / GTD and emphatic TD read the values at s_{t+1} before the traces move (`read_errors`), then
-walk the rows of the new support, x_t and x_tp1 in increasing order (`dutch_columns`): each weight row read
-and written once, the new values at s_{t+1} summed from it right after it moved. Within a row, class by
-class, each class's demons in one contiguous run (`Online.bounds`).
+True online GTD reads the values at s_{t+1} before the traces move (`read_errors`), then walks the rows of the
+new support, x_t and x_tp1 in increasing order (`dutch_columns`): each weight row read and written once, the
+new values at s_{t+1} summed from it right after it moved. Within a row, class by class, each class's demons in
+one contiguous run (`Online.bounds`).
 """
 
 from __future__ import annotations
@@ -56,9 +58,9 @@ def read_errors(b, lay, wts, dem, cls, onl, stp, scr):
 
 
 @njit(**NO_NRT)
-def dutch_columns(dutch, b, i0, i1, lay, wts, stp, scr, onl):
-    """theta += coef e over the support (dutch traces: and -= x_t's value times fix on the rows of x_t), then the
-    new values at x_tp1 for columns i0 <= i < i1 (in scr.values[0]). coef is work[0], fix work[1]."""
+def dutch_columns(b, i0, i1, lay, wts, stp, scr, onl):
+    """theta += coef e over the support and -= x_t's value times fix on the rows of x_t, then the new values at
+    x_tp1 for columns i0 <= i < i1 (in scr.values[0]). coef is work[0], fix work[1]."""
     woff, voff, ncls = lay.woff[b], lay.voff[b], lay.ncls[b]
     db = lay.block_hi[b] - lay.block_lo[b]
     theta, trace, rows, kept, bounds = wts.theta, wts.trace, scr.rows, scr.counts[0], onl.bounds
@@ -80,12 +82,7 @@ def dutch_columns(dutch, b, i0, i1, lay, wts, stp, scr, onl):
                 c0 = max(bounds[c], i0)
                 c1 = min(bounds[c + 1], i1)
                 e = trace[tr + c]
-                if dutch and on_x == 1.0:
-                    for i in range(c0, c1):
-                        u = at(i)
-                        t = theta[base + u] + coef[u] * e
-                        theta[base + u] = t - fix[u]
-                elif dutch and on_x != 0.0:
+                if on_x != 0.0:
                     for i in range(c0, c1):
                         u = at(i)
                         t = theta[base + u] + coef[u] * e
@@ -94,7 +91,7 @@ def dutch_columns(dutch, b, i0, i1, lay, wts, stp, scr, onl):
                     for i in range(c0, c1):
                         u = at(i)
                         theta[base + u] += coef[u] * e
-        elif dutch and on_x != 0.0:  # a row of x_t whose trace was cut
+        elif on_x != 0.0:  # a row of x_t whose trace was cut
             for i in range(i0, i1):
                 u = at(i)
                 theta[base + u] -= on_x * fix[u]

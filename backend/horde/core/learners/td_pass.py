@@ -62,22 +62,33 @@ def _pay_and_read(theta, base, owed, e, c0, c1, acc, value):
         acc[u] += value * theta[base + u]
 
 
+@njit(**NO_NRT, inline="always")
+def _pay_along(theta, base, owed, e, fix, f, c0, c1, acc, value):
+    """theta pays owed[i] e - fix[i] f on the row at base (true online TD: f, x_{t-1}'s value there), and acc[i] +=
+    value times the paid weight."""
+    for i in range(c0, c1):
+        u = at(i)
+        theta[base + u] += owed[u] * e - fix[u] * f
+        acc[u] += value * theta[base + u]
+
+
 @njit(**NO_NRT)
-def columns(b, i0, i1, lay, wts, dem, cls, stp, scr):
+def walk(b, i0, i1, lay, wts, stp, scr, along_x):
     """Block b's demons i0 <= i < i1: one walk over the support's rows and x_{t+1}'s (both sorted) pays what the
-    last step owes on the support and sums the values at x_{t+1} from the paid rows (into scr.values[0]); then
-    the TD errors, and alpha delta owed for the next pass (0 for a frozen demon)."""
+    last step owes on the support (owed[0] e_{t-1}; `along_x`: and - owed[1] times x_{t-1}'s value, kept beside
+    each support row) and sums the values at x_{t+1} from the paid rows (into scr.values[0])."""
     lo, woff, voff, ncls, coff, toff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b], lay.toff[b]
     db = lay.block_hi[b] - lo
     theta, trace, support, kept = wts.theta, wts.trace, wts.support, wts.nnz[b]
-    owed = wts.owed[0, lo : lo + db]
-    pay = scr.ev[0]  # what is owed, in the weights' dtype: float32 pays in float32 (vectorized at twice the width)
+    owed, owed_fix = wts.owed[0, lo : lo + db], wts.owed[1, lo : lo + db]
+    pay, fix = scr.ev[0], scr.ev[1]  # what is owed, in the weights' dtype: float32 pays in float32 (twice the width)
     acc = scr.values[0]
     x_tp1, v_tp1 = stp.x_tp1, stp.v_tp1
     k = x_tp1.shape[0]
     for i in range(i0, i1):
         acc[i] = 0.0
         pay[i] = owed[i]
+        fix[i] = owed_fix[i] if along_x else 0.0
     s = 0
     m = 0
     while s < kept or m < k:
@@ -88,11 +99,17 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr):
         value = v_tp1[m] if r_m == row else 0.0
         if r_s == row:
             tr = voff + row * ncls
+            f = wts.support_f[toff + s] if along_x else 0.0
+            if f != 0.0:
+                scr.ev[2, i0] = f  # x_{t-1}'s value in the weights' dtype (the thread's own cell)
+                f = scr.ev[2, i0]
             for c in range(ncls):
                 c0 = max(lay.class_lo[coff + c], i0)
                 c1 = min(lay.class_hi[coff + c], i1)
                 e = trace[tr + c]
-                if value != 0.0:
+                if f != 0.0:
+                    _pay_along(theta, base, pay, e, fix, f, c0, c1, acc, value)
+                elif value != 0.0:
                     _pay_and_read(theta, base, pay, e, c0, c1, acc, value)
                 elif e != 0.0:
                     _pay(theta, base, pay, e, c0, c1)
@@ -103,11 +120,20 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr):
                 acc[u] += value * theta[base + u]
         if r_m == row:
             m += 1
+
+
+@njit(**NO_NRT)
+def columns(b, i0, i1, lay, wts, dem, cls, stp, scr):
+    """Block b's demons i0 <= i < i1: the walk (pays what the last step owes, sums the values at x_{t+1}); then the
+    TD errors, and alpha delta owed for the next walk (0 for a frozen demon)."""
+    walk(b, i0, i1, lay, wts, stp, scr, False)
+    lo = lay.block_lo[b]
+    owed, acc = wts.owed[0], scr.values[0]
     for i in range(i0, i1):
         d = lo + i
         dl = td_error_at(dem.r[d], dem.z[d], cls.gamma_tp1[lay.slot_class[d]], acc[i], dem.q[d, 0])
         dem.delta[d] = dl
-        owed[i] = dem.alpha[d] * dl if dem.alpha[d] != 0.0 else 0.0  # a frozen demon stays exactly as it is
+        owed[d] = dem.alpha[d] * dl if dem.alpha[d] != 0.0 else 0.0  # a frozen demon stays exactly as it is
 
 
 @njit(**NO_NRT, inline="always")
@@ -132,14 +158,15 @@ def finish(b, lay, wts, dem, cls, stp, scr):
 
 
 @njit(**NO_NRT)
-def settle(b, lay, wts, scr):
-    """Pay what block b owes (owed[d] times its class's trace, on the support's rows); owe nothing more."""
+def settle(b, lay, wts, scr, along_x):
+    """Pay what block b owes (owed[0, d] times its class's trace on the support's rows; `along_x`: and - owed[1,
+    d] times x_{t-1}'s value kept beside each); owe nothing more."""
     lo, woff, voff, ncls, coff, toff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b], lay.toff[b]
     db = lay.block_hi[b] - lo
-    owed = wts.owed[0, lo : lo + db]
+    owed, owed_fix = wts.owed[0, lo : lo + db], wts.owed[1, lo : lo + db]
     owing = False
     for i in range(db):
-        owing = owing or owed[i] != 0.0
+        owing = owing or owed[i] != 0.0 or (along_x and owed_fix[i] != 0.0)
     if not owing:
         return
     theta, trace, support, pay = wts.theta, wts.trace, wts.support, scr.ev[0]
@@ -148,9 +175,14 @@ def settle(b, lay, wts, scr):
     for s in range(wts.nnz[b]):
         row = support[toff + s]
         base = at(woff + row * db)
+        f = wts.support_f[toff + s] if along_x else 0.0
         for c in range(ncls):
             e = trace[voff + row * ncls + c]
             if e != 0.0:
                 _pay(theta, base, pay, e, lay.class_lo[coff + c], lay.class_hi[coff + c])
+        if f != 0.0:
+            for i in range(db):
+                theta[base + at(i)] -= owed_fix[i] * f
     for i in range(db):
         owed[i] = 0.0
+        owed_fix[i] = 0.0 if along_x else owed_fix[i]

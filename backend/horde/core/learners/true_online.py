@@ -18,7 +18,10 @@ import numpy as np
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
+from horde.core.engine.rows import at, dot, td_error
 from horde.core.engine.traces import merge, trace_dot
+from horde.core.engine.values import observe_range
+from horde.core.learners import td_pass
 from horde.core.learners.base import Kernel, OnlineState, check_online, target
 from horde.core.learners.online import class_bounds, dutch_columns, read_errors, store_values
 from horde.spec.learners import LearnerInfo, register
@@ -97,17 +100,20 @@ def true_online_gtd_update(
 
 @njit(**NO_NRT)
 def prepare(code, b, lay, wts, dem, cls, onl, stp, scr):
-    """Block b before its columns: each class's dutch trace decays by gamma_t lambda rho_t and x_t adds
-    rho_t alpha (1 - rho_t gamma_t lambda e . x_t); the values at s_{t+1} and the TD errors are read before any
-    weight moves (`read_errors`), with what the weight pass takes: coef = delta + (theta_t - theta_{t-1}) . x_t
-    and fix = alpha rho_t (theta_t - theta_{t-1}) . x_t. True online GTD then moves its w (which reads the TD
-    errors and w before it moves) and corrects theta at x_tp1, before the trace merges."""
+    """Block b before its columns: each class's dutch trace will decay by gamma_t lambda rho_t and x_t add
+    rho_t alpha (1 - rho_t gamma_t lambda e_{t-1} . x_t). True online TD learns in one walk (`columns`, the merge
+    in `finish`). True online GTD reads the values at s_{t+1} and the TD errors before any weight moves
+    (`read_errors`), with what its weight pass takes: coef = delta + (theta_t - theta_{t-1}) . x_t and fix =
+    alpha rho_t (theta_t - theta_{t-1}) . x_t; then moves its w (which reads the TD errors and w before it moves)
+    and corrects theta at x_tp1, before the trace merges."""
     lo, ncls, coff, voff = lay.block_lo[b], lay.ncls[b], lay.coff[b], lay.voff[b]
     for c in range(ncls):
         rho = cls.rho[coff + c]
         scr.decay[c] = cls.gamma[coff + c] * lay.lam[b] * rho
         e_x = trace_dot(wts.trace, voff, ncls, c, stp.x_t, stp.v_t)
         scr.add[c] = rho * onl.cls_alpha[coff + c] * (1.0 - scr.decay[c] * e_x)
+    if code == TOTD_CODE:
+        return
     class_bounds(b, lay, onl)
     read_errors(b, lay, wts, dem, cls, onl, stp, scr)
     coef, fix, rate, dlv, v_old = scr.work[0], scr.work[1], scr.work[5], scr.work[6], scr.work[3]
@@ -118,18 +124,75 @@ def prepare(code, b, lay, wts, dem, cls, onl, stp, scr):
         coef[i] = dlv[i] + change if live else 0.0
         c = lay.slot_class[d]
         fix[i] = onl.cls_alpha[c] * cls.rho[c] * change if live else 0.0
-    if code == TOGTD_CODE:
-        _togtd_traces(b, lay, cls, onl, stp)
-        _togtd_weights(b, lay, wts, dem, cls, onl, stp)
+    _togtd_traces(b, lay, cls, onl, stp)
+    _togtd_weights(b, lay, wts, dem, cls, onl, stp)
     kept, _ = merge(b, lay, wts, scr, stp.x_t, stp.v_t, 0, False)
     scr.counts[0] = kept
 
 
 @njit(**NO_NRT)
-def columns(b, i0, i1, lay, wts, dem, stp, scr, onl):
-    """Block b's demons i0 <= i < i1: theta += coef e - fix x_t over the support, then their new values."""
-    dutch_columns(True, b, i0, i1, lay, wts, stp, scr, onl)
-    store_values(b, i0, i1, lay, dem, scr)
+def columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr, onl):
+    """Block b's demons i0 <= i < i1. True online TD: `td_pass.walk` pays what the last step owes (coef e_{t-1} -
+    fix x_{t-1}) and reads theta_t . x_{t+1}; then the TD errors and what this step owes (`_owe`). True online
+    GTD: theta += coef e - fix x_t over the support, then the new values."""
+    if code == TOTD_CODE:
+        td_pass.walk(b, i0, i1, lay, wts, stp, scr, True)
+        _owe(b, i0, i1, lay, wts, dem, cls, onl, scr)
+    else:
+        dutch_columns(b, i0, i1, lay, wts, stp, scr, onl)
+        store_values(b, i0, i1, lay, dem, scr)
+
+
+@njit(**NO_NRT)
+def _owe(b, i0, i1, lay, wts, dem, cls, onl, scr):
+    """True online TD's demons i0 <= i < i1 after the walk: the TD error from theta_t . x_{t+1} (scr.values[0]),
+    and what theta owes the next walk, coef_t e_t - fix_t x_t: coef = delta_t + (theta_t - theta_{t-1}) . x_t in
+    owed[0], fix = alpha rho_t (theta_t - theta_{t-1}) . x_t in owed[1] (0 for a frozen demon); v_old moves to
+    theta_t . x_{t+1}."""
+    lo, acc, owed = lay.block_lo[b], scr.values[0], wts.owed
+    for i in range(i0, i1):
+        d = lo + i
+        c = lay.slot_class[d]
+        v_tp1 = acc[i]
+        dl = td_error(dem.r[d], dem.z[d], cls.gamma_tp1[c], v_tp1, dem.q[d, 0])
+        dem.delta[d] = dl
+        change = dem.q[d, 0] - onl.v_old[d]  # (theta_t - theta_{t-1}) . x_t
+        live = dem.alpha[d] != 0.0  # a frozen demon owes nothing and keeps its v_old
+        owed[0, d] = dl + change if live else 0.0
+        owed[1, d] = onl.cls_alpha[c] * cls.rho[c] * change if live else 0.0
+        if live:
+            onl.v_old[d] = v_tp1
+
+
+@njit(**NO_NRT)
+def finish(b, lay, wts, dem, cls, onl, stp, scr):
+    """True online TD after every column: the traces move to e_t (the merge; x_t's value on each support row kept
+    beside it for the next walk, and x_t's rows left without a trace pay - fix_t x_t at once), the values at
+    s_{t+1} take what this step owes, theta_t . x_{t+1} + coef_t (e_t . x_{t+1}) - fix_t (x_t . x_{t+1}), and
+    become the demons' values and predictions; each class's continuation and rho move on."""
+    lo, woff, voff, ncls, coff, toff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b], lay.toff[b]
+    db = lay.block_hi[b] - lo
+    kept, dropped = merge(b, lay, wts, scr, stp.x_t, stp.v_t, 0, True)
+    for s in range(kept):
+        wts.support_f[toff + s] = scr.rows_f[s]
+    theta, coef, fix = wts.theta, wts.owed[0, lo : lo + db], wts.owed[1, lo : lo + db]
+    end = scr.rows.shape[0] - 1
+    for k in range(dropped):  # (in no support next step: the walk would not reach them)
+        base, f = at(woff + scr.rows[end - k] * db), scr.rows_f[end - k]
+        for i in range(db):
+            theta[base + at(i)] -= fix[i] * f
+    x_tp1, v_tp1, value = stp.x_tp1, stp.v_tp1, scr.values[0]
+    shared = dot(stp.x_t, stp.v_t, x_tp1, v_tp1)
+    for c in range(ncls):
+        e_dot_x = 0.0
+        for j in range(x_tp1.shape[0]):
+            e_dot_x += v_tp1[j] * np.float64(wts.trace[voff + x_tp1[j] * ncls + c])
+        for i in range(lay.class_lo[coff + c], lay.class_hi[coff + c]):
+            value[i] += coef[i] * e_dot_x - fix[i] * shared
+    observe_range(b, 0, db, lay, dem, cls, scr.values)
+    for c in range(ncls):
+        cls.gamma[coff + c] = cls.gamma_tp1[coff + c]
+        onl.cls_rho_prev[coff + c] = cls.rho[coff + c]
 
 
 @njit(**NO_NRT)
