@@ -20,8 +20,9 @@ the first two passes. The paper's order divides every step size by M, a sum over
 theta moves; for a run of demons whose M provably stays 1 (an upper bound from the step sizes before the
 meta step, read in the first pass, as |the meta step's argument| <= mu) the meta step and the update go in
 one walk (`fused_columns`, the same operations in the same order: the same numbers). Autostep's exp is a
-polynomial when the block's meta step sizes allow (`exp_tiny`, `exp_small`), chosen once per block;
-`_adaptive_kernel` compiles the kernel once per kind of exp.
+polynomial when the block's meta step sizes allow (`exp_tiny`, `exp_small`), chosen once per block, and
+`engine.fast_exp.vector_exp` otherwise, as TIDBD's always (an exp whose loops vectorize: `math.exp` is a call per
+weight); `_adaptive_kernel` compiles the kernel once per kind of exp.
 
 Why one module of about 420 lines: the kernel factory is the three passes written once, with their numpy form
 and registration beside them.
@@ -34,6 +35,7 @@ import math
 import numpy as np
 from numba import njit
 
+from horde.core.engine.fast_exp import vector_exp
 from horde.core.engine.layout import NO_NRT
 from horde.core.engine.rows import add_row, at, walk
 from horde.core.engine.traces import merge
@@ -46,7 +48,7 @@ KERNELS = (
     Kernel(AUTOSTEP_CODE, "td", step_size="autostep", vectors=4, keeps_state=True),
 )
 TINY_EXP = 0.01  # Autostep's meta steps with mu at most this use exp_tiny (|argument| <= mu), the default mu
-SMALL_EXP = 1.0 / 16  # ... with mu at most this exp_small, above it math.exp
+SMALL_EXP = 1.0 / 16  # ... with mu at most this exp_small, above it `vector_exp`
 EXP_ANY, EXP_SMALL, EXP_TINY = 0, 1, 2  # which exp a block's meta steps take (`prepare`)
 SCALE_FLOOR = 1e-150  # a demon's lazily kept step-size scale is folded back into its step sizes below this
 
@@ -124,7 +126,7 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
 
 def _adaptive_kernel(exp):
     """TIDBD / Autostep for TD(lambda) (reference.adaptive_td_step), compiled once per kind of exp for
-    Autostep's meta step (`exp`: `exp_tiny`, `exp_small` or `exp_any`; chosen once per block by `prepare`),
+    Autostep's meta step (`exp`: `exp_tiny`, `exp_small` or `vector_exp`; chosen once per block by `prepare`),
     so that the source is written once and each hot loop has one kind of exp.
 
     Why about 170 lines: the factory is the compiled kernels themselves (the meta step, the fused walk and
@@ -210,7 +212,7 @@ def _adaptive_kernel(exp):
                     for i in range(c0, c1):
                         u = at(i)
                         k = base + u
-                        a[k] *= math.exp(meta[at(lo + i)] * dlv[u] * p * h[k])
+                        a[k] *= vector_exp(meta[at(lo + i)] * dlv[u] * p * h[k])
                     continue
                 coeff = e * (p - cls.gamma_tp1[coff + c] * on_next)
                 for i in range(c0, c1):
@@ -369,7 +371,7 @@ def _effective_run(c0, c1, base, coeff, a, effective):
 @njit(cache=True, inline="always")
 def exp_small(x):
     """exp(x) for |x| <= SMALL_EXP: its Taylor polynomial of degree 9 (the remainder is below 3e-19 relative,
-    far under the double's rounding), in multiply-adds that vectorize where math.exp is a call per number."""
+    far under the double's rounding): fewer multiply-adds than `vector_exp`, which reduces its argument first."""
     return 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6 + x * (1.0 / 24 + x * (1.0 / 120 + x * (
         1.0 / 720 + x * (1.0 / 5040 + x * (1.0 / 40320 + x * (1.0 / 362880)))))))))  # fmt: skip
 
@@ -381,15 +383,9 @@ def exp_tiny(x):
     return 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6 + x * (1.0 / 24 + x * (1.0 / 120 + x * (1.0 / 720))))))
 
 
-@njit(cache=True, inline="always")
-def exp_any(x):
-    """math.exp, as a jitted function that the kernel factory can take."""
-    return math.exp(x)
-
-
 _adaptive_tiny = _adaptive_kernel(exp_tiny)
 _adaptive_small = _adaptive_kernel(exp_small)
-_adaptive_any = _adaptive_kernel(exp_any)
+_adaptive_any = _adaptive_kernel(vector_exp)
 
 
 @njit(**NO_NRT)
