@@ -17,12 +17,13 @@ threads, then the TD errors); the meta step on the rows of x_t only (phi_i = 0 e
 leaves alpha_i and v_i of other weights as they are); theta and h on the support's rows (every weight with a
 nonzero trace), fused with reading the new values at x_tp1. Autostep's effective step size is summed within
 the first two passes. The paper's order divides every step size by M, a sum over all the rows of x_t, before
-theta moves; for a run of demons whose M provably stays 1 (an upper bound from the step sizes before the
-meta step, read in the first pass, as |the meta step's argument| <= mu) the meta step and the update go in
-one walk (`fused_columns`, the same operations in the same order: the same numbers). Autostep's exp is a
-polynomial when the block's meta step sizes allow (`exp_tiny`, `exp_small`), chosen once per block, and
-`engine.fast_exp.vector_exp` otherwise, as TIDBD's always (an exp whose loops vectorize: `math.exp` is a call per
-weight); `_adaptive_kernel` compiles the kernel once per kind of exp.
+theta moves; for TIDBD, which has no M, and for a run of Autostep demons whose M provably stays 1 (an upper
+bound from the step sizes before the meta step, read in the first pass, as |the meta step's argument| <= mu)
+the meta step and the update go in one walk (`fused_columns`, the same operations in the same order: the
+same numbers). Autostep's exp is a polynomial when the block's meta step sizes allow (`exp_tiny`,
+`exp_small`), chosen once per block, and `engine.fast_exp.vector_exp` otherwise, as TIDBD's always (an exp
+whose loops vectorize: `math.exp` is a call per weight); `_adaptive_kernel` compiles the kernel once per kind
+of exp.
 
 Why one module of about 420 lines: the kernel factory is the three passes written once, with their numpy form
 and registration beside them.
@@ -134,9 +135,13 @@ def _adaptive_kernel(exp):
     compiles them, and closures must be written inside the function that makes them."""
 
     @njit(inline="always")
-    def meta_step(at_, u, mu, e, p, inv_tau, a, v, h, rate, dlv):
-        """Autostep's meta step of one weight (x_t's value p there) from h_i as it was: v_i, then the argument
-        of exp (|sample| <= v_i), then alpha_i; returns the new alpha_i."""
+    def meta_step(autostep, at_, u, mu, e, p, inv_tau, a, v, h, rate, dlv):
+        """The meta step of one weight (x_t's value p there) from h_i as it was, Autostep's: v_i, then the
+        argument of exp (|sample| <= v_i), then alpha_i; TIDBD's: alpha_i *= exp(mu delta phi_i h_i). Returns
+        the new alpha_i."""
+        if not autostep:
+            a[at_] *= vector_exp(mu * dlv[u] * p * h[at_])
+            return a[at_]
         sample = dlv[u] * p * h[at_]
         size = abs(sample)
         vi = max(size, v[at_] + a[at_] * rate[u] * e * p * (size - v[at_]) * inv_tau)
@@ -145,9 +150,10 @@ def _adaptive_kernel(exp):
         return a[at_]
 
     @njit
-    def fused_columns(b, i0, i1, lay, wts, onl, stp, scr):
-        """Autostep's meta step and update in one walk over the rows of the support, x_t and x_tp1, for a run of
-        demons none of which has M > 1: on a row of x_t each weight's meta step, then at once its theta and h
+    def fused_columns(autostep, b, i0, i1, lay, wts, onl, stp, scr):
+        """The meta step and the update in one walk over the rows of the support, x_t and x_tp1, for TIDBD and for
+        a run of Autostep demons none of which has M > 1: on a row of x_t each weight's meta step, then at once
+        its theta and h
         (theta += alpha delta e; h = h [1 - alpha phi e]^+ + alpha delta e, from h as the meta step read it),
         the same operations in the same order as the two passes, so the same numbers; eight numbers per weight
         of x_t read or written instead of ten."""
@@ -172,24 +178,25 @@ def _adaptive_kernel(exp):
                         u = at(i)
                         k = base + u
                         h_i = h[k]
-                        step = meta_step(k, u, meta[at(lo + i)], e, on_x, inv_tau, a, v, h, rate, dlv) * rate[u] * e
+                        mu = meta[at(lo + i)]
+                        step = meta_step(autostep, k, u, mu, e, on_x, inv_tau, a, v, h, rate, dlv) * rate[u] * e
                         change = step * dlv[u]
                         theta[k] += change
                         h[k] = h_i * max(1.0 - step * on_x, 0.0) + change
                 elif on_x != 0.0:  # a row of x_t whose trace was cut: the meta step only
                     for i in range(c0, c1):
                         u = at(i)
-                        meta_step(base + u, u, meta[at(lo + i)], e, on_x, inv_tau, a, v, h, rate, dlv)
+                        meta_step(autostep, base + u, u, meta[at(lo + i)], e, on_x, inv_tau, a, v, h, rate, dlv)
                 elif e != 0.0:
                     _trace_update(c0, c1, base, e, a, rate, dlv, theta, h)
             if on_next != 0.0:
                 add_row(i0, i1, base, theta, acc, on_next)
 
     @njit
-    def _meta_steps(autostep, b, i0, i1, lay, wts, cls, onl, stp, scr):
-        """The meta step on the rows of x_t (where phi_i != 0): alpha_i *= exp(meta delta phi_i h_i [/ v_i]);
-        Autostep adds alpha_i e_i (phi_i - gamma_tp1 phi'_i) to the effective step size there, then divides
-        every step size by M = max(1, the effective step size). A scale below SCALE_FLOOR is folded back."""
+    def _meta_steps(b, i0, i1, lay, wts, cls, onl, stp, scr):
+        """Autostep's meta step on the rows of x_t (where phi_i != 0): alpha_i *= exp(meta delta phi_i h_i / v_i),
+        alpha_i e_i (phi_i - gamma_tp1 phi'_i) added to the effective step size there; then every step size
+        divided by M = max(1, the effective step size). A scale below SCALE_FLOOR is folded back."""
         lo, woff, voff, ncls, coff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b]
         db = lay.block_hi[b] - lo
         h, trace = wts.w, wts.trace
@@ -208,22 +215,16 @@ def _adaptive_kernel(exp):
             for c in range(ncls):
                 c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
                 e = trace[tr + c]
-                if not autostep:
-                    for i in range(c0, c1):
-                        u = at(i)
-                        k = base + u
-                        a[k] *= vector_exp(meta[at(lo + i)] * dlv[u] * p * h[k])
-                    continue
                 coeff = e * (p - cls.gamma_tp1[coff + c] * on_next)
                 for i in range(c0, c1):
                     u = at(i)
-                    effective[u] += meta_step(base + u, u, meta[at(lo + i)], e, p, inv_tau, a, v, h, rate, dlv) * coeff
-        if autostep:  # every step size divided by M = max(1, the effective step size)
-            for i in range(i0, i1):
-                m_i = effective[i] * rate[i]
-                if m_i > 1.0:
-                    scale[lo + i] /= m_i
-                    rate[i] /= m_i
+                    mu = meta[at(lo + i)]
+                    effective[u] += meta_step(True, base + u, u, mu, e, p, inv_tau, a, v, h, rate, dlv) * coeff
+        for i in range(i0, i1):  # every step size divided by M = max(1, the effective step size)
+            m_i = effective[i] * rate[i]
+            if m_i > 1.0:
+                scale[lo + i] /= m_i
+                rate[i] /= m_i
         for i in range(i0, i1):
             if scale[lo + i] < SCALE_FLOOR:
                 _fold_scale(a, scale, woff, db, i, lo + i, woff + lay.rows[b] * db)
@@ -237,7 +238,8 @@ def _adaptive_kernel(exp):
         frozen demon enters with rate 0 and delta 0, which leaves its weights, h, v and step sizes as they
         are. First the values at x_tp1 under the weights before the step (then the TD errors); then either
         the meta step on the rows of x_t and the update over the support fused with reading the new values
-        at x_tp1, or, when no demon of the run can have M > 1, both in one walk (`fused_columns`). Autostep's
+        at x_tp1, or, for TIDBD and when no Autostep demon of the run can have M > 1, both in one walk
+        (`fused_columns`). Autostep's
         effective step size alpha . e (x_t - gamma x_tp1) is summed on a row of x_tp1 alone (whose step
         sizes do not move) in the first pass, on a row of x_t after its step sizes moved.
         """
@@ -283,15 +285,15 @@ def _adaptive_kernel(exp):
         # M_i = rate_i alpha . e (x_t - gamma x_tp1) <= rate_i (exp(mu_i) upper_i + max(effective_i, 0)), as
         # |the meta step's argument| <= mu_i; with a margin for the rounding of the sums, no step size of such a
         # demon is divided by M.
-        fused = autostep
-        for i in range(i0, i1):
+        fused = True  # (TIDBD has no M)
+        for i in range(i0, i1 if autostep else i0):
             positive = max(effective[i], 0.0)
             bound = rate[i] * (math.exp(meta[lo + i]) * upper[i] * (1.0 + 1e-9) + positive + abs(effective[i]) * 1e-9)
             fused = fused and bound <= 1.0
         if fused:
-            fused_columns(b, i0, i1, lay, wts, onl, stp, scr)
+            fused_columns(autostep, b, i0, i1, lay, wts, onl, stp, scr)
             return
-        _meta_steps(autostep, b, i0, i1, lay, wts, cls, onl, stp, scr)
+        _meta_steps(b, i0, i1, lay, wts, cls, onl, stp, scr)
         _update(b, i0, i1, lay, wts, onl, stp, scr)
 
     return adaptive_columns
