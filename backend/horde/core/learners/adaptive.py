@@ -116,26 +116,30 @@ def exp_kind(bound):
 def columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
     """Block b's demons i0 <= i < i1 learn the transition with the kind of exp `prepare` chose."""
     kind = scr.counts[1]
-    if kind == EXP_TINY:
-        _adaptive_tiny(code == AUTOSTEP_CODE, b, i0, i1, lay, wts, dem, cls, onl, stp, scr)
+    if code == TIDBD_CODE:
+        _tidbd(b, i0, i1, lay, wts, dem, cls, onl, stp, scr)
+    elif kind == EXP_TINY:
+        _autostep_tiny(b, i0, i1, lay, wts, dem, cls, onl, stp, scr)
     elif kind == EXP_SMALL:
-        _adaptive_small(code == AUTOSTEP_CODE, b, i0, i1, lay, wts, dem, cls, onl, stp, scr)
+        _autostep_small(b, i0, i1, lay, wts, dem, cls, onl, stp, scr)
     else:
-        _adaptive_any(code == AUTOSTEP_CODE, b, i0, i1, lay, wts, dem, cls, onl, stp, scr)
+        _autostep_any(b, i0, i1, lay, wts, dem, cls, onl, stp, scr)
     store_values(b, i0, i1, lay, dem, scr)
 
 
-def _adaptive_kernel(exp):
-    """TIDBD / Autostep for TD(lambda) (reference.adaptive_td_step), compiled once per kind of exp for
-    Autostep's meta step (`exp`: `exp_tiny`, `exp_small` or `vector_exp`; chosen once per block by `prepare`),
-    so that the source is written once and each hot loop has one kind of exp.
+def _adaptive_kernel(exp, autostep):
+    """Autostep (`autostep`) or TIDBD for TD(lambda) (reference.adaptive_td_step), compiled once per kind of exp
+    for Autostep's meta step (`exp`: `exp_tiny`, `exp_small` or `vector_exp`; chosen once per block by
+    `prepare`) and once for TIDBD, so that the source is written once and each hot loop has one kind of exp and
+    one learner (a flag read at run time inside a loop kept it from vectorizing).
 
     Why about 170 lines: the factory is the compiled kernels themselves (the meta step, the fused walk and
     the two-pass columns, each short): they are closures over `exp`, so that numba binds the exp when it
     compiles them, and closures must be written inside the function that makes them."""
+    # (`exp` and `autostep` are constants to numba: the branches on `autostep` below are compiled away)
 
     @njit(inline="always")
-    def meta_step(autostep, at_, u, mu, e, p, inv_tau, a, v, h, rate, dlv):
+    def meta_step(at_, u, mu, e, p, inv_tau, a, v, h, rate, dlv):
         """The meta step of one weight (x_t's value p there) from h_i as it was, Autostep's: v_i, then the
         argument of exp (|sample| <= v_i), then alpha_i; TIDBD's: alpha_i *= exp(mu delta phi_i h_i). Returns
         the new alpha_i."""
@@ -150,7 +154,7 @@ def _adaptive_kernel(exp):
         return a[at_]
 
     @njit
-    def fused_columns(autostep, b, i0, i1, lay, wts, onl, stp, scr):
+    def fused_columns(b, i0, i1, lay, wts, onl, stp, scr):
         """The meta step and the update in one walk over the rows of the support, x_t and x_tp1, for TIDBD and for
         a run of Autostep demons none of which has M > 1: on a row of x_t each weight's meta step, then at once
         its theta and h
@@ -179,14 +183,14 @@ def _adaptive_kernel(exp):
                         k = base + u
                         h_i = h[k]
                         mu = meta[at(lo + i)]
-                        step = meta_step(autostep, k, u, mu, e, on_x, inv_tau, a, v, h, rate, dlv) * rate[u] * e
+                        step = meta_step(k, u, mu, e, on_x, inv_tau, a, v, h, rate, dlv) * rate[u] * e
                         change = step * dlv[u]
                         theta[k] += change
                         h[k] = h_i * max(1.0 - step * on_x, 0.0) + change
                 elif on_x != 0.0:  # a row of x_t whose trace was cut: the meta step only
                     for i in range(c0, c1):
                         u = at(i)
-                        meta_step(autostep, base + u, u, meta[at(lo + i)], e, on_x, inv_tau, a, v, h, rate, dlv)
+                        meta_step(base + u, u, meta[at(lo + i)], e, on_x, inv_tau, a, v, h, rate, dlv)
                 elif e != 0.0:
                     _trace_update(c0, c1, base, e, a, rate, dlv, theta, h)
             if on_next != 0.0:
@@ -219,7 +223,7 @@ def _adaptive_kernel(exp):
                 for i in range(c0, c1):
                     u = at(i)
                     mu = meta[at(lo + i)]
-                    effective[u] += meta_step(True, base + u, u, mu, e, p, inv_tau, a, v, h, rate, dlv) * coeff
+                    effective[u] += meta_step(base + u, u, mu, e, p, inv_tau, a, v, h, rate, dlv) * coeff
         for i in range(i0, i1):  # every step size divided by M = max(1, the effective step size)
             m_i = effective[i] * rate[i]
             if m_i > 1.0:
@@ -231,7 +235,7 @@ def _adaptive_kernel(exp):
                 rate[i] = 1.0 if rate[i] != 0.0 else 0.0  # (0 where frozen)
 
     @njit
-    def adaptive_columns(autostep, b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
+    def adaptive_columns(b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
         """Columns i0 <= i < i1 of a TIDBD / Autostep block; h lives in w.
 
         Each class's demons in one contiguous, branch-free run (feature-major, as the other kernels): a
@@ -291,7 +295,7 @@ def _adaptive_kernel(exp):
             bound = rate[i] * (math.exp(meta[lo + i]) * upper[i] * (1.0 + 1e-9) + positive + abs(effective[i]) * 1e-9)
             fused = fused and bound <= 1.0
         if fused:
-            fused_columns(autostep, b, i0, i1, lay, wts, onl, stp, scr)
+            fused_columns(b, i0, i1, lay, wts, onl, stp, scr)
             return
         _meta_steps(b, i0, i1, lay, wts, cls, onl, stp, scr)
         _update(b, i0, i1, lay, wts, onl, stp, scr)
@@ -385,9 +389,10 @@ def exp_tiny(x):
     return 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6 + x * (1.0 / 24 + x * (1.0 / 120 + x * (1.0 / 720))))))
 
 
-_adaptive_tiny = _adaptive_kernel(exp_tiny)
-_adaptive_small = _adaptive_kernel(exp_small)
-_adaptive_any = _adaptive_kernel(vector_exp)
+_autostep_tiny = _adaptive_kernel(exp_tiny, True)
+_autostep_small = _adaptive_kernel(exp_small, True)
+_autostep_any = _adaptive_kernel(vector_exp, True)
+_tidbd = _adaptive_kernel(vector_exp, False)
 
 
 @njit(**NO_NRT)
