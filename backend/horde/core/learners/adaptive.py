@@ -157,10 +157,9 @@ def _adaptive_kernel(exp, autostep):
     def fused_columns(b, i0, i1, lay, wts, onl, stp, scr):
         """The meta step and the update in one walk over the rows of the support, x_t and x_tp1, for TIDBD and for
         a run of Autostep demons none of which has M > 1: on a row of x_t each weight's meta step, then at once
-        its theta and h
-        (theta += alpha delta e; h = h [1 - alpha phi e]^+ + alpha delta e, from h as the meta step read it),
-        the same operations in the same order as the two passes, so the same numbers; eight numbers per weight
-        of x_t read or written instead of ten."""
+        its theta and h (theta += alpha delta e; h = h [1 - alpha phi e]^+ + alpha delta e, from h as the meta
+        step read it), the same operations in the same order as the two passes, so the same numbers; eight
+        numbers per weight of x_t read or written instead of ten."""
         lo, woff, voff, ncls = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b]
         db = lay.block_hi[b] - lo
         theta, h, trace, rows, kept = wts.theta, wts.w, wts.trace, scr.rows, scr.counts[0]
@@ -243,9 +242,9 @@ def _adaptive_kernel(exp, autostep):
         are. First the values at x_tp1 under the weights before the step (then the TD errors); then either
         the meta step on the rows of x_t and the update over the support fused with reading the new values
         at x_tp1, or, for TIDBD and when no Autostep demon of the run can have M > 1, both in one walk
-        (`fused_columns`). Autostep's
-        effective step size alpha . e (x_t - gamma x_tp1) is summed on a row of x_tp1 alone (whose step
-        sizes do not move) in the first pass, on a row of x_t after its step sizes moved.
+        (`fused_columns`). Autostep's effective step size alpha . e (x_t - gamma x_tp1) is summed on a row of
+        x_tp1 alone (whose step sizes do not move) in the first pass, on a row of x_t after its step sizes
+        moved.
         """
         lo, woff, voff, ncls, coff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b]
         db = lay.block_hi[b] - lo
