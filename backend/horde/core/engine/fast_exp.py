@@ -52,7 +52,7 @@ def vector_exp(x):
     p = 1.0 + r * (1.0 + r * (0.5 + r * (1.0 / 6 + r * (1.0 / 24 + r * (1.0 / 120 + r * (1.0 / 720 + r * (
         1.0 / 5040 + r * (1.0 / 40320 + r * (1.0 / 362880 + r * (1.0 / 3628800 + r * (
             1.0 / 39916800 + r * (1.0 / 479001600))))))))))))  # fmt: skip
-    ki = _bits(t) - _bits(ROUNDER)  # k as an integer
+    ki = _bits(t) - _bits(ROUNDER)  # type: ignore[call-arg,var-annotated]  # k as an integer (mypy reads an intrinsic as its typing function)
     # 2^k in two factors, so that each is a normal float: p 2^(k - 1) 2 overflows exactly where exp does, and
     # p 2^(k + 63) 2^-63 rounds a subnormal result once
     low = ki < 0
