@@ -113,12 +113,13 @@ def test_a_diverging_demon_is_frozen_and_the_others_go_on() -> None:
     assert not np.array_equal(sim.horde.weights(later, "calm"), learned), "the others go on learning"
 
 
-@pytest.mark.parametrize("learner", ["gtd", "tdrc", "td", "etd", "true_online_td"])
+@pytest.mark.parametrize("learner", ["gtd", "tdrc", "td", "etd", "true_online_td", "gq"])
 def test_when_a_demon_is_frozen_its_block_reads_its_values_from_whole_weights(learner: str) -> None:
     """A demon of GTD or of the learners sharing its kernel owes its whole update to the next step
-    (`learners.gtd_pass`), a TD, emphatic TD or true online TD demon too (`learners.td_pass`). When a demon of its
-    block is frozen, the block's values at s_{t+1} are read again from theta, so what the others owe must be paid
-    first: right after the freeze, `calm`'s prediction is its weights times its features. `wild` diverges near
+    (`learners.gtd_pass`), a GQ demon its correction (`learners.gradient`), a TD, emphatic TD or true online TD
+    demon its update (`learners.td_pass`). When a demon of its block is frozen, the block's values at s_{t+1} are
+    read again from theta, so what the others owe must be paid first: right after the freeze, `calm`'s prediction
+    is its weights times its features (GQ's: the target policy's mean of its action values). `wild` diverges near
     step 200, when `calm` owes something."""
     target = {"kind": "fixed", "probabilities": [0.7, 0.1, 0.1, 0.1]}
     demons: list[dict[str, Any]] = [
@@ -139,7 +140,11 @@ def test_when_a_demon_is_frozen_its_block_reads_its_values_from_whole_weights(le
     theta, w, _ = sim.horde.demon_arrays(state, "calm")
     has_w = learner not in ("td", "etd", "true_online_td")
     assert not has_w or np.abs(w).max() > 1e-3, "calm has learned a w: its correction is not 0"
-    assert state.prediction[calm] == pytest.approx(theta[state.features[0]].sum(), abs=1e-12)
+    features, probabilities = state.features[0], target["probabilities"]
+    n_s = theta.size // len(probabilities) if learner == "gq" else theta.size  # (GQ: a block of rows per action)
+    expected = sum(p * theta[a * n_s + features].sum() for a, p in enumerate(probabilities)) if learner == "gq" \
+        else theta[features].sum()  # fmt: skip
+    assert state.prediction[calm] == pytest.approx(expected, abs=1e-12)
 
 
 def test_compiled_metrics_equal_the_numpy_form() -> None:

@@ -2,11 +2,11 @@
 
 TD, emphatic TD and true online TD defer each update by one step (`learners.td_pass`), GTD and the learners
 sharing its kernel (TDRC, GTD2, the original GTD) theirs (`learners.gtd_pass`), GQ its correction at x_{t+1}
-(`learners.gradient`): theta and w owe between the steps of a call. Each test below reads the weights at one such
-place after many steps in one call (so with something owed), against the plain reference fed the same
-transitions one step at a time, for a Horde of TD demons, one of the GTD family, one of emphatic TD and one of
-true online TD (`family`); each fails when the settling that guards its place is taken out (checked: the end of
-a call, `loop.run`; an episode's start, `step.observe`; a freeze, `step.freeze_diverged`, in
+(`learners.gradient`): theta and w owe between the steps of a call. Each test below reads the weights at one
+such place after many steps in one call (so with something owed), against the plain reference fed the same
+transitions one step at a time, for a Horde of TD demons, one of the GTD family, one of GQ, one of emphatic TD
+and one of true online TD (`family`); each fails when the settling that guards its place is taken out (checked:
+the end of a call, `loop.run`; an episode's start, `step.observe`; a freeze, `step.freeze_diverged`, in
 tests/core/test_fast.py), and each family's when its learner's settle is.
 """
 
@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from tests.core.test_fast import assert_same
 
 from horde.core.reference import ReferenceHorde
 from horde.core.simulation import Simulation
@@ -45,6 +46,12 @@ FAMILIES: dict[str, list[dict[str, Any]]] = {
         {"name": "x", "learner": "etd", "policy": "uniform", "cumulant": {"sensor": "x"}, "discount": 0.5},
         {"name": "bump2", "learner": "etd", "policy": TARGET, "cumulant": {"sensor": "bump"}, "discount": 0.9,
          "reset": "episode"},
+    ],
+    "gq": [  # action values: a fixed target (one class), greedy and softmax (a class each), one forgetting
+        {"name": "bump", "learner": "gq", "policy": TARGET, "cumulant": {"sensor": "bump"}, "discount": 0.9},
+        {"name": "x", "learner": "gq", "policy": "greedy", "cumulant": {"sensor": "x"}, "discount": 0.5},
+        {"name": "bump2", "learner": "gq", "policy": {"kind": "softmax", "temperature": 0.5},
+         "cumulant": {"sensor": "bump"}, "discount": 0.9, "reset": "episode"},
     ],
     "true_online_td": [  # the walk pays along x_{t-1} too; two classes (alpha 0.2 and 0.1: a dutch trace holds it)
         {"name": "bump", "learner": "true_online_td", "policy": TARGET, "cumulant": {"sensor": "bump"},
@@ -171,3 +178,14 @@ def test_true_online_td_pays_the_rows_of_x_t_that_the_cut_leaves_without_a_trace
             theta = sim.horde.weights(state, name)
             assert state.prediction[i] == pytest.approx(theta[state.features[0]].sum(), abs=1e-12), name
     assert np.abs(sim.horde.weights(sim.horde_state, "bump")).max() > 1e-2, "it learned"
+
+
+def test_the_length_of_a_call_changes_no_bit(family: str) -> None:
+    """157 steps in one call and in 157 calls of one step (each settled at its end) give the same weights, traces
+    and predictions to the last bit: a settle pays with the walk's operations in the walk's order."""
+    run_spec = spec(10_000, family)
+    bulk, single = Simulation(run_spec, cut=0.0), Simulation(run_spec, cut=0.0)
+    bulk.run(157)
+    for _ in range(157):
+        single.step()
+    assert_same(bulk.horde_state, single.horde_state)

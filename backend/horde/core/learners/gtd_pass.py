@@ -326,8 +326,8 @@ def settle(b, lay, wts, x, v):
             e = np.float64(trace[voff + row * ncls + c])
             for i in range(lay.class_lo[coff + c], lay.class_hi[coff + c]):
                 u = at(i)
-                theta[base + u] += pay_a[u] * e + pay_m[u] * f
-                w[base + u] += pay_b[u] * e - pay_d[u] * f
+                theta[base + u] += pay_a[u] * e + pay_m[u] * f  # (one of the two is 0: the walk's sum, bit for bit)
+                w[base + u] = w[base + u] + pay_b[u] * e - pay_d[u] * f  # (the walk's order)
     for j in range(x.shape[0]):
         base = at(woff + x[j] * db)
         for i in range(db):

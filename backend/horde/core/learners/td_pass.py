@@ -169,20 +169,26 @@ def settle(b, lay, wts, scr, along_x):
         owing = owing or owed[i] != 0.0 or (along_x and owed_fix[i] != 0.0)
     if not owing:
         return
-    theta, trace, support, pay = wts.theta, wts.trace, wts.support, scr.ev[0]
+    theta, trace, support, pay, fix = wts.theta, wts.trace, wts.support, scr.ev[0], scr.ev[1]
     for i in range(db):
         pay[i] = owed[i]
-    for s in range(wts.nnz[b]):
+        fix[i] = owed_fix[i] if along_x else 0.0
+    for s in range(wts.nnz[b]):  # (the walk's operations in its order, so that a call's length changes no bit)
         row = support[toff + s]
         base = at(woff + row * db)
         f = wts.support_f[toff + s] if along_x else 0.0
+        if f != 0.0:
+            scr.ev[2, 0] = f
+            f = scr.ev[2, 0]
         for c in range(ncls):
             e = trace[voff + row * ncls + c]
-            if e != 0.0:
-                _pay(theta, base, pay, e, lay.class_lo[coff + c], lay.class_hi[coff + c])
-        if f != 0.0:
-            for i in range(db):
-                theta[base + at(i)] -= owed_fix[i] * f
+            c0, c1 = lay.class_lo[coff + c], lay.class_hi[coff + c]
+            if f != 0.0:
+                for i in range(c0, c1):
+                    u = at(i)
+                    theta[base + u] += pay[u] * e - fix[u] * f
+            elif e != 0.0:
+                _pay(theta, base, pay, e, c0, c1)
     for i in range(db):
         owed[i] = 0.0
         owed_fix[i] = 0.0 if along_x else owed_fix[i]
