@@ -166,7 +166,7 @@ def test_a_demon_joining_keeps_the_others_whole_weights(family: str) -> None:
 
 def test_true_online_td_pays_the_rows_of_x_t_that_the_cut_leaves_without_a_trace() -> None:
     """True online TD owes fix_t x_t as well as coef_t e_t; where the cut leaves a row of x_t without a trace, the
-    next walk does not reach it, so `true_online.finish` pays it at once. A cut of 0.05 drops the fresh rows of
+    next walk does not reach it, so `td_pass.finish` pays it at once. A cut of 0.05 drops the fresh rows of
     steps with rho_t below 1 (what x_t adds there is about 0.02) and keeps the rows seen lately: after every call
     the demons' predictions are their weights times the features, as the algebra of the values assumes."""
     data = spec(10_000, "true_online_td").model_dump(by_alias=True)

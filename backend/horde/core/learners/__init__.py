@@ -96,16 +96,14 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
 @njit(**NO_NRT, inline="always")
 def finish(code, b, lay, wts, dem, cls, onl, stp, scr):
     """Block b after every column learned (see the module)."""
-    if code == TD_CODE:
-        td_pass.finish(b, lay, wts, dem, cls, stp, scr)
+    if code in (TD_CODE, ETD_CODE, TOTD_CODE):
+        td_pass.finish(b, lay, wts, dem, cls, stp, scr, code == TOTD_CODE)
+        if code == ETD_CODE:  # its next followon reads rho_{t-1}
+            online.keep_rho(b, lay, cls, onl)
     elif code in (GTD_CODE, TDRC_CODE, GTD2_CODE, GTD1_CODE):
         gtd_pass.finish(b, lay, wts, dem, cls, onl, stp, scr, code in (TDRC_CODE, GTD1_CODE))
     elif code == GQ_CODE:
         gradient.finish(b, lay, cls, stp, scr)
-    elif code == ETD_CODE:
-        emphatic.finish(b, lay, wts, dem, cls, onl, stp, scr)
-    elif code == TOTD_CODE:
-        true_online.finish(b, lay, wts, dem, cls, onl, stp, scr)
     else:
         online.finish(b, lay, cls, onl)
 

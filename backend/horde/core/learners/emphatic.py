@@ -12,7 +12,6 @@ import numpy as np
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
-from horde.core.learners import td_pass
 from horde.core.learners.base import Kernel, OnlineState, check_online, target
 from horde.spec.learners import LearnerInfo, register
 
@@ -59,13 +58,3 @@ def prepare(b, lay, cls, onl, scr):
         f = onl.cls_rho_prev[coff + c] * g_t * onl.cls_f[coff + c] + 1.0
         onl.cls_f[coff + c] = f
         scr.add[c] = rho * (lam_b + (1.0 - lam_b) * f)
-
-
-@njit(**NO_NRT)
-def finish(b, lay, wts, dem, cls, onl, stp, scr):
-    """TD's end of a step (`td_pass.finish`: the merge, the values at s_{t+1}); each class's rho_t becomes
-    rho_{t-1} for the next followon."""
-    td_pass.finish(b, lay, wts, dem, cls, stp, scr)
-    coff = lay.coff[b]
-    for c in range(lay.ncls[b]):
-        onl.cls_rho_prev[coff + c] = cls.rho[coff + c]

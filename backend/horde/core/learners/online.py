@@ -114,4 +114,12 @@ def finish(b, lay, cls, onl):
     coff = lay.coff[b]
     for c in range(lay.ncls[b]):
         cls.gamma[coff + c] = cls.gamma_tp1[coff + c]
+    keep_rho(b, lay, cls, onl)
+
+
+@njit(**NO_NRT)
+def keep_rho(b, lay, cls, onl):
+    """Each class's rho_t becomes its rho_{t-1} (emphatic TD's followon, true online GTD's w trace)."""
+    coff = lay.coff[b]
+    for c in range(lay.ncls[b]):
         onl.cls_rho_prev[coff + c] = cls.rho[coff + c]

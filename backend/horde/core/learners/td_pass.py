@@ -26,7 +26,7 @@ import numpy as np
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
-from horde.core.engine.rows import at
+from horde.core.engine.rows import at, dot
 from horde.core.engine.rows import td_error as td_error_at
 from horde.core.engine.traces import merge
 from horde.core.engine.values import observe_range
@@ -60,6 +60,14 @@ def _pay_and_read(theta, base, owed, e, c0, c1, acc, value):
         u = at(i)
         theta[base + u] += owed[u] * e
         acc[u] += value * theta[base + u]
+
+
+@njit(**NO_NRT, inline="always")
+def _pay_with_fix(theta, base, owed, e, fix, f, c0, c1):
+    """theta pays owed[i] e - fix[i] f on the row at base (true online TD: f, x_{t-1}'s value there)."""
+    for i in range(c0, c1):
+        u = at(i)
+        theta[base + u] += owed[u] * e - fix[u] * f
 
 
 @njit(**NO_NRT, inline="always")
@@ -137,21 +145,36 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr):
 
 
 @njit(**NO_NRT, inline="always")
-def finish(b, lay, wts, dem, cls, stp, scr):
+def finish(b, lay, wts, dem, cls, stp, scr, along_x):
     """After every column: the traces move to e_t (the merge), the values at s_{t+1} take the owed update's part
-    (alpha delta (e_t . x_{t+1}), one sum per class) and become the demons' values and predictions; each class's
-    continuation moves to s_{t+1}."""
-    lo, voff, ncls, coff = lay.block_lo[b], lay.voff[b], lay.ncls[b], lay.coff[b]
+    (owed[0] (e_t . x_{t+1}), one sum per class; `along_x`: - owed[1] (x_t . x_{t+1})) and become the demons'
+    values and predictions; each class's continuation moves to s_{t+1}. `along_x` (true online TD): x_t's value on
+    each support row is kept beside it for the next walk, and x_t's rows that the merge leaves without a trace pay
+    - owed[1] x_t at once (the next walk would not reach them)."""
+    lo, woff, voff, ncls, coff, toff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b], lay.toff[b]
     db = lay.block_hi[b] - lo
-    merge(b, lay, wts, scr, stp.x_t, stp.v_t, 0, False)
-    trace, owed, values = wts.trace, wts.owed[0], scr.values
+    kept, dropped = merge(b, lay, wts, scr, stp.x_t, stp.v_t, 0, along_x)
+    owed, fix = wts.owed[0, lo : lo + db], wts.owed[1, lo : lo + db]
+    if along_x:
+        for s in range(kept):
+            wts.support_f[toff + s] = scr.rows_f[s]
+        end = scr.rows.shape[0] - 1
+        for k in range(dropped):
+            base, f = at(woff + scr.rows[end - k] * db), scr.rows_f[end - k]
+            for i in range(db):
+                wts.theta[base + at(i)] -= fix[i] * f
+    trace, values = wts.trace, scr.values
     x_tp1, v_tp1 = stp.x_tp1, stp.v_tp1
+    shared = dot(stp.x_t, stp.v_t, x_tp1, v_tp1) if along_x else 0.0
     for c in range(ncls):
         e_dot_x = 0.0
         for j in range(x_tp1.shape[0]):
             e_dot_x += v_tp1[j] * np.float64(trace[voff + x_tp1[j] * ncls + c])
         for i in range(lay.class_lo[coff + c], lay.class_hi[coff + c]):
-            values[0, i] += owed[lo + i] * e_dot_x
+            if along_x:
+                values[0, i] += owed[i] * e_dot_x - fix[i] * shared
+            else:
+                values[0, i] += owed[i] * e_dot_x
     observe_range(b, 0, db, lay, dem, cls, values)
     for c in range(ncls):
         cls.gamma[coff + c] = cls.gamma_tp1[coff + c]
@@ -184,9 +207,7 @@ def settle(b, lay, wts, scr, along_x):
             e = trace[voff + row * ncls + c]
             c0, c1 = lay.class_lo[coff + c], lay.class_hi[coff + c]
             if f != 0.0:
-                for i in range(c0, c1):
-                    u = at(i)
-                    theta[base + u] += pay[u] * e - fix[u] * f
+                _pay_with_fix(theta, base, pay, e, fix, f, c0, c1)
             elif e != 0.0:
                 _pay(theta, base, pay, e, c0, c1)
     for i in range(db):

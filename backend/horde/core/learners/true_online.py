@@ -18,9 +18,8 @@ import numpy as np
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
-from horde.core.engine.rows import at, dot, td_error
+from horde.core.engine.rows import td_error
 from horde.core.engine.traces import merge, trace_dot
-from horde.core.engine.values import observe_range
 from horde.core.learners import td_pass
 from horde.core.learners.base import Kernel, OnlineState, check_online, target
 from horde.core.learners.online import class_bounds, dutch_columns, read_errors, store_values
@@ -102,7 +101,7 @@ def true_online_gtd_update(
 def prepare(code, b, lay, wts, dem, cls, onl, stp, scr):
     """Block b before its columns: each class's dutch trace will decay by gamma_t lambda rho_t and x_t add
     rho_t alpha (1 - rho_t gamma_t lambda e_{t-1} . x_t). True online TD learns in one walk (`columns`, the merge
-    in `finish`). True online GTD reads the values at s_{t+1} and the TD errors before any weight moves
+    in `td_pass.finish`). True online GTD reads the values at s_{t+1} and the TD errors before any weight moves
     (`read_errors`), with what its weight pass takes: coef = delta + (theta_t - theta_{t-1}) . x_t and fix =
     alpha rho_t (theta_t - theta_{t-1}) . x_t; then moves its w (which reads the TD errors and w before it moves)
     and corrects theta at x_tp1, before the trace merges."""
@@ -162,37 +161,6 @@ def _owe(b, i0, i1, lay, wts, dem, cls, onl, scr):
         owed[1, d] = onl.cls_alpha[c] * cls.rho[c] * change if live else 0.0
         if live:
             onl.v_old[d] = v_tp1
-
-
-@njit(**NO_NRT)
-def finish(b, lay, wts, dem, cls, onl, stp, scr):
-    """True online TD after every column: the traces move to e_t (the merge; x_t's value on each support row kept
-    beside it for the next walk, and x_t's rows left without a trace pay - fix_t x_t at once), the values at
-    s_{t+1} take what this step owes, theta_t . x_{t+1} + coef_t (e_t . x_{t+1}) - fix_t (x_t . x_{t+1}), and
-    become the demons' values and predictions; each class's continuation and rho move on."""
-    lo, woff, voff, ncls, coff, toff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b], lay.toff[b]
-    db = lay.block_hi[b] - lo
-    kept, dropped = merge(b, lay, wts, scr, stp.x_t, stp.v_t, 0, True)
-    for s in range(kept):
-        wts.support_f[toff + s] = scr.rows_f[s]
-    theta, coef, fix = wts.theta, wts.owed[0, lo : lo + db], wts.owed[1, lo : lo + db]
-    end = scr.rows.shape[0] - 1
-    for k in range(dropped):  # (in no support next step: the walk would not reach them)
-        base, f = at(woff + scr.rows[end - k] * db), scr.rows_f[end - k]
-        for i in range(db):
-            theta[base + at(i)] -= fix[i] * f
-    x_tp1, v_tp1, value = stp.x_tp1, stp.v_tp1, scr.values[0]
-    shared = dot(stp.x_t, stp.v_t, x_tp1, v_tp1)
-    for c in range(ncls):
-        e_dot_x = 0.0
-        for j in range(x_tp1.shape[0]):
-            e_dot_x += v_tp1[j] * np.float64(wts.trace[voff + x_tp1[j] * ncls + c])
-        for i in range(lay.class_lo[coff + c], lay.class_hi[coff + c]):
-            value[i] += coef[i] * e_dot_x - fix[i] * shared
-    observe_range(b, 0, db, lay, dem, cls, scr.values)
-    for c in range(ncls):
-        cls.gamma[coff + c] = cls.gamma_tp1[coff + c]
-        onl.cls_rho_prev[coff + c] = cls.rho[coff + c]
 
 
 @njit(**NO_NRT)
