@@ -170,10 +170,12 @@ def finish(b, lay, wts, dem, cls, stp, scr, along_x):
         e_dot_x = 0.0
         for j in range(x_tp1.shape[0]):
             e_dot_x += v_tp1[j] * np.float64(trace[voff + x_tp1[j] * ncls + c])
-        for i in range(lay.class_lo[coff + c], lay.class_hi[coff + c]):
-            if along_x:
+        c0, c1 = lay.class_lo[coff + c], lay.class_hi[coff + c]
+        if along_x:
+            for i in range(c0, c1):
                 values[0, i] += owed[i] * e_dot_x - fix[i] * shared
-            else:
+        else:
+            for i in range(c0, c1):
                 values[0, i] += owed[i] * e_dot_x
     observe_range(b, 0, db, lay, dem, cls, values)
     for c in range(ncls):
