@@ -5,6 +5,7 @@
 from __future__ import annotations
 
 import sqlite3
+import threading
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -13,10 +14,11 @@ import numpy as np
 import pytest
 
 from horde.core.experiment import run_trial
+from horde.runs import recorder as recorder_module
 from horde.runs.errors import NotFoundError, SaveError
 from horde.runs.history import History
 from horde.runs.manager import RunManager
-from horde.runs.run_setup import new_simulation
+from horde.runs.run_setup import Limits, new_simulation
 from horde.runs.store import Store
 from horde.spec import DemonSpec, RunSpec
 from polling import wait_until
@@ -159,3 +161,40 @@ def test_a_live_run_stops_by_the_rule_where_its_protocol_trial_stops() -> None:
         assert view.message.endswith("the stopping rule fired")
     finally:
         manager.stop()
+
+
+def test_a_periodic_snapshot_encoded_across_a_pause_does_not_undo_it(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A running run's periodic snapshot is frozen, then encoded in its own thread; a pause meanwhile saves the run
+    as paused. The periodic save, sent after the pause's, is stale: written, it would store the run as running again
+    (a server killed then would restart it running). Seen once in tests/server/test_restart.py."""
+    entered, release = threading.Event(), threading.Event()
+    encode = recorder_module.encode_frozen
+
+    def held_encode(frozen: Any) -> Any:
+        if threading.current_thread().name.startswith("horde-encoder-"):
+            entered.set()
+            assert release.wait(30.0), "the test did not release the encoder"
+        return encode(frozen)
+
+    monkeypatch.setattr(recorder_module, "encode_frozen", held_encode)
+    store = Store(tmp_path / "data")
+    executor = ThreadExecutor()
+    manager = RunManager(store, Limits(snapshot_every=0.05), executor=executor)
+    try:
+        run = manager.get(manager.create(RunSpec.model_validate(make_spec()), hz=200.0).id)
+        run.start()
+        assert entered.wait(30.0), "no periodic snapshot began"
+        paused = run.pause()
+        assert paused.status == "paused"
+        release.set()
+        recorder = executor.workers[run.id].recorder
+        wait_until(lambda: recorder._pending is None, "the periodic save to be answered", 30.0)
+        (stored,) = store.list_runs()
+        assert (stored.status, stored.message) == ("paused", paused.message)
+        assert run.step(1).status == "paused", "the worker's periodic snapshots go on being answered"
+    finally:
+        release.set()
+        manager.stop()
+        store.close()

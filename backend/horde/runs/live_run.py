@@ -84,6 +84,7 @@ class LiveRun:
         self._stall = ""  # how long the worker has not answered
         self._gone = ""  # why the worker ended (a failed run's message)
         self._snapshot_steps: int | None = None  # the step of the latest snapshot written
+        self._newest_save = 0  # the highest save id of this worker handed to the writer
         self._closed = False
         self.on_status: Callable[[], None] = lambda: None  # told when the published status changes
         self.threads: int | None = None  # the share of the cores its worker was last given
@@ -134,6 +135,7 @@ class LiveRun:
             self.history = self._new_history()
         with self._lock:
             self.link, self._gone, self._stall = link, "", ""
+            self._newest_save = 0  # a new worker numbers its saves from 1
             early, self._early, self._launched = self._early, [], True
         for update in [ready.value, *early] if isinstance(ready.value, m.Update) else early:
             self._apply(update)
@@ -294,6 +296,14 @@ class LiveRun:
         if store is None:
             future.set_result(0.0)
             return future
+        if save.save_id:
+            with self._lock:
+                stale = save.save_id < self._newest_save
+                self._newest_save = max(self._newest_save, save.save_id)
+            if stale:  # a periodic snapshot encoded while a command's later save went ahead of it: it would undo it
+                self._acknowledge(save.save_id, 0.0, None)
+                future.set_result(0.0)
+                return future
 
         def write() -> float:
             began = time.perf_counter()
@@ -320,15 +330,20 @@ class LiveRun:
                     self._not_saved = str(exc)
             said = save.record.message or save.record.status  # what the run said when it was saved
             self._refresh()
-        link = self.link
-        if save.save_id and link is not None and link.alive:
-            seconds = done.result() if exc is None else 0.0
-            with contextlib.suppress(WorkerGoneError):
-                link.send(m.SaveDone(save.save_id, seconds, None if exc is None else str(exc)))
+        if save.save_id:
+            self._acknowledge(save.save_id, done.result() if exc is None else 0.0, exc)
         if exc is None:
             future.set_result(done.result())
         else:
             future.set_exception(SaveError(f"run {self.id!r}: {said}, but it could not be saved: {exc}"))
+
+    def _acknowledge(self, save_id: int, seconds: float, exc: BaseException | None) -> None:
+        """Tell the worker its save was written (or failed, or was dropped as stale): its next periodic one may
+        follow."""
+        link = self.link
+        if link is not None and link.alive:
+            with contextlib.suppress(WorkerGoneError):
+                link.send(m.SaveDone(save_id, seconds, None if exc is None else str(exc)))
 
     # ------------------------------------------------------------------------------------------
     # Commands
