@@ -32,6 +32,7 @@ WORKLOADS = (
     ("nexting", 8000, "etd", 40),
     ("nexting", 8000, "td+autostep", 20),
     ("nexting", 8000, "td+tidbd", 20),
+    ("nexting", 8000, "true_online_gtd", 20),
     ("off_policy", 8000, "gtd", 30),
     ("control", 2000, "gq", 20),
 )

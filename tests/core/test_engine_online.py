@@ -131,6 +131,29 @@ def test_engine_equals_reference_at_every_step(behaviour: Any, cut: float) -> No
     assert not sim.horde_state.diverged.any()
 
 
+@pytest.mark.parametrize("cut", [0.0, TRACE_CUT], ids=["cut=0", "default cut"])
+def test_true_online_gtds_w_trace_outlives_the_dutch_trace_that_rho_cut(cut: float) -> None:
+    """True online GTD's w trace decays by rho_{t-1}, its other two traces by rho_t. A target policy that never
+    takes three of the four actions cuts e and e_grad to zero at every such step (rho_t = 0), while e_w lives on
+    one step more, and w moves along it: e_grad and e_w keep their own support (`Online.support2`). The demon is
+    alone in its block, so no other class's trace keeps those rows. Equal to the reference at every step, and the
+    two traces are zero off their support."""
+    data = spec().model_dump(by_alias=True)
+    data["demons"] = [data["demons"][0], {
+        "name": "one_way", "learner": "true_online_gtd", "policy": {"kind": "fixed", "probabilities": [1, 0, 0, 0]},
+        "cumulant": {"sensor": "bump"}, "discount": 0.9, "alpha_w": 0.05,
+    }]  # fmt: skip
+    sim, ref, episodes = replay(RunSpec.model_validate(data), cut, 400)
+    assert episodes >= 3
+    engine = sim.learner.engine
+    (b,) = [b for b, block in enumerate(engine.horde.blocks) if block.kernel.learner == "true_online_gtd"]
+    at, kept = int(engine.t.lay.toff[b]), int(engine.t.onl.nnz2[b])
+    support = engine.t.onl.support2[at : at + kept]
+    assert kept > 0 and (np.diff(support) > 0).all()
+    assert set(np.flatnonzero((engine.traces2(b) != 0.0).any(axis=(0, 2)))) <= set(support.tolist())
+    assert float(np.abs(ref.demons["one_way"].w).max()) > 1e-6, "w moved"
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize(("meta_step", "kind"), [(0.01, EXP_TINY), (0.05, EXP_SMALL), (0.2, EXP_ANY)])
 def test_autostep_equals_the_reference_with_each_kind_of_exp(meta_step: float, kind: int) -> None:

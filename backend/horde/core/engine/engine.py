@@ -65,6 +65,11 @@ class Engine:
         """Block b's [rows, C_b] view of the traces."""
         return self._block(self.t.wts.trace, b, self.horde.blocks[b].num_classes, self._offsets.traces)
 
+    def traces2(self, b: int) -> np.ndarray:
+        """Block b's [2, rows, C_b] view of true online GTD's e_grad and e_w (zero for other learners)."""
+        rows, ncls, at = int(self.horde.block_rows[b]), self.horde.blocks[b].num_classes, 2 * self._offsets.traces[b]
+        return self.t.onl.trace2[at : at + 2 * rows * ncls].reshape(2, rows, ncls)
+
     def per_demon(self, slots: np.ndarray) -> np.ndarray:
         """A per-slot array in demon order (a copy)."""
         out = np.empty_like(slots)
@@ -308,7 +313,11 @@ class Engine:
         for into, array in zip((onl.v_old, onl.cls_f, onl.cls_rho_prev, onl.trace2, onl.step_a, onl.step_v,
                                 onl.scale), state, strict=True):  # fmt: skip
             into[...] = array
-        for b, block in enumerate(self.horde.blocks):
+        for b, block in enumerate(self.horde.blocks):  # true online GTD's second and third traces' support
+            rows = np.flatnonzero((self.traces2(b) != 0.0).any(axis=(0, 2)))
+            at = int(self._offsets.support[b])
+            onl.support2[at : at + len(rows)] = rows
+            onl.nnz2[b] = len(rows)
             if block.kernel.scaled_w:
                 lo = int(self.horde.block_lo[b])
                 onl.scale[lo : lo + block.size] = 1.0

@@ -230,6 +230,8 @@ class Online(NamedTuple):
     cls_f: np.ndarray  # [C] emphatic TD's followon trace
     cls_rho_prev: np.ndarray  # [C] rho_{t-1}
     trace2: np.ndarray  # true online GTD: per block [2, rows, C_b] at 2 voff: e_grad, then e_w
+    support2: np.ndarray  # true online GTD: per block at toff, the sorted rows where e_grad or e_w is non-zero
+    nnz2: np.ndarray  # [B] how many
     step_a: np.ndarray  # adaptive TD: per-weight step sizes, as theta (before the scale)
     step_v: np.ndarray  # autostep's normaliser v, as theta
     scale: np.ndarray  # [D] a demon's lazily kept scale: adaptive TD's step sizes (step_a times it), tdrc's h (w)

@@ -337,6 +337,8 @@ def _online(horde: Horde, lay: Layout, off: Offsets) -> Online:
         cls_f=np.zeros(horde.num_classes),
         cls_rho_prev=np.zeros(horde.num_classes),
         trace2=np.zeros(2 * int(off.traces[-1]), horde.dtype),
+        support2=np.zeros(int(off.support[-1]), np.int64),
+        nnz2=np.zeros(len(blocks), np.int64),
         step_a=step_a,
         step_v=np.zeros(int(off.weights[-1]), horde.dtype),
         scale=np.ones(horde.num_demons),

@@ -14,7 +14,7 @@ from __future__ import annotations
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
-from horde.core.engine.rows import add_row, at, read_range, td_error, walk
+from horde.core.engine.rows import at, read_range, td_error, walk
 
 
 @njit(**NO_NRT)
@@ -59,12 +59,13 @@ def read_errors(b, lay, wts, dem, cls, onl, stp, scr):
 
 @njit(**NO_NRT)
 def dutch_columns(b, i0, i1, lay, wts, stp, scr, onl):
-    """theta += coef e over the support and -= x_t's value times fix on the rows of x_t, then the new values at
-    x_tp1 for columns i0 <= i < i1 (in scr.values[0]). coef is work[0], fix work[1]."""
+    """theta += coef e over the support, -= x_t's value times fix on the rows of x_t and -= x_tp1's value times
+    the correction on the rows of x_tp1, then the new values at x_tp1 for columns i0 <= i < i1 (in
+    scr.values[0]). coef is work[0], fix work[1], the correction work[2]."""
     woff, voff, ncls = lay.woff[b], lay.voff[b], lay.ncls[b]
     db = lay.block_hi[b] - lay.block_lo[b]
     theta, trace, rows, kept, bounds = wts.theta, wts.trace, scr.rows, scr.counts[0], onl.bounds
-    coef, fix, acc = scr.work[0], scr.work[1], scr.values[0]
+    coef, fix, correction, acc = scr.work[0], scr.work[1], scr.work[2], scr.values[0]
     x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
     for i in range(i0, i1):
         acc[i] = 0.0
@@ -96,7 +97,10 @@ def dutch_columns(b, i0, i1, lay, wts, stp, scr, onl):
                 u = at(i)
                 theta[base + u] -= on_x * fix[u]
         if on_next != 0.0:
-            add_row(i0, i1, base, theta, acc, on_next)
+            for i in range(i0, i1):
+                u = at(i)
+                theta[base + u] -= on_next * correction[u]
+                acc[u] += on_next * theta[base + u]
 
 
 @njit(**NO_NRT)

@@ -6,10 +6,11 @@ shares one only between demons of one class and one alpha. Readable numpy forms 
 holds the oracle (`true_online_td_step`, `true_online_gtd_step`).
 
 The compiled kernel: the dutch trace of theta is the block's trace (decayed and merged by
-`engine.traces.merge`); true online GTD's second and third traces (the correction's accumulating trace and
-w's dutch trace) are kept dense over the block's rows (`Online.trace2`, no support, no cut), so a true online
-GTD block costs O(rows x demons) a step: fine at thesis scale, slow at Horde scale (README "Learners and
-step sizes").
+`engine.traces.merge`). True online GTD's second and third traces (the correction's accumulating trace and
+w's dutch trace, `Online.trace2`) keep a support of their own (`Online.support2`), merged with x_t and cut as
+the dutch trace is: w's trace decays by rho_{t-1}, so it outlives the others where rho_t = 0 cut them. Its w
+moves in its columns over that support (two passes: w . e_grad and w . x_t read before w moves), and theta's
+correction at x_{t+1} is paid in the walk that reads the new values there.
 """
 
 from __future__ import annotations
@@ -18,8 +19,8 @@ import numpy as np
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
-from horde.core.engine.rows import td_error
-from horde.core.engine.traces import merge, trace_dot
+from horde.core.engine.rows import at, td_error, walk
+from horde.core.engine.traces import decay_classes, merge, trace_dot
 from horde.core.learners import td_pass
 from horde.core.learners.base import Kernel, OnlineState, check_online, target
 from horde.core.learners.online import class_bounds, dutch_columns, read_errors, store_values
@@ -103,8 +104,8 @@ def prepare(code, b, lay, wts, dem, cls, onl, stp, scr):
     rho_t alpha (1 - rho_t gamma_t lambda e_{t-1} . x_t). True online TD learns in one walk (`columns`, the merge
     in `td_pass.finish`). True online GTD reads the values at s_{t+1} and the TD errors before any weight moves
     (`read_errors`), with what its weight pass takes: coef = delta + (theta_t - theta_{t-1}) . x_t and fix =
-    alpha rho_t (theta_t - theta_{t-1}) . x_t; then moves its w (which reads the TD errors and w before it moves)
-    and corrects theta at x_tp1, before the trace merges."""
+    alpha rho_t (theta_t - theta_{t-1}) . x_t; then its second and third traces move (`_togtd_traces`) and the
+    dutch trace merges."""
     lo, ncls, coff, voff = lay.block_lo[b], lay.ncls[b], lay.coff[b], lay.voff[b]
     for c in range(ncls):
         rho = cls.rho[coff + c]
@@ -123,8 +124,7 @@ def prepare(code, b, lay, wts, dem, cls, onl, stp, scr):
         coef[i] = dlv[i] + change if live else 0.0
         c = lay.slot_class[d]
         fix[i] = onl.cls_alpha[c] * cls.rho[c] * change if live else 0.0
-    _togtd_traces(b, lay, cls, onl, stp)
-    _togtd_weights(b, lay, wts, dem, cls, onl, stp)
+    _togtd_traces(b, lay, cls, onl, stp, scr)
     kept, _ = merge(b, lay, wts, scr, stp.x_t, stp.v_t, 0, False)
     scr.counts[0] = kept
 
@@ -133,11 +133,13 @@ def prepare(code, b, lay, wts, dem, cls, onl, stp, scr):
 def columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr, onl):
     """Block b's demons i0 <= i < i1. True online TD: `td_pass.walk` pays what the last step owes (coef e_{t-1} -
     fix x_{t-1}) and reads theta_t . x_{t+1}; then the TD errors and what this step owes (`_owe`). True online
-    GTD: theta += coef e - fix x_t over the support, then the new values."""
+    GTD: w moves (`_togtd_weights`), then theta += coef e - fix x_t - correction x_{t+1} in one walk, which reads
+    the new values."""
     if code == TOTD_CODE:
         td_pass.walk(b, i0, i1, lay, wts, stp, scr, True)
         _owe(b, i0, i1, lay, wts, dem, cls, onl, scr)
     else:
+        _togtd_weights(b, i0, i1, lay, wts, dem, cls, onl, stp, scr)
         dutch_columns(b, i0, i1, lay, wts, stp, scr, onl)
         store_values(b, i0, i1, lay, dem, scr)
 
@@ -164,52 +166,113 @@ def _owe(b, i0, i1, lay, wts, dem, cls, onl, scr):
 
 
 @njit(**NO_NRT)
-def _togtd_traces(b, lay, cls, onl, stp):
+def _togtd_traces(b, lay, cls, onl, stp, scr):
     """True online GTD's e_grad = rho (gamma_t lambda e_grad + x_t) and e_w = rho_{t-1} gamma_t lambda e_w +
-    beta (1 - rho_{t-1} gamma_t lambda e_w . x_t) x_t, per class, dense over the block's rows."""
-    voff, nrows, ncls, coff, lam_b = lay.voff[b], lay.rows[b], lay.ncls[b], lay.coff[b], lay.lam[b]
+    beta (1 - rho_{t-1} gamma_t lambda e_w . x_t) x_t, per class, on their own support (`Online.support2`: e_w
+    decays by rho_{t-1}, so it lives on where the dutch trace was cut by rho_t = 0), merged with x_t and cut as
+    the dutch trace is. Each class's decays and additions are written in work[2], work[4], work[7] (the columns
+    use those rows per demon afterwards)."""
+    toff, voff, nrows, ncls, coff, lam_b, cut = lay.toff[b], lay.voff[b], lay.rows[b], lay.ncls[b], lay.coff[b], \
+        lay.lam[b], lay.cut  # fmt: skip
     grad = 2 * voff
-    wtr = 2 * voff + nrows * ncls
-    x_t, v_t, trace2 = stp.x_t, stp.v_t, onl.trace2
+    wtr = grad + nrows * ncls
+    x_t, v_t, trace2, support2, rows = stp.x_t, stp.v_t, onl.trace2, onl.support2, scr.rows
+    decay_g, decay_w, add_w = scr.work[2], scr.work[4], scr.work[7]
+    add_g = cls.rho[coff : coff + ncls]
     for c in range(ncls):
-        g_t, rho = cls.gamma[coff + c], cls.rho[coff + c]
-        decay_w = onl.cls_rho_prev[coff + c] * g_t * lam_b
-        add_w = onl.cls_beta[coff + c] * (1.0 - decay_w * trace_dot(trace2, wtr, ncls, c, x_t, v_t))
-        for row in range(nrows):
-            trace2[grad + row * ncls + c] *= rho * g_t * lam_b
-            trace2[wtr + row * ncls + c] *= decay_w
-        for j in range(x_t.shape[0]):
-            trace2[grad + x_t[j] * ncls + c] += rho * v_t[j]
-            trace2[wtr + x_t[j] * ncls + c] += add_w * v_t[j]
+        decay_g[c] = cls.rho[coff + c] * cls.gamma[coff + c] * lam_b
+        decay_w[c] = onl.cls_rho_prev[coff + c] * cls.gamma[coff + c] * lam_b
+        add_w[c] = onl.cls_beta[coff + c] * (1.0 - decay_w[c] * trace_dot(trace2, wtr, ncls, c, x_t, v_t))
+    k = x_t.shape[0]
+    old = onl.nnz2[b]
+    i_old = 0
+    j = 0
+    out = 0
+    while i_old < old or j < k:
+        if j >= k or (i_old < old and support2[toff + i_old] < x_t[j]):
+            row = support2[toff + i_old]
+            on_x = False
+            value = 0.0
+            i_old += 1
+        else:
+            row = x_t[j]
+            on_x = True
+            value = v_t[j]
+            if i_old < old and support2[toff + i_old] == row:
+                i_old += 1
+            j += 1
+        g = grad + row * ncls
+        w = wtr + row * ncls
+        left_g = decay_classes(trace2[g : g + ncls], on_x, decay_g, add_g, cut, value)
+        left_w = decay_classes(trace2[w : w + ncls], on_x, decay_w, add_w, cut, value)
+        if left_g or left_w:
+            rows[out] = row  # scr.rows is free until the dutch trace's merge
+            out += 1
+    for s in range(out):  # element by element: a slice copy may allocate (kernels run without NRT)
+        support2[toff + s] = rows[s]
+    onl.nnz2[b] = out
 
 
 @njit(**NO_NRT)
-def _togtd_weights(b, lay, wts, dem, cls, onl, stp):
-    """True online GTD: theta -= alpha gamma_tp1 (1 - lambda) (w . e_grad) x_tp1 and w += rho delta e_w -
-    beta (w . x_t) x_t, both from w before this step."""
-    lo, woff, voff, nrows, ncls, coff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.rows[b], lay.ncls[b], lay.coff[b]
+def _togtd_weights(b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
+    """True online GTD's demons i0 <= i < i1: w . e_grad and w . x_t read over e_grad's support and x_t (w before
+    this step); then on the same rows w += rho delta e_w - beta (w . x_t) x_t; and the coefficient of theta's
+    correction, alpha gamma_tp1 (1 - lambda) (w . e_grad), into work[2] for the walk over theta (0 where frozen)."""
+    lo, woff, toff, voff, nrows, ncls = lay.block_lo[b], lay.woff[b], lay.toff[b], lay.voff[b], lay.rows[b], lay.ncls[b]
     db = lay.block_hi[b] - lo
     grad = 2 * voff
-    wtr = 2 * voff + nrows * ncls
-    theta, w, trace2 = wts.theta, wts.w, onl.trace2
-    x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
-    for i in range(db):
+    wtr = grad + nrows * ncls
+    w, trace2, bounds = wts.w, onl.trace2, onl.bounds
+    support2 = onl.support2[toff : toff + onl.nnz2[b]]
+    x_t, v_t, none = stp.x_t, stp.v_t, stp.x_tp1[:0]
+    w_grad, w_x, step = scr.work[2], scr.work[4], scr.work[7]
+    for i in range(i0, i1):
+        w_grad[i] = 0.0
+        w_x[i] = 0.0
+    s, j, m = 0, 0, 0
+    while True:
+        row, in_support, on_x, _, s, j, m = walk(support2, support2.shape[0], s, x_t, v_t, j, none, v_t, m)
+        if row < 0:
+            break
+        base = at(woff + row * db)
+        if in_support:
+            tr = grad + row * ncls
+            for c in range(ncls):
+                e = trace2[tr + c]
+                for i in range(max(bounds[c], i0), min(bounds[c + 1], i1)):
+                    u = at(i)
+                    w_grad[u] += e * w[base + u]
+        if on_x != 0.0:
+            for i in range(i0, i1):
+                u = at(i)
+                w_x[u] += on_x * w[base + u]
+    for i in range(i0, i1):
         d = lo + i
-        if dem.alpha[d] == 0.0:
-            continue
         c = lay.slot_class[d]
-        col = c - coff
-        w_grad = 0.0
-        w_x = 0.0
-        for row in range(nrows):
-            w_grad += w[woff + row * db + i] * trace2[grad + row * ncls + col]
-        for j in range(x_t.shape[0]):
-            w_x += v_t[j] * w[woff + x_t[j] * db + i]
-        correction = dem.alpha[d] * cls.gamma_tp1[c] * (1.0 - lay.lam[b]) * w_grad
-        for j in range(x_tp1.shape[0]):
-            theta[woff + x_tp1[j] * db + i] -= correction * v_tp1[j]
-        step = cls.rho[c] * dem.delta[d]
-        for row in range(nrows):
-            w[woff + row * db + i] += step * trace2[wtr + row * ncls + col]
-        for j in range(x_t.shape[0]):
-            w[woff + x_t[j] * db + i] -= dem.alpha_w[d] * w_x * v_t[j]
+        live = dem.alpha[d] != 0.0  # a frozen demon moves nothing
+        w_grad[i] = dem.alpha[d] * cls.gamma_tp1[c] * (1.0 - lay.lam[b]) * w_grad[i] if live else 0.0
+        w_x[i] = dem.alpha_w[d] * w_x[i] if live else 0.0
+        step[i] = cls.rho[c] * dem.delta[d] if live else 0.0
+    s, j, m = 0, 0, 0
+    while True:
+        row, in_support, on_x, _, s, j, m = walk(support2, support2.shape[0], s, x_t, v_t, j, none, v_t, m)
+        if row < 0:
+            break
+        base = at(woff + row * db)
+        if in_support:
+            tr = wtr + row * ncls
+            for c in range(ncls):
+                e = trace2[tr + c]
+                c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
+                if on_x != 0.0:
+                    for i in range(c0, c1):
+                        u = at(i)
+                        w[base + u] += step[u] * e - on_x * w_x[u]
+                else:
+                    for i in range(c0, c1):
+                        u = at(i)
+                        w[base + u] += step[u] * e
+        elif on_x != 0.0:  # a row of x_t whose traces were cut
+            for i in range(i0, i1):
+                u = at(i)
+                w[base + u] -= on_x * w_x[u]
