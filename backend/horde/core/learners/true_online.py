@@ -19,7 +19,7 @@ import numpy as np
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
-from horde.core.engine.rows import at, td_error, walk
+from horde.core.engine.rows import at, td_error
 from horde.core.engine.traces import decay_classes, merge, trace_dot
 from horde.core.learners import td_pass
 from horde.core.learners.base import Kernel, OnlineState, check_online, target
@@ -205,7 +205,7 @@ def _togtd_traces(b, lay, cls, onl, stp, scr):
         w = wtr + row * ncls
         left_g = decay_classes(trace2[g : g + ncls], on_x, decay_g, add_g, cut, value)
         left_w = decay_classes(trace2[w : w + ncls], on_x, decay_w, add_w, cut, value)
-        if left_g or left_w:
+        if left_g or left_w or on_x:  # x_t's rows stay a step even where both are cut: w moves there too
             rows[out] = row  # scr.rows is free until the dutch trace's merge
             out += 1
     for s in range(out):  # element by element: a slice copy may allocate (kernels run without NRT)
@@ -215,34 +215,33 @@ def _togtd_traces(b, lay, cls, onl, stp, scr):
 
 @njit(**NO_NRT)
 def _togtd_weights(b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
-    """True online GTD's demons i0 <= i < i1: w . e_grad and w . x_t read over e_grad's support and x_t (w before
-    this step); then on the same rows w += rho delta e_w - beta (w . x_t) x_t; and the coefficient of theta's
-    correction, alpha gamma_tp1 (1 - lambda) (w . e_grad), into work[2] for the walk over theta (0 where frozen)."""
+    """True online GTD's demons i0 <= i < i1: w . e_grad and w . x_t read over e_grad's support, which holds the
+    rows of x_t (w before this step); then on the same rows w += rho delta e_w - beta (w . x_t) x_t; and the
+    coefficient of theta's correction, alpha gamma_tp1 (1 - lambda) (w . e_grad), into work[2] for the walk over
+    theta (0 where frozen)."""
     lo, woff, toff, voff, nrows, ncls = lay.block_lo[b], lay.woff[b], lay.toff[b], lay.voff[b], lay.rows[b], lay.ncls[b]
     db = lay.block_hi[b] - lo
     grad = 2 * voff
     wtr = grad + nrows * ncls
-    w, trace2, bounds = wts.w, onl.trace2, onl.bounds
-    support2 = onl.support2[toff : toff + onl.nnz2[b]]
-    x_t, v_t, none = stp.x_t, stp.v_t, stp.x_tp1[:0]
+    w, trace2, bounds, support2, kept = wts.w, onl.trace2, onl.bounds, onl.support2, onl.nnz2[b]
+    x_t, v_t = stp.x_t, stp.v_t
     w_grad, w_x, step = scr.work[2], scr.work[4], scr.work[7]
     for i in range(i0, i1):
         w_grad[i] = 0.0
         w_x[i] = 0.0
-    s, j, m = 0, 0, 0
-    while True:
-        row, in_support, on_x, _, s, j, m = walk(support2, support2.shape[0], s, x_t, v_t, j, none, v_t, m)
-        if row < 0:
-            break
+    j = 0
+    for s in range(kept):
+        row = support2[toff + s]
         base = at(woff + row * db)
-        if in_support:
-            tr = grad + row * ncls
-            for c in range(ncls):
-                e = trace2[tr + c]
-                for i in range(max(bounds[c], i0), min(bounds[c + 1], i1)):
-                    u = at(i)
-                    w_grad[u] += e * w[base + u]
-        if on_x != 0.0:
+        tr = grad + row * ncls
+        for c in range(ncls):
+            e = trace2[tr + c]
+            for i in range(max(bounds[c], i0), min(bounds[c + 1], i1)):
+                u = at(i)
+                w_grad[u] += e * w[base + u]
+        if j < x_t.shape[0] and x_t[j] == row:
+            on_x = v_t[j]
+            j += 1
             for i in range(i0, i1):
                 u = at(i)
                 w_x[u] += on_x * w[base + u]
@@ -253,26 +252,23 @@ def _togtd_weights(b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
         w_grad[i] = dem.alpha[d] * cls.gamma_tp1[c] * (1.0 - lay.lam[b]) * w_grad[i] if live else 0.0
         w_x[i] = dem.alpha_w[d] * w_x[i] if live else 0.0
         step[i] = cls.rho[c] * dem.delta[d] if live else 0.0
-    s, j, m = 0, 0, 0
-    while True:
-        row, in_support, on_x, _, s, j, m = walk(support2, support2.shape[0], s, x_t, v_t, j, none, v_t, m)
-        if row < 0:
-            break
+    j = 0
+    for s in range(kept):
+        row = support2[toff + s]
         base = at(woff + row * db)
-        if in_support:
-            tr = wtr + row * ncls
-            for c in range(ncls):
-                e = trace2[tr + c]
-                c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
-                if on_x != 0.0:
-                    for i in range(c0, c1):
-                        u = at(i)
-                        w[base + u] += step[u] * e - on_x * w_x[u]
-                else:
-                    for i in range(c0, c1):
-                        u = at(i)
-                        w[base + u] += step[u] * e
-        elif on_x != 0.0:  # a row of x_t whose traces were cut
-            for i in range(i0, i1):
-                u = at(i)
-                w[base + u] -= on_x * w_x[u]
+        tr = wtr + row * ncls
+        on_x = 0.0
+        if j < x_t.shape[0] and x_t[j] == row:
+            on_x = v_t[j]
+            j += 1
+        for c in range(ncls):
+            e = trace2[tr + c]
+            c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
+            if on_x != 0.0:
+                for i in range(c0, c1):
+                    u = at(i)
+                    w[base + u] += step[u] * e - on_x * w_x[u]
+            else:
+                for i in range(c0, c1):
+                    u = at(i)
+                    w[base + u] += step[u] * e
