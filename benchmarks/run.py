@@ -92,6 +92,7 @@ FULL = Plan(
         ("nexting", 8000, "gtd"),
         ("nexting", 8000, "true_online_td"),  # the learners that need less tuning (README)
         ("nexting", 8000, "etd"),
+        ("nexting", 8000, "true_online_gtd"),  # at Horde scale since its traces keep a support (docs/performance.md)
         ("nexting", 8000, "td+autostep"),
         ("nexting", 8000, "td+tidbd"),
         ("off_policy", 1000, "gtd"),
