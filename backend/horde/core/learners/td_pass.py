@@ -203,7 +203,7 @@ def settle(b, lay, wts, scr, along_x):
         base = at(woff + row * db)
         f = wts.support_f[toff + s] if along_x else 0.0
         if f != 0.0:
-            scr.ev[2, 0] = f
+            scr.ev[2, 0] = f  # x_{t-1}'s value in the weights' dtype, as the walk pays it
             f = scr.ev[2, 0]
         for c in range(ncls):
             e = trace[voff + row * ncls + c]

@@ -183,6 +183,8 @@ def _togtd_traces(b, lay, cls, onl, stp, scr):
         decay_g[c] = cls.rho[coff + c] * cls.gamma[coff + c] * lam_b
         decay_w[c] = onl.cls_rho_prev[coff + c] * cls.gamma[coff + c] * lam_b
         add_w[c] = onl.cls_beta[coff + c] * (1.0 - decay_w[c] * trace_dot(trace2, wtr, ncls, c, x_t, v_t))
+    # x_t's rows by membership, not by value (`rows.walk` reads a row of value 0 as off x_t): `_togtd_weights`
+    # finds every row of x_t in this support
     k = x_t.shape[0]
     old = onl.nnz2[b]
     i_old = 0
