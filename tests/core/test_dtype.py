@@ -59,9 +59,11 @@ def test_float32_engine_equals_the_reference_to_float32s_tolerance(case: str) ->
     assert largest > 1e-9, "float32 rounds: the engine is not computing in float64 after all"
 
 
-def test_float32_nexting_predictions_stay_within_1e_5_of_float64_after_10000_steps() -> None:
-    """The nexting stream (57 sensors tiled into 6065 features, five timescales), TD: 10,000 steps."""
-    spec = workloads.spec("nexting", 60, "td")
+@pytest.mark.parametrize("learner", ["td", "gtd"])
+def test_float32_nexting_predictions_stay_within_1e_5_of_float64_after_10000_steps(learner: str) -> None:
+    """The nexting stream (57 sensors tiled into 6065 features, five timescales), TD and GTD (whose walk sums a few
+    rows at a time in float32 before it adds them into float64: `gtd_pass.SUM_ROWS`): 10,000 steps."""
+    spec = workloads.spec("nexting", 60, learner)
     predictions = {}
     for dtype in ("float64", "float32"):
         sim = Simulation(with_dtype(spec, dtype))

@@ -93,6 +93,17 @@ def test_thread_count_does_not_change_a_single_bit(spec: RunSpec) -> None:
     assert numba.threading_layer() in ("tbb", "omp", "workqueue")
 
 
+@pytest.mark.slow
+def test_thread_count_does_not_change_a_single_bit_in_float32(spec: RunSpec) -> None:
+    """float32's walks split alike: TD's pays and reads two rows at once, GTD's sums a few rows in float32 before it
+    adds them into its float64 sums (`gtd_pass.SUM_ROWS`), at the same rows whatever the columns."""
+    data = spec.model_dump(by_alias=True)
+    data["demons"] = [demon for demon in data["demons"] if demon["learner"] != "gq"]
+    data["learning"]["dtype"] = "float32"
+    one, _ = on_1_2_3_threads(RunSpec.model_validate(data))
+    assert all(theta.dtype == np.float32 for theta in one.horde_state.theta)
+
+
 def test_small_hordes_take_one_thread() -> None:
     sim = Simulation(run_spec("uniform"))
     sim.threads = 4

@@ -300,6 +300,7 @@ def _scratch(horde: Horde, lay: Layout, nodes: int) -> Scratch:
     dmax = max([1, *sizes, *lay.ncls.tolist()])
     kmax = max((g.coder.k for g in horde.groups), default=1)
     most_rows = int(max([1, *horde.block_rows.tolist()]))
+    work = np.zeros((8, dmax))
     return Scratch(
         node_values=np.zeros(max(1, nodes)),
         rows=np.zeros(most_rows + kmax, np.int64),
@@ -307,7 +308,7 @@ def _scratch(horde: Horde, lay: Layout, nodes: int) -> Scratch:
         rows_f=np.zeros(most_rows + kmax),
         values=np.zeros((na, dmax)),
         pi_next=np.zeros((na, dmax)),
-        work=np.zeros((8, dmax)),
+        work=work,
         scales=np.ones((3, dmax)),
         decay=np.zeros(dmax),
         add=np.zeros(dmax),
@@ -315,6 +316,7 @@ def _scratch(horde: Horde, lay: Layout, nodes: int) -> Scratch:
         counts=np.zeros(2, np.int64),
         ex=np.zeros((na, dmax)),
         ev=np.zeros((EV_ROWS, dmax), horde.dtype),  # trace values, what is owed: of the weights' dtype
+        sums=work[1:4] if horde.dtype == np.float64 else np.zeros((3, dmax), horde.dtype),
     )
 
 

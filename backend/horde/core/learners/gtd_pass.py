@@ -29,7 +29,7 @@ the end of a call of the loop, an episode's start, a freeze (`engine.step`). A f
 
 Within a row, each trace class's demons are one contiguous run of the row (`Layout.class_lo`, `class_hi`). In
 float32 the walk pays in float32 (what is owed and the row's numbers copied into the weights' dtype,
-`Scratch.ev`), and sums in float64.
+`Scratch.ev`), and sums SUM_ROWS rows at a time in float32 before it adds them into float64 sums.
 """
 
 from __future__ import annotations
@@ -51,7 +51,12 @@ NONE = np.int64(2**62)  # past every row: a walk's list that has ended
 # has; B, C, D), then cells of one number for a thread (at its first column) that round a row's numbers to the
 # weights' dtype (e_t's values, x_t's, x_{t-1}'s, of two rows).
 EV_K, EV_B, EV_C, EV_D, EV_CELLS = 0, 1, 2, 3, 4
-assert OWED_ROWS == 5 and EV_ROWS == EV_CELLS + 6
+assert OWED_ROWS == 5 and EV_ROWS == EV_CELLS + 8
+# In float32 the walk's three sums (theta . x_{t+1}, w . x_t, w . e_t) are taken over SUM_ROWS rows at a time in
+# float32 (`Scratch.sums`), then added into the float64 sums (`_add_sums`): a sum of so few terms does not drift,
+# and per demon the float64 sums move twice a float32 weight's bytes (most of a float32 walk's, summed row by row).
+# In float64, `Scratch.sums` is the float64 sums themselves.
+SUM_ROWS = 16
 
 
 @njit(**NO_NRT, inline="always")
@@ -91,8 +96,8 @@ def _new_trace(e_old, decay, add, f, cut, ev, r, i0):
 def _pay_one(theta, w, base, c0, c1, own, sums, ev, acc):
     """One row's columns c0 <= i < c1: theta pays K k - C f, w pays B o - D p (own = (k, o, f, p) in the weights'
     dtype; k: e_{t-1}'s value on the row or x_{t-1}'s, as the form has it; o: e_{t-1}'s; f: x_t's; p:
-    x_{t-1}'s); then the sums from the paid row (sums = (g, x, n), float64): theta . x_{t+1} (g: x_{t+1}'s value),
-    w . x_t (x: x_t's), w . e_t (n: e_t's)."""
+    x_{t-1}'s); then the sums from the paid row (sums = (g, x, n); all in the weights' dtype, as are the partial
+    sums acc): theta . x_{t+1} (g: x_{t+1}'s value), w . x_t (x: x_t's), w . e_t (n: e_t's)."""
     pay_k, pay_b, pay_c, pay_d = ev[EV_K], ev[EV_B], ev[EV_C], ev[EV_D]
     acc_v, acc_wx, acc_we = acc[0], acc[1], acc[2]
     k, o, f, p = own
@@ -145,30 +150,41 @@ def _pay_two(theta, w, bases, c0, c1, own, sums, ev, acc):
 @njit(**NO_NRT)
 def _pay_rows(b, i0, i1, lay, wts, scr, r, x, q, g, two, form):
     """Row r[0] (and r[1], `two`) of the walk, each class's run of columns i0 <= i < i1 (see `_pay_one`): x_t's
-    values x, x_{t-1}'s q, x_{t+1}'s g (pairs, float64)."""
+    values x, x_{t-1}'s q, x_{t+1}'s g (pairs, float64; rounded to the weights' dtype here)."""
     lo, woff, voff, ncls, coff, cut = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b], lay.cut
     db = lay.block_hi[b] - lo
-    theta, w, trace, ev, acc = wts.theta, wts.w, wts.trace, scr.ev, scr.work[1:4]
+    theta, w, trace, ev, acc = wts.theta, wts.w, wts.trace, scr.ev, scr.sums
     r0, r1 = r
     bases = (at(woff + r0 * db), at(woff + r1 * db))
     f0, p0 = _cell(ev, EV_CELLS + 2, i0, x[0]), _cell(ev, EV_CELLS + 4, i0, q[0])
     f1, p1 = _cell(ev, EV_CELLS + 3, i0, x[1]), _cell(ev, EV_CELLS + 5, i0, q[1])
+    g0, g1 = _cell(ev, EV_CELLS + 6, i0, g[0]), _cell(ev, EV_CELLS + 7, i0, g[1])
     for c in range(ncls):
         c0 = max(lay.class_lo[coff + c], i0)
         c1 = min(lay.class_hi[coff + c], i1)
         if c0 >= c1:
             continue
         o0 = trace[voff + r0 * ncls + c]  # (a row off the last support has trace 0)
-        n0 = np.float64(_new_trace(o0, scr.decay[c], scr.add[c], x[0], cut, ev, EV_CELLS, i0))
+        n0 = _new_trace(o0, scr.decay[c], scr.add[c], x[0], cut, ev, EV_CELLS, i0)
         k0 = o0 if form == FOLLOWS_DELTA else p0
         if two:
             o1 = trace[voff + r1 * ncls + c]
-            n1 = np.float64(_new_trace(o1, scr.decay[c], scr.add[c], x[1], cut, ev, EV_CELLS + 1, i0))
+            n1 = _new_trace(o1, scr.decay[c], scr.add[c], x[1], cut, ev, EV_CELLS + 1, i0)
             k1 = o1 if form == FOLLOWS_DELTA else p1
-            _pay_two(theta, w, bases, c0, c1, (k0, k1, o0, o1, f0, f1, p0, p1), (g[0], g[1], x[0], x[1], n0, n1),
-                     ev, acc)  # fmt: skip
+            _pay_two(theta, w, bases, c0, c1, (k0, k1, o0, o1, f0, f1, p0, p1), (g0, g1, f0, f1, n0, n1), ev, acc)
         else:
-            _pay_one(theta, w, bases[0], c0, c1, (k0, o0, f0, p0), (g[0], x[0], n0), ev, acc)
+            _pay_one(theta, w, bases[0], c0, c1, (k0, o0, f0, p0), (g0, f0, n0), ev, acc)
+
+
+@njit(**NO_NRT, inline="always")
+def _add_sums(i0, i1, scr):
+    """float32: the walk's sums over its last rows (`Scratch.sums`) added into its float64 sums, and begun again."""
+    for r in range(3):
+        part, total = scr.sums[r], scr.work[1 + r]
+        for i in range(i0, i1):
+            u = at(i)
+            total[u] += np.float64(part[u])
+            part[u] = 0.0
 
 
 @njit(**NO_NRT)
@@ -184,6 +200,8 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr, form):
     theta, w, trace, support, support_f, old = wts.theta, wts.w, wts.trace, wts.support, wts.support_f, wts.nnz[b]
     owed, ev, cut = wts.owed, scr.ev, lay.cut
     acc_v, acc_wx, acc_we = scr.work[1], scr.work[2], scr.work[3]  # theta . x_{t+1}, w . x_t, w . e_t
+    part_v, in_float32 = scr.sums[0], theta.itemsize == 4  # (float32: theta . x_{t+1} over the last rows)
+    sum_rows = SUM_ROWS if in_float32 else NONE
     x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
     nt, k = x_t.shape[0], x_tp1.shape[0]
     owed_a, owed_b, owed_c, owed_d, owed_m = owed[OWED_A], owed[OWED_B], owed[OWED_C], owed[OWED_D], owed[OWED_M]
@@ -197,6 +215,10 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr, form):
         acc_v[u] = 0.0
         acc_wx[u] = 0.0
         acc_we[u] = 0.0
+    for r in range(3 if in_float32 else 0):
+        for i in range(i0, i1):
+            scr.sums[r, at(i)] = 0.0
+    summed = 0  # rows in the partial sums
     s = 0
     j = 0
     m = 0
@@ -214,16 +236,23 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr, form):
             q = support_f[toff + s] if r_s == row else 0.0
             if waiting:
                 _pay_rows(b, i0, i1, lay, wts, scr, (r0, row), (x0, x), (q0, q), (g0, g), True, form)
+                summed += 2
             else:
                 r0, x0, q0, g0 = row, x, q, g
             waiting = not waiting
             s += 1 if r_s == row else 0
             j += 1 if r_j == row else 0
         elif g != 0.0:  # a row of x_{t+1} alone: theta read only (it owes nothing there)
-            add_row(i0, i1, at(woff + row * db), theta, acc_v, g)
+            add_row(i0, i1, at(woff + row * db), theta, part_v, _cell(ev, EV_CELLS + 6, i0, g))
+            summed += 1
         m += 1 if r_m == row else 0
+        if summed >= sum_rows:
+            _add_sums(i0, i1, scr)
+            summed = 0
     if waiting:
         _pay_rows(b, i0, i1, lay, wts, scr, (r0, r0), (x0, x0), (q0, q0), (g0, g0), False, form)
+    if in_float32:
+        _add_sums(i0, i1, scr)
     lam = lay.lam[b]
     q_t, values, scale_b, scale_d, scale_a = dem.q[:, 0], scr.values[0], scr.scales[0], scr.scales[1], scr.scales[2]
     for i in range(i0, i1):
