@@ -94,6 +94,13 @@ def test_step_bytes_count_bytes_read_plus_bytes_written(learner: str, dtype: str
     assert block.num_classes > 1 and 0 < len(x_next - support) < len(x_next), "x_{t+1}'s rows mostly in the support"
 
 
+@pytest.mark.parametrize("runs", [1, 2, 3])
+def test_the_in_place_update_adds_one_to_every_number_once_in_contiguous_runs(runs: int) -> None:
+    a = np.arange(1001, dtype=np.float64)
+    measure._add_one(a, runs)
+    np.testing.assert_array_equal(a, np.arange(1001) + 1.0)
+
+
 def test_bandwidth_in_place_on_each_thread_count() -> None:
     bw = measure.bandwidth(megabytes=16, repeats=2, threads=2)
     assert len(bw.in_place) == min(2, numba.config.NUMBA_NUM_THREADS)
