@@ -49,7 +49,7 @@ OWED_C, OWED_A, OWED_B, OWED_D, OWED_M = 0, 1, 2, 3, 4  # rows of `Weights.owed`
 NONE = np.int64(2**62)  # past every row: a walk's list that has ended
 # Scratch.ev's rows, in the weights' dtype: what is owed as the walk pays it (K: A or M, whichever the form
 # has; B, C, D), then cells of one number for a thread (at its first column) that round a row's numbers to the
-# weights' dtype (e_t's values, x_t's, x_{t-1}'s, of two rows).
+# weights' dtype (e_t's values, x_t's, x_{t-1}'s, x_{t+1}'s, of two rows).
 EV_K, EV_B, EV_C, EV_D, EV_CELLS = 0, 1, 2, 3, 4
 assert OWED_ROWS == 5 and EV_ROWS == EV_CELLS + 8
 # In float32 the walk's three sums (theta . x_{t+1}, w . x_t, w . e_t) are taken over SUM_ROWS rows at a time in
