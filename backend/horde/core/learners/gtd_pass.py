@@ -215,9 +215,7 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr, form):
         acc_v[u] = 0.0
         acc_wx[u] = 0.0
         acc_we[u] = 0.0
-    for r in range(3 if in_float32 else 0):
-        for i in range(i0, i1):
-            scr.sums[r, at(i)] = 0.0
+    # (float32's partial sums start at 0: allocated so, and every walk's last `_add_sums` leaves its columns at 0)
     summed = 0  # rows in the partial sums
     s = 0
     j = 0

@@ -71,15 +71,6 @@ def _pay_and_read_two(theta, bases, owed, e, c0, c1, acc, value):
     base0, base1 = bases
     e0, e1 = e
     value0, value1 = value
-    if value0 == 1.0 and value1 == 1.0:  # binary features: the same numbers without the multiplications
-        for i in range(c0, c1):
-            u = at(i)
-            paid0 = theta[base0 + u] + owed[u] * e0
-            paid1 = theta[base1 + u] + owed[u] * e1
-            theta[base0 + u] = paid0
-            theta[base1 + u] = paid1
-            acc[u] += np.float64(paid0) + np.float64(paid1)
-        return
     for i in range(c0, c1):
         u = at(i)
         paid0 = theta[base0 + u] + owed[u] * e0
