@@ -61,10 +61,17 @@ def test_the_servers_ray_listens_on_loopback_and_leaves_no_zombies(tmp_path: Pat
             assert study.status_code == 202, study.text
             wait_study(client, study.json()["id"], timeout=240)
             head = client.app.state.studies.local_ray  # type: ignore[attr-defined]
-            ray = [head_process(head.pid), *descendants(head.pid)]
+
+            def reaped() -> list[Proc]:
+                """Ray's processes once none is a zombie. A worker that has just exited (`ray::IDLE`) is one
+                until the raylet reaps it, a moment later: only one that stays is left behind."""
+                ray = [head_process(head.pid), *descendants(head.pid)]
+                assert not [p for p in ray if p.state == "Z"], ray
+                return ray
+
+            ray = wait_until(reaped, "Ray's exited workers to be reaped (no zombie left)", timeout=15)
             assert {p.name for p in ray} >= set(RAY_NAMES), ray
             # The study's driver has ended; Ray's processes live on for the next study.
-            assert not [p for p in ray if p.state == "Z"], ray
             sockets = listening([p.pid for p in ray])
             servers = {p.pid for p in ray if p.name in RAY_NAMES}
             assert servers <= {pid for pid, _, _ in sockets}, "the GCS and the raylet listen"
