@@ -63,6 +63,13 @@ def server(
         process.wait(timeout=30)
 
 
+def snapshot_steps(data: Path, run_id: str) -> int:
+    """The step count of the run's latest snapshot as committed to the database (0 before its first)."""
+    with sqlite3.connect(data / "horde.db", timeout=10.0) as db:
+        row = db.execute("SELECT steps FROM snapshots WHERE run_id = ?", (run_id,)).fetchone()
+    return 0 if row is None else int(row[0])
+
+
 def test_sigkill_mid_run_loses_nothing(tmp_path: Path) -> None:
     data, log = tmp_path / "data", tmp_path / "server.log"
     with server(data, log) as (process, client):
@@ -78,12 +85,14 @@ def test_sigkill_mid_run_loses_nothing(tmp_path: Path) -> None:
         twin = client.post("/api/runs/import", json=client.get(f"/api/runs/{paused}/snapshot").json()).json()["id"]
 
         running = client.post("/api/runs", json=make_spec(), params={"start": "true"}).json()["id"]
-        time.sleep(1.0)  # several periodic snapshots
+        wait_until(lambda: client.get(f"/api/runs/{running}").json()["step"] > 0, "the run to step", 30.0)
         running_steps = client.get(f"/api/runs/{running}").json()["step"]
-        assert running_steps > 0
+        # A periodic snapshot taken after that step count was read: snapshots go on while the run runs.
+        wait_until(lambda: snapshot_steps(data, running) > running_steps, "a periodic snapshot past it", 30.0)
 
         process.send_signal(signal.SIGKILL)
         process.wait(timeout=30)
+    latest_snapshot = snapshot_steps(data, running)  # the run may have stepped and saved again before the kill
 
     with sqlite3.connect(data / "horde.db") as db:
         assert db.execute("PRAGMA integrity_check").fetchone()[0] == "ok"
@@ -102,11 +111,11 @@ def test_sigkill_mid_run_loses_nothing(tmp_path: Path) -> None:
         reference = client.post(f"/api/runs/{twin}/step", json={"steps": 500}).json()
         assert resumed["predictions"] == reference["predictions"] and resumed["step"] == paused_body["step"] + 500
 
-        # The running run goes on from its latest periodic snapshot (taken within 0.2 s of the kill).
+        # The running run goes on from its latest periodic snapshot, the last one written before the kill.
         assert runs[running]["status"] == "running", runs[running]
         restored = int(runs[running]["message"].split("from step ")[1].split(",")[0])
-        assert 0 < restored <= running_steps, (restored, running_steps)
-        time.sleep(0.2)
+        assert restored == latest_snapshot > running_steps, (restored, latest_snapshot, running_steps)
+        wait_until(lambda: client.get(f"/api/runs/{running}").json()["step"] > restored, "the run to go on", 30.0)
         assert client.post(f"/api/runs/{running}/pause").json()["step"] > restored
 
         with sqlite3.connect(data / "horde.db") as db:
