@@ -3,7 +3,8 @@
     python -m benchmarks.exp_loop [--count 3660000] [--rounds 2]
 
 Each form is timed in the same compiled loop, a[i] *= exp(u[i]) over `count` numbers (3.66 million: one a
-nexting step's weights of x_t, 457 rows x 8000 demons), u uniform in (-0.05, 0.05); best of ten calls, ns a number.
+nexting step's weights of x_t, 457 rows x 8000 demons), u uniform in (-0.05, 0.05); best of ten calls after one
+that compiles (`step_parts.best_of`), ns a number.
 `a[i] *= 1 + u[i]` is the loop's memory alone (24 bytes a number). The C library's `math.exp` is one call a
 number; `vector_exp` (engine/fast_exp.py) vectorizes over the whole range; `exp_small` and `exp_tiny` are Autostep's
 polynomials for |u| <= 1/16 and 1/100 (learners/adaptive.py). docs/performance.md, "TIDBD's exp, fused".
@@ -13,12 +14,13 @@ from __future__ import annotations
 
 import argparse
 import math
-import time
 from collections.abc import Callable
+from functools import partial
 
 import numpy as np
 from numba import njit
 
+from benchmarks.step_parts import best_of
 from horde.core.engine.fast_exp import vector_exp
 from horde.core.learners.adaptive import exp_small, exp_tiny
 
@@ -46,17 +48,6 @@ FORMS = {
 }
 
 
-def best_ns(scale: Callable[[np.ndarray, np.ndarray], None], a: np.ndarray, u: np.ndarray) -> float:
-    """The best of ten calls, ns a number (the first call compiles and is not timed)."""
-    scale(a, u)
-    best = float("inf")
-    for _ in range(10):
-        start = time.perf_counter()
-        scale(a, u)
-        best = min(best, time.perf_counter() - start)
-    return 1e9 * best / a.shape[0]
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--count", type=int, default=3_660_000)
@@ -65,7 +56,8 @@ def main() -> None:
     u = np.random.default_rng(0).uniform(-0.05, 0.05, args.count)
     print("| round | " + " | ".join(FORMS) + " |\n|---|" + "---|" * len(FORMS))
     for round_ in range(1, args.rounds + 1):
-        times = [best_ns(scale, np.ones(args.count), u) for scale in FORMS.values()]
+        calls = [partial(scale, np.ones(args.count), u) for scale in FORMS.values()]
+        times = [1e6 * best_of(call, repeats=10, count=1) / args.count for call in calls]
         print(f"| {round_} | " + " | ".join(f"{t:.2f}" for t in times) + " |", flush=True)
     print(f"ns a number, best of 10 loops over {args.count:,} numbers; one thread")
 

@@ -63,8 +63,18 @@ def fma(typingctx, a, b, c):
     return types.float64(types.float64, types.float64, types.float64), codegen
 
 
-# 1 / n! for n = 2 to 12, the Taylor coefficients after the first two
-C2, C3, C4, C5, C6, C7, C8, C9, C10, C11, C12 = (1.0 / math.factorial(n) for n in range(2, 13))
+# exp's Taylor coefficients 1 / n!, from n = 12 down to 0: a polynomial of degree d takes the last d + 1
+TAYLOR = tuple(1.0 / math.factorial(n) for n in range(12, -1, -1))
+
+
+@njit(cache=True, inline="always")
+def taylor(x, coefficients):
+    """The polynomial whose coefficients run from the highest power down, at x: Horner's rule in fused
+    multiply-adds (`fma`)."""
+    p = coefficients[0]
+    for c in coefficients[1:]:
+        p = fma(p, x, c)  # type: ignore[call-arg]  # (mypy reads an intrinsic as its typing function)
+    return p
 
 
 @njit(cache=True, inline="always")
@@ -74,9 +84,7 @@ def vector_exp(x):
     t: float = fma(xc, LOG2E, ROUNDER)  # type: ignore[call-arg]  # (mypy reads an intrinsic as its typing function)
     k = t - ROUNDER  # round(x / ln 2)
     r = fma(-k, LN2_LO, fma(-k, LN2_HI, xc))  # x - k ln 2, ln 2 in two parts
-    p = fma(C12, r, C11)  # Horner's rule from the top
-    for c in (C10, C9, C8, C7, C6, C5, C4, C3, C2, 1.0, 1.0):
-        p = fma(p, r, c)
+    p = taylor(r, TAYLOR)
     ki = _bits(t) - _bits(ROUNDER)  # k as an integer
     # 2^k in two factors, so that each is a normal float: p 2^(k - 1) 2 overflows exactly where exp does, and
     # p 2^(k + 63) 2^-63 rounds a subnormal result once

@@ -36,7 +36,7 @@ import math
 import numpy as np
 from numba import njit
 
-from horde.core.engine.fast_exp import C2, C3, C4, C5, C6, C7, C8, C9, fma, vector_exp
+from horde.core.engine.fast_exp import TAYLOR, taylor, vector_exp
 from horde.core.engine.layout import NO_NRT
 from horde.core.engine.rows import add_row, at, walk
 from horde.core.engine.traces import merge
@@ -378,20 +378,14 @@ def exp_small(x):
     """exp(x) for |x| <= SMALL_EXP: its Taylor polynomial of degree 9 (the remainder is below 3e-19 relative,
     far under the double's rounding), by Horner's rule in fused multiply-adds: fewer than `vector_exp`, which
     reduces its argument first."""
-    p: float = fma(C9, x, C8)  # type: ignore[call-arg]  # (mypy reads an intrinsic as its typing function)
-    for c in (C7, C6, C5, C4, C3, C2, 1.0, 1.0):
-        p = fma(p, x, c)
-    return p
+    return taylor(x, TAYLOR[-10:])
 
 
 @njit(cache=True, inline="always")
 def exp_tiny(x):
     """exp(x) for |x| <= TINY_EXP: its Taylor polynomial of degree 6 (the remainder is below 2e-18 relative, under
     the double's rounding), three multiply-adds fewer than `exp_small`."""
-    p: float = fma(C6, x, C5)  # type: ignore[call-arg]
-    for c in (C4, C3, C2, 1.0, 1.0):
-        p = fma(p, x, c)
-    return p
+    return taylor(x, TAYLOR[-7:])
 
 
 _autostep_tiny = _adaptive_kernel(exp_tiny, True)
