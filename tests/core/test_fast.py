@@ -113,6 +113,42 @@ def test_a_diverging_demon_is_frozen_and_the_others_go_on() -> None:
     assert not np.array_equal(sim.horde.weights(later, "calm"), learned), "the others go on learning"
 
 
+# (learner, step size, meta step size): the learners whose `wild` demon diverges here (GTD2, the original GTD and
+# Autostep do not); TIDBD twice, with its meta step size at 1 so that its step sizes overflow before it diverges
+FROZEN_LEARNERS = [("td", "constant", 0.01), ("gtd", "constant", 0.01), ("tdrc", "constant", 0.01),
+                   ("etd", "constant", 0.01), ("true_online_td", "constant", 0.01),
+                   ("true_online_gtd", "constant", 0.01), ("gq", "constant", 0.01), ("td", "tidbd", 0.01),
+                   ("td", "tidbd", 1.0)]  # fmt: skip
+
+
+@pytest.mark.parametrize(("learner", "step_size", "meta_step"), FROZEN_LEARNERS)
+def test_a_frozen_demon_stays_at_zero(learner: str, step_size: str, meta_step: float) -> None:
+    """Once diverged and frozen, a demon's weights stay 0 and its step sizes finite: an infinite step size
+    left in place would write NaN into its weights on every later step, frozen rate 0 or not (inf times 0)."""
+    target = {"kind": "fixed", "probabilities": [0.7, 0.1, 0.1, 0.1]}
+    demons: list[dict[str, Any]] = [
+        {"name": "wild", "learner": learner, "step_size": step_size, "policy": target, "cumulant": {"sensor": "x"},
+         "alpha": 10, "discount": 0.99, "lambda": 0.9, "meta_step": meta_step},
+        {"name": "calm", "learner": learner, "step_size": step_size, "policy": target,
+         "cumulant": {"sensor": "bump"}, "discount": 0.9},
+    ]  # fmt: skip
+    spec = diverging_spec().model_copy(update={"demons": RunSpec.model_validate(
+        {"world": {"width": 500, "height": 500}, "demons": demons}).demons})  # fmt: skip
+    sim = Simulation(spec)
+    wild, calm = (sim.horde.index[n] for n in ("wild", "calm"))
+    for _ in range(3000):
+        sim.step()
+        if sim.horde_state.diverged[wild]:
+            break
+    assert sim.horde_state.diverged[wild] and not sim.horde_state.diverged[calm]
+    sim.run(300)
+    state = sim.horde_state
+    theta, w, _ = sim.horde.demon_arrays(state, "wild")
+    assert not theta.any() and not w.any(), "a frozen demon's weights stay 0"
+    assert np.isfinite(sim.step_sizes("wild")).all()
+    assert np.isfinite(state.prediction).all() and np.isfinite(state.delta[calm])
+
+
 @pytest.mark.parametrize("learner", ["gtd", "tdrc", "td", "etd", "true_online_td", "gq"])
 def test_when_a_demon_is_frozen_its_block_reads_its_values_from_whole_weights(learner: str) -> None:
     """A demon of GTD or of the learners sharing its kernel owes its whole update to the next step

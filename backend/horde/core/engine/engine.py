@@ -100,18 +100,12 @@ class Engine:
         self.t.dem.alpha_w[:] = np.where(live, self.t.lay.alpha_w, 0.0)
 
     def freeze(self, slots: np.ndarray) -> None:
-        """Mark these slots diverged and freeze them as the compiled step does (`step.freeze_diverged`): step
+        """Mark these slots diverged and freeze them as the compiled step does (`step.freeze_slot`): step
         sizes 0, weights 0, nothing owed."""
         t = self.t
-        t.dem.diverged[slots] = True
-        t.dem.alpha[slots] = 0.0
-        t.dem.alpha_w[slots] = 0.0
-        t.wts.owed[:, slots] = 0.0
         for slot in np.asarray(slots, dtype=np.int64):
             b = int(np.searchsorted(self.horde.block_lo, slot, side="right")) - 1
-            col = int(slot - self.horde.block_lo[b])
-            self.weights(t.wts.theta, b)[:, col] = 0.0
-            self.weights(t.wts.w, b)[:, col] = 0.0
+            step.freeze_slot(b, int(slot - self.horde.block_lo[b]), t.lay, t.wts, t.dem, t.onl)
 
     def _behaviour(self, behaviour: BehaviourSpec) -> Behaviour:
         demon = int(self.horde.demon_slot[self.horde.index[behaviour.demon]]) if behaviour.demon else -1

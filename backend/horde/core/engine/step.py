@@ -242,22 +242,31 @@ def freeze_diverged(g, t, stp):
     weights to 0 (what they had left would sum to nonsense in the demons reading them)."""
     lay, wts, dem = t.lay, t.wts, t.dem
     for b in range(t.grp.block_lo[g], t.grp.block_hi[g]):
-        lo, rows, woff = lay.block_lo[b], lay.rows[b], lay.woff[b]
-        db = lay.block_hi[b] - lo
+        lo, db = lay.block_lo[b], lay.block_hi[b] - lay.block_lo[b]
         found = False
         for i in range(db):
-            s = lo + i
-            if dem.diverged[s] or not slot_diverged(s, lay.actions[b] > 1, dem):
+            if dem.diverged[lo + i] or not slot_diverged(lo + i, lay.actions[b] > 1, dem):
                 continue
             found = True
-            for a in range(wts.owed.shape[0]):  # its weights are all 0: nothing is owed
-                wts.owed[a, s] = 0.0
-            dem.diverged[s] = True
-            dem.alpha[s] = 0.0
-            dem.alpha_w[s] = 0.0
-            for row in range(rows):
-                wts.theta[woff + row * db + i] = 0.0
-                wts.w[woff + row * db + i] = 0.0
+            freeze_slot(b, i, lay, wts, dem, t.onl)
         if found:  # read the block's values again with the cleaned weights (the others' owed paid first)
             learners.settle(b, lay, wts, t.scr, stp.x_tp1, stp.v_tp1, stp.n_s)
             read_and_observe(b, lay, wts, dem, t.cls, t.scr, stp.x_tp1, stp.v_tp1, stp.n_s)
+
+
+@njit(**NO_NRT)
+def freeze_slot(b, i, lay, wts, dem, onl):
+    """Freeze block b's demon i: marked diverged, step sizes 0, weights 0, nothing owed, and its learner's own
+    per-weight step sizes finite (`learners.freeze`: an infinite one would write inf times the frozen rate 0, a
+    NaN, into its weights on every later step)."""
+    lo, rows, woff = lay.block_lo[b], lay.rows[b], lay.woff[b]
+    db, s = lay.block_hi[b] - lo, lo + i
+    for a in range(wts.owed.shape[0]):  # its weights are all 0: nothing is owed
+        wts.owed[a, s] = 0.0
+    dem.diverged[s] = True
+    dem.alpha[s] = 0.0
+    dem.alpha_w[s] = 0.0
+    for row in range(rows):
+        wts.theta[woff + row * db + i] = 0.0
+        wts.w[woff + row * db + i] = 0.0
+    learners.freeze(b, i, lay, onl)

@@ -123,6 +123,13 @@ def settle(b, lay, wts, scr, x, v, n_s):
 
 
 @njit(**NO_NRT)
+def freeze(b, i, lay, onl):
+    """Block b's demon i is frozen (`step.freeze_slot`): the learners that keep per-weight step sizes set its to 0
+    (`adaptive.freeze`)."""
+    adaptive.freeze(b, i, lay, onl)
+
+
+@njit(**NO_NRT)
 def episode_start(lay, wts, onl):
     """An episode starts: the learners that keep state beyond the weights restart it where a demon forgets its
     weights (`adaptive.reset`, `tdrc.episode_start`: TDRC's h and the original GTD's u are kept scaled)."""

@@ -403,6 +403,21 @@ def _fold_scale(step_a, scale, woff, db, i, d, end):
 
 
 @njit(**NO_NRT)
+def freeze(b, i, lay, onl):
+    """Block b's demon i is frozen: its step sizes 0, its normalisers 0, its scale 1. They may be infinite or NaN
+    by now, and the frozen demon's meta steps and updates go on at rate 0 (its TD error 0): a finite step size
+    keeps its weights and h at 0 (an infinite one would write inf times 0, a NaN, into them on every step)."""
+    if lay.learner[b] != TIDBD_CODE and lay.learner[b] != AUTOSTEP_CODE:
+        return
+    lo, rows, woff = lay.block_lo[b], lay.rows[b], lay.woff[b]
+    db = lay.block_hi[b] - lo
+    for row in range(rows):
+        onl.step_a[woff + row * db + i] = 0.0
+        onl.step_v[woff + row * db + i] = 0.0
+    onl.scale[lo + i] = 1.0
+
+
+@njit(**NO_NRT)
 def reset(lay, onl):
     """An episode starts: adaptive demons that forget their weights (reset = "episode") restart their step
     sizes at alpha and their normalisers at 0, as `reference.ReferenceHorde.observe` does (the engine's
