@@ -16,10 +16,10 @@ The compiled kernel here is GQ's (`prepare`, `columns`, `finish`, called by the 
 `horde.core.learners`; TD's is `td_pass`, GTD's (and TDRC's, GTD2's, the original GTD's) `gtd_pass`, each of
 which defers its whole update by one step): `prepare` writes each class's trace decay and what x_t adds, and
 merges the traces (`engine.traces.merge`); `columns` learns a run of the block's demons, touching only their
-columns: each action's rows at s_{t+1} paid and read, w read at x_t, then one pass over the support's weight
-rows (each read and written once; rows read two at a time: more memory streams in flight made sparse rows 1.3
-to 1.6 times faster). The correction at x_{t+1} is owed to the next step (see `columns`), which
-`settle_owed` pays before anyone else reads theta.
+columns: each action's rows at s_{t+1} paid and read (four actions: their rows in one walk, `pay_and_read_four`), w
+read at x_t, then one pass over the support's weight rows (each read and written once; rows read two at a time:
+more memory streams in flight made sparse rows 1.3 to 1.6 times faster). The correction at x_{t+1} is owed to
+the next step (see `columns`), which `settle_owed` pays before anyone else reads theta.
 
 Why one module of about 400 lines: the family's three learners' numpy form and registration, and GQ's kernel.
 """
@@ -32,7 +32,7 @@ import numpy as np
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
-from horde.core.engine.rows import at, pay_and_read, spread, square, sum_rows
+from horde.core.engine.rows import at, pay_and_read, pay_and_read_four, spread, square, sum_rows
 from horde.core.engine.rows import td_error as td_error_at
 from horde.core.engine.traces import merge
 from horde.core.engine.values import observe_range, value_policy
@@ -204,9 +204,16 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr):
 
     # Values at s_{t+1} under the weights before this update (the last correction paid), the target policy
     # there, delta.
+    if lay.actions[b] == 4:  # (the four actions' rows in one walk: four memory streams at once)
+        o = lo + i0
+        pay_and_read_four(theta, woff + i0, n_s * db, x_t, v_t, x_tp1, v_tp1, db,
+                          (owed[0, o : lo + i1], owed[1, o : lo + i1], owed[2, o : lo + i1], owed[3, o : lo + i1]),
+                          (values[0, i0:i1], values[1, i0:i1], values[2, i0:i1], values[3, i0:i1]))  # fmt: skip
+    else:
+        for a in range(lay.actions[b]):
+            pay_and_read(theta, woff + a * n_s * db + i0, x_t, v_t, x_tp1, v_tp1, db, owed[a, lo + i0 : lo + i1],
+                         values[a, i0:i1])  # fmt: skip
     for a in range(lay.actions[b]):
-        pay_and_read(theta, woff + a * n_s * db + i0, x_t, v_t, x_tp1, v_tp1, db, owed[a, lo + i0 : lo + i1],
-                     values[a, i0:i1])  # fmt: skip
         for i in range(i0, i1):
             ex[a, i] = 0.0
     for i in range(i0, i1):
