@@ -35,7 +35,7 @@ from numba import njit
 from horde.core.engine.layout import NO_NRT
 from horde.core.engine.rows import at, pay_and_read, pay_and_read_four, spread, square, sum_rows
 from horde.core.engine.rows import td_error as td_error_at
-from horde.core.engine.traces import merge
+from horde.core.engine.traces import merge, merge_pairs
 from horde.core.engine.values import observe_range, value_policy
 from horde.core.learners.base import Kernel, check, td_error
 from horde.core.policies import FIXED
@@ -158,7 +158,10 @@ def prepare(b, lay, wts, dem, cls, stp, scr):
         rho = dem.pi[lo + c, stp.action] / stp.b_prob if own else cls.rho[coff + c]
         scr.decay[c] = cls.gamma[coff + c] * lay.lam[b] * rho
         scr.add[c] = 1.0
-    kept, dropped = merge(b, lay, wts, scr, stp.x_t, stp.v_t, stp.action * stp.n_s, True)
+    if ncls > 1:  # (rows of many classes: two at a time, `merge_pairs`)
+        kept, dropped = merge_pairs(b, lay, wts, scr, stp.x_t, stp.v_t, stp.action * stp.n_s, True)
+    else:
+        kept, dropped = merge(b, lay, wts, scr, stp.x_t, stp.v_t, stp.action * stp.n_s, True)
     scr.counts[0] = kept
     scr.counts[1] = dropped
     if ncls > 1:
