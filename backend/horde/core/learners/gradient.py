@@ -15,12 +15,12 @@ size: both are errors.
 The compiled kernel here is GQ's (`prepare`, `columns`, `finish`, called by the engine's step through
 `horde.core.learners`; TD's is `td_pass`, GTD's (and TDRC's, GTD2's, the original GTD's) `gtd_pass`, each of
 which defers its whole update by one step): `prepare` writes each class's trace decay and what x_t adds, and
-merges the traces (`engine.traces.merge`); `columns` learns a run of the block's demons, touching only their
-columns: each action's rows at s_{t+1} paid and read (four actions: their rows in one walk, `pay_and_read_four`), w
-read at x_t, then one pass over the support's weight rows (each read and written once; rows read two at a time:
-more memory streams in flight made sparse rows 1.3 to 1.6 times faster; e . x_bar per demon summed in the same
-loop, `_two_rows`). The correction at x_{t+1} is owed to the next step (see `columns`), which
-`settle_owed` pays before anyone else reads theta.
+merges the traces (`engine.traces.merge`; several classes: `merge_pairs`, two rows at a time); `columns` learns
+a run of the block's demons, touching only their columns: each action's rows at s_{t+1} paid and read (four
+actions: their rows in one walk, `pay_and_read_four`), w read at x_t, then one pass over the support's weight
+rows (each read and written once; rows read two at a time: more memory streams in flight made sparse rows 1.3
+to 1.6 times faster; e . x_bar per demon summed in the same loop, `_two_rows`). The correction at x_{t+1} is
+owed to the next step (see `columns`), which `settle_owed` pays before anyone else reads theta.
 
 Why one module of about 400 lines: the family's three learners' numpy form and registration, and GQ's kernel.
 """
