@@ -15,11 +15,12 @@ size: both are errors.
 The compiled kernel here is GQ's (`prepare`, `columns`, `finish`, called by the engine's step through
 `horde.core.learners`; TD's is `td_pass`, GTD's (and TDRC's, GTD2's, the original GTD's) `gtd_pass`, each of
 which defers its whole update by one step): `prepare` writes each class's trace decay and what x_t adds, and
-merges the traces (`engine.traces.merge`); `columns` learns a run of the block's demons, touching only their
-columns: each action's rows at s_{t+1} paid and read, w read at x_t, then one pass over the support's weight
+merges the traces (`engine.traces.merge`; several classes: `merge_pairs`, two rows at a time); `columns` learns
+a run of the block's demons, touching only their columns: each action's rows at s_{t+1} paid and read (four
+actions: their rows in one walk, `pay_and_read_four`), w read at x_t, then one pass over the support's weight
 rows (each read and written once; rows read two at a time: more memory streams in flight made sparse rows 1.3
-to 1.6 times faster). The correction at x_{t+1} is owed to the next step (see `columns`), which
-`settle_owed` pays before anyone else reads theta.
+to 1.6 times faster; e . x_bar per demon summed in the same loop, `_two_rows`). The correction at x_{t+1} is
+owed to the next step (see `columns`), which `settle_owed` pays before anyone else reads theta.
 
 Why one module of about 400 lines: the family's three learners' numpy form and registration, and GQ's kernel.
 """
@@ -32,9 +33,9 @@ import numpy as np
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
-from horde.core.engine.rows import at, pay_and_read, spread, square, sum_rows
+from horde.core.engine.rows import at, pay_and_read, pay_and_read_four, spread, square, sum_rows
 from horde.core.engine.rows import td_error as td_error_at
-from horde.core.engine.traces import merge
+from horde.core.engine.traces import merge, merge_pairs
 from horde.core.engine.values import observe_range, value_policy
 from horde.core.learners.base import Kernel, check, td_error
 from horde.core.policies import FIXED
@@ -157,7 +158,10 @@ def prepare(b, lay, wts, dem, cls, stp, scr):
         rho = dem.pi[lo + c, stp.action] / stp.b_prob if own else cls.rho[coff + c]
         scr.decay[c] = cls.gamma[coff + c] * lay.lam[b] * rho
         scr.add[c] = 1.0
-    kept, dropped = merge(b, lay, wts, scr, stp.x_t, stp.v_t, stp.action * stp.n_s, True)
+    if ncls > 1:  # (rows of many classes: two at a time, `merge_pairs`)
+        kept, dropped = merge_pairs(b, lay, wts, scr, stp.x_t, stp.v_t, stp.action * stp.n_s, True)
+    else:
+        kept, dropped = merge(b, lay, wts, scr, stp.x_t, stp.v_t, stp.action * stp.n_s, True)
     scr.counts[0] = kept
     scr.counts[1] = dropped
     if ncls > 1:
@@ -204,9 +208,16 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr):
 
     # Values at s_{t+1} under the weights before this update (the last correction paid), the target policy
     # there, delta.
+    if lay.actions[b] == 4:  # (the four actions' rows in one walk: four memory streams at once)
+        o = lo + i0
+        pay_and_read_four(theta, woff + i0, n_s * db, x_t, v_t, x_tp1, v_tp1, db,
+                          (owed[0, o : lo + i1], owed[1, o : lo + i1], owed[2, o : lo + i1], owed[3, o : lo + i1]),
+                          (values[0, i0:i1], values[1, i0:i1], values[2, i0:i1], values[3, i0:i1]))  # fmt: skip
+    else:
+        for a in range(lay.actions[b]):
+            pay_and_read(theta, woff + a * n_s * db + i0, x_t, v_t, x_tp1, v_tp1, db, owed[a, lo + i0 : lo + i1],
+                         values[a, i0:i1])  # fmt: skip
     for a in range(lay.actions[b]):
-        pay_and_read(theta, woff + a * n_s * db + i0, x_t, v_t, x_tp1, v_tp1, db, owed[a, lo + i0 : lo + i1],
-                     values[a, i0:i1])  # fmt: skip
         for i in range(i0, i1):
             ex[a, i] = 0.0
     for i in range(i0, i1):
@@ -313,11 +324,13 @@ def _one_class_pass(b, i0, i1, lay, wts, scr, step_x):
 @njit(**NO_NRT)
 def _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, own):
     """The weight pass of a block of several classes: each support row's trace values spread over the classes'
-    demons (own-value blocks: the trace row itself), two rows at a time; e . x_bar gathered per demon."""
+    demons (own-value blocks: the trace row itself), two rows at a time; e . x_bar gathered per demon in the same
+    loop where the two rows' marks fall on one action's row of `ex` (`_two_rows`), else after it (`_gather`)."""
     lo, woff, voff, ncls, coff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b]
     db = lay.block_hi[b] - lo
     width = i1 - i0
-    theta, w, trace = wts.theta, wts.w, wts.trace
+    n_s = stp.n_s
+    theta, w, trace, mark, ex = wts.theta, wts.w, wts.trace, scr.mark, scr.ex
     rows, rows_f, kept = scr.rows, scr.rows_f, scr.counts[0]
     ad, awd, dot_e = scr.work[0, i0:i1], scr.work[1, i0:i1], scr.work[2, i0:i1]
     e0 = scr.ev[0, i0:i1]
@@ -337,23 +350,25 @@ def _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, own):
         u0 = at(woff + r0 * db + i0)
         u1 = at(woff + r1 * db + i0)
         f0 = rows_f[s]
-        f1 = rows_f[s + 1] if pair else 0.0
         if pair:
-            for i in range(width):
-                a = ad[i]
-                aw = awd[i]
-                sx = step_x[i]
-                a0 = np.float64(e0[i])
-                a1 = np.float64(e1[i])
-                j0 = u0 + at(i)
-                j1 = u1 + at(i)
-                v0 = w[j0]
-                v1 = w[j1]
-                dot_e[i] += v0 * a0 + v1 * a1
-                theta[j0] += a * a0
-                theta[j1] += a * a1
-                w[j0] = v0 + aw * a0 - f0 * sx
-                w[j1] = v1 + aw * a1 - f1 * sx
+            f1 = rows_f[s + 1]
+            g0 = mark[r0]
+            g1 = mark[r1]
+            x0 = ex[r0 // n_s, i0:i1]
+            x1 = ex[r1 // n_s, i0:i1]
+            # (the second row's mark first: the order of the sums, as before the engine's layout changed)
+            if g0 == 0.0 and g1 == 0.0:
+                _two_rows(theta, w, e0, e1, u0, u1, f0, f1, ad, awd, step_x, dot_e, x0, g0, g1, NO_MARK)
+            elif g1 == 0.0:
+                _two_rows(theta, w, e0, e1, u0, u1, f0, f1, ad, awd, step_x, dot_e, x0, g0, g1, FIRST_MARKED)
+            elif g0 == 0.0:
+                _two_rows(theta, w, e0, e1, u0, u1, f0, f1, ad, awd, step_x, dot_e, x1, g0, g1, SECOND_MARKED)
+            elif r0 // n_s == r1 // n_s:
+                _two_rows(theta, w, e0, e1, u0, u1, f0, f1, ad, awd, step_x, dot_e, x0, g0, g1, BOTH_MARKED)
+            else:  # (two actions' rows: at most once an action's block a step)
+                _two_rows(theta, w, e0, e1, u0, u1, f0, f1, ad, awd, step_x, dot_e, x0, g0, g1, NO_MARK)
+                _gather(mark, r1, n_s, e1, ex, i0)
+                _gather(mark, r0, n_s, e0, ex, i0)
         else:
             for i in range(width):
                 a0 = np.float64(e0[i])
@@ -362,11 +377,39 @@ def _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, own):
                 dot_e[i] += v0 * a0
                 theta[j0] += ad[i] * a0
                 w[j0] = v0 + awd[i] * a0 - f0 * step_x[i]
-        # (the second row first: the order of the sums, as before the engine's layout changed)
-        if pair:
-            _gather(scr.mark, r1, stp.n_s, e1, scr.ex, i0)
-        _gather(scr.mark, r0, stp.n_s, e0, scr.ex, i0)
+            _gather(mark, r0, n_s, e0, ex, i0)
         s += 2 if pair else 1
+
+
+NO_MARK, FIRST_MARKED, SECOND_MARKED, BOTH_MARKED = 0, 1, 2, 3  # `_two_rows`: which rows add to e . x_bar
+
+
+@njit(**NO_NRT, inline="always")
+def _two_rows(theta, w, e0, e1, u0, u1, f0, f1, ad, awd, step_x, dot_e, ex_a, g0, g1, marked):
+    """Two support rows' update (theta at u0, u1 += ad e; w . e; w += awd e - f step_x) and, as `marked` says (a
+    constant at each call, so that each call's loop is its own), e . x_bar's sums on one action's row ex_a: the
+    first row's (g0 e0), the second's (g1 e1), or both, the second first."""
+    for i in range(dot_e.shape[0]):
+        a = ad[i]
+        aw = awd[i]
+        sx = step_x[i]
+        a0 = np.float64(e0[i])
+        a1 = np.float64(e1[i])
+        j0 = u0 + at(i)
+        j1 = u1 + at(i)
+        v0 = w[j0]
+        v1 = w[j1]
+        dot_e[i] += v0 * a0 + v1 * a1
+        theta[j0] += a * a0
+        theta[j1] += a * a1
+        w[j0] = v0 + aw * a0 - f0 * sx
+        w[j1] = v1 + aw * a1 - f1 * sx
+        if marked == FIRST_MARKED:
+            ex_a[i] += g0 * a0
+        elif marked == SECOND_MARKED:
+            ex_a[i] += g1 * a1
+        elif marked == BOTH_MARKED:
+            ex_a[i] = (ex_a[i] + g1 * a1) + g0 * a0
 
 
 @njit(**NO_NRT)
