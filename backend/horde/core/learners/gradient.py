@@ -185,7 +185,8 @@ def finish(b, lay, cls, stp, scr):
 @njit(**NO_NRT)
 def columns(b, i0, i1, lay, wts, dem, cls, stp, scr):
     """Block b's GQ demons i0 <= i < i1 learn the transition, after `prepare`: only their columns of the weights
-    and of the per-demon scratch (values, pi_next, work, ex, ev) are touched.
+    and of the per-demon scratch (values, pi_next, work, ex, ev) are touched. Four parts, in this order
+    (`benchmarks.gq_parts` times each where it runs).
 
     The gradient correction at x_{t+1} (theta -= alpha gamma (1 - lambda) (w . e) x_bar_{t+1}, on every action's
     rows, weighted by the target policy there) is owed rather than applied: `owed[a, d]` holds it, and the next
@@ -193,21 +194,27 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr):
     rows are in no support). The new values at s_{t+1} then come from the update's algebra instead of a pass
     that corrects and reads those rows again: theta' . x = theta . x + alpha delta (e . x) - owed (x . x), with
     e . x one sum per action (one class) or per demon from the support pass (`mark`, `ex`)."""
-    lo = lay.block_lo[b]
-    woff, voff, ncls = lay.woff[b], lay.voff[b], lay.ncls[b]
-    db = lay.block_hi[b] - lo
-    width = i1 - i0
-    own = lay.policy[b] != FIXED
+    values_and_errors(b, i0, i1, lay, wts, dem, cls, stp, scr)
+    step_x = w_at_x(b, i0, i1, lay, wts, dem, stp, scr)
+    if lay.ncls[b] == 1:
+        _one_class_pass(b, i0, i1, lay, wts, scr, step_x)
+    else:
+        _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, lay.policy[b] != FIXED)
+    new_values(b, i0, i1, lay, wts, dem, cls, stp, scr)
+
+
+@njit(**NO_NRT, inline="always")
+def values_and_errors(b, i0, i1, lay, wts, dem, cls, stp, scr):
+    """Values at s_{t+1} under the weights before this update (the last correction paid), the target policy
+    there, delta."""
+    lo, woff = lay.block_lo[b], lay.woff[b]
     x_t, v_t, x_tp1, v_tp1, n_s = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1, stp.n_s
-    theta, w, trace, owed = wts.theta, wts.w, wts.trace, wts.owed
+    theta, owed = wts.theta, wts.owed
     values, pi_next, ex = scr.values, scr.pi_next, scr.ex
     ad, awd, w_dot_e, w_dot_x = scr.work[0], scr.work[1], scr.work[2], scr.work[3]
-    rows, rows_f, dropped = scr.rows, scr.rows_f, scr.counts[1]
+    db = lay.block_hi[b] - lo
+    own = lay.policy[b] != FIXED
     A = dem.q.shape[1]
-    shift = stp.action * n_s
-
-    # Values at s_{t+1} under the weights before this update (the last correction paid), the target policy
-    # there, delta.
     if lay.actions[b] == 4:  # (the four actions' rows in one walk: four memory streams at once)
         o = lo + i0
         pay_and_read_four(theta, woff + i0, n_s * db, x_t, v_t, x_tp1, v_tp1, db,
@@ -239,9 +246,17 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr):
         w_dot_e[i] = 0.0
         w_dot_x[i] = 0.0
 
-    # alpha_w (w . x_t) under the old w; the rows of x_t left without a trace lose it here.
-    step_x = w_dot_x[i0:i1]
-    sum_rows(w, woff + shift * db + i0, x_t, v_t, db, step_x)
+
+@njit(**NO_NRT, inline="always")
+def w_at_x(b, i0, i1, lay, wts, dem, stp, scr):
+    """alpha_w (w . x_t) under the old w (returned: the demons' run of scr.work[3]); the rows of x_t left without a
+    trace lose it here."""
+    lo, woff = lay.block_lo[b], lay.woff[b]
+    db = lay.block_hi[b] - lo
+    width = i1 - i0
+    w, rows, rows_f, dropped = wts.w, scr.rows, scr.rows_f, scr.counts[1]
+    step_x = scr.work[3][i0:i1]
+    sum_rows(w, woff + stp.action * stp.n_s * db + i0, stp.x_t, stp.v_t, db, step_x)
     for i in range(width):
         a_w = dem.alpha_w[lo + i0 + i]
         step_x[i] = step_x[i] * a_w if a_w != 0.0 else 0.0
@@ -251,14 +266,18 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr):
         f = rows_f[end - j]
         for i in range(width):
             w[start + at(i)] -= f * step_x[i]
+    return step_x
 
-    if ncls == 1:
-        _one_class_pass(b, i0, i1, lay, wts, scr, step_x)
-    else:
-        _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, own)
 
-    # The correction at x_bar_{t+1} (owed: see above) and the new values at s_{t+1}, for each action's rows
-    # there; e . x_bar(s_{t+1}, a) from the support pass (`gather`; one class: one sum per action).
+@njit(**NO_NRT, inline="always")
+def new_values(b, i0, i1, lay, wts, dem, cls, stp, scr):
+    """The correction at x_bar_{t+1} (owed: see `columns`) and the new values at s_{t+1}, for each action's rows
+    there; e . x_bar(s_{t+1}, a) from the support pass (`gather`; one class: one sum per action)."""
+    lo, voff, ncls = lay.block_lo[b], lay.voff[b], lay.ncls[b]
+    x_tp1, v_tp1, n_s = stp.x_tp1, stp.v_tp1, stp.n_s
+    trace, owed = wts.trace, wts.owed
+    values, pi_next, ex = scr.values, scr.pi_next, scr.ex
+    ad, w_dot_e = scr.work[0], scr.work[2]
     for i in range(i0, i1):
         a_i = dem.alpha[lo + i]
         g1 = cls.gamma_tp1[lay.slot_class[lo + i]]
