@@ -377,15 +377,15 @@ def _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, own):
             x1 = ex[r1 // n_s, i0:i1]
             # (the second row's mark first: the order of the sums, as before the engine's layout changed)
             if g0 == 0.0 and g1 == 0.0:
-                _two_rows(theta, w, e0, e1, u0, u1, f0, f1, ad, awd, step_x, dot_e, x0, g0, g1, NO_MARK)
+                _two_rows(theta, w, (e0, e1), (u0, u1), (f0, f1), ad, awd, step_x, dot_e, x0, (g0, g1), NO_MARK)
             elif g1 == 0.0:
-                _two_rows(theta, w, e0, e1, u0, u1, f0, f1, ad, awd, step_x, dot_e, x0, g0, g1, FIRST_MARKED)
+                _two_rows(theta, w, (e0, e1), (u0, u1), (f0, f1), ad, awd, step_x, dot_e, x0, (g0, g1), FIRST_MARKED)
             elif g0 == 0.0:
-                _two_rows(theta, w, e0, e1, u0, u1, f0, f1, ad, awd, step_x, dot_e, x1, g0, g1, SECOND_MARKED)
+                _two_rows(theta, w, (e0, e1), (u0, u1), (f0, f1), ad, awd, step_x, dot_e, x1, (g0, g1), SECOND_MARKED)
             elif r0 // n_s == r1 // n_s:
-                _two_rows(theta, w, e0, e1, u0, u1, f0, f1, ad, awd, step_x, dot_e, x0, g0, g1, BOTH_MARKED)
+                _two_rows(theta, w, (e0, e1), (u0, u1), (f0, f1), ad, awd, step_x, dot_e, x0, (g0, g1), BOTH_MARKED)
             else:  # (two actions' rows: at most once an action's block a step)
-                _two_rows(theta, w, e0, e1, u0, u1, f0, f1, ad, awd, step_x, dot_e, x0, g0, g1, NO_MARK)
+                _two_rows(theta, w, (e0, e1), (u0, u1), (f0, f1), ad, awd, step_x, dot_e, x0, (g0, g1), NO_MARK)
                 _gather(mark, r1, n_s, e1, ex, i0)
                 _gather(mark, r0, n_s, e0, ex, i0)
         else:
@@ -404,10 +404,15 @@ NO_MARK, FIRST_MARKED, SECOND_MARKED, BOTH_MARKED = 0, 1, 2, 3  # `_two_rows`: w
 
 
 @njit(**NO_NRT, inline="always")
-def _two_rows(theta, w, e0, e1, u0, u1, f0, f1, ad, awd, step_x, dot_e, ex_a, g0, g1, marked):
-    """Two support rows' update (theta at u0, u1 += ad e; w . e; w += awd e - f step_x) and, as `marked` says (a
-    constant at each call, so that each call's loop is its own), e . x_bar's sums on one action's row ex_a: the
-    first row's (g0 e0), the second's (g1 e1), or both, the second first."""
+def _two_rows(theta, w, traces, starts, xs, ad, awd, step_x, dot_e, ex_a, marks, marked):
+    """Two support rows' update (each a pair: their trace values e0, e1 over the demons, their starts u0, u1 in
+    theta and w, x_t's values f0, f1 there): theta at u0, u1 += ad e; w . e; w += awd e - f step_x. And, as
+    `marked` says (a constant at each call, so that each call's loop is its own), e . x_bar's sums on one action's
+    row ex_a (the rows' marks g0, g1): the first row's (g0 e0), the second's (g1 e1), or both, the second first."""
+    e0, e1 = traces
+    u0, u1 = starts
+    f0, f1 = xs
+    g0, g1 = marks
     for i in range(dot_e.shape[0]):
         a = ad[i]
         aw = awd[i]
