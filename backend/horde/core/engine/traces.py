@@ -40,6 +40,26 @@ def decay_classes(tr, on_x, decay, add, cut, value):
 
 
 @njit(**NO_NRT, inline="always")
+def _next_row(support, toff, old, i_old, x_t, v_t, j_new, shift):
+    """The next row of the merge's walk over the old support (support[toff:][:old]) and x_t's rows shifted by
+    `shift`, both sorted, from positions i_old and j_new: (the row, whether it is x_t's, x_t's value there or 0,
+    the two positions past it)."""
+    if j_new >= x_t.shape[0] or (i_old < old and support[toff + i_old] < shift + x_t[j_new]):
+        return support[toff + i_old], False, 0.0, i_old + 1, j_new
+    row = shift + x_t[j_new]
+    return row, True, v_t[j_new], i_old + 1 if i_old < old and support[toff + i_old] == row else i_old, j_new + 1
+
+
+@njit(**NO_NRT, inline="always")
+def _new_support(b, toff, wts, rows, out):
+    """Block b's support becomes rows[:out]."""
+    for s in range(out):  # element by element: a slice copy may allocate (kernels run without NRT)
+        wts.support[toff + s] = rows[s]
+    wts.nnz[b] = out
+    wts.touched[b] = out
+
+
+@njit(**NO_NRT, inline="always")
 def merge(b, lay, wts, scr, x_t, v_t, shift, keep_dropped):
     """Block b's traces for this step: e_c <- decay[c] e_c + add[c] x_t (x_t's rows shifted by `shift`, the
     action's block of state-action features), then the cut; x_t's rows merged into the support (both sorted).
@@ -61,18 +81,7 @@ def merge(b, lay, wts, scr, x_t, v_t, shift, keep_dropped):
     out = 0
     dropped = 0
     while i_old < old or j_new < k:
-        if j_new >= k or (i_old < old and support[toff + i_old] < shift + x_t[j_new]):
-            row = support[toff + i_old]
-            on_x = False
-            value = 0.0
-            i_old += 1
-        else:
-            row = shift + x_t[j_new]
-            on_x = True
-            value = v_t[j_new]
-            if i_old < old and support[toff + i_old] == row:
-                i_old += 1
-            j_new += 1
+        row, on_x, value, i_old, j_new = _next_row(support, toff, old, i_old, x_t, v_t, j_new, shift)
         if ncls == 1:
             t = trace[voff + row] * decay[0]
             if on_x:
@@ -91,10 +100,7 @@ def merge(b, lay, wts, scr, x_t, v_t, shift, keep_dropped):
         rows[out] = row
         rows_f[out] = value
         out += 1
-    for s in range(out):  # element by element: a slice copy may allocate (kernels run without NRT)
-        support[toff + s] = rows[s]
-    wts.nnz[b] = out
-    wts.touched[b] = out
+    _new_support(b, toff, wts, rows, out)
     return out, dropped
 
 
@@ -181,18 +187,7 @@ def merge_pairs(b, lay, wts, scr, x_t, v_t, shift, keep_dropped):
     on0 = False
     f0 = 0.0
     while i_old < old or j_new < k:
-        if j_new >= k or (i_old < old and support[toff + i_old] < shift + x_t[j_new]):
-            row = support[toff + i_old]
-            on_x = False
-            value = 0.0
-            i_old += 1
-        else:
-            row = shift + x_t[j_new]
-            on_x = True
-            value = v_t[j_new]
-            if i_old < old and support[toff + i_old] == row:
-                i_old += 1
-            j_new += 1
+        row, on_x, value, i_old, j_new = _next_row(support, toff, old, i_old, x_t, v_t, j_new, shift)
         if not waiting:
             r0, on0, f0 = row, on_x, value
             waiting = True
@@ -206,10 +201,7 @@ def merge_pairs(b, lay, wts, scr, x_t, v_t, shift, keep_dropped):
     if waiting:
         left0 = decay_classes(trace[voff + r0 * ncls : voff + (r0 + 1) * ncls], on0, decay, add, cut, f0)
         out, dropped = _place(r0, on0, f0, left0, keep_dropped, rows, rows_f, out, dropped)
-    for s in range(out):  # element by element: a slice copy may allocate (kernels run without NRT)
-        support[toff + s] = rows[s]
-    wts.nnz[b] = out
-    wts.touched[b] = out
+    _new_support(b, toff, wts, rows, out)
     return out, dropped
 
 
