@@ -176,3 +176,34 @@ def test_the_polynomial_exps_of_the_autostep_kernel_are_exp_to_rounding(exp: Any
     xs = np.linspace(-bound, bound, 20001)
     relative = np.array([abs(exp(x) - np.exp(x)) for x in xs]) / np.exp(xs)
     assert relative.max() < 5e-16
+
+
+def test_autostep_keeps_each_demons_largest_step_size() -> None:
+    """`Online.step_max`, which Autostep's one walk trusts as an upper bound of a demon's stored step sizes (no step
+    size is read to decide that M stays 1: learners/adaptive.py): after every step it is the largest step size the
+    demon has stored since it last restarted (its meta steps move some up and some down; a demon that forgets its
+    weights restarts them at alpha at an episode's end), and it is counted again when step sizes are loaded."""
+    sim = Simulation(spec(), cut=0.0)
+    engine = sim.learner.engine
+    onl = engine.t.onl
+    demons = {}
+    for name in ("auto", "auto_b", "auto_reset"):
+        b, col = engine.horde.locate(name)
+        demons[name] = (b, col, int(engine.horde.demon_slot[engine.horde.index[name]]))
+    seen = {name: float(engine.weights(onl.step_a, b)[:, col].max()) for name, (b, col, _) in demons.items()}
+    restarts = 0
+    for step in range(300):
+        result = sim.step()
+        for name, (b, col, slot) in demons.items():
+            stored = engine.weights(onl.step_a, b)[:, col]
+            restart = result.done and name == "auto_reset"
+            seen[name] = float(stored.max()) if restart else max(seen[name], float(stored.max()))
+            assert onl.step_max[slot] == seen[name], f"{name} at step {step}"
+        restarts += result.done
+    assert restarts >= 3
+    now = {name: float(engine.weights(onl.step_a, b)[:, col].max()) for name, (b, col, _) in demons.items()}
+    assert any(now[name] < seen[name] for name in demons), "some demon's largest step size went down since"
+    onl.step_max[:] = 0.0
+    engine.load_adaptive_state(engine.adaptive_state())
+    for name, (_, _, slot) in demons.items():
+        assert onl.step_max[slot] == now[name]

@@ -69,7 +69,7 @@ def test_thread_count_does_not_change_a_single_bit(spec: RunSpec) -> None:
     scales = onl(one).scale
     assert scales.min() < 1.0, "Autostep's bound divided some step sizes (the effective step size passed 1)"
     for other in others:
-        for field in ("v_old", "cls_f", "step_a", "step_v", "scale"):
+        for field in ("v_old", "cls_f", "step_a", "step_v", "scale", "step_max"):
             np.testing.assert_array_equal(getattr(onl(one), field), getattr(onl(other), field), field)
         np.testing.assert_array_equal(one.effective_step_sizes(), other.effective_step_sizes())
     assert numba.threading_layer() in ("tbb", "omp", "workqueue"), "a threading layer ran the blocks"
@@ -113,7 +113,7 @@ def test_autostep_walks_alike_fused_or_not() -> None:
                "cumulant": {"mul": [{"sensor": SENSORS[i % 7]}, 1 + i // 35]}} for i in range(D)]  # fmt: skip
     one, others = on_1_2_3_threads(tiles_spec(demons))
     for other in others:
-        for field in ("step_a", "step_v", "scale"):
+        for field in ("step_a", "step_v", "scale", "step_max"):
             np.testing.assert_array_equal(getattr(onl(one), field), getattr(onl(other), field), field)
     moved = np.abs(one.effective_step_sizes() - np.where(np.arange(D) % 4, 0.1, 0.4))
     assert moved.max() > 1e-6, "the step sizes adapted"

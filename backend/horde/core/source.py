@@ -187,3 +187,4 @@ class Source(ABC):
                 old_slot]  # fmt: skip
             engine.weights(onl.step_v, b)[:, col] = old_engine.weights(old_onl.step_v, ob)[:, ocol]
             onl.scale[slot] = 1.0
+        engine.count_step_max()

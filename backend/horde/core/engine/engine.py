@@ -49,6 +49,7 @@ class Engine:
         self.world = world
         self.t: Tables = pack(horde, world)
         self._offsets = offsets(horde)
+        self.count_step_max()
 
     # ------------------------------------------------------------------------------------------
     # Views of the flat buffers
@@ -179,6 +180,17 @@ class Engine:
             return np.full(int(self.horde.block_rows[b]), self.t.lay.alpha[slot])
         return self.weights(self.t.onl.step_a, b)[:, col] * self.t.onl.scale[slot]
 
+    def count_step_max(self) -> None:
+        """Each Autostep demon's largest stored step size, counted again over all its weights (`Online.step_max`;
+        the kernels keep it as their meta steps, folds, freezes and resets move step sizes). Call it after
+        writing step sizes from outside the kernels: Autostep's one-walk step trusts it as an upper bound."""
+        onl = self.t.onl
+        for b, block in enumerate(self.horde.blocks):
+            if block.step_size == "autostep":
+                lo = int(self.horde.block_lo[b])
+                sizes = self.weights(onl.step_a, b)
+                onl.step_max[lo : lo + block.size] = sizes.max(axis=0) if sizes.shape[0] else 0.0
+
     def effective_step_sizes(self) -> np.ndarray:
         """[D] the step size each demon takes at the agent's state, in the units of `alpha` (before the division
         by the active count): alpha for a constant step size; the sum of the per-weight step sizes over the
@@ -307,6 +319,7 @@ class Engine:
         for into, array in zip((onl.v_old, onl.cls_f, onl.cls_rho_prev, onl.trace2, onl.step_a, onl.step_v,
                                 onl.scale), state, strict=True):  # fmt: skip
             into[...] = array
+        self.count_step_max()
         for b, block in enumerate(self.horde.blocks):  # true online GTD's second and third traces' support
             rows = np.flatnonzero((self.traces2(b) != 0.0).any(axis=(0, 2)))
             at = int(self._offsets.support[b])

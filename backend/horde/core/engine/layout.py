@@ -235,6 +235,7 @@ class Online(NamedTuple):
     step_a: np.ndarray  # adaptive TD: per-weight step sizes, as theta (before the scale)
     step_v: np.ndarray  # autostep's normaliser v, as theta
     scale: np.ndarray  # [D] a demon's lazily kept scale: adaptive TD's step sizes (step_a times it), tdrc's h (w)
+    step_max: np.ndarray  # [D] float64: at least each Autostep demon's largest stored step size (inf: not counted)
     meta: np.ndarray  # [D] mu (autostep) or theta (tidbd)
     tau: float  # autostep's tau
     bounds: np.ndarray  # [max C_b + 1] int: the first demon of each class of a block, then Db

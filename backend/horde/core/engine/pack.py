@@ -344,6 +344,7 @@ def _online(horde: Horde, lay: Layout, off: Offsets) -> Online:
         step_a=step_a,
         step_v=np.zeros(int(off.weights[-1]), horde.dtype),
         scale=np.ones(horde.num_demons),
+        step_max=np.full(horde.num_demons, np.inf),  # (the engine counts it: `Engine.count_step_max`)
         meta=np.concatenate([np.asarray(b.meta, dtype=float) for b in blocks]) if blocks else np.zeros(0),
         tau=float(horde.plan.autostep_tau),
         bounds=np.zeros(int(max([1, *lay.ncls.tolist()])) + 1, np.int64),

@@ -18,14 +18,14 @@ leaves alpha_i and v_i of other weights as they are); theta and h on the support
 nonzero trace), fused with reading the new values at x_tp1. Autostep's effective step size is summed within
 the first two passes. The paper's order divides every step size by M, a sum over all the rows of x_t, before
 theta moves; for TIDBD, which has no M, and for a run of Autostep demons whose M provably stays 1 (an upper
-bound from the step sizes before the meta step, read in the first pass, as |the meta step's argument| <= mu)
-the meta step and the update go in one walk (`fused_columns`, the same operations in the same order: the
-same numbers). Autostep's exp is a polynomial when the block's meta step sizes allow (`exp_tiny`,
-`exp_small`), chosen once per block, and `engine.fast_exp.vector_exp` otherwise, as TIDBD's always (an exp
-whose loops vectorize: `math.exp` is a call per weight); `_adaptive_kernel` compiles the kernel once per kind
-of exp.
+bound from each demon's largest step size, `Online.step_max`, which the kernels keep as they move step sizes,
+as |the meta step's argument| <= mu) the meta step and the update go in one walk (`fused_columns`, the same
+operations in the same order: the same numbers). Autostep's exp is a polynomial when the block's meta step
+sizes allow (`exp_tiny`, `exp_small`), chosen once per block, and `engine.fast_exp.vector_exp` otherwise, as
+TIDBD's always (an exp whose loops vectorize: `math.exp` is a call per weight); `_adaptive_kernel` compiles the
+kernel once per kind of exp.
 
-Why one module of about 420 lines: the kernel factory is the three passes written once, with their numpy form
+Why one module of about 460 lines: the kernel factory is the three passes written once, with their numpy form
 and registration beside them.
 """
 
@@ -164,7 +164,7 @@ def _adaptive_kernel(exp, autostep):
         db = lay.block_hi[b] - lo
         theta, h, trace, rows, kept = wts.theta, wts.w, wts.trace, scr.rows, scr.counts[0]
         a, v, meta, bounds, inv_tau = onl.step_a, onl.step_v, onl.meta, onl.bounds, 1.0 / onl.tau
-        rate, dlv, acc = scr.work[5], scr.work[6], scr.values[0]
+        rate, dlv, acc, largest = scr.work[5], scr.work[6], scr.values[0], onl.step_max
         x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
         s = j = m = 0  # positions in the support, x_t and x_tp1
         while True:
@@ -181,15 +181,21 @@ def _adaptive_kernel(exp, autostep):
                         u = at(i)
                         k = base + u
                         h_i = h[k]
-                        mu = meta[at(lo + i)]
-                        step = meta_step(k, u, mu, e, on_x, inv_tau, a, v, h, rate, dlv) * rate[u] * e
+                        d = at(lo + i)
+                        size = meta_step(k, u, meta[d], e, on_x, inv_tau, a, v, h, rate, dlv)
+                        if autostep:
+                            largest[d] = max(largest[d], size)
+                        step = size * rate[u] * e
                         change = step * dlv[u]
                         theta[k] += change
                         h[k] = h_i * max(1.0 - step * on_x, 0.0) + change
                 elif on_x != 0.0:  # a row of x_t whose trace was cut: the meta step only
                     for i in range(c0, c1):
                         u = at(i)
-                        meta_step(base + u, u, meta[at(lo + i)], e, on_x, inv_tau, a, v, h, rate, dlv)
+                        d = at(lo + i)
+                        size = meta_step(base + u, u, meta[d], e, on_x, inv_tau, a, v, h, rate, dlv)
+                        if autostep:
+                            largest[d] = max(largest[d], size)
                 elif e != 0.0:
                     _trace_update(c0, c1, base, e, a, rate, dlv, theta, h)
             if on_next != 0.0:
@@ -204,7 +210,7 @@ def _adaptive_kernel(exp, autostep):
         db = lay.block_hi[b] - lo
         h, trace = wts.w, wts.trace
         a, v, scale, meta, bounds, inv_tau = onl.step_a, onl.step_v, onl.scale, onl.meta, onl.bounds, 1.0 / onl.tau
-        rate, dlv, effective = scr.work[5], scr.work[6], scr.work[7]
+        rate, dlv, effective, largest = scr.work[5], scr.work[6], scr.work[7], onl.step_max
         x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
         m = 0
         for j in range(x_t.shape[0]):
@@ -221,8 +227,10 @@ def _adaptive_kernel(exp, autostep):
                 coeff = e * (p - cls.gamma_tp1[coff + c] * on_next)
                 for i in range(c0, c1):
                     u = at(i)
-                    mu = meta[at(lo + i)]
-                    effective[u] += meta_step(base + u, u, mu, e, p, inv_tau, a, v, h, rate, dlv) * coeff
+                    d = at(lo + i)
+                    size = meta_step(base + u, u, meta[d], e, p, inv_tau, a, v, h, rate, dlv)
+                    largest[d] = max(largest[d], size)
+                    effective[u] += size * coeff
         for i in range(i0, i1):  # every step size divided by M = max(1, the effective step size)
             m_i = effective[i] * rate[i]
             if m_i > 1.0:
@@ -230,7 +238,7 @@ def _adaptive_kernel(exp, autostep):
                 rate[i] /= m_i
         for i in range(i0, i1):
             if scale[lo + i] < SCALE_FLOOR:
-                _fold_scale(a, scale, woff, db, i, lo + i, woff + lay.rows[b] * db)
+                _fold_scale(a, scale, largest, woff, db, i, lo + i, woff + lay.rows[b] * db)
                 rate[i] = 1.0 if rate[i] != 0.0 else 0.0  # (0 where frozen)
 
     @njit
@@ -249,15 +257,14 @@ def _adaptive_kernel(exp, autostep):
         lo, woff, voff, ncls, coff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b]
         db = lay.block_hi[b] - lo
         theta, trace = wts.theta, wts.trace
-        a, meta, bounds = onl.step_a, onl.meta, onl.bounds
-        upper, rate, effective, acc = scr.work[4], scr.work[5], scr.work[7], scr.values[0]
+        a, meta, bounds, largest = onl.step_a, onl.meta, onl.bounds, onl.step_max
+        rate, effective, acc = scr.work[5], scr.work[7], scr.values[0]
         x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
         for i in range(i0, i1):
             acc[i] = 0.0
             effective[i] = 0.0
-            upper[i] = 0.0
-        # The values at x_tp1; Autostep: the effective step size on rows of x_tp1 alone, and on the rows of x_t
-        # sum alpha_i |e (phi - gamma phi')| with the step sizes before the meta step (`upper`).
+        # The values at x_tp1; Autostep: the effective step size on the rows of x_tp1 alone (their step sizes do
+        # not move; the rows of x_t add theirs after the meta step).
         j = 0
         m = 0
         while j < x_t.shape[0] or m < x_tp1.shape[0]:
@@ -266,33 +273,33 @@ def _adaptive_kernel(exp, autostep):
                 row = x_tp1[m]
             on_x = j < x_t.shape[0] and x_t[j] == row
             on_next = m < x_tp1.shape[0] and x_tp1[m] == row
-            p = v_t[j] if on_x else 0.0
             p_next = v_tp1[m] if on_next else 0.0
             j += 1 if on_x else 0
             m += 1 if on_next else 0
             base = at(woff + row * db)
             if on_next:
                 add_row(i0, i1, base, theta, acc, p_next)
-            for c in range(ncls if autostep else 0):
+            for c in range(ncls if autostep and not on_x else 0):
                 e = trace[voff + row * ncls + c]
                 if e != 0.0:
-                    g = cls.gamma_tp1[coff + c]
                     c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
-                    if on_x:
-                        _effective_run(c0, c1, base, abs(e * (p - g * p_next)), a, upper)
-                    else:
-                        _effective_run(c0, c1, base, e * (-g * p_next), a, effective)
+                    _effective_run(c0, c1, base, e * (-cls.gamma_tp1[coff + c] * p_next), a, effective)
         errors(b, i0, i1, lay, dem, cls, onl, acc, scr)
         for i in range(i0, i1):
             acc[i] = 0.0  # the new values at x_tp1, summed in the last pass
         # M_i = rate_i alpha . e (x_t - gamma x_tp1) <= rate_i (exp(mu_i) upper_i + max(effective_i, 0)), as
-        # |the meta step's argument| <= mu_i; with a margin for the rounding of the sums, no step size of such a
-        # demon is divided by M.
+        # |the meta step's argument| <= mu_i, where upper_i = the largest step size of demon i (`Online.step_max`)
+        # times sum |e (phi - gamma phi')| over x_t's rows, one sum per class: no step size is read for it. With a
+        # margin for the rounding of the sums, no step size of such a demon is divided by M.
         fused = True  # (TIDBD has no M)
-        for i in range(i0, i1 if autostep else i0):
-            positive = max(effective[i], 0.0)
-            bound = rate[i] * (math.exp(meta[lo + i]) * upper[i] * (1.0 + 1e-9) + positive + abs(effective[i]) * 1e-9)
-            fused = fused and bound <= 1.0
+        for c in range(ncls if autostep else 0):
+            c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
+            spread = _spread(voff + c, ncls, trace, cls.gamma_tp1[coff + c], x_t, v_t, x_tp1, v_tp1) if c0 < c1 else 0.0
+            for i in range(c0, c1):
+                upper = largest[lo + i] * spread
+                positive = max(effective[i], 0.0)
+                bound = rate[i] * (math.exp(meta[lo + i]) * upper * (1.0 + 1e-9) + positive + abs(effective[i]) * 1e-9)
+                fused = fused and bound <= 1.0
         if fused:
             fused_columns(b, i0, i1, lay, wts, onl, stp, scr)
             return
@@ -365,6 +372,21 @@ def _trace_update(c0, c1, base, e, a, rate, dlv, theta, h):
         h[k] += change
 
 
+@njit(**NO_NRT)
+def _spread(start, ncls, trace, g, x_t, v_t, x_tp1, v_tp1):
+    """sum over the rows of x_t of |e (phi - g phi')|: the trace of one class (its value on row r at start + r ncls)
+    times x_t's value less g times x_tp1's there."""
+    total = 0.0
+    m = 0
+    for j in range(x_t.shape[0]):
+        row = x_t[j]
+        while m < x_tp1.shape[0] and x_tp1[m] < row:
+            m += 1
+        p_next = v_tp1[m] if m < x_tp1.shape[0] and x_tp1[m] == row else 0.0
+        total += abs(trace[start + row * ncls] * (v_t[j] - g * p_next))
+    return total
+
+
 @njit(**NO_NRT, inline="always")
 def _effective_run(c0, c1, base, coeff, a, effective):
     """effective += alpha coeff over one class's run of demons at one row (coeff: e (phi - gamma_tp1 phi'))."""
@@ -395,10 +417,12 @@ _tidbd = _adaptive_kernel(vector_exp, False)
 
 
 @njit(**NO_NRT)
-def _fold_scale(step_a, scale, woff, db, i, d, end):
-    """Multiply demon d's scale into its stored step sizes (column i of the block at woff..end), scale 1."""
+def _fold_scale(step_a, scale, largest, woff, db, i, d, end):
+    """Multiply demon d's scale into its stored step sizes (column i of the block at woff..end) and into their
+    largest (the same product of the same numbers: still the largest), scale 1."""
     for k in range(woff + i, end, db):
         step_a[k] *= scale[d]
+    largest[d] *= scale[d]
     scale[d] = 1.0
 
 
@@ -415,6 +439,7 @@ def freeze(b, i, lay, onl):
         onl.step_a[woff + row * db + i] = 0.0
         onl.step_v[woff + row * db + i] = 0.0
     onl.scale[lo + i] = 1.0
+    onl.step_max[lo + i] = 0.0
 
 
 @njit(**NO_NRT)
@@ -434,3 +459,4 @@ def reset(lay, onl):
                 onl.step_a[woff + row * db + i] = lay.alpha[lo + i]
                 onl.step_v[woff + row * db + i] = 0.0
             onl.scale[lo + i] = 1.0
+            onl.step_max[lo + i] = onl.step_a[woff + i] if rows > 0 else 0.0  # alpha as stored (float32 rounds)
