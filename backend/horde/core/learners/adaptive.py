@@ -153,19 +153,37 @@ def _adaptive_kernel(exp, autostep):
         a[at_] *= exp(mu * (sample / vi if vi > 0.0 else 0.0))
         return a[at_]
 
+    @njit(inline="always")
+    def learn_weight(k, u, d, e, p, inv_tau, vectors, demons):
+        """One weight k of a row of x_t (x_t's value p there; column u, demon d): its meta step, then theta +=
+        alpha delta e and h = h [1 - alpha phi e]^+ + alpha delta e from h as the meta step read it; Autostep's
+        largest step size kept."""
+        theta, h, a, v = vectors
+        meta, rate, dlv, largest = demons
+        h_i = h[k]
+        size = meta_step(k, u, meta[d], e, p, inv_tau, a, v, h, rate, dlv)
+        if autostep:
+            largest[d] = max(largest[d], size)
+        step = size * rate[u] * e
+        change = step * dlv[u]
+        theta[k] += change
+        h[k] = h_i * max(1.0 - step * p, 0.0) + change
+
     @njit
     def fused_columns(b, i0, i1, lay, wts, onl, stp, scr):
         """The meta step and the update in one walk over the rows of the support, x_t and x_tp1, for TIDBD and for
         a run of Autostep demons none of which has M > 1: on a row of x_t each weight's meta step, then at once
         its theta and h (theta += alpha delta e; h = h [1 - alpha phi e]^+ + alpha delta e, from h as the meta
         step read it), the same operations in the same order as the two passes, so the same numbers; eight
-        numbers per weight of x_t read or written instead of ten."""
+        numbers per weight of x_t read or written instead of ten. The new values at x_tp1 take each row right
+        after it moved, on a row of x_t in the same loop (the weight as stored)."""
         lo, woff, voff, ncls = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b]
         db = lay.block_hi[b] - lo
         theta, h, trace, rows, kept = wts.theta, wts.w, wts.trace, scr.rows, scr.counts[0]
         a, v, meta, bounds, inv_tau = onl.step_a, onl.step_v, onl.meta, onl.bounds, 1.0 / onl.tau
         rate, dlv, acc, largest = scr.work[5], scr.work[6], scr.values[0], onl.step_max
         x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
+        vectors, demons = (theta, h, a, v), (meta, rate, dlv, largest)
         s = j = m = 0  # positions in the support, x_t and x_tp1
         while True:
             row, in_support, on_x, on_next, s, j, m = walk(rows, kept, s, x_t, v_t, j, x_tp1, v_tp1, m)
@@ -173,22 +191,20 @@ def _adaptive_kernel(exp, autostep):
                 break
             base = at(woff + row * db)
             tr = voff + row * ncls
-            for c in range(ncls if on_x != 0.0 or in_support else 0):
+            learned = on_x != 0.0 or in_support
+            for c in range(ncls if learned else 0):
                 c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
                 e = trace[tr + c]
+                if on_x != 0.0 and e != 0.0 and on_next != 0.0:  # x_tp1's value read from the weight just moved
+                    for i in range(c0, c1):
+                        u = at(i)
+                        learn_weight(base + u, u, at(lo + i), e, on_x, inv_tau, vectors, demons)
+                        acc[u] += on_next * theta[base + u]  # (as stored: float32 rounds before it is read)
+                    continue
                 if on_x != 0.0 and e != 0.0:
                     for i in range(c0, c1):
                         u = at(i)
-                        k = base + u
-                        h_i = h[k]
-                        d = at(lo + i)
-                        size = meta_step(k, u, meta[d], e, on_x, inv_tau, a, v, h, rate, dlv)
-                        if autostep:
-                            largest[d] = max(largest[d], size)
-                        step = size * rate[u] * e
-                        change = step * dlv[u]
-                        theta[k] += change
-                        h[k] = h_i * max(1.0 - step * on_x, 0.0) + change
+                        learn_weight(base + u, u, at(lo + i), e, on_x, inv_tau, vectors, demons)
                 elif on_x != 0.0:  # a row of x_t whose trace was cut: the meta step only
                     for i in range(c0, c1):
                         u = at(i)
@@ -198,7 +214,9 @@ def _adaptive_kernel(exp, autostep):
                             largest[d] = max(largest[d], size)
                 elif e != 0.0:
                     _trace_update(c0, c1, base, e, a, rate, dlv, theta, h)
-            if on_next != 0.0:
+                if on_next != 0.0:
+                    add_row(c0, c1, base, theta, acc, on_next)
+            if on_next != 0.0 and not learned:
                 add_row(i0, i1, base, theta, acc, on_next)
 
     @njit
