@@ -19,6 +19,7 @@ from horde.core.learners.adaptive import (
     EXP_ANY,
     EXP_SMALL,
     EXP_TINY,
+    SCALE_FLOOR,
     SMALL_EXP,
     TINY_EXP,
     exp_kind,
@@ -182,7 +183,8 @@ def test_autostep_keeps_each_demons_largest_step_size() -> None:
     """`Online.step_max`, which Autostep's one walk trusts as an upper bound of a demon's stored step sizes (no step
     size is read to decide that M stays 1: learners/adaptive.py): after every step it is the largest step size the
     demon has stored since it last restarted (its meta steps move some up and some down; a demon that forgets its
-    weights restarts them at alpha at an episode's end), and it is counted again when step sizes are loaded."""
+    weights restarts them at alpha at an episode's end), and it is counted again when step sizes are loaded (and
+    when a demon's scale is folded into its step sizes, below 1e-150: not reached here)."""
     sim = Simulation(spec(), cut=0.0)
     engine = sim.learner.engine
     onl = engine.t.onl
@@ -207,3 +209,23 @@ def test_autostep_keeps_each_demons_largest_step_size() -> None:
     engine.load_adaptive_state(engine.adaptive_state())
     for name, (_, _, slot) in demons.items():
         assert onl.step_max[slot] == now[name]
+
+
+@pytest.mark.parametrize("dtype", ["float64", "float32"])
+def test_a_folded_scale_counts_the_largest_step_size_again(dtype: str) -> None:
+    """A demon's step-size scale below SCALE_FLOOR is folded into its stored step sizes; their largest is then
+    counted from the stored products (in float32 a product may round above the float64 one)."""
+    data = spec().model_dump(by_alias=True)
+    data["learning"]["dtype"] = dtype
+    sim = Simulation(RunSpec.model_validate(data), cut=0.0)
+    sim.run(30)
+    engine = sim.learner.engine
+    onl = engine.t.onl
+    b, col = engine.horde.locate("auto")
+    slot = int(engine.horde.demon_slot[engine.horde.index["auto"]])
+    onl.scale[slot] = SCALE_FLOOR / 3
+    onl.step_max[slot] = np.inf  # not known: the two passes, which fold
+    sim.step()
+    assert onl.scale[slot] == 1.0, "the scale was folded"
+    stored = engine.weights(onl.step_a, b)[:, col]
+    assert onl.step_max[slot] == stored.max()

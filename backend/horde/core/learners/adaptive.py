@@ -436,11 +436,13 @@ _tidbd = _adaptive_kernel(vector_exp, False)
 
 @njit(**NO_NRT)
 def _fold_scale(step_a, scale, largest, woff, db, i, d, end):
-    """Multiply demon d's scale into its stored step sizes (column i of the block at woff..end) and into their
-    largest (the same product of the same numbers: still the largest), scale 1."""
+    """Multiply demon d's scale into its stored step sizes (column i of the block at woff..end), scale 1; their
+    largest counted again from the stored products (float32 may round one above the float64 product)."""
+    top = 0.0
     for k in range(woff + i, end, db):
         step_a[k] *= scale[d]
-    largest[d] *= scale[d]
+        top = max(top, step_a[k])
+    largest[d] = top
     scale[d] = 1.0
 
 
