@@ -424,8 +424,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def bench(args: argparse.Namespace) -> int:
     if getattr(args, "workload", None):
-        rows, rates = bound.run(args.workload, args.demons, [int(t) for t in args.threads.split(",")],
-                                args.dtype.split(","))  # fmt: skip
+        try:  # a workload the benchmarks do not have, or a learner the specs do not know: said, not raised
+            bound.spec(args.workload, args.demons, args.dtype[0])
+        except ValueError as exc:  # (pydantic's ValidationError is one)
+            errors = getattr(exc, "errors", None)
+            reason = errors()[0]["msg"] if callable(errors) else str(exc)
+            raise SystemExit(f"error: --workload {args.workload!r} (NAME-LEARNER: nexting, off_policy or control, "
+                             f"then a learner such as td, gtd or td+autostep): {reason}") from None  # fmt: skip
+        rows, rates = bound.run(args.workload, args.demons, args.threads, args.dtype)
         print(bound.table(rows, rates))
         if args.json:
             Path(args.json).write_text(json.dumps([asdict(r) for r in rows], indent=2) + "\n")

@@ -66,6 +66,32 @@ def test_quick_bench_writes_every_workload(tmp_path: Path, capsys: pytest.Captur
         assert row["single_thread_ms_per_step"] == pytest.approx(row["thread_speedup"] * row["ms_per_step"])
 
 
+@pytest.mark.parametrize(
+    ("options", "named"),
+    [
+        (["--demons", "32000"], "--demons"),
+        (["--demons", "ten"], "--demons"),
+        (["--threads", "x"], "--threads"),
+        (["--threads", "1,0"], "--threads"),
+        (["--dtype", "float16"], "--dtype"),
+        (["--workload", "thesis-td"], "--workload"),
+        (["--workload", "nexting-sarsa"], "--workload"),
+    ],
+)
+def test_a_bad_bench_option_is_named_and_nothing_runs(options: list[str], named: str,
+                                                      capsys: pytest.CaptureFixture[str]) -> None:  # fmt: skip
+    """`horde bench --workload` with an option it cannot take: a message naming the option, no traceback, exit
+    status not 0, before any workload is built or timed."""
+    argv = ["bench", "--workload", "nexting-td", *options]
+    with pytest.raises(SystemExit) as info:
+        main(argv)
+    printed = capsys.readouterr()
+    said = printed.err + (info.value.code if isinstance(info.value.code, str) else "")
+    assert info.value.code not in (0, None)
+    assert named in said and "Traceback" not in said, said
+    assert "bound ms" not in printed.out
+
+
 def test_bench_can_run_one_workload(tmp_path: Path) -> None:
     out = tmp_path / "bench.json"
     assert main(["bench", "--quick", "--only", "nexting", "--json", str(out)]) == 0
