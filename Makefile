@@ -52,11 +52,11 @@ vitest: $(NODE_MODULES)
 
 # Needs the built dashboard for the browser tests; tests/test_api_types.py checks that the committed
 # API types match the server's OpenAPI schema. Two processes run the tests that share no timing bound
-# (pytest-xdist, a file to a process, the tests named float32 together: tests/conftest.py), then one runs
-# those marked `serial` (a bound on time, or the whole machine) alone. The engine's float64 kernels are
-# compiled first (`warm`, see horde/warm.py); the float32 ones by the one process that runs the float32 tests.
+# (pytest-xdist, a file to a process), then one runs those marked `serial` (a bound on time, or the whole
+# machine) alone. The engine's kernels are compiled first in both dtypes (`warm`, see horde/warm.py), so that
+# no test process pays for a compile.
 pytest: $(INSTALLED) $(DIST)
-	$(BIN)/python -m horde.warm float64
+	$(BIN)/python -m horde.warm
 	$(BIN)/python -m pytest -n 2 --dist loadfile -m "not serial"
 	$(BIN)/python -m pytest -m serial
 
@@ -64,12 +64,13 @@ pytest: $(INSTALLED) $(DIST)
 warm: $(INSTALLED)
 	$(BIN)/python -m horde.warm
 
-# The float64 kernels compile in the background while the dashboard builds and the checks run (they compile
-# nothing).
+# The kernels compile in the background, one process a dtype, while the dashboard builds and the checks run
+# (they compile nothing): three minutes of a core each on a fresh clone.
 test: $(INSTALLED)
-	$(BIN)/python -m horde.warm float64 & warm=$$!; \
+	$(BIN)/python -m horde.warm float64 & float64=$$!; \
+	$(BIN)/python -m horde.warm float32 & float32=$$!; \
 	$(MAKE) lint typecheck vitest frontend; checks=$$?; \
-	wait $$warm && test $$checks -eq 0
+	wait $$float64 && wait $$float32 && test $$checks -eq 0
 	$(MAKE) pytest
 
 # The browser tests write their screenshots to test-artifacts/screenshots; this refreshes the ones the

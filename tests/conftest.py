@@ -1,6 +1,5 @@
 """Settings every test shares: the in-process test client's `Host` is allowed; Hypothesis sets no deadline; no two
-tests that make test runs in two processes share one id; and those two processes take the tests a file at a
-time, but every test whose id names float32 goes to one process (`Float32Together`).
+tests that make test runs in two processes share one id.
 
 Hypothesis' default deadline (200 ms an example) fails an example that compiles a kernel on a cold numba
 cache (2 s; seen in tests/core/test_features.py after an edit to the engine): a property test asserts
@@ -18,7 +17,6 @@ from collections import Counter
 
 import pytest
 from hypothesis import settings
-from xdist.scheduler import LoadFileScheduling
 
 os.environ["HORDE_ALLOWED_HOSTS"] = '["testserver"]'
 settings.register_profile("horde", deadline=None)
@@ -33,17 +31,3 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     if shared:
         raise pytest.UsageError(f"tests share an id, and pytest-xdist would run one of each: {shared[:3]}; "
                                 "make their ids unique or mark them `serial`")  # fmt: skip
-
-
-class Float32Together(LoadFileScheduling):
-    """`--dist loadfile` (make test), except that the tests whose id names float32 are one unit of work: only
-    the process that runs them compiles the engine's float32 kernels (about two minutes on a fresh clone; make
-    test compiles float64's before the tests, horde/warm.py), while the other runs other files. A test that
-    runs the engine in float32 says so in its name or its parameters."""
-
-    def _split_scope(self, nodeid: str) -> str:
-        return "float32" if "float32" in nodeid else super()._split_scope(nodeid)
-
-
-def pytest_xdist_make_scheduler(config: pytest.Config, log: object) -> LoadFileScheduling | None:
-    return Float32Together(config, log) if config.getvalue("dist") == "loadfile" else None

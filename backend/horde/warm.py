@@ -1,12 +1,11 @@
 """Compile the engine's kernels into numba's on-disk cache, one dtype after the other, in this process:
 `python -m horde.warm [float64] [float32]` (both when none is named).
 
-On a cold cache the engine's loop takes about two minutes of one core to compile, once per dtype;
-every later process loads it from the cache in about a second. `make test` compiles float64's first, while it
-lints and type-checks, because the tests then run in two processes at once, and each would otherwise compile
-the same kernels (two processes may compile at once safely, `horde.core._locked_cache_saves`, but each pays the
-two minutes). The float32 kernels are left to the one process that runs the float32 tests (tests/conftest.py),
-so their compile overlaps the other process's tests.
+On a cold cache the engine's loop takes about three minutes of one core to compile, once per dtype;
+every later process loads it from the cache in about a second. `make test` compiles each dtype in a process of
+its own while it lints and type-checks, because the tests then run in two processes at once, and each would
+otherwise compile the same kernels (two processes may compile at once safely, `horde.core._locked_cache_saves`,
+but each pays the minutes).
 """
 
 from __future__ import annotations
