@@ -21,6 +21,8 @@ from serving import RunningServer, serve_in_thread
 
 from .test_stream_history import records, spec
 
+pytestmark = pytest.mark.serial  # /api/health within 100 ms after each bad socket: a bound on time, so alone
+
 TOKEN = "s3cret"
 AUTH = {"Authorization": f"Bearer {TOKEN}"}
 EVIL = {"Origin": "http://evil.example"}
