@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import socket
 import threading
+import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -52,3 +53,10 @@ def serve_in_thread(settings: Settings, **config: Any) -> Iterator[RunningServer
     finally:
         server.should_exit = True
         thread.join(timeout=20)
+
+
+def health_is_quick(server: RunningServer) -> None:
+    """/api/health answers within 100 ms: a bound on time, so a test that asks it is marked `serial`."""
+    started = time.perf_counter()
+    assert server.client.get("/api/health").status_code == 200
+    assert time.perf_counter() - started < 0.1

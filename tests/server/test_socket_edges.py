@@ -17,7 +17,7 @@ from websockets.sync.client import ClientConnection
 
 from horde.server import Settings
 from horde.server.stream_protocol import StreamClose
-from serving import RunningServer, serve_in_thread
+from serving import RunningServer, health_is_quick, serve_in_thread
 
 from .test_stream_history import records, spec
 
@@ -53,12 +53,6 @@ def close_of(server: RunningServer, path: str, headers: dict[str, str] | None = 
         ws.recv(timeout=10)
     assert closed.value.rcvd is not None, "closed without a close frame"
     return closed.value.rcvd.code, closed.value.rcvd.reason
-
-
-def health_is_quick(server: RunningServer) -> None:
-    started = time.perf_counter()
-    assert server.client.get("/api/health").status_code == 200
-    assert time.perf_counter() - started < 0.1
 
 
 def new_stream(server: RunningServer) -> str:
