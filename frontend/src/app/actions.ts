@@ -217,9 +217,23 @@ export async function loadLiveView(app: App): Promise<void> {
  * Show a run in this page's live view (POST /api/view with its `VIEWER_KEY`, its Large text, and the page's
  * token, which the view then acts with); no other page's view changes. Nothing is asked while the view is
  * off or not known yet; a 409 (the view is off after all) or a 404 (the run was just deleted) is no news for
- * the user.
+ * the user. A page's switches are sent one after the other, each once the last is answered: two in flight at
+ * once (the page's first switch, as the view comes on, and a click) could reach the server in either order,
+ * and the view would stay on the run chosen first.
  */
-export async function showInLiveView(app: App, runId: string): Promise<void> {
+export function showInLiveView(app: App, runId: string): Promise<void> {
+  const shown = (switches.get(app) ?? Promise.resolve()).then(() => switchLiveView(app, runId));
+  switches.set(
+    app,
+    shown.catch(() => undefined),
+  );
+  return shown;
+}
+
+/** The last switch of each page's live view asked for (`showInLiveView`). */
+const switches = new WeakMap<App, Promise<void>>();
+
+async function switchLiveView(app: App, runId: string): Promise<void> {
   const now = state(app);
   if (now.liveView.state !== "on") return;
   // The dashboard's choice of demons, once the run's demons are known (else the view's own first ones).
