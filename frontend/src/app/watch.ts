@@ -123,6 +123,7 @@ export function watchChartedForView(app: App, scope: Scope): void {
     if (runId === null || key === told || now.liveView.state !== "on") return;
     cancel();
     cancel = scope.after(TELL_VIEW_MS, () => {
+      if (app.ui.state.selectedRunId !== runId) return; // another run was chosen meanwhile: it tells the view
       told = key;
       void attempt(app, () => showInLiveView(app, runId));
     });
