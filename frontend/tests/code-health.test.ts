@@ -1,6 +1,6 @@
 // The dashboard's sources keep short functions and no import circles (issue 29), as tests/test_code_health.py
 // holds the Python package to its bounds: `node scripts/code-health.mjs` prints the figures.
-import { mkdtempSync, writeFileSync } from "node:fs";
+import { mkdtempSync, rmSync, writeFileSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { join } from "node:path";
 import { describe, expect, it } from "vitest";
@@ -35,14 +35,18 @@ describe("the dashboard's code health", () => {
 
   it("finds an import circle, however long", () => {
     const dir = mkdtempSync(join(tmpdir(), "health-"));
-    const files = ["a", "b", "c"].map((name) => join(dir, `${name}.ts`));
-    writeFileSync(files[0]!, 'import { b } from "./b";\nexport const a = b;\n');
-    writeFileSync(files[1]!, 'import { c } from "./c";\nexport const b = c;\n');
-    writeFileSync(files[2]!, 'import type { a } from "./a";\nexport const c = 1 as unknown as typeof a;\n');
-    expect(importCycles(files).map((cycle) => cycle.map((p) => p.split("/").pop()))).toEqual([
-      ["a.ts", "b.ts", "c.ts", "a.ts"],
-    ]);
-    writeFileSync(files[2]!, "export const c = 1;\n");
-    expect(importCycles(files)).toEqual([]);
+    try {
+      const files = ["a", "b", "c"].map((name) => join(dir, `${name}.ts`));
+      writeFileSync(files[0]!, 'import { b } from "./b";\nexport const a = b;\n');
+      writeFileSync(files[1]!, 'import { c } from "./c";\nexport const b = c;\n');
+      writeFileSync(files[2]!, 'import type { a } from "./a";\nexport const c = 1 as unknown as typeof a;\n');
+      expect(importCycles(files).map((cycle) => cycle.map((p) => p.split("/").pop()))).toEqual([
+        ["a.ts", "b.ts", "c.ts", "a.ts"],
+      ]);
+      writeFileSync(files[2]!, "export const c = 1;\n");
+      expect(importCycles(files)).toEqual([]);
+    } finally {
+      rmSync(dir, { recursive: true, force: true });
+    }
   });
 });

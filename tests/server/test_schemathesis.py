@@ -10,6 +10,7 @@ as Python and JavaScript write it), or an object nested hundreds of levels deep.
 
 from __future__ import annotations
 
+import atexit
 import json
 import math
 import random
@@ -40,7 +41,10 @@ from horde.server import Settings, create_app
 pytestmark = pytest.mark.serial
 
 MAX_EXAMPLES = 20
+# Made when the module is imported: every test process that collects it (also those that deselect its tests)
+# removes it as it exits.
 DATA = Path(tempfile.mkdtemp(prefix="horde-schemathesis-"))
+atexit.register(shutil.rmtree, DATA, ignore_errors=True)
 APP = create_app(Settings(data=DATA, token=None, max_runs=16, snapshot_every=3600.0, study_executor="local"))
 # The settings the long run of docs/hardening.md shares (which operations skip the coverage phase, and why),
 # with this run's number of examples and its coverage phase on.
@@ -135,7 +139,6 @@ def client() -> Iterator[asgi.ASGIClient]:
         _live_run(client)
         yield client
     asgi.shutdown_lifespans()
-    shutil.rmtree(DATA, ignore_errors=True)
 
 
 @schema.parametrize()
