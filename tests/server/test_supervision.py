@@ -14,11 +14,15 @@ import signal
 import threading
 import time
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import pytest
 from fastapi.testclient import TestClient
 
+from horde.runs import link as link_module
+from horde.runs import messages as m
+from horde.runs.link import WorkerLink
 from horde.runs.store import Store
 from horde.server import Settings, create_app
 from polling import wait_until
@@ -152,6 +156,39 @@ def test_a_worker_that_stops_answering_is_reported_and_never_waited_on(hooked: S
         assert client.delete(f"/api/runs/{stuck['id']}").status_code == 204
         assert time.monotonic() - began < 30.0, "deleting a stuck run ends its worker (terminated, then killed)"
         wait_until(lambda: gone(stuck["worker"]["pid"]), "the stuck worker to be gone")
+
+
+class Stalls:
+    """A listener that keeps what it hears of stalls."""
+
+    def __init__(self) -> None:
+        self.heard: list[tuple[float, str]] = []
+
+    def on_stall(self, seconds: float, doing: str) -> None:
+        self.heard.append((seconds, doing))
+
+
+def test_a_stall_reported_before_the_beat_that_names_its_command_is_reported_again(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Under load the switchboard can report a stall before the worker's beat saying what holds it arrives (the
+    test above once read "busy with" nothing): that beat updates the report; a beat that names nothing new adds
+    nothing, and one whose loop moved again ends the stall."""
+    now = [100.0]
+    monkeypatch.setattr(link_module, "time", SimpleNamespace(monotonic=lambda: now[0]))
+    stalls = Stalls()
+    link = WorkerLink("process", lambda message: None, stalls)  # type: ignore[arg-type]
+    link.deliver(m.Beat(progress=7))
+    now[0] += 31.0
+    link.check(30.0)
+    assert stalls.heard == [(31.0, "")]
+    now[0] += 0.5
+    link.deliver(m.Beat(progress=7, doing="crash hang"))
+    assert stalls.heard[-1] == (31.5, "crash hang")
+    link.deliver(m.Beat(progress=7, doing="crash hang"))
+    assert len(stalls.heard) == 2, "a beat that names the same command reports nothing more"
+    link.deliver(m.Beat(progress=8))
+    assert stalls.heard[-1] == (0.0, "") and not link.stalled
 
 
 def test_a_stream_run_or_protocol_job_whose_worker_dies_says_so(hooked: Settings) -> None:

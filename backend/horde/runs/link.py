@@ -196,10 +196,12 @@ class WorkerLink:
         if beat.progress != self._progress or beat.doing == m.COMPILING:
             self._progress = beat.progress
             self._moved_at = time.monotonic()
-        self.doing = beat.doing
+        changed, self.doing = beat.doing != self.doing, beat.doing
         if self.stalled and self.stall_seconds() < TICK * 4:
             self.stalled = False
             self.listener.on_stall(0.0, "")
+        elif self.stalled and changed:  # (the stall was reported before the beat that names what holds it)
+            self.listener.on_stall(self.stall_seconds(), self.doing)
 
     def check(self, stall_seconds: float) -> None:
         """Report a worker whose main loop has not moved for `stall_seconds` (once, until it moves again)."""
