@@ -171,27 +171,31 @@ class GymAgent:
     def run_episode(self) -> int:
         """Step to the end of the episode under way (terminated or truncated); returns the steps taken.
 
-        Under a behaviour that reads neither the state nor a demon (uniform, fixed) the episode's transitions
-        are stepped first and learned in one call (the same draws, actions and weights as `step` gives one at a
-        time, several times faster: the engine's cost per call is paid once)."""
+        Under a behaviour that reads no demon (uniform, fixed, sign) the episode's transitions are stepped first
+        and learned in one call (the same draws, actions and weights as `step` gives one at a time, several times
+        faster: the engine's cost per call is paid once). A value policy reads the demons as they learn: step by
+        step."""
         behaviour = self.spec.behaviour
-        if behaviour.kind not in ("uniform", "fixed"):
+        if behaviour.kind not in ("uniform", "fixed", "sign"):
             episode, steps = self.episode, 0
             while self.episode == episode:
                 self.step()
                 steps += 1
             return steps
-        probs = self.behaviour_probs()
-        cumulative = np.cumsum(probs)
-        rows, actions = [], []
+        names, num_actions = self.world.sensor_names, self.world.num_actions
+        probs = policy_probs(behaviour, self.sensors, names, num_actions)
+        rows, actions, taken = [], [], []
         terminated = truncated = False
         while not (terminated or truncated):
-            action = min(int(np.searchsorted(cumulative, self.rng.random() * probs.sum(), side="right")),
+            if behaviour.kind == "sign":  # (the others are the same at every state)
+                probs = policy_probs(behaviour, rows[-1] if rows else self.sensors, names, num_actions)
+            action = min(int(np.searchsorted(np.cumsum(probs), self.rng.random() * probs.sum(), side="right")),
                          len(probs) - 1)  # fmt: skip
             sensors, terminated, truncated = self.world.step(action)
             rows.append(sensors)
             actions.append(action)
-        self.learner.learn(np.array(rows), actions, probs[actions], terminated, truncated)
+            taken.append(probs[action])
+        self.learner.learn(np.array(rows), actions, np.array(taken), terminated, truncated)
         rewards = float(np.sum([row[-3] for row in rows]))
         self.total_steps += len(rows)
         self.episode += 1
