@@ -139,31 +139,31 @@ def _adaptive_kernel(exp, autostep):
     # (`exp` and `autostep` are constants to numba: the branches on `autostep` below are compiled away)
 
     @njit(inline="always")
-    def meta_step(at_, u, mu, e, p, inv_tau, a, v, h, rate, dlv):
-        """The meta step of one weight (x_t's value p there) from h_i as it was, Autostep's: v_i, then the
-        argument of exp (|sample| <= v_i), then alpha_i; TIDBD's: alpha_i *= exp(mu delta phi_i h_i). Returns
-        the new alpha_i."""
+    def meta_step(at_, u, d, e, p, inv_tau, vectors, demons):
+        """The meta step of weight at_ (column u, demon d; x_t's value p there) from h_i as it was, Autostep's:
+        v_i, then the argument of exp (|sample| <= v_i), then alpha_i, and the demon's largest step size kept
+        (`Online.step_max`); TIDBD's: alpha_i *= exp(mu delta phi_i h_i). Returns the new alpha_i."""
+        h, a, v = vectors
+        meta, rate, dlv, largest = demons
         if not autostep:
-            a[at_] *= vector_exp(mu * dlv[u] * p * h[at_])
+            a[at_] *= vector_exp(meta[d] * dlv[u] * p * h[at_])
             return a[at_]
         sample = dlv[u] * p * h[at_]
         size = abs(sample)
         vi = max(size, v[at_] + a[at_] * rate[u] * e * p * (size - v[at_]) * inv_tau)
         v[at_] = vi
-        a[at_] *= exp(mu * (sample / vi if vi > 0.0 else 0.0))
+        a[at_] *= exp(meta[d] * (sample / vi if vi > 0.0 else 0.0))
+        largest[d] = max(largest[d], a[at_])
         return a[at_]
 
     @njit(inline="always")
     def learn_weight(k, u, d, e, p, inv_tau, vectors, demons):
         """One weight k of a row of x_t (x_t's value p there; column u, demon d): its meta step, then theta +=
-        alpha delta e and h = h [1 - alpha phi e]^+ + alpha delta e from h as the meta step read it; Autostep's
-        largest step size kept."""
+        alpha delta e and h = h [1 - alpha phi e]^+ + alpha delta e from h as the meta step read it."""
         theta, h, a, v = vectors
-        meta, rate, dlv, largest = demons
+        rate, dlv = demons[1], demons[2]
         h_i = h[k]
-        size = meta_step(k, u, meta[d], e, p, inv_tau, a, v, h, rate, dlv)
-        if autostep:
-            largest[d] = max(largest[d], size)
+        size = meta_step(k, u, d, e, p, inv_tau, (h, a, v), demons)
         step = size * rate[u] * e
         change = step * dlv[u]
         theta[k] += change
@@ -208,10 +208,7 @@ def _adaptive_kernel(exp, autostep):
                 elif on_x != 0.0:  # a row of x_t whose trace was cut: the meta step only
                     for i in range(c0, c1):
                         u = at(i)
-                        d = at(lo + i)
-                        size = meta_step(base + u, u, meta[d], e, on_x, inv_tau, a, v, h, rate, dlv)
-                        if autostep:
-                            largest[d] = max(largest[d], size)
+                        meta_step(base + u, u, at(lo + i), e, on_x, inv_tau, (h, a, v), demons)
                 elif e != 0.0:
                     _trace_update(c0, c1, base, e, a, rate, dlv, theta, h)
                 if on_next != 0.0:
@@ -245,9 +242,7 @@ def _adaptive_kernel(exp, autostep):
                 coeff = e * (p - cls.gamma_tp1[coff + c] * on_next)
                 for i in range(c0, c1):
                     u = at(i)
-                    d = at(lo + i)
-                    size = meta_step(base + u, u, meta[d], e, p, inv_tau, a, v, h, rate, dlv)
-                    largest[d] = max(largest[d], size)
+                    size = meta_step(base + u, u, at(lo + i), e, p, inv_tau, (h, a, v), (meta, rate, dlv, largest))
                     effective[u] += size * coeff
         for i in range(i0, i1):  # every step size divided by M = max(1, the effective step size)
             m_i = effective[i] * rate[i]
