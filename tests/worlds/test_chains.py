@@ -192,3 +192,26 @@ def test_an_episode_learned_in_one_call_equals_it_learned_step_by_step(scenario:
     assert batched.total_steps == stepped.total_steps and batched.returns.tolist() == stepped.returns.tolist()
     for theta, other in zip(batched.learner.horde_state().theta, stepped.learner.horde_state().theta, strict=True):
         assert np.abs(theta).max() > 1.0 and theta == pytest.approx(other, abs=1e-12)
+
+
+@pytest.mark.parametrize("lam", [0.0, 0.9])
+def test_rmspbe_is_the_d_norm_of_the_projected_lambda_return_error(lam: float) -> None:
+    """The 1000-state walk's aggregation demon (ten groups of 100 states: a projection that loses something):
+    RMSPBE(v) = sqrt(sum_s d_s ((Pi delta)_s)^2), Pi = X (X' D X)^-1 X' D the projection onto the features under d
+    and delta = (I - lambda M)^-1 (r - (I - M) v), each solved here from the matrices; 0 at the TD fixed point
+    and at the true values; the same at lambda 0, where no inverse is kept."""
+    from horde.core.horde import Horde
+    from horde.worlds.state_values import demon_truth
+
+    data = load_scenario(SCENARIOS / "random-walk-1000.toml").model_dump(by_alias=True)
+    data["learning"]["lambda"] = lam
+    data["demons"] = [{**demon, "lambda": lam} for demon in data["demons"]]
+    truth = demon_truth(Horde(resolve_world(RunSpec.model_validate(data))), "aggregation")
+    assert truth is not None and (truth.trace is None) == (lam == 0.0)
+    n, X, d = len(truth.states), truth.features, truth.distribution
+    projection = X @ np.linalg.pinv(X.T @ (d[:, None] * X)) @ X.T @ np.diag(d)  # [N, N]
+    for values in (np.linspace(-1.0, 1.0, n), np.random.default_rng(3).normal(size=n), X @ np.ones(X.shape[1])):
+        delta = np.linalg.solve(np.eye(n) - lam * truth.M, truth.r - (np.eye(n) - truth.M) @ values)
+        expected = math.sqrt(float(d @ (projection @ delta) ** 2))
+        assert expected > 1e-3 and truth.rmspbe(values) == pytest.approx(expected, rel=1e-9)
+    assert truth.rmspbe(truth.fixed_point) < 1e-9 and truth.rmspbe(truth.exact) < 1e-9
