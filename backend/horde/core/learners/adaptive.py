@@ -139,11 +139,11 @@ def _adaptive_kernel(exp, autostep):
     # (`exp` and `autostep` are constants to numba: the branches on `autostep` below are compiled away)
 
     @njit(inline="always")
-    def meta_step(at_, u, d, e, p, inv_tau, vectors, demons):
+    def meta_step(at_, u, d, e, p, inv_tau, a, v, h, demons):
         """The meta step of weight at_ (column u, demon d; x_t's value p there) from h_i as it was, Autostep's:
         v_i, then the argument of exp (|sample| <= v_i), then alpha_i, and the demon's largest step size kept
-        (`Online.step_max`); TIDBD's: alpha_i *= exp(mu delta phi_i h_i). Returns the new alpha_i."""
-        h, a, v = vectors
+        (`Online.step_max`); TIDBD's: alpha_i *= exp(mu delta phi_i h_i). Returns the new alpha_i. (`demons`, the
+        per-demon arrays, is one tuple built before the loops: built per weight, it slowed the walk by 2 %.)"""
         meta, rate, dlv, largest = demons
         if not autostep:
             a[at_] *= vector_exp(meta[d] * dlv[u] * p * h[at_])
@@ -163,7 +163,7 @@ def _adaptive_kernel(exp, autostep):
         theta, h, a, v = vectors
         rate, dlv = demons[1], demons[2]
         h_i = h[k]
-        size = meta_step(k, u, d, e, p, inv_tau, (h, a, v), demons)
+        size = meta_step(k, u, d, e, p, inv_tau, a, v, h, demons)
         step = size * rate[u] * e
         change = step * dlv[u]
         theta[k] += change
@@ -208,7 +208,7 @@ def _adaptive_kernel(exp, autostep):
                 elif on_x != 0.0:  # a row of x_t whose trace was cut: the meta step only
                     for i in range(c0, c1):
                         u = at(i)
-                        meta_step(base + u, u, at(lo + i), e, on_x, inv_tau, (h, a, v), demons)
+                        meta_step(base + u, u, at(lo + i), e, on_x, inv_tau, a, v, h, demons)
                 elif e != 0.0:
                     _trace_update(c0, c1, base, e, a, rate, dlv, theta, h)
                 if on_next != 0.0:
@@ -226,6 +226,7 @@ def _adaptive_kernel(exp, autostep):
         h, trace = wts.w, wts.trace
         a, v, scale, meta, bounds, inv_tau = onl.step_a, onl.step_v, onl.scale, onl.meta, onl.bounds, 1.0 / onl.tau
         rate, dlv, effective, largest = scr.work[5], scr.work[6], scr.work[7], onl.step_max
+        demons = (meta, rate, dlv, largest)
         x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
         m = 0
         for j in range(x_t.shape[0]):
@@ -242,7 +243,7 @@ def _adaptive_kernel(exp, autostep):
                 coeff = e * (p - cls.gamma_tp1[coff + c] * on_next)
                 for i in range(c0, c1):
                     u = at(i)
-                    size = meta_step(base + u, u, at(lo + i), e, p, inv_tau, (h, a, v), (meta, rate, dlv, largest))
+                    size = meta_step(base + u, u, at(lo + i), e, p, inv_tau, a, v, h, demons)
                     effective[u] += size * coeff
         for i in range(i0, i1):  # every step size divided by M = max(1, the effective step size)
             m_i = effective[i] * rate[i]
