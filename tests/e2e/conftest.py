@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -101,8 +102,9 @@ def browser_page(
         context.close()
 
 
-def viser_view(page: Page, view_url: str) -> Frame:
-    """The frame of the embedded viser live view at `view_url`, its iframe scrolled into sight first.
+def viser_view(page: Page, view_url: str, timeout: float = 60.0) -> Frame:
+    """The frame of the embedded viser live view at `view_url`, its iframe scrolled into sight first (waited for
+    until `timeout` seconds: the iframe's element comes before its frame has loaded the view).
 
     The view is served on another port, so its iframe is cross-origin, and Chromium runs no frames of a
     cross-origin iframe outside the viewport: below the fold the viser client neither starts nor draws, and a
@@ -112,7 +114,11 @@ def viser_view(page: Page, view_url: str) -> Frame:
     over two animation frames: once the view draws (software WebGL), a page gets a few frames a second, the
     charts above the frame grow as readings arrive, and that wait ran out on a loaded machine."""
     page.locator("iframe.viser-frame").evaluate("frame => frame.scrollIntoView({block: 'center'})")
-    return next(f for f in page.frames if f.url.startswith(view_url.rstrip("/")))
+    deadline = time.monotonic() + timeout
+    while (frame := next((f for f in page.frames if f.url.startswith(view_url.rstrip("/"))), None)) is None:
+        assert time.monotonic() < deadline, f"no frame of the page shows the live view at {view_url}"
+        page.wait_for_timeout(100)  # (Playwright's events, a frame's navigation among them, arrive while it waits)
+    return frame
 
 
 def page_viewer(page: Page) -> str:
