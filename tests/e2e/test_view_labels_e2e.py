@@ -3,17 +3,19 @@
 The dashboard's Large text reaches its embedded view: the view's labels are drawn 1.5 times larger and its panel
 (once opened) in a root font 1.5 times the browser's, and the predictions' label, under the world, covers no
 region's name. Labels are drawn on the GPU (no DOM to measure), so each label is found by what it paints: the
-view's frame is captured with the label shown and hidden (its handle in this page's own scene, on the server),
-and the pixels that differ are the label's box. Its height, per line, is the label's size on screen.
+view's frame is captured as the labels are hidden one group after another (their handles in this page's own
+scene, on the server), and the pixels that change at each are that group's box. Its height, per line, is the
+label's size on screen.
 
 The figures (pixels per line of the predictions' label and of a region's name, normal and large; measured: 12
-and 16 px normal, 18 and 24 px large, at both sizes; the panel's root font 24 px) are written to
+and 16 px normal, 18 (17 at 1920 x 1080) and 24 px large; the panel's root font 24 px) are written to
 test-artifacts/view-labels.json and the pictures to test-artifacts/screenshots/view-labels-*.png.
 """
 
 from __future__ import annotations
 
 import io
+import itertools
 import json
 import time
 from collections.abc import Iterator
@@ -54,24 +56,37 @@ def capture(page: Page) -> np.ndarray:
     return np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(np.int16)
 
 
-def painted_box(page: Page, handles: list[Any], timeout: float = 30.0) -> tuple[int, int, int, int]:
-    """(x0, y0, x1, y1) of the pixels `handles` paint: where the frame captured with them hidden differs from it
-    captured with them shown, before and after alike (so a change elsewhere meanwhile, say a notice fading,
-    does not count). Tried again, a few times, when something else changed in the same moment."""
+Box = tuple[int, int, int, int]  # (x0, y0, x1, y1) on the view's frame
+
+
+def painted_boxes(page: Page, groups: list[list[Any]], timeout: float = 30.0) -> list[Box]:
+    """The box of the pixels each group of handles paints: the groups hidden one after another (each box where the
+    frame changed as its group was hidden), then all shown again; a pixel counts only where the frame shown again
+    equals the first (so that a change elsewhere meanwhile, say a notice fading, does not count). Tried again, a
+    few times, when something else changed in the same moment."""
+    boxes: list[Box] = []
     for _ in range(4):
-        before = capture(page)
-        for handle in handles:
-            handle.visible = False
-        hidden = wait_for_change(page, before, timeout)
-        for handle in handles:
-            handle.visible = True
-        after = wait_for_change(page, hidden, timeout)
-        changed = (np.abs(before - hidden).max(axis=2) > 40) & (np.abs(before - after).max(axis=2) <= 40)  # [H, W]
-        ys, xs = np.nonzero(changed)
-        box = int(xs.min()), int(ys.min()), int(xs.max()) + 1, int(ys.max()) + 1
-        if (box[2] - box[0]) * (box[3] - box[1]) < 0.1 * changed.size:  # a label, not a redrawn view
-            return box
-    raise AssertionError(f"the label's pixels could not be told from other changes: last box {box}")
+        frames = [capture(page)]
+        for group in groups:
+            for handle in group:
+                handle.visible = False
+            frames.append(wait_for_change(page, frames[-1], timeout))
+        for group in groups:
+            for handle in group:
+                handle.visible = True
+        back = np.abs(frames[0] - wait_for_change(page, frames[-1], timeout)).max(axis=2) <= 40  # [H, W]
+        boxes = []
+        for shown, hidden in itertools.pairwise(frames):
+            ys, xs = np.nonzero((np.abs(shown - hidden).max(axis=2) > 40) & back)
+            if xs.size == 0:
+                break
+            box = int(xs.min()), int(ys.min()), int(xs.max()) + 1, int(ys.max()) + 1
+            if (box[2] - box[0]) * (box[3] - box[1]) >= 0.1 * back.size:  # a redrawn view, not a label
+                break
+            boxes.append(box)
+        if len(boxes) == len(groups):
+            return boxes
+    raise AssertionError(f"the labels' pixels could not be told from other changes: boxes found {boxes}")
 
 
 def wait_for_change(page: Page, frame: np.ndarray, timeout: float) -> np.ndarray:
@@ -95,7 +110,7 @@ def quiet(page: Page) -> None:
     time.sleep(1.0)
 
 
-def overlap(a: tuple[int, int, int, int], b: tuple[int, int, int, int]) -> bool:
+def overlap(a: Box, b: Box) -> bool:
     return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
 
@@ -119,10 +134,12 @@ def measure(server: RunningServer, page: Page, large: bool) -> dict[str, Any]:
     quiet(page)
     time.sleep(2.0)  # the browser draws what the view sent
     drawn = viewer.applier.drawn
-    predictions = painted_box(page, [drawn["/predictions"][1]])
-    names = painted_box(page, [drawn[f"/region_labels/{name}"][1] for name in REGIONS])  # the box around them all
+    others = [drawn[f"/region_labels/{name}"][1] for name in REGIONS if name != "wall"]
+    predictions, some, wall = painted_boxes(
+        page, [[drawn["/predictions"][1]], others, [drawn["/region_labels/wall"][1]]]
+    )
+    names = min(some[0], wall[0]), min(some[1], wall[1]), max(some[2], wall[2]), max(some[3], wall[3])  # all three
     assert not overlap(names, predictions), f"the predictions' label {predictions} covers region names in {names}"
-    wall = painted_box(page, [drawn["/region_labels/wall"][1]])  # one name alone, for its height
     return {
         "predictions_box": predictions,
         "predictions_px_per_line": (predictions[3] - predictions[1]) / LINES,
