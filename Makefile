@@ -57,7 +57,7 @@ vitest: $(NODE_MODULES)
 # no test process pays for a compile.
 pytest: $(INSTALLED) $(DIST)
 	$(BIN)/python -m horde.warm
-	$(BIN)/python -m pytest -n 2 --dist loadfile -m "not serial"
+	$(BIN)/python -m pytest -n 2 --dist loadfile --no-loadscope-reorder -m "not serial"
 	$(BIN)/python -m pytest -m serial
 
 # The engine's kernels compiled into numba's cache for every dtype (minutes on a cold cache, a second after).
