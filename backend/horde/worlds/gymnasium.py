@@ -184,7 +184,9 @@ class GymAgent:
             return steps
         names, num_actions = self.world.sensor_names, self.world.num_actions
         probs = policy_probs(behaviour, self.sensors, names, num_actions)
-        rows, actions, taken = [], [], []
+        rows: list[np.ndarray] = []
+        actions: list[int] = []
+        taken: list[float] = []
         terminated = truncated = False
         while not (terminated or truncated):
             if behaviour.kind == "sign":  # (the others are the same at every state)
