@@ -52,13 +52,19 @@ vitest: $(NODE_MODULES)
 
 # Needs the built dashboard for the browser tests; tests/test_api_types.py checks that the committed
 # API types match the server's OpenAPI schema. Two processes run the tests that share no timing bound
-# (pytest-xdist, a file to a process), then one runs those marked `serial` (a bound on time, or the whole
-# machine) alone. The engine's kernels are compiled first in both dtypes (`warm`, see horde/warm.py), so that
-# no test process pays for a compile.
+# (pytest-xdist, a file to a process), and beside them a third runs schemathesis (its cases share one test id,
+# which pytest-xdist cannot split, and no bound on time: its report is printed after theirs); then one process
+# runs the tests marked `serial` (a bound on time, or the whole machine) alone. The engine's kernels are
+# compiled first in both dtypes (`warm`, see horde/warm.py), so that no test process pays for a compile.
+FUZZ := tests/server/test_schemathesis.py
 pytest: $(INSTALLED) $(DIST)
 	$(BIN)/python -m horde.warm
-	$(BIN)/python -m pytest -n 2 --dist loadfile --no-loadscope-reorder -m "not serial"
-	$(BIN)/python -m pytest -m serial
+	mkdir -p .horde
+	$(BIN)/python -m pytest -p no:cacheprovider $(FUZZ) > .horde/schemathesis.log 2>&1 & fuzz=$$!; \
+	$(BIN)/python -m pytest -n 2 --dist loadfile --no-loadscope-reorder -m "not serial"; others=$$?; \
+	wait $$fuzz; fuzzed=$$?; echo "--- $(FUZZ), run beside them:"; cat .horde/schemathesis.log; \
+	test $$others -eq 0 && test $$fuzzed -eq 0
+	$(BIN)/python -m pytest -m serial --ignore=$(FUZZ)
 
 # The engine's kernels compiled into numba's cache for every dtype (minutes on a cold cache, a second after).
 warm: $(INSTALLED)

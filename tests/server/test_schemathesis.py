@@ -37,7 +37,7 @@ from schemathesis.specs.openapi.checks import (
 from horde.server import Settings, create_app
 
 # One process: schemathesis gives every operation's item the same test id, and pytest-xdist runs items by id, so
-# in two processes it ran one operation instead of all sixty (make test's serial part runs it whole).
+# in two processes it ran one operation instead of all sixty (make test runs this file whole, in a process of its own).
 pytestmark = pytest.mark.serial
 
 MAX_EXAMPLES = 20
