@@ -58,7 +58,7 @@ def test_without_the_token_the_panel_changes_no_run(browser: Browser, server: Ru
     run = api.post("/api/runs", json=body, headers=AUTH).json()["id"]
     url = api.get("/api/view").json()["url"]
 
-    with browser_page(browser, 1280, 800) as (page, errors):
+    with browser_page(browser, 960, 600) as (page, errors):  # small: software WebGL draws it sooner
         page.goto(url)
         page.get_by_role("button", name="Expand panel").click(timeout=60_000)  # minimized at first; software WebGL
         tilt = page.get_by_role("button", name="Tilt to 3-D")
@@ -85,7 +85,7 @@ def test_without_the_token_the_panel_changes_no_run(browser: Browser, server: Ru
         wait_until(lambda: api.get(f"/api/runs/{run}").json()["status"] == "running", "Play to start the run", 10)
 
         # A second browser, without the token, still sees no commands.
-        other = browser.new_page(viewport={"width": 1280, "height": 800})
+        other = browser.new_page(viewport={"width": 960, "height": 600})
         other.goto(url)
         other.get_by_role("button", name="Expand panel").click(timeout=60_000)  # a second software-WebGL page
         expect(other.get_by_role("button", name="Tilt to 3-D")).to_be_visible(timeout=30_000)
