@@ -153,8 +153,7 @@ class GymAgent:
     def step(self, behaviour: BehaviourSpec | None = None) -> GymStep:
         """Act, step the environment, learn the transition; an ended episode starts afresh."""
         probs = self.behaviour_probs(behaviour)
-        action = int(np.searchsorted(np.cumsum(probs), self.rng.random() * probs.sum(), side="right"))
-        action = min(action, len(probs) - 1)
+        action = self._draw(probs)
         sensors, terminated, truncated = self.world.step(action)
         self.learner.learn(sensors, [action], [probs[action]], terminated, truncated)
         reward = float(sensors[-3])
@@ -183,16 +182,15 @@ class GymAgent:
                 steps += 1
             return steps
         names, num_actions = self.world.sensor_names, self.world.num_actions
-        probs = policy_probs(behaviour, self.sensors, names, num_actions)
+        probs = policy_probs(behaviour, self.sensors, names, num_actions)  # (a sign rule's: drawn again each step)
         rows: list[np.ndarray] = []
         actions: list[int] = []
         taken: list[float] = []
         terminated = truncated = False
         while not (terminated or truncated):
-            if behaviour.kind == "sign":  # (the others are the same at every state)
-                probs = policy_probs(behaviour, rows[-1] if rows else self.sensors, names, num_actions)
-            action = min(int(np.searchsorted(np.cumsum(probs), self.rng.random() * probs.sum(), side="right")),
-                         len(probs) - 1)  # fmt: skip
+            if rows and behaviour.kind == "sign":
+                probs = policy_probs(behaviour, rows[-1], names, num_actions)
+            action = self._draw(probs)
             sensors, terminated, truncated = self.world.step(action)
             rows.append(sensors)
             actions.append(action)
@@ -205,6 +203,12 @@ class GymAgent:
         self.sensors = self.world.reset()
         self.learner.observe(self.sensors)
         return len(rows)
+
+    def _draw(self, probs: np.ndarray) -> int:
+        """An action drawn from `probs` with the run's generator: the one draw of `step` and `run_episode`, so that
+        an episode learned in one call takes the actions it would take step by step."""
+        action = int(np.searchsorted(np.cumsum(probs), self.rng.random() * probs.sum(), side="right"))
+        return min(action, len(probs) - 1)
 
     def run(self, steps: int, behaviour: BehaviourSpec | None = None) -> None:
         for _ in range(steps):
