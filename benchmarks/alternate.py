@@ -26,6 +26,7 @@ HERE = Path(__file__).resolve().parents[1]
 WORKLOADS = (
     ("thesis", 2, "gq+gtd", 100_000),
     ("thesis", 100, "gq+gtd", 20_000),
+    ("nexting", 100, "td", 2000),
     ("nexting", 8000, "td", 40),
     ("nexting", 8000, "gtd", 30),
     ("nexting", 8000, "true_online_td", 40),

@@ -37,14 +37,20 @@ FEATURE_KINDS = {"stripes": 0, "tiles": 1, "grid": 2, "constant": 3, "sensors": 
 STRIPES, TILES, GRID, CONSTANT, SENSORS, TABLE, POLYNOMIAL, FOURIER, RBF, LINEAR = range(10)
 
 
-@njit(cache=True)
-def hashed_tiles(values, low, high, tilings, tiles, size, out):
+@njit(**NO_NRT)
+def hashed_tiles(values, low, high, tilings, tiles, size, taken, out):
     """Active features of sensors tiled one by one and hashed into `size` entries: out[:tilings * S].
 
     Sensor s's reading, scaled by its range to u in [0, 1], falls in tile floor(u * tiles + t / tilings)
     (clipped to 0..tiles) of tiling t; the key (s, t, tile) hashes to (key * HASH_MULTIPLIER mod 2^32) mod
     size, and a hash already taken in this state moves to the next free entry (the active features stay
     distinct, as the learners need). The caller appends the bias, entry `size`.
+
+    `taken` ([size] or more, zeros, left zeros) marks the entries taken so far: a hash finds out whether its
+    entry is free in one read, where a search of the features placed before it made the coding quadratic in
+    their count (456 for nexting: two thirds of a 10-demon step, with the insertion sort of the hashes after
+    it). Where the table is small beside the count squared, the features are read off the marks in one scan,
+    sorted; else they stay in the order placed and the marks are cleared one by one (the caller sorts them).
     """
     m = 0
     for s in range(values.shape[0]):
@@ -53,16 +59,21 @@ def hashed_tiles(values, low, high, tilings, tiles, size, out):
             tile = min(max(math.floor(u * tiles + t / tilings), 0), tiles)
             key = (s * tilings + t) * (tiles + 1) + tile
             index = (key * HASH_MULTIPLIER) % HASH_MODULUS % size
-            taken = True
-            while taken:
-                taken = False
-                for j in range(m):
-                    if out[j] == index:
-                        taken = True
-                        index = (index + 1) % size
-                        break
+            while taken[index]:
+                index = (index + 1) % size
+            taken[index] = 1
             out[m] = index
             m += 1
+    if size < m * m:
+        m = 0
+        for index in range(size):
+            if taken[index]:
+                taken[index] = 0
+                out[m] = index
+                m += 1
+    else:
+        for j in range(m):
+            taken[out[j]] = 0
 
 
 @njit(**NO_NRT)
@@ -174,7 +185,7 @@ def _basis(codes, g, inputs, index, value):
 
 
 @njit(**NO_NRT)
-def code(codes, g, x, y, sensors, condition, inputs, index, value):
+def code(codes, g, x, y, sensors, condition, inputs, taken, index, value):
     """Group g's active features at a state into (index, value)[:m], sorted and distinct; returns m.
 
     Args:
@@ -184,6 +195,7 @@ def code(codes, g, x, y, sensors, condition, inputs, index, value):
         sensors: [S] the sensors there (kinds sensors, table and the bases).
         condition: the condition demon's prediction (conditioned features; else unused).
         inputs: [most sensors of a group] scratch.
+        taken: [the largest table of hashed tiles] scratch of zeros (`hashed_tiles`), left zeros.
         index, value: [k] the output.
     """
     kind = codes.kind[g]
@@ -202,9 +214,9 @@ def code(codes, g, x, y, sensors, condition, inputs, index, value):
         for j in range(lo, hi):
             inputs[j - lo] = sensors[codes.sensor_col[j]]
         hashed_tiles(inputs[: hi - lo], codes.sensor_low[lo:hi], codes.sensor_high[lo:hi], codes.tilings[g],
-                     codes.tiles[g], codes.base_n[g] - 1, index)  # fmt: skip
+                     codes.tiles[g], codes.base_n[g] - 1, taken, index)  # fmt: skip
         m = codes.tilings[g] * (hi - lo) + 1
-        index[m - 1] = codes.base_n[g] - 1
+        index[m - 1] = codes.base_n[g] - 1  # the bias, after every hashed entry
         for j in range(m):
             value[j] = 1.0
         _sort(index, value, m)
@@ -227,10 +239,10 @@ def code(codes, g, x, y, sensors, condition, inputs, index, value):
 
 
 @njit(**NO_NRT)
-def code_batch(codes, g, xs, ys, sensors, conditions, inputs, index, value, count):
+def code_batch(codes, g, xs, ys, sensors, conditions, inputs, taken, index, value, count):
     """`code` for a batch of B states: row b of (index, value)[b, :count[b]], the rest of the row 0."""
     for b in range(xs.shape[0]):
-        count[b] = code(codes, g, xs[b], ys[b], sensors[b], conditions[b], inputs, index[b], value[b])
+        count[b] = code(codes, g, xs[b], ys[b], sensors[b], conditions[b], inputs, taken, index[b], value[b])
         for j in range(count[b], index.shape[1]):
             index[b, j] = 0
             value[b, j] = 0.0
@@ -383,7 +395,8 @@ class StateCoder:
         index = np.zeros((batch, self.k), dtype=np.int64)
         value = np.zeros((batch, self.k))
         inputs = np.zeros(max(1, len(self.spec.sensors or [])))
-        code_batch(self.codes, 0, x, y, rows, conditions, inputs, index, value, np.zeros(batch, dtype=np.int64))
+        taken = np.zeros(self.base_n, np.uint8)
+        code_batch(self.codes, 0, x, y, rows, conditions, inputs, taken, index, value, np.zeros(batch, np.int64))
         return index, value
 
     def active(self, x: np.ndarray, y: np.ndarray, condition: np.ndarray | None = None,

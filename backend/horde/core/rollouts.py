@@ -48,7 +48,7 @@ def _read_groups(t, wanted, x, y, sensors):
         if not wanted[g]:
             continue
         cond = t.dem.pred[grp.cond[g]] if grp.cond[g] >= 0 else 0.0
-        m = code(t.codes, g, x, y, sensors, cond, coded.inputs, coded.features[g], coded.values[g])
+        m = code(t.codes, g, x, y, sensors, cond, coded.inputs, coded.taken, coded.features[g], coded.values[g])
         coded.counts[g] = m
         given_policies(g, grp, t.progs, t.dem, cls)
         for b in range(grp.block_lo[g], grp.block_hi[g]):

@@ -206,6 +206,7 @@ class Coded(NamedTuple):
     next_values: np.ndarray  # [kmax]
     next_count: np.ndarray  # [1]
     inputs: np.ndarray  # [most sensors of a group] scratch: a group's sensors, scaled
+    taken: np.ndarray  # [most state features of a group] uint8 scratch of zeros: `features.hashed_tiles`'s marks
 
 
 class Metrics(NamedTuple):

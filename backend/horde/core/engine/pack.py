@@ -97,6 +97,7 @@ def pack(horde: Horde, world: World | None) -> Tables:
             next_values=np.zeros(kmax),
             next_count=np.zeros(1, np.int64),
             inputs=np.zeros(max([1, *(len(g.coder.spec.sensors or []) for g in horde.groups)])),
+            taken=np.zeros(max([1, *(g.coder.base_n for g in horde.groups)]), np.uint8),
         ),
         met=Metrics(
             h=np.zeros(int(off.weights[-1]), dtype),

@@ -80,7 +80,7 @@ def learn(t, action, b_prob, terminated, x, y, threads, with_metrics):
             current = grp.stage[g]
             evaluate_nodes(progs, current, sensors, dem.pred, values)
         cond = dem.pred[grp.cond[g]] if grp.cond[g] >= 0 else 0.0
-        m = code(t.codes, g, x, y, sensors, cond, coded.inputs, coded.next_features, coded.next_values)
+        m = code(t.codes, g, x, y, sensors, cond, coded.inputs, coded.taken, coded.next_features, coded.next_values)
         for c in range(grp.class_lo[g], grp.class_hi[g]):
             g1 = min(max(values[progs.class_gnode[c]], 0.0), 1.0) * progs.class_discount[c]
             cls.gamma_tp1[c] = 0.0 if terminated else g1
@@ -144,7 +144,7 @@ def observe(t, x, y, sensors):
     dem.gamma[:] = 0.0
     for g in range(grp.stage.shape[0]):
         cond = dem.pred[grp.cond[g]] if grp.cond[g] >= 0 else 0.0
-        m = code(t.codes, g, x, y, sensors, cond, coded.inputs, coded.features[g], coded.values[g])
+        m = code(t.codes, g, x, y, sensors, cond, coded.inputs, coded.taken, coded.features[g], coded.values[g])
         coded.counts[g] = m
         given_policies(g, grp, t.progs, dem, cls)
         for b in range(grp.block_lo[g], grp.block_hi[g]):
