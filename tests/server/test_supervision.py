@@ -22,9 +22,11 @@ from fastapi.testclient import TestClient
 
 from horde.runs import link as link_module
 from horde.runs import messages as m
+from horde.runs import protocols
 from horde.runs.link import WorkerLink
 from horde.runs.store import Store
 from horde.server import Settings, create_app
+from horde.studies import jobs
 from polling import wait_until
 
 from .helpers import make_spec, wait_for
@@ -189,6 +191,32 @@ def test_a_stall_reported_before_the_beat_that_names_its_command_is_reported_aga
     assert len(stalls.heard) == 2, "a beat that names the same command reports nothing more"
     link.deliver(m.Beat(progress=8))
     assert stalls.heard[-1] == (0.0, "") and not link.stalled
+
+
+@pytest.mark.parametrize(
+    ("listener", "logged"),
+    [
+        (lambda: protocols._JobWorker(None, SimpleNamespace(id="job-1")), "protocol job job-1: its worker"),  # type: ignore[arg-type]
+        (lambda: jobs._StudyDriver(None, "study-1", None), "study study-1: its driver"),  # type: ignore[arg-type]
+    ],
+)
+def test_a_protocol_job_or_study_logs_what_holds_its_stalled_worker(
+    monkeypatch: pytest.MonkeyPatch, caplog: pytest.LogCaptureFixture, listener: Any, logged: str
+) -> None:
+    """The jobs without a page log their stalls: the report again once the beat names the command, so the log
+    says what held the worker (the first report and the second read differently, not the same line twice)."""
+    now = [100.0]
+    monkeypatch.setattr(link_module, "time", SimpleNamespace(monotonic=lambda: now[0]))
+    link = WorkerLink("process", lambda message: None, listener())
+    link.deliver(m.Beat(progress=3))
+    now[0] += 31.0
+    with caplog.at_level("ERROR"):
+        link.check(30.0)
+        link.deliver(m.Beat(progress=3, doing="run"))
+    assert [r.getMessage() for r in caplog.records] == [
+        f"{logged} has not answered for 31 s",
+        f"{logged} has not answered for 31 s (busy with run)",
+    ]
 
 
 def test_a_stream_run_or_protocol_job_whose_worker_dies_says_so(hooked: Settings) -> None:

@@ -41,6 +41,12 @@ def exit_reason(code: int | None) -> str:
     return f"exited with code {code}"
 
 
+def stall_words(seconds: float, doing: str, who: str = "its worker") -> str:
+    """A stall for a person: how long the worker has not answered and, once its beat says, what holds it (a
+    stall reported again when the beat names it reads differently from the first report)."""
+    return f"{who} has not answered for {seconds:.0f} s" + (f" (busy with {doing})" if doing else "")
+
+
 class Listener(Protocol):
     """Who hears a worker: the run, stream run, job or study it works for."""
 

@@ -39,7 +39,7 @@ from horde.runs.collector import building
 from horde.runs.errors import BusyError, ConflictError, NotFoundError, SaveError
 from horde.runs.events import EventLog
 from horde.runs.history import History, quantities_of
-from horde.runs.link import COMMAND_TIMEOUT, Listener, WorkerGoneError, WorkerLink
+from horde.runs.link import COMMAND_TIMEOUT, Listener, WorkerGoneError, WorkerLink, stall_words
 from horde.runs.run_setup import Limits
 from horde.runs.run_view import RunStatus, RunView, Summary, Worker, published_view, stored_view
 from horde.runs.saver import Saver
@@ -249,8 +249,7 @@ class LiveRun:
         with self._lock:
             view = self._view
             if seconds > 0:
-                self._stall = f"its worker has not answered for {seconds:.0f} s" + (f" (busy with {doing})"
-                                                                                     if doing else "")  # fmt: skip
+                self._stall = stall_words(seconds, doing)
                 self.events.add(view.total_steps, view.episode, "error", self._stall)
             else:
                 self._stall = ""

@@ -24,7 +24,7 @@ from horde.core.experiment import DemonResult, ProtocolResult
 from horde.runs.errors import BusyError, NotFoundError
 from horde.runs.executor import ProcessExecutor
 from horde.runs.job_workers import serve_protocol
-from horde.runs.link import Executor, WorkerGoneError, WorkerLink
+from horde.runs.link import Executor, WorkerGoneError, WorkerLink, stall_words
 from horde.runs.messages import Cancel, Command, Finished, FromWorker, Progress, ProtocolInit, Reply
 from horde.runs.store import JobRecord, Store
 from horde.spec import Counts, RunSpec
@@ -262,4 +262,4 @@ class _JobWorker:
 
     def on_stall(self, seconds: float, doing: str) -> None:
         if seconds > 0:
-            log.error("protocol job %s: its worker has not answered for %.0f s", self.job.id, seconds)
+            log.error("protocol job %s: %s", self.job.id, stall_words(seconds, doing))

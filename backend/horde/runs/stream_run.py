@@ -23,7 +23,7 @@ from horde.runs import messages as m
 from horde.runs.errors import BusyError, ConflictError, FieldProblem, NotFoundError, SpecError
 from horde.runs.executor import ProcessExecutor
 from horde.runs.job_workers import serve_stream
-from horde.runs.link import Executor, WorkerGoneError, WorkerLink
+from horde.runs.link import Executor, WorkerGoneError, WorkerLink, stall_words
 from horde.runs.run_view import is_control
 from horde.runs.stream_learning import (
     HISTORY,
@@ -76,7 +76,7 @@ class StreamRun:
 
     def on_stall(self, seconds: float, doing: str) -> None:
         if seconds > 0:
-            log.error("stream run %s: its worker has not answered for %.0f s (%s)", self.id, seconds, doing)
+            log.error("stream run %s: %s", self.id, stall_words(seconds, doing))
 
     # ------------------------------------------------------------------------------------------
     # Calls

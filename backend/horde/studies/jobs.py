@@ -19,7 +19,7 @@ from typing import Literal
 
 from horde.runs.errors import BusyError, ConflictError, NotFoundError
 from horde.runs.executor import ProcessExecutor
-from horde.runs.link import WorkerGoneError, WorkerLink
+from horde.runs.link import WorkerGoneError, WorkerLink, stall_words
 from horde.runs.messages import Cancel, Command, Finished, FromWorker, Reply, StudyInit
 from horde.runs.messages import Progress as ProgressMessage
 from horde.runs.store import Store, StudyRecord
@@ -250,4 +250,4 @@ class _StudyDriver:
 
     def on_stall(self, seconds: float, doing: str) -> None:
         if seconds > 0:
-            log.error("study %s: its driver has not answered for %.0f s", self.study_id, seconds)
+            log.error("study %s: %s", self.study_id, stall_words(seconds, doing, "its driver"))
