@@ -15,6 +15,7 @@ import pytest
 
 from grids import CRIT, GOAL, PIT, WALL, grid
 from horde.core.engine.blocks import TRACE_CUT
+from horde.core.engine.layout import Step
 from horde.core.learners.adaptive import (
     EXP_ANY,
     EXP_SMALL,
@@ -26,6 +27,7 @@ from horde.core.learners.adaptive import (
     exp_small,
     exp_tiny,
 )
+from horde.core.learners.online import differs_less, values_at_next
 from horde.core.reference import ReferenceHorde
 from horde.core.simulation import Simulation
 from horde.spec import RunSpec, learner_info
@@ -169,6 +171,53 @@ def test_autostep_equals_the_reference_with_each_kind_of_exp(meta_step: float, k
     assert len(auto) == 3 and episodes >= 3
     moved = [float(np.abs(sim.step_sizes(n) - ref.demons[n].alpha).max()) for n in auto]
     assert min(moved) > 1e-6, moved  # the step sizes did adapt
+
+
+def _sparse(pairs: dict[int, float]) -> tuple[np.ndarray, np.ndarray]:
+    rows = sorted(pairs)
+    return np.array(rows, dtype=np.int64), np.array([pairs[r] for r in rows])
+
+
+@pytest.mark.parametrize(
+    ("x_t", "x_tp1", "fewer"),
+    [
+        ({1: 1.0, 4: 1.0, 7: 1.0}, {1: 1.0, 4: 1.0, 7: 1.0}, True),  # none differ
+        ({1: 1.0, 4: 1.0, 7: 1.0}, {1: 1.0, 5: 1.0, 7: 1.0}, True),  # 4 left, 5 came: 2 of 3
+        ({1: 1.0, 4: 1.0, 7: 1.0}, {1: 1.0, 4: 0.5, 8: 1.0}, False),  # 4's value, 7 left, 8 came: 3 of 3
+        ({1: 1.0, 4: 1.0}, {2: 1.0, 5: 1.0, 9: 1.0}, False),  # all five differ
+        ({}, {3: 1.0}, False),  # (an episode's first step has an x_t)
+    ],
+)
+def test_which_rows_differ_between_two_states(x_t: dict[int, float], x_tp1: dict[int, float], fewer: bool) -> None:
+    """`differs_less`: a row counts where it is in one state only or its value changed there."""
+    assert differs_less(*_sparse(x_t), *_sparse(x_tp1)) == fewer
+
+
+@pytest.mark.parametrize("dtype", ["float64", "float32"])
+def test_the_values_at_the_next_state_from_the_last_values_and_the_rows_that_differ(dtype: str) -> None:
+    """`online.values_at_next` (TIDBD's, Autostep's and true online GTD's values before the step): theta . x_tp1 from
+    each demon's stored value at x_t and the rows where x_tp1 differs (one row left, one came, one value changed),
+    or summed over x_tp1 where most rows differ; equal to the sum over x_tp1 either way. A value at x_t that is
+    not theta . x_t shows in the first case only: that is the branch taken."""
+    data = spec().model_dump(by_alias=True)
+    data["learning"]["dtype"] = dtype
+    sim = Simulation(RunSpec.model_validate(data), cut=0.0)
+    engine = sim.learner.engine
+    t = engine.t
+    b, _ = engine.horde.locate("tidbd")
+    lo, theta = int(t.lay.block_lo[b]), engine.weights(t.wts.theta, b)
+    db = theta.shape[1]
+    theta[:] = np.random.default_rng(3).normal(size=theta.shape)
+    x_t, v_t = _sparse({2: 1.0, 5: 0.5, 9: 1.0, 11: 1.0, 14: 2.0})
+    near = _sparse({2: 1.0, 5: 0.25, 11: 1.0, 13: 1.0, 14: 2.0})  # 9 left, 13 came, 5's value changed
+    far = _sparse({0: 1.0, 3: 1.0, 6: 1.0})
+    for (x_tp1, v_tp1), from_x_t in ((near, True), (far, False)):
+        exact = theta[x_tp1].astype(float).T @ v_tp1
+        stale = 1.0  # each demon's stored value at x_t, off by this
+        t.dem.q[lo : lo + db, 0] = theta[x_t].astype(float).T @ v_t + stale
+        acc = np.zeros(db)
+        values_at_next(b, 0, db, t.lay, t.wts, t.dem, Step(x_t, v_t, x_tp1, v_tp1, 0, 0.25, 0), acc)
+        np.testing.assert_allclose(acc, exact + (stale if from_x_t else 0.0), rtol=0, atol=1e-12)
 
 
 @pytest.mark.parametrize(("exp", "bound"), [(exp_tiny, TINY_EXP), (exp_small, SMALL_EXP)])

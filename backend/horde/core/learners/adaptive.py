@@ -12,8 +12,9 @@ Feature values enter where the papers' phi_i does: the meta-gradient sample delt
 normaliser step alpha_i phi_i e_i, the effective step size alpha . e (phi - gamma phi'), h's decay
 [1 - alpha_i phi_i e_i]^+.
 
-A step is three passes over few rows: the values at x_tp1 under the weights before the step (read on the
-threads, then the TD errors); the meta step on the rows of x_t only (phi_i = 0 elsewhere: the papers' update
+A step is three passes over few rows: the values at x_tp1 under the weights before the step (on the threads;
+from each demon's value at x_t and the few rows where x_tp1 differs from x_t, `online.values_at_next`; then the
+TD errors); the meta step on the rows of x_t only (phi_i = 0 elsewhere: the papers' update
 leaves alpha_i and v_i of other weights as they are); theta and h on the support's rows (every weight with a
 nonzero trace), fused with reading the new values at x_tp1. Autostep's effective step size is summed within
 the first two passes. The paper's order divides every step size by M, a sum over all the rows of x_t, before
@@ -41,7 +42,7 @@ from horde.core.engine.layout import NO_NRT
 from horde.core.engine.rows import add_row, at, walk
 from horde.core.engine.traces import merge
 from horde.core.learners.base import Kernel, OnlineState, check_online, target
-from horde.core.learners.online import class_bounds, errors, store_values
+from horde.core.learners.online import class_bounds, errors, store_values, values_at_next
 
 TIDBD_CODE, AUTOSTEP_CODE = 6, 7  # the engine's kernel codes
 KERNELS = (
@@ -261,43 +262,38 @@ def _adaptive_kernel(exp, autostep):
 
         Each class's demons in one contiguous, branch-free run (feature-major, as the other kernels): a
         frozen demon enters with rate 0 and delta 0, which leaves its weights, h, v and step sizes as they
-        are. First the values at x_tp1 under the weights before the step (then the TD errors); then either
+        are. First the values at x_tp1 under the weights before the step (`values_at_next`: from the values at x_t
+        and the few rows where x_tp1 differs), then the TD errors; then either
         the meta step on the rows of x_t and the update over the support fused with reading the new values
         at x_tp1, or, for TIDBD and when no Autostep demon of the run can have M > 1, both in one walk
         (`fused_columns`). Autostep's effective step size alpha . e (x_t - gamma x_tp1) is summed on a row of
-        x_tp1 alone (whose step sizes do not move) in the first pass, on a row of x_t after its step sizes
+        x_tp1 alone (whose step sizes do not move) before the TD errors, on a row of x_t after its step sizes
         moved.
         """
         lo, woff, voff, ncls, coff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b]
         db = lay.block_hi[b] - lo
-        theta, trace = wts.theta, wts.trace
+        trace = wts.trace
         a, meta, bounds, largest = onl.step_a, onl.meta, onl.bounds, onl.step_max
         rate, effective, acc = scr.work[5], scr.work[7], scr.values[0]
         x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
+        values_at_next(b, i0, i1, lay, wts, dem, stp, acc)
         for i in range(i0, i1):
-            acc[i] = 0.0
             effective[i] = 0.0
-        # The values at x_tp1; Autostep: the effective step size on the rows of x_tp1 alone (their step sizes do
-        # not move; the rows of x_t add theirs after the meta step).
+        # Autostep: the effective step size on the rows of x_tp1 alone (their step sizes do not move; the rows of
+        # x_t add theirs after the meta step)
         j = 0
-        m = 0
-        while j < x_t.shape[0] or m < x_tp1.shape[0]:
-            row = x_t[j] if j < x_t.shape[0] else x_tp1[m]
-            if m < x_tp1.shape[0] and x_tp1[m] < row:
-                row = x_tp1[m]
-            on_x = j < x_t.shape[0] and x_t[j] == row
-            on_next = m < x_tp1.shape[0] and x_tp1[m] == row
-            p_next = v_tp1[m] if on_next else 0.0
-            j += 1 if on_x else 0
-            m += 1 if on_next else 0
+        for m in range(x_tp1.shape[0] if autostep else 0):
+            row = x_tp1[m]
+            while j < x_t.shape[0] and x_t[j] < row:
+                j += 1
+            if j < x_t.shape[0] and x_t[j] == row:
+                continue
             base = at(woff + row * db)
-            if on_next:
-                add_row(i0, i1, base, theta, acc, p_next)
-            for c in range(ncls if autostep and not on_x else 0):
+            for c in range(ncls):
                 e = trace[voff + row * ncls + c]
                 if e != 0.0:
                     c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
-                    _effective_run(c0, c1, base, e * (-cls.gamma_tp1[coff + c] * p_next), a, effective)
+                    _effective_run(c0, c1, base, e * (-cls.gamma_tp1[coff + c] * v_tp1[m]), a, effective)
         errors(b, i0, i1, lay, dem, cls, onl, acc, scr)
         for i in range(i0, i1):
             acc[i] = 0.0  # the new values at x_tp1, summed in the last pass
