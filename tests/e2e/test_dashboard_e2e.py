@@ -552,6 +552,9 @@ def test_remove_a_demon_from_a_live_run(page: Page, server: Server, console: Con
     page.wait_for_timeout(300)  # several stream messages
     assert really.evaluate("button => document.activeElement === button")
     assert server.client.get(f"/api/runs/{run_id}/demons/steps_to_end").status_code == 200
+    # A chart's reading of the demon's history may be on its way as it goes: that one read fails (404) and the
+    # next one, without the demon, catches up (app/run-reads.ts). Seen once in a suite run.
+    console.expect(r"status of 404 .*/demons/steps_to_end/history")
     page.keyboard.press("Enter")
     page.get_by_role("status").filter(has_text="Removed demon 'steps_to_end'").wait_for()
     page.locator('table.demon-table tr[data-demon="steps_to_end"]').wait_for(state="detached")
