@@ -185,7 +185,7 @@ def _sparse(pairs: dict[int, float]) -> tuple[np.ndarray, np.ndarray]:
         ({1: 1.0, 4: 1.0, 7: 1.0}, {1: 1.0, 5: 1.0, 7: 1.0}, True),  # 4 left, 5 came: 2 of 3
         ({1: 1.0, 4: 1.0, 7: 1.0}, {1: 1.0, 4: 0.5, 8: 1.0}, False),  # 4's value, 7 left, 8 came: 3 of 3
         ({1: 1.0, 4: 1.0}, {2: 1.0, 5: 1.0, 9: 1.0}, False),  # all five differ
-        ({}, {3: 1.0}, False),  # (an episode's first step has an x_t)
+        ({}, {3: 1.0}, False),  # nothing to start from: the sum over x_tp1
     ],
 )
 def test_which_rows_differ_between_two_states(x_t: dict[int, float], x_tp1: dict[int, float], fewer: bool) -> None:
