@@ -173,6 +173,84 @@ def test_autostep_equals_the_reference_with_each_kind_of_exp(meta_step: float, k
     assert min(moved) > 1e-6, moved  # the step sizes did adapt
 
 
+def _one_way_gtd() -> RunSpec:
+    """True online GTD demons off-policy (rho 0, 0.4 and 1.6) and on-policy, with the base demon's softmax beside."""
+    data = spec().model_dump(by_alias=True)
+    data["demons"] = [d for d in data["demons"] if d["name"] in ("base", "gtd_to", "gtd_to_b")]
+    data["demons"].append({"name": "gtd_on", "learner": "true_online_gtd", "policy": "uniform", "cumulant": 1,
+                           "discount": 0.95, "alpha_w": 0.05})  # fmt: skip
+    return RunSpec.model_validate(data)
+
+
+def _gtd_blocks(sim: Simulation) -> list[int]:
+    return [b for b, block in enumerate(sim.learner.engine.horde.blocks) if block.kernel.learner == "true_online_gtd"]
+
+
+def test_true_online_gtds_w_pass_reads_what_the_next_step_needs_less_what_the_cut_takes() -> None:
+    """True online GTD reads w once a step (`true_online._togtd_weights`): the pass that moves w also reads, from
+    the moved rows, w . e_grad_t and w . x_{t+1} (`Online.w_read`); the next step takes w . e_grad_{t+1} = rho
+    (gamma lambda w . e_grad_t + w . x_{t+1}) less w times each entry that the trace cut took (w_read[2]). With a
+    cut high enough to take entries often: after every step what the pass read equals those sums over the
+    engine's arrays, and the w . e_grad the step took equals the sum over its e_grad; at many steps the recursion
+    alone (without the cut's entries) would have missed it."""
+    sim = Simulation(_one_way_gtd(), cut=2e-3)
+    engine = sim.learner.engine
+    t, lam = engine.t, 0.9
+    checked = cut_steps = 0
+    for _ in range(400):
+        before = {b: (engine.weights(t.wts.w, b).astype(float), t.onl.w_read[:2].copy(), t.cls.gamma.copy(),
+                      int(t.onl.w_read_ok[b])) for b in _gtd_blocks(sim)}  # fmt: skip
+        if sim.step().done:
+            continue
+        x = t.coded.features[0, : t.coded.counts[0]]
+        v = t.coded.values[0, : t.coded.counts[0]]
+        for b, (w_before, read, gamma, ok) in before.items():
+            lo, db, coff = int(t.lay.block_lo[b]), int(t.lay.block_hi[b] - t.lay.block_lo[b]), int(t.lay.coff[b])
+            cls = t.lay.slot_class[lo : lo + db]
+            e_grad = engine.traces2(b)[0].astype(float)  # [rows, classes of the block]: e_grad_{t+1}
+            w = engine.weights(t.wts.w, b).astype(float)
+            np.testing.assert_allclose(t.onl.w_read[0, lo : lo + db], (w * e_grad[:, cls - coff]).sum(axis=0),
+                                       rtol=1e-12, atol=1e-14)  # fmt: skip
+            np.testing.assert_allclose(t.onl.w_read[1, lo : lo + db], v @ w[x], rtol=1e-12, atol=1e-14)
+            direct = (w_before * e_grad[:, cls - coff]).sum(axis=0)
+            np.testing.assert_allclose(t.onl.w_read[2, lo : lo + db], direct, rtol=1e-11, atol=1e-13)
+            if not ok:  # the step read w afresh (the first of a run or of an episode): no recursion to check
+                continue
+            rho = t.cls.rho[cls]
+            by_recursion = rho * gamma[cls] * lam * read[0, lo : lo + db] + rho * read[1, lo : lo + db]
+            checked += 1
+            cut_steps += not np.allclose(by_recursion, direct, rtol=1e-11, atol=1e-13)
+    assert checked > 600 and cut_steps > 20, (checked, cut_steps)
+
+
+@pytest.mark.parametrize("load", ["horde_state", "learner_state"])
+def test_a_state_loaded_into_a_running_true_online_gtd_is_read_afresh(load: str) -> None:
+    """A running engine whose weights (`horde_state`) or traces (`learner_state`) are put back from 50 steps
+    before goes on as a new engine given the same state does, to the last bit: what its last w pass read for the
+    next step no longer holds, and the next step reads w afresh."""
+    run = _one_way_gtd()
+    sim = Simulation(run, cut=0.0)
+    sim.run(150)
+    earlier = sim.horde_state if load == "horde_state" else sim.learner_state()
+    sim.run(50)
+    fresh = Simulation(run, cut=0.0)
+    fresh.horde_state = sim.horde_state
+    fresh.load_learner_state(sim.learner_state())
+    if load == "horde_state":
+        sim.horde_state = fresh.horde_state = earlier
+    else:
+        sim.load_learner_state(earlier)
+        fresh.load_learner_state(earlier)
+    fresh.world_state = sim.world_state
+    fresh.rng.bit_generator.state = sim.rng.bit_generator.state
+    sim.run(100)
+    fresh.run(100)
+    for b in _gtd_blocks(sim):
+        np.testing.assert_array_equal(fresh.learner.engine.weights(fresh.learner.engine.t.wts.w, b),
+                                      sim.learner.engine.weights(sim.learner.engine.t.wts.w, b))  # fmt: skip
+    np.testing.assert_array_equal(fresh.readout().prediction, sim.readout().prediction)
+
+
 def _sparse(pairs: dict[int, float]) -> tuple[np.ndarray, np.ndarray]:
     rows = sorted(pairs)
     return np.array(rows, dtype=np.int64), np.array([pairs[r] for r in rows])

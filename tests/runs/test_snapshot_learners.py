@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from benchmarks import workloads
 from tests.server.helpers import make_spec
 
 from horde.runs.errors import SpecError
@@ -50,6 +51,25 @@ def test_step_sizes_round_trip_and_the_restored_run_continues_bit_for_bit(spec: 
         np.testing.assert_array_equal(a, b)
     for name in ("auto", "idbd"):
         np.testing.assert_array_equal(restored.step_sizes(name), sim.step_sizes(name))
+
+
+def test_true_online_gtd_restored_goes_on_to_the_last_bit_over_hundreds_of_rows() -> None:
+    """True online GTD's step takes w . e_grad and w . x_t from what the last step's w pass read; a restored run
+    has no such pass behind it and reads them afresh (`true_online._read_w`), over the same rows in the same
+    order, so it goes on to the same bits. Nexting's tiles, 457 of 6065 features active at a time: sums over
+    hundreds of rows, whose order shows in their last bits."""
+    spec = workloads.spec("nexting", 40, "true_online_gtd")
+    sim = new_simulation(spec)
+    sim.run(300)
+    restored = restore(from_bytes(to_bytes(capture(sim, spec, "paused", None, None)))).sim
+    sim.run(200)
+    restored.run(200)
+    np.testing.assert_array_equal(restored.readout().prediction, sim.readout().prediction)
+    for a, b in zip(restored.thetas(), sim.thetas(), strict=True):
+        np.testing.assert_array_equal(a, b)
+    engines = (restored.learner.engine, sim.learner.engine)
+    for b in range(len(sim.learner.engine.horde.blocks)):
+        np.testing.assert_array_equal(*(engine.weights(engine.t.wts.w, b) for engine in engines))
 
 
 def test_a_wrong_step_size_array_is_422_naming_the_field(spec: RunSpec) -> None:

@@ -302,6 +302,7 @@ class Engine:
         t.dem.cumulant[:] = state.cumulant[slot]
         t.dem.diverged[:] = state.diverged[slot]
         t.wts.owed[:] = 0.0  # a state's theta owes nothing (the loop pays all before it returns)
+        t.onl.w_read_ok[:] = 0  # its w and features are new: true online GTD's next step reads w afresh
         if world_state is not None:
             self.set_world_state(world_state)
 
@@ -320,6 +321,7 @@ class Engine:
                                 onl.scale), state, strict=True):  # fmt: skip
             into[...] = array
         self.count_step_max()
+        onl.w_read_ok[:] = 0  # true online GTD's traces are new: its next step reads w afresh
         for b, block in enumerate(self.horde.blocks):  # true online GTD's second and third traces' support
             rows = np.flatnonzero((self.traces2(b) != 0.0).any(axis=(0, 2)))
             at = int(self._offsets.support[b])

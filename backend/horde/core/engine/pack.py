@@ -342,6 +342,8 @@ def _online(horde: Horde, lay: Layout, off: Offsets) -> Online:
         trace2=np.zeros(2 * int(off.traces[-1]), horde.dtype),
         support2=np.zeros(int(off.support[-1]), np.int64),
         nnz2=np.zeros(len(blocks), np.int64),
+        w_read=np.zeros((3, horde.num_demons)),
+        w_read_ok=np.zeros(len(blocks), np.int64),
         step_a=step_a,
         step_v=np.zeros(int(off.weights[-1]), horde.dtype),
         scale=np.ones(horde.num_demons),

@@ -135,6 +135,7 @@ def episode_start(lay, wts, onl):
     weights (`adaptive.reset`, `tdrc.episode_start`: TDRC's h and the original GTD's u are kept scaled)."""
     adaptive.reset(lay, onl)
     tdrc.episode_start(TDRC_CODE, GTD1_CODE, lay, onl)
+    true_online.episode_start(onl)
 
 
 __all__ = [

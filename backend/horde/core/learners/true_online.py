@@ -9,8 +9,9 @@ The compiled kernel: the dutch trace of theta is the block's trace (decayed and 
 `engine.traces.merge`). True online GTD's second and third traces (the correction's accumulating trace and
 w's dutch trace, `Online.trace2`) keep a support of their own (`Online.support2`), merged with x_t and cut as
 the dutch trace is: w's trace decays by rho_{t-1}, so it outlives the others where rho_t = 0 cut them. Its w
-moves in its columns over that support (two passes: w . e_grad and w . x_t read before w moves), and theta's
-correction at x_{t+1} is paid in the walk that reads the new values there.
+moves in its columns in one pass over that support, which also reads the next step's w . e_grad and w . x from
+the moved rows (`Online.w_read`: e_grad's recursion gives the next w . e_grad from them, less what the cut takes),
+and theta's correction at x_{t+1} is paid in the walk that reads the new values there.
 """
 
 from __future__ import annotations
@@ -105,7 +106,8 @@ def prepare(code, b, lay, wts, dem, cls, onl, stp, scr):
     in `td_pass.finish`). True online GTD reads the values at s_{t+1} and the TD errors before any weight moves
     (`read_errors`), with what its weight pass takes: coef = delta + (theta_t - theta_{t-1}) . x_t and fix =
     alpha rho_t (theta_t - theta_{t-1}) . x_t; then its second and third traces move (`_togtd_traces`) and the
-    dutch trace merges."""
+    dutch trace merges. Its w . e_grad_{t-1} and w . x_t come from the last step's w pass, or are read here where
+    that pass did not read them (`_read_w`)."""
     lo, ncls, coff, voff = lay.block_lo[b], lay.ncls[b], lay.coff[b], lay.voff[b]
     for c in range(ncls):
         rho = cls.rho[coff + c]
@@ -124,7 +126,10 @@ def prepare(code, b, lay, wts, dem, cls, onl, stp, scr):
         coef[i] = dlv[i] + change if live else 0.0
         c = lay.slot_class[d]
         fix[i] = onl.cls_alpha[c] * cls.rho[c] * change if live else 0.0
-    _togtd_traces(b, lay, cls, onl, stp, scr)
+    if onl.w_read_ok[b] == 0:
+        _read_w(b, lay, wts, onl, stp)
+        onl.w_read_ok[b] = 1
+    _togtd_traces(b, lay, wts, cls, onl, stp, scr)
     kept, _ = merge(b, lay, wts, scr, stp.x_t, stp.v_t, 0, False)
     scr.counts[0] = kept
 
@@ -166,12 +171,14 @@ def _owe(b, i0, i1, lay, wts, dem, cls, onl, scr):
 
 
 @njit(**NO_NRT)
-def _togtd_traces(b, lay, cls, onl, stp, scr):
+def _togtd_traces(b, lay, wts, cls, onl, stp, scr):
     """True online GTD's e_grad = rho (gamma_t lambda e_grad + x_t) and e_w = rho_{t-1} gamma_t lambda e_w +
     beta (1 - rho_{t-1} gamma_t lambda e_w . x_t) x_t, per class, on their own support (`Online.support2`: e_w
     decays by rho_{t-1}, so it lives on where the dutch trace was cut by rho_t = 0), merged with x_t and cut as
     the dutch trace is. Each class's decays and additions are written in work[2], work[4], work[7] (the columns
-    use those rows per demon afterwards)."""
+    use those rows per demon afterwards). w . e_grad_t, into w_read[2], comes from w . e_grad_{t-1} and w . x_t
+    (w_read[0] and [1]) by e_grad's recursion, less w times each entry that the cut takes, as it would have been
+    (`_read_cut`)."""
     toff, voff, nrows, ncls, coff, lam_b, cut = lay.toff[b], lay.voff[b], lay.rows[b], lay.ncls[b], lay.coff[b], \
         lay.lam[b], lay.cut  # fmt: skip
     grad = 2 * voff
@@ -183,6 +190,10 @@ def _togtd_traces(b, lay, cls, onl, stp, scr):
         decay_g[c] = cls.rho[coff + c] * cls.gamma[coff + c] * lam_b
         decay_w[c] = onl.cls_rho_prev[coff + c] * cls.gamma[coff + c] * lam_b
         add_w[c] = onl.cls_beta[coff + c] * (1.0 - decay_w[c] * trace_dot(trace2, wtr, ncls, c, x_t, v_t))
+    lo = lay.block_lo[b]
+    for i in range(lay.block_hi[b] - lo):  # w . e_grad_t by the recursion; the cut's entries come off below
+        c = lay.slot_class[lo + i] - coff
+        onl.w_read[2, lo + i] = decay_g[c] * onl.w_read[0, lo + i] + add_g[c] * onl.w_read[1, lo + i]
     # x_t's rows by membership, not by value (`rows.walk` reads a row of value 0 as off x_t): `_togtd_weights`
     # finds every row of x_t in this support
     k = x_t.shape[0]
@@ -205,6 +216,8 @@ def _togtd_traces(b, lay, cls, onl, stp, scr):
             j += 1
         g = grad + row * ncls
         w = wtr + row * ncls
+        if cut > 0.0:
+            _read_cut(b, row, trace2[g : g + ncls], on_x, decay_g, add_g, cut, value, lay, wts, onl)
         left_g = decay_classes(trace2[g : g + ncls], on_x, decay_g, add_g, cut, value)
         left_w = decay_classes(trace2[w : w + ncls], on_x, decay_w, add_w, cut, value)
         if left_g or left_w or on_x:  # x_t's rows stay a step even where both are cut: w moves there too
@@ -216,37 +229,104 @@ def _togtd_traces(b, lay, cls, onl, stp, scr):
 
 
 @njit(**NO_NRT)
+def _read_cut(b, row, tr, on_x, decay, add, cut, value, lay, wts, onl):
+    """Before `decay_classes` moves e_grad on this row: each entry the cut will take (`decay_classes`' own
+    arithmetic), times w on the row for its class's demons, off w_read[2]."""
+    lo, woff = lay.block_lo[b], lay.woff[b]
+    db = lay.block_hi[b] - lo
+    base = at(woff + row * db)
+    for c in range(tr.shape[0]):
+        t = tr[c] * decay[c] + add[c] * value if on_x else tr[c] * decay[c]
+        if t != 0.0 and abs(t) < cut:
+            for i in range(onl.bounds[c], onl.bounds[c + 1]):
+                onl.w_read[2, lo + i] -= t * wts.w[base + at(i)]
+
+
+@njit(**NO_NRT)
+def _read_w(b, lay, wts, onl, stp):
+    """w_read[0] = w . e_grad_{t-1} and w_read[1] = w . x_t for block b, before the traces move: what the last
+    step's w pass would have read, summed over the same rows in the same order (e_grad's support and x_t's rows),
+    so that a run goes on to the same bits whether it was restored or not. For the first step, an episode's
+    start (traces cleared, weights forgotten) and weights loaded from a snapshot or carried over."""
+    lo, woff, toff, voff, ncls = lay.block_lo[b], lay.woff[b], lay.toff[b], lay.voff[b], lay.ncls[b]
+    db = lay.block_hi[b] - lo
+    grad = 2 * voff
+    w, trace2, bounds, support2, kept = wts.w, onl.trace2, onl.bounds, onl.support2, onl.nnz2[b]
+    x_t, v_t = stp.x_t, stp.v_t
+    read_e, read_x = onl.w_read[0, lo : lo + db], onl.w_read[1, lo : lo + db]
+    for i in range(db):
+        read_e[i] = 0.0
+        read_x[i] = 0.0
+    s = 0
+    m = 0
+    k = x_t.shape[0]
+    while s < kept or m < k:
+        r_s = support2[toff + s] if s < kept else td_pass.NONE
+        r_m = x_t[m] if m < k else td_pass.NONE
+        row = min(r_s, r_m)
+        base = at(woff + row * db)
+        value = v_t[m] if r_m == row else 0.0
+        if r_s == row:
+            for c in range(ncls):
+                e_grad = trace2[grad + row * ncls + c]
+                for i in range(bounds[c], bounds[c + 1]):
+                    read_e[i] += e_grad * w[base + at(i)]
+            s += 1
+        if value != 0.0:
+            for i in range(db):
+                read_x[i] += value * w[base + at(i)]
+        if r_m == row:
+            m += 1
+
+
+@njit(**NO_NRT, inline="always")
+def _move_and_read(w, base, step, e, on_x, w_x, c0, c1, e_grad, value, read_e, read_x):
+    """On the row at base, columns c0 <= i < c1: w += step[i] e - on_x w_x[i] (on_x 0: w += step[i] e), then
+    read_e[i] += e_grad w and (value not 0) read_x[i] += value w, w as moved and stored (float32 rounds before it
+    is read)."""
+    if on_x != 0.0 and value != 0.0:
+        for i in range(c0, c1):
+            u = at(i)
+            w[base + u] += step[u] * e - on_x * w_x[u]
+            read_e[u] += e_grad * w[base + u]
+            read_x[u] += value * w[base + u]
+    elif on_x != 0.0:
+        for i in range(c0, c1):
+            u = at(i)
+            w[base + u] += step[u] * e - on_x * w_x[u]
+            read_e[u] += e_grad * w[base + u]
+    elif value != 0.0:
+        for i in range(c0, c1):
+            u = at(i)
+            w[base + u] += step[u] * e
+            read_e[u] += e_grad * w[base + u]
+            read_x[u] += value * w[base + u]
+    else:
+        for i in range(c0, c1):
+            u = at(i)
+            w[base + u] += step[u] * e
+            read_e[u] += e_grad * w[base + u]
+
+
+@njit(**NO_NRT)
 def _togtd_weights(b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
-    """True online GTD's demons i0 <= i < i1: w . e_grad and w . x_t read over e_grad's support, which holds the
-    rows of x_t (w before this step); then on the same rows w += rho delta e_w - beta (w . x_t) x_t; and the
-    coefficient of theta's correction, alpha gamma_tp1 (1 - lambda) (w . e_grad), into work[2] for the walk over
-    theta (0 where frozen)."""
+    """True online GTD's demons i0 <= i < i1: w . e_grad_t and w . x_t (w before this step) as `_togtd_traces` left
+    them from what the last step's w pass read (`Online.w_read`), so w is not read for them; the coefficient of
+    theta's correction, alpha gamma_tp1 (1 - lambda) (w . e_grad), into work[2] for the walk over theta (0 where
+    frozen); then one pass over e_grad's support and x_{t+1}'s rows: w += rho delta e_w - beta (w . x_t) x_t on
+    the support, and from the moved rows the next step's w . e_grad_t and w . x_{t+1} (into w_read[0] and [1];
+    x_{t+1}'s rows outside the support read only)."""
     lo, woff, toff, voff, nrows, ncls = lay.block_lo[b], lay.woff[b], lay.toff[b], lay.voff[b], lay.rows[b], lay.ncls[b]
     db = lay.block_hi[b] - lo
     grad = 2 * voff
     wtr = grad + nrows * ncls
     w, trace2, bounds, support2, kept = wts.w, onl.trace2, onl.bounds, onl.support2, onl.nnz2[b]
-    x_t, v_t = stp.x_t, stp.v_t
+    x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
     w_grad, w_x, step = scr.work[2], scr.work[4], scr.work[7]
+    read_e, read_x, w_e = onl.w_read[0, lo : lo + db], onl.w_read[1, lo : lo + db], onl.w_read[2, lo : lo + db]
     for i in range(i0, i1):
-        w_grad[i] = 0.0
-        w_x[i] = 0.0
-    j = 0
-    for s in range(kept):
-        row = support2[toff + s]
-        base = at(woff + row * db)
-        tr = grad + row * ncls
-        for c in range(ncls):
-            e = trace2[tr + c]
-            for i in range(max(bounds[c], i0), min(bounds[c + 1], i1)):
-                u = at(i)
-                w_grad[u] += e * w[base + u]
-        if j < x_t.shape[0] and x_t[j] == row:
-            on_x = v_t[j]
-            j += 1
-            for i in range(i0, i1):
-                u = at(i)
-                w_x[u] += on_x * w[base + u]
+        w_grad[i] = w_e[i]
+        w_x[i] = read_x[i]
     for i in range(i0, i1):
         d = lo + i
         c = lay.slot_class[d]
@@ -254,23 +334,38 @@ def _togtd_weights(b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
         w_grad[i] = dem.alpha[d] * cls.gamma_tp1[c] * (1.0 - lay.lam[b]) * w_grad[i] if live else 0.0
         w_x[i] = dem.alpha_w[d] * w_x[i] if live else 0.0
         step[i] = cls.rho[c] * dem.delta[d] if live else 0.0
+        read_e[i] = 0.0
+        read_x[i] = 0.0
     j = 0
-    for s in range(kept):
-        row = support2[toff + s]
+    s = 0
+    m = 0
+    k, k1 = x_t.shape[0], x_tp1.shape[0]
+    while s < kept or m < k1:
+        r_s = support2[toff + s] if s < kept else td_pass.NONE
+        r_m = x_tp1[m] if m < k1 else td_pass.NONE
+        row = min(r_s, r_m)
         base = at(woff + row * db)
-        tr = wtr + row * ncls
-        on_x = 0.0
-        if j < x_t.shape[0] and x_t[j] == row:
-            on_x = v_t[j]
-            j += 1
-        for c in range(ncls):
-            e = trace2[tr + c]
-            c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
-            if on_x != 0.0:
-                for i in range(c0, c1):
-                    u = at(i)
-                    w[base + u] += step[u] * e - on_x * w_x[u]
-            else:
-                for i in range(c0, c1):
-                    u = at(i)
-                    w[base + u] += step[u] * e
+        value = v_tp1[m] if r_m == row else 0.0
+        if r_s == row:
+            on_x = 0.0
+            if j < k and x_t[j] == row:
+                on_x = v_t[j]
+                j += 1
+            for c in range(ncls):
+                c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
+                e_w, e_grad = trace2[wtr + row * ncls + c], trace2[grad + row * ncls + c]
+                _move_and_read(w, base, step, e_w, on_x, w_x, c0, c1, e_grad, value, read_e, read_x)
+            s += 1
+        elif value != 0.0:  # a row of x_{t+1} outside e_grad's support: read only
+            for i in range(i0, i1):
+                u = at(i)
+                read_x[u] += value * w[base + u]
+        if r_m == row:
+            m += 1
+
+
+@njit(**NO_NRT)
+def episode_start(onl):
+    """An episode starts: x_t is the new episode's first state, and weights may have been forgotten: the first
+    step reads w afresh."""
+    onl.w_read_ok[:] = 0
