@@ -308,6 +308,21 @@ def _move_and_read(w, base, step, e, on_x, w_x, c0, c1, e_grad, value, read_e, r
             read_e[u] += e_grad * w[base + u]
 
 
+@njit(**NO_NRT, inline="always")
+def _move_and_read_two(w, bases, step, e, on_x, w_x, c0, c1, e_grad, value, read_e, read_x):
+    """`_move_and_read` on two rows that are both on x_t and on x_{t+1} (each tuple holds both rows' numbers, the
+    first row's first): read_e and read_x are read and written once for the two, each still adding the first row's
+    term and then the second's, so that the numbers are those of the rows one at a time."""
+    base0, base1 = bases
+    for i in range(c0, c1):
+        u = at(i)
+        w[base0 + u] += step[u] * e[0] - on_x[0] * w_x[u]
+        w[base1 + u] += step[u] * e[1] - on_x[1] * w_x[u]
+        moved0, moved1 = w[base0 + u], w[base1 + u]
+        read_e[u] = read_e[u] + e_grad[0] * moved0 + e_grad[1] * moved1
+        read_x[u] = read_x[u] + value[0] * moved0 + value[1] * moved1
+
+
 @njit(**NO_NRT)
 def _togtd_weights(b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
     """True online GTD's demons i0 <= i < i1: w . e_grad_t and w . x_t (w before this step) as `_togtd_traces` left
@@ -351,6 +366,20 @@ def _togtd_weights(b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
             if j < k and x_t[j] == row:
                 on_x = v_t[j]
                 j += 1
+            if on_x != 0.0 and value != 0.0 and s + 1 < kept and m + 1 < k1 and j < k:
+                row1 = support2[toff + s + 1]
+                if x_tp1[m + 1] == row1 and x_t[j] == row1 and v_tp1[m + 1] != 0.0 and v_t[j] != 0.0:
+                    bases = (base, at(woff + row1 * db))  # the next row moved and read too: the two at once
+                    on_xs, values = (on_x, v_t[j]), (value, v_tp1[m + 1])
+                    for c in range(ncls):
+                        c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
+                        e_w = (trace2[wtr + row * ncls + c], trace2[wtr + row1 * ncls + c])
+                        e_grad = (trace2[grad + row * ncls + c], trace2[grad + row1 * ncls + c])
+                        _move_and_read_two(w, bases, step, e_w, on_xs, w_x, c0, c1, e_grad, values, read_e, read_x)
+                    j += 1
+                    s += 2
+                    m += 2
+                    continue
             for c in range(ncls):
                 c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
                 e_w, e_grad = trace2[wtr + row * ncls + c], trace2[grad + row * ncls + c]
