@@ -173,8 +173,9 @@ def test_autostep_equals_the_reference_with_each_kind_of_exp(meta_step: float, k
     assert min(moved) > 1e-6, moved  # the step sizes did adapt
 
 
-def _one_way_gtd() -> RunSpec:
-    """True online GTD demons off-policy (rho 0, 0.4 and 1.6) and on-policy, with the base demon's softmax beside."""
+def _gtd_demons() -> RunSpec:
+    """Three true online GTD demons: off-policy under a fixed policy (rho 0.4 and 1.6) and the base demon's softmax,
+    and on-policy."""
     data = spec().model_dump(by_alias=True)
     data["demons"] = [d for d in data["demons"] if d["name"] in ("base", "gtd_to", "gtd_to_b")]
     data["demons"].append({"name": "gtd_on", "learner": "true_online_gtd", "policy": "uniform", "cumulant": 1,
@@ -193,7 +194,7 @@ def test_true_online_gtds_w_pass_reads_what_the_next_step_needs_less_what_the_cu
     cut high enough to take entries often: after every step what the pass read equals those sums over the
     engine's arrays, and the w . e_grad the step took equals the sum over its e_grad; at many steps the recursion
     alone (without the cut's entries) would have missed it."""
-    sim = Simulation(_one_way_gtd(), cut=2e-3)
+    sim = Simulation(_gtd_demons(), cut=2e-3)
     engine = sim.learner.engine
     t, lam = engine.t, 0.9
     checked = cut_steps = 0
@@ -228,7 +229,7 @@ def test_a_state_loaded_into_a_running_true_online_gtd_is_read_afresh(load: str)
     """A running engine whose weights (`horde_state`) or traces (`learner_state`) are put back from 50 steps
     before goes on as a new engine given the same state does, to the last bit: what its last w pass read for the
     next step no longer holds, and the next step reads w afresh."""
-    run = _one_way_gtd()
+    run = _gtd_demons()
     sim = Simulation(run, cut=0.0)
     sim.run(150)
     earlier = sim.horde_state if load == "horde_state" else sim.learner_state()
