@@ -36,10 +36,12 @@ POLICIES = ([0.4, 0.1, 0.1, 0.4], [0.1, 0.2, 0.3, 0.4], [0.25, 0.25, 0.25, 0.25]
 
 
 def online_spec(demons: int = D) -> RunSpec:
-    """Four blocks past the threshold: true online TD about three fixed target policies at two alphas and
+    """Five blocks past the threshold: true online TD about three fixed target policies at two alphas and
     five discounts (30 dutch-trace classes), ETD about the three policies, Autostep on-policy at five
     discounts with two meta steps (one past the polynomial exp's range) and demons reset every episode,
-    and TIDBD about the three policies; with episode ends."""
+    TIDBD about the three policies, and true online GTD about the three policies at five discounts (its w
+    pass moving two rows at once and reading the next step's sums on each thread's columns); with episode
+    ends."""
     out: list[dict[str, Any]] = []
     for i in range(demons):
         cumulant = {"mul": [{"sensor": SENSORS[i % 7]}, 1 + i // 35]}
@@ -54,6 +56,8 @@ def online_spec(demons: int = D) -> RunSpec:
              "reset": "episode" if i % 3 == 0 else "never", "cumulant": cumulant},
             {"name": f"tidbd{i}", "learner": "td", "step_size": "tidbd", "lambda": 0.5, "discount": 0.8,
              "policy": fixed, "meta_step": 0.01, "cumulant": {"sensor": SENSORS[i % 7]}},
+            {"name": f"togtd{i}", "learner": "true_online_gtd", "discount": DISCOUNTS[i % 5], "policy": fixed,
+             "alpha": 0.05, "alpha_w": 0.01, "cumulant": cumulant},
         ]  # fmt: skip
     return tiles_spec(out)
 
@@ -69,7 +73,7 @@ def test_thread_count_does_not_change_a_single_bit(spec: RunSpec) -> None:
     scales = onl(one).scale
     assert scales.min() < 1.0, "Autostep's bound divided some step sizes (the effective step size passed 1)"
     for other in others:
-        for field in ("v_old", "cls_f", "step_a", "step_v", "scale", "step_max"):
+        for field in ("v_old", "cls_f", "step_a", "step_v", "scale", "step_max", "trace2", "w_read"):
             np.testing.assert_array_equal(getattr(onl(one), field), getattr(onl(other), field), field)
         np.testing.assert_array_equal(one.effective_step_sizes(), other.effective_step_sizes())
     assert numba.threading_layer() in ("tbb", "omp", "workqueue"), "a threading layer ran the blocks"
