@@ -20,7 +20,7 @@ import numpy as np
 from numba import njit
 
 from horde.core.engine.layout import NO_NRT
-from horde.core.engine.rows import at, td_error
+from horde.core.engine.rows import at, td_error, walk
 from horde.core.engine.traces import decay_classes, merge, trace_dot
 from horde.core.learners import td_pass
 from horde.core.learners.base import Kernel, OnlineState, check_online, target
@@ -257,26 +257,22 @@ def _read_w(b, lay, wts, onl, stp):
     for i in range(db):
         read_e[i] = 0.0
         read_x[i] = 0.0
+    rows = support2[toff : toff + kept]
     s = 0
     m = 0
-    k = x_t.shape[0]
-    while s < kept or m < k:
-        r_s = support2[toff + s] if s < kept else td_pass.NONE
-        r_m = x_t[m] if m < k else td_pass.NONE
-        row = min(r_s, r_m)
+    while True:  # e_grad's support and x_t's rows as the w pass walks its support and x_{t+1}'s (`rows.walk`)
+        row, in_support, _, value, s, _, m = walk(rows, kept, s, x_t[:0], v_t[:0], 0, x_t, v_t, m)
+        if row < 0:
+            break
         base = at(woff + row * db)
-        value = v_t[m] if r_m == row else 0.0
-        if r_s == row:
+        if in_support:
             for c in range(ncls):
                 e_grad = trace2[grad + row * ncls + c]
                 for i in range(bounds[c], bounds[c + 1]):
                     read_e[i] += e_grad * w[base + at(i)]
-            s += 1
         if value != 0.0:
             for i in range(db):
                 read_x[i] += value * w[base + at(i)]
-        if r_m == row:
-            m += 1
 
 
 @njit(**NO_NRT, inline="always")
@@ -351,46 +347,39 @@ def _togtd_weights(b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
         step[i] = cls.rho[c] * dem.delta[d] if live else 0.0
         read_e[i] = 0.0
         read_x[i] = 0.0
-    j = 0
-    s = 0
-    m = 0
+    rows = support2[toff : toff + kept]  # (x_t's rows are in it: `_togtd_traces` keeps them a step)
     k, k1 = x_t.shape[0], x_tp1.shape[0]
-    while s < kept or m < k1:
-        r_s = support2[toff + s] if s < kept else td_pass.NONE
-        r_m = x_tp1[m] if m < k1 else td_pass.NONE
-        row = min(r_s, r_m)
+    s = 0
+    j = 0
+    m = 0
+    while True:
+        row, in_support, on_x, value, s, j, m = walk(rows, kept, s, x_t, v_t, j, x_tp1, v_tp1, m)
+        if row < 0:
+            break
         base = at(woff + row * db)
-        value = v_tp1[m] if r_m == row else 0.0
-        if r_s == row:
-            on_x = 0.0
-            if j < k and x_t[j] == row:
-                on_x = v_t[j]
-                j += 1
-            if on_x != 0.0 and value != 0.0 and s + 1 < kept and m + 1 < k1 and j < k:
-                row1 = support2[toff + s + 1]
-                if x_tp1[m + 1] == row1 and x_t[j] == row1 and v_tp1[m + 1] != 0.0 and v_t[j] != 0.0:
+        if in_support:
+            if on_x != 0.0 and value != 0.0 and s < kept and j < k and m < k1:
+                row1 = rows[s]
+                if x_tp1[m] == row1 and x_t[j] == row1 and v_tp1[m] != 0.0 and v_t[j] != 0.0:
                     bases = (base, at(woff + row1 * db))  # the next row moved and read too: the two at once
-                    on_xs, values = (on_x, v_t[j]), (value, v_tp1[m + 1])
+                    on_xs, values = (on_x, v_t[j]), (value, v_tp1[m])
                     for c in range(ncls):
                         c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
                         e_w = (trace2[wtr + row * ncls + c], trace2[wtr + row1 * ncls + c])
                         e_grad = (trace2[grad + row * ncls + c], trace2[grad + row1 * ncls + c])
                         _move_and_read_two(w, bases, step, e_w, on_xs, w_x, c0, c1, e_grad, values, read_e, read_x)
+                    s += 1
                     j += 1
-                    s += 2
-                    m += 2
+                    m += 1
                     continue
             for c in range(ncls):
                 c0, c1 = max(bounds[c], i0), min(bounds[c + 1], i1)
                 e_w, e_grad = trace2[wtr + row * ncls + c], trace2[grad + row * ncls + c]
                 _move_and_read(w, base, step, e_w, on_x, w_x, c0, c1, e_grad, value, read_e, read_x)
-            s += 1
         elif value != 0.0:  # a row of x_{t+1} outside e_grad's support: read only
             for i in range(i0, i1):
                 u = at(i)
                 read_x[u] += value * w[base + u]
-        if r_m == row:
-            m += 1
 
 
 @njit(**NO_NRT)
