@@ -219,6 +219,30 @@ def test_a_protocol_job_or_study_logs_what_holds_its_stalled_worker(
     ]
 
 
+def test_a_push_between_the_connections_close_and_the_exit_code_names_the_signal() -> None:
+    """A worker's connection closes up to a second before its exit code is known (the executor waits for it): a
+    push that fails in that window waits for the end and names the signal (CI once read "it failed, ; delete it")."""
+    from horde.runs.errors import ConflictError
+    from horde.runs.stream_run import StreamRun
+    from horde.spec import RunSpec
+    from stream_specs import nexting, robot
+
+    def closed(message: Any) -> None:
+        raise OSError("connection closed")
+
+    run = StreamRun("s1", RunSpec.model_validate(robot({"kind": "constant"}, nexting("light", 0.5))))
+    run.link = WorkerLink("process", closed, run)
+    reason = "killed by signal 11 (SIGSEGV)"
+    later = threading.Timer(0.3, run.link.end, (reason,))
+    later.start()
+    try:
+        with pytest.raises(ConflictError) as refused:
+            run.push([{"observation": [0.0, 0.0], "action": 0}])
+    finally:
+        later.join(5.0)
+    assert reason in str(refused.value)
+
+
 def test_a_stream_run_or_protocol_job_whose_worker_dies_says_so(hooked: Settings) -> None:
     from stream_specs import nexting, robot
 

@@ -220,8 +220,8 @@ class WorkerLink:
         with self._lock:
             if not self.alive:
                 return
+            self.reason = reason  # before `alive`: whoever sees the worker gone can read why
             self.alive = False
-            self.reason = reason
             calls, self._calls = list(self._calls.values()), {}
         if not self.stopping:  # first, so that a call that fails below reads the state the end left
             self.listener.on_exit(reason)
