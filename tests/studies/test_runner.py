@@ -129,3 +129,28 @@ def test_kill_9_during_a_study_then_resume_loses_no_finished_task(tmp_path: Path
     rows = json.loads(out.read_text())
     assert [r["axes"] for r in rows] == [{"learning.alpha": a} for a in (0.01, 0.03, 0.1)]
     assert all(r["runs"] == 3 for r in rows)
+
+
+def test_deleting_a_study_that_has_stored_its_end_waits_for_its_driver_to_leave(tmp_path: Path) -> None:
+    """A study's driver stores "finished" and then leaves the running ones (`StudyJobs._ended`): a DELETE in between
+    deletes it once it has left, rather than setting the cancel flag of a study that runs no more (the server's
+    study test once read 200 after such a DELETE)."""
+    import threading
+
+    from horde.studies.jobs import Progress, StudyJobs
+
+    store = Store(tmp_path)
+    record, _ = create_study(store, StudySpec.model_validate(SMALL), find_scenario("classroom-offpolicy"))
+    jobs = StudyJobs(store, None, kind="local")  # type: ignore[arg-type]
+    progress = Progress(done=8, total=8)
+    jobs._running[record.id] = progress
+    store.set_study_status(record.id, "finished", "")
+    leaves = threading.Timer(0.3, jobs._ended, (record.id, None))
+    leaves.start()
+    try:
+        jobs.cancel(record.id)
+    finally:
+        leaves.join(5.0)
+    assert not progress.cancel.is_set()
+    assert store.get_study(record.id) is None
+    store.close()

@@ -32,6 +32,8 @@ from horde.studies.stats import ConfigSummary
 
 log = logging.getLogger(__name__)
 
+ENDING_WAIT = 10.0  # seconds a delete waits for a study that has stored its end to leave the running ones
+
 
 @dataclass
 class Progress:
@@ -203,6 +205,12 @@ class StudyJobs:
         """Ask a running study to stop (its finished tasks are kept); a study that is not running is deleted."""
         record = self.get(study_id)
         progress = self._running.get(study_id)
+        stored = self._store.get_study(study_id)
+        if progress is not None and stored is not None and stored.status not in ("created", "running"):
+            # Its driver has stored how it ended and is about to leave the running ones (`_ended`): it is not
+            # running any more, so it is deleted once it has left.
+            progress.ended.wait(ENDING_WAIT)
+            progress = self._running.get(study_id)
         if progress is not None:
             progress.cancel.set()
             if progress.link is not None:
