@@ -90,7 +90,7 @@ def replay(t, b, stream, n_s, timed, out):  # type: ignore[no-untyped-def]
         else:
             gradient.columns(b, db - db, db, lay, wts, dem, cls, stp, scr)
         c2 = cycles()
-        finish(b, lay, cls, stp, scr)
+        finish(b, lay, wts, cls, stp, scr)
         out[4] += cycles() - c2
         out[5] += cycles() - c0
 

@@ -32,6 +32,23 @@ DEMONS: list[dict[str, Any]] = [
         "alpha": 0.2,
         "alpha_w": 0.01,
     },
+    # two more over their own values in base's block (softmax, lambda 0.8): a block of several classes, each
+    # demon's own, whose traces decay in GQ's support pass (`gradient._classes_pass`)
+    {
+        "name": "base_hot",
+        "policy": {"kind": "softmax", "temperature": 2.0},
+        "cumulant": {"sensor": "bump"},
+        "lambda": 0.8,
+    },
+    {
+        "name": "base_cool",
+        "policy": {"kind": "softmax", "temperature": 0.3},
+        "cumulant": -0.01,
+        "outcome": {"sensor": "in:goal"},
+        "discount": 0.9,
+        "lambda": 0.8,
+        "alpha_w": 0.05,
+    },
     {
         "name": "greedy_ctl",
         "policy": "greedy",

@@ -266,6 +266,7 @@ class Scratch(NamedTuple):
     rows: np.ndarray  # [most rows of a block + kmax] the merged support, then the rows of x_t left without trace
     rows_e: np.ndarray  # the one-class trace value on each merged row
     rows_f: np.ndarray  # x_t's value on each merged row
+    rows_left: np.ndarray  # int8: whether any trace is left on each merged row (GQ's own-value pass sets it)
     values: np.ndarray  # [A, dmax] values of a block's demons at s_{t+1}
     pi_next: np.ndarray  # [A, dmax] their target policies there
     work: np.ndarray  # [8, dmax] per demon: alpha delta, alpha_w delta, w . e, w . x_t, and learners' own

@@ -307,6 +307,7 @@ def _scratch(horde: Horde, lay: Layout, nodes: int) -> Scratch:
         rows=np.zeros(most_rows + kmax, np.int64),
         rows_e=np.zeros(most_rows + kmax),
         rows_f=np.zeros(most_rows + kmax),
+        rows_left=np.zeros(most_rows + kmax, np.int8),
         values=np.zeros((na, dmax)),
         pi_next=np.zeros((na, dmax)),
         work=work,

@@ -205,6 +205,39 @@ def merge_pairs(b, lay, wts, scr, x_t, v_t, shift, keep_dropped):
     return out, dropped
 
 
+@njit(**NO_NRT, inline="always")
+def union(b, lay, wts, scr, x_t, v_t, shift):
+    """The rows of block b's support and x_t's (shifted by `shift`), merged in increasing order into `scr.rows[:n]`
+    (x_t's value on each in `scr.rows_f`, 0 off x_t), each marked as holding no trace yet (`scr.rows_left`); the
+    traces themselves untouched. For a learner that decays its traces in its own pass over these rows (GQ's
+    own-value blocks, `gradient._classes_pass`) and then keeps the rows left with a trace (`keep_left`).
+    Returns n."""
+    toff, support = lay.toff[b], wts.support
+    k = x_t.shape[0]
+    old = wts.nnz[b]
+    i_old = 0
+    j_new = 0
+    n = 0
+    while i_old < old or j_new < k:
+        row, _, value, i_old, j_new = _next_row(support, toff, old, i_old, x_t, v_t, j_new, shift)
+        scr.rows[n] = row
+        scr.rows_f[n] = value
+        scr.rows_left[n] = 0
+        n += 1
+    return n
+
+
+@njit(**NO_NRT, inline="always")
+def keep_left(b, lay, wts, scr, n):
+    """Block b's support becomes the rows of `scr.rows[:n]` (after `union`) that its pass left with a trace."""
+    out = 0
+    for s in range(n):
+        if scr.rows_left[s] != 0:
+            scr.rows[out] = scr.rows[s]
+            out += 1
+    _new_support(b, lay.toff[b], wts, scr.rows, out)
+
+
 @njit(**NO_NRT)
 def clear(b, lay, wts):
     """Block b's traces to zero (an episode starts): only its support rows are non-zero."""

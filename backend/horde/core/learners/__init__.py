@@ -103,7 +103,7 @@ def finish(code, b, lay, wts, dem, cls, onl, stp, scr):
     elif code in (GTD_CODE, TDRC_CODE, GTD2_CODE, GTD1_CODE):
         gtd_pass.finish(b, lay, wts, dem, cls, onl, stp, scr, code in (TDRC_CODE, GTD1_CODE))
     elif code == GQ_CODE:
-        gradient.finish(b, lay, cls, stp, scr)
+        gradient.finish(b, lay, wts, cls, stp, scr)
     else:
         online.finish(b, lay, cls, onl)
 

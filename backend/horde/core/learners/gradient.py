@@ -15,7 +15,10 @@ size: both are errors.
 The compiled kernel here is GQ's (`prepare`, `columns`, `finish`, called by the engine's step through
 `horde.core.learners`; TD's is `td_pass`, GTD's (and TDRC's, GTD2's, the original GTD's) `gtd_pass`, each of
 which defers its whole update by one step): `prepare` writes each class's trace decay and what x_t adds, and
-merges the traces (`engine.traces.merge`; several classes: `merge_pairs`, two rows at a time); `columns` learns
+merges the traces (`engine.traces.merge`; several classes: `merge_pairs`, two rows at a time; a block where each
+demon is its own class, control demons over their own values: only the rows are merged, `traces.union`, and each
+demon's trace decays in the support pass, which reads those rows anyway; `finish` keeps the rows left with a
+trace as the support); `columns` learns
 a run of the block's demons, touching only their columns: each action's rows at s_{t+1} paid and read (four
 actions: their rows in one walk, `pay_and_read_four`), w read at x_t, then one pass over the support's weight
 rows (each read and written once; rows read two at a time: more memory streams in flight made sparse rows 1.3
@@ -35,7 +38,7 @@ from numba import njit
 from horde.core.engine.layout import NO_NRT
 from horde.core.engine.rows import at, pay_and_read, pay_and_read_four, spread, square, sum_rows
 from horde.core.engine.rows import td_error as td_error_at
-from horde.core.engine.traces import merge, merge_pairs
+from horde.core.engine.traces import decay_classes, decay_two, keep_left, merge, merge_pairs, union
 from horde.core.engine.values import observe_range, value_policy
 from horde.core.learners.base import Kernel, check, td_error
 from horde.core.policies import FIXED
@@ -158,7 +161,9 @@ def prepare(b, lay, wts, dem, cls, stp, scr):
         rho = dem.pi[lo + c, stp.action] / stp.b_prob if own else cls.rho[coff + c]
         scr.decay[c] = cls.gamma[coff + c] * lay.lam[b] * rho
         scr.add[c] = 1.0
-    if ncls > 1:  # (rows of many classes: two at a time, `merge_pairs`)
+    if ncls > 1 and own:  # each demon its own class: its trace decays in the support pass, where it is read anyway
+        kept, dropped = union(b, lay, wts, scr, stp.x_t, stp.v_t, stp.action * stp.n_s), 0
+    elif ncls > 1:  # (rows of many classes: two at a time, `merge_pairs`)
         kept, dropped = merge_pairs(b, lay, wts, scr, stp.x_t, stp.v_t, stp.action * stp.n_s, True)
     else:
         kept, dropped = merge(b, lay, wts, scr, stp.x_t, stp.v_t, stp.action * stp.n_s, True)
@@ -171,8 +176,11 @@ def prepare(b, lay, wts, dem, cls, stp, scr):
 
 
 @njit(**NO_NRT, inline="always")
-def finish(b, lay, cls, stp, scr):
-    """After every column learned: the marks cleared; each class's continuation moves to s_{t+1}."""
+def finish(b, lay, wts, cls, stp, scr):
+    """After every column learned: an own-value block's support keeps the rows its pass left with a trace; the
+    marks cleared; each class's continuation moves to s_{t+1}."""
+    if lay.ncls[b] > 1 and lay.policy[b] != FIXED:
+        keep_left(b, lay, wts, scr, scr.counts[0])
     if lay.ncls[b] > 1:
         for a in range(lay.actions[b]):
             for j in range(stp.x_tp1.shape[0]):
@@ -350,7 +358,8 @@ def _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, own):
     width = i1 - i0
     n_s = stp.n_s
     theta, w, trace, mark, ex = wts.theta, wts.w, wts.trace, scr.mark, scr.ex
-    rows, rows_f, kept = scr.rows, scr.rows_f, scr.counts[0]
+    rows, rows_f, left, kept = scr.rows, scr.rows_f, scr.rows_left, scr.counts[0]
+    decay, add, cut = scr.decay[i0:i1], scr.add[i0:i1], lay.cut
     ad, awd, dot_e = scr.work[0, i0:i1], scr.work[1, i0:i1], scr.work[2, i0:i1]
     e0 = scr.ev[0, i0:i1]
     e1 = scr.ev[1, i0:i1]
@@ -359,18 +368,30 @@ def _classes_pass(b, i0, i1, lay, wts, stp, scr, step_x, own):
         pair = s + 1 < kept
         r0 = rows[s]
         r1 = rows[s + 1] if pair else r0
+        f0 = rows_f[s]
+        f1 = rows_f[s + 1] if pair else 0.0
         if own:
+            # The demons' own traces (class i is demon i) decay here, their columns of the two rows, while the
+            # rows are in cache: no merge pass over them (`prepare`). Each thread marks the rows its demons left
+            # with a trace (only ever a 1: the threads' marks agree), and `finish` keeps those as the support.
             e0 = trace[voff + r0 * ncls + i0 : voff + r0 * ncls + i1]
             e1 = trace[voff + r1 * ncls + i0 : voff + r1 * ncls + i1]
+            if pair:
+                on_x = (1 if f0 != 0.0 else 0) + (2 if f1 != 0.0 else 0)
+                left0, left1 = decay_two(e0, e1, on_x, decay, add, cut, f0, f1)
+                if left1:
+                    left[s + 1] = 1
+            else:
+                left0 = decay_classes(e0, f0 != 0.0, decay, add, cut, f0)
+            if left0:
+                left[s] = 1
         else:
             spread(trace, voff + r0 * ncls, ncls, lay.class_lo, lay.class_hi, coff, i0, i1, e0)
             if pair:
                 spread(trace, voff + r1 * ncls, ncls, lay.class_lo, lay.class_hi, coff, i0, i1, e1)
         u0 = at(woff + r0 * db + i0)
         u1 = at(woff + r1 * db + i0)
-        f0 = rows_f[s]
         if pair:
-            f1 = rows_f[s + 1]
             g0 = mark[r0]
             g1 = mark[r1]
             x0 = ex[r0 // n_s, i0:i1]
