@@ -4,7 +4,10 @@ memory bound, per thread count and dtype, in alternated rounds.
 **The convention (issue 27): bytes read plus bytes written, on both sides.** A step's bytes: on each block's
 trace support, every per-weight vector the learner keeps (`Kernel.vectors`: theta; GTD's w; Autostep's three
 more) read and written, so counted twice, and the trace's rows too; x_{t+1}'s rows outside the support read
-once (theta only); at the dtype's size. The machine's rate: an in-place update `a += 1` over 512 MB of float64
+once (theta only); at the dtype's size. GQ's update also moves theta on every action's rows at s_t (its
+correction at the last step's s_{t+1}, each action weighted by the target policy), where only the action taken
+holds a trace: those of them outside the support are read (once, with x_{t+1}'s) and written
+(`Kernel.corrects_every_action`). The machine's rate: an in-place update `a += 1` over 512 MB of float64
 (compiled, on as many threads), counting its bytes read plus its bytes written. The bound is the time the
 in-place update would take for the step's bytes; `bound` is that time over the step's wall time, `bound (cpu)`
 threads times that time over the step's CPU time (1.0: the step moves its bytes as fast as `a += 1`).
@@ -40,8 +43,9 @@ class BoundRow:
     bound_cpu: float  # threads * bound_ms / cpu_ms_per_step
 
 
-def step_bytes(sim: Simulation) -> int:
-    """Bytes read plus bytes written by the last step (the convention of the module)."""
+def step_bytes(sim: Simulation, x_t: list[np.ndarray] | None = None) -> int:
+    """Bytes read plus bytes written by the last step (the convention of the module); `x_t`: each group's active
+    features before that step (`Engine.active_features`), needed where a learner corrects every action's rows."""
     engine = sim.learner.engine
     t = engine.t
     size = t.wts.theta.itemsize
@@ -49,14 +53,33 @@ def step_bytes(sim: Simulation) -> int:
     for g, group in enumerate(engine.horde.groups):
         n_s = int(t.grp.n_s[g])
         actions = engine.horde.num_actions if group.action_values else 1
-        x_next = np.unique(np.concatenate([a * n_s + t.coded.features[g, : t.coded.counts[g]] for a in range(actions)]))
+
+        def rows(features: np.ndarray, n_s: int = n_s, actions: int = actions) -> np.ndarray:
+            return np.unique(np.concatenate([a * n_s + features for a in range(actions)]))
+
+        x_next = rows(t.coded.features[g, : t.coded.counts[g]])
         for b in group.blocks:
             block = engine.horde.blocks[b]
             support = t.wts.support[int(t.lay.toff[b]) :][: int(t.wts.nnz[b])]
-            outside = np.setdiff1d(x_next, support).size
             total += 2 * support.size * block.num_classes * size  # the trace's rows
-            total += block.size * size * (2 * support.size * block.kernel.vectors + outside)
+            if block.kernel.corrects_every_action:
+                if x_t is None:
+                    raise ValueError(f"{block.kernel.learner}'s bytes need the features before the step (x_t)")
+                corrected = np.setdiff1d(rows(x_t[g]), support)  # read and written
+                read = np.setdiff1d(np.union1d(x_next, corrected), support)  # each read once
+                total += block.size * size * (2 * support.size * block.kernel.vectors + read.size + corrected.size)
+            else:
+                outside = np.setdiff1d(x_next, support).size
+                total += block.size * size * (2 * support.size * block.kernel.vectors + outside)
     return total
+
+
+def next_step_bytes(sim: Simulation) -> int:
+    """One more step, and its bytes read plus bytes written (`step_bytes`)."""
+    engine = sim.learner.engine
+    x_t = [engine.active_features(g) for g in range(len(engine.horde.groups))]
+    sim.run(1)
+    return step_bytes(sim, x_t)
 
 
 def spec(workload: str, demons: int, dtype: str) -> RunSpec:
@@ -95,8 +118,7 @@ def run(workload: str, demons: int, threads: list[int], dtypes: list[str], round
     for (dtype, count), samples in times.items():
         sim = sims[dtype]
         sim.threads = count
-        sim.run(1)
-        nbytes = step_bytes(sim)
+        nbytes = next_step_bytes(sim)
         wall, cpu = (float(np.median([s[i] for s in samples])) for i in (0, 1))
         bound_s = nbytes / rates[min(count, len(rates)) - 1]
         learner = workload.partition("-")[2]
@@ -115,7 +137,8 @@ def table(rows: list[BoundRow], rates: list[float]) -> str:
     lines.append("")
     lines.append(
         "convention: bytes read plus bytes written on both sides. MB/step: per-weight vectors and trace rows on the "
-        "support read and written (twice), x_{t+1}'s other rows read (once), at the dtype's size; the machine's "
+        "support read and written (twice), x_{t+1}'s other rows read (once; GQ: and every action's rows at s_t "
+        "outside the support read and written, its correction), at the dtype's size; the machine's "
         "rate: a += 1 over 512 MB float64, read plus written: "
         + ", ".join(f"{r / 1e9:.1f}" for r in rates)
         + " GB/s on 1, 2, ... threads (measured in this run). bound: that rate's time for the step's bytes over "

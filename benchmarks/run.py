@@ -170,8 +170,7 @@ def run_thesis(demons: int, plan: Plan, bandwidth: measure.Bandwidth) -> Row:
 
 def _traffic(sim: Simulation) -> int:
     """The bytes read plus bytes written of one more step (`bound.step_bytes`)."""
-    sim.run(1)
-    return bound.step_bytes(sim)
+    return bound.next_step_bytes(sim)
 
 
 def _rate(bandwidth: measure.Bandwidth, threads: int) -> float:

@@ -120,6 +120,32 @@ def test_step_bytes_count_bytes_read_plus_bytes_written(learner: str, dtype: str
     assert block.num_classes > 1 and 0 < len(x_next - support) < len(x_next), "x_{t+1}'s rows mostly in the support"
 
 
+def test_step_bytes_count_gqs_correction_on_every_actions_rows() -> None:
+    """GQ's correction moves theta on every action's rows at the state it leaves, only the action taken's in a
+    trace: those outside the support read and written, x_{t+1}'s other rows read, each row read once."""
+    sim = Simulation(bound.spec("control-gq", 20, "float64"), np.random.default_rng(3))
+    loop = sim.learner.engine
+    (block,) = loop.horde.blocks
+    n_s = int(loop.t.grp.n_s[0])
+    sim.run(40)
+    x_t = loop.active_features(0)
+    sim.run(1)
+    with pytest.raises(ValueError, match="x_t"):
+        bound.step_bytes(sim)
+    support = set(loop.t.wts.support[: int(loop.t.wts.nnz[0])].tolist())
+    every_action = {a * n_s + int(f) for a in range(4) for f in x_t}
+    following = {a * n_s + int(f) for a in range(4) for f in loop.active_features(0)}
+    taken = [a for a in range(4) if {a * n_s + int(f) for f in x_t} <= support]
+    assert len(taken) >= 1 and every_action - support, "the action taken's rows hold a trace, not every action's"
+    written = every_action - support
+    read = (every_action | following) - support
+    expected = 2 * len(support) * block.num_classes * 8 + 2 * len(support) * block.size * 8 * 2
+    expected += (len(read) + len(written)) * block.size * 8
+    assert bound.step_bytes(sim, [x_t]) == expected
+    x_next = loop.active_features(0)
+    assert bound.next_step_bytes(sim) == bound.step_bytes(sim, [x_next])  # the bench's count of one more step
+
+
 @pytest.mark.parametrize("runs", [1, 2, 3])
 def test_the_in_place_update_adds_one_to_every_number_once_in_contiguous_runs(runs: int) -> None:
     a = np.arange(1001, dtype=np.float64)

@@ -31,6 +31,9 @@ class Kernel:
             bench's count of a step's bytes, `benchmarks/bound.py`).
         owes: it owes part of its update to the next step (`learners.settle` pays it: GQ its correction at x_{t+1},
             GTD and its forms their whole update, `gtd_pass`).
+        corrects_every_action: its update moves theta on every action's rows at s_{t+1} (GQ's gradient correction,
+            each action weighted by the target policy), which are in no trace but the action taken: the bench counts
+            those rows read and written, not only read (`benchmarks/bound.py`).
         dutch: its trace holds alpha (and alpha_w): only demons of one step size share one.
         keeps_state: it keeps numbers beyond the weights and traces (`Online`: snapshots save them).
         scaled_w: its secondary weights are kept scaled per demon (the true w is `Online.scale` times them).
@@ -43,6 +46,7 @@ class Kernel:
     step_size: str = "constant"
     vectors: int = 1
     owes: bool = False
+    corrects_every_action: bool = False
     dutch: bool = False
     keeps_state: bool = False
     scaled_w: bool = False

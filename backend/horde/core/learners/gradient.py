@@ -56,7 +56,7 @@ TD_CODE, GTD_CODE, GQ_CODE = 0, 1, 2  # the engine's kernel codes
 KERNELS = (
     Kernel(TD_CODE, "td"),
     Kernel(GTD_CODE, "gtd", vectors=2, owes=True),
-    Kernel(GQ_CODE, "gq", vectors=2, owes=True),
+    Kernel(GQ_CODE, "gq", vectors=2, owes=True, corrects_every_action=True),
 )
 
 
