@@ -51,8 +51,8 @@ def test_the_agent_moves_in_the_browser_when_the_run_steps(
 
     with browser_page(browser, 1280, 800) as (page, errors):
         page.goto(view.url)
-        # viser's client registers a node before it applies the node's pose (the first frame reads the origin):
-        # wait for the agent drawn at experiment1's start, (0, 0), then read its height.
+        # The node can be read before its pose is applied (a fresh clone once read the origin here): wait for the
+        # agent drawn at experiment1's start, (0, 0), then read its height.
         page.wait_for_function(AGENT_AT, arg=drawn_at(world, 0.0, 0.0), timeout=30_000)
         _, _, z = page.evaluate(AGENT_POSITION)
         assert z == pytest.approx(agent_radius(spec.world))
