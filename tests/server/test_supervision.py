@@ -219,19 +219,27 @@ def test_a_protocol_job_or_study_logs_what_holds_its_stalled_worker(
     ]
 
 
-def test_a_push_between_the_connections_close_and_the_exit_code_names_the_signal() -> None:
-    """A worker's connection closes up to a second before its exit code is known (the executor waits for it): a
-    push that fails in that window waits for the end and names the signal (CI once read "it failed, ; delete it")."""
-    from horde.runs.errors import ConflictError
+def dead_stream_run(send: Any) -> Any:
+    """A stream run whose link sends with `send` (no worker behind it)."""
     from horde.runs.stream_run import StreamRun
     from horde.spec import RunSpec
     from stream_specs import nexting, robot
 
+    run = StreamRun("s1", RunSpec.model_validate(robot({"kind": "constant"}, nexting("light", 0.5))))
+    run.link = WorkerLink("process", send, run)
+    return run
+
+
+def test_a_push_between_the_connections_close_and_the_exit_code_names_the_signal() -> None:
+    """A worker's connection closes up to a second before its exit code is known (the executor waits for it): a
+    call that fails in that window waits (in `WorkerLink.call`) for the end and names the signal (CI once read "it
+    failed, ; delete it")."""
+    from horde.runs.errors import ConflictError
+
     def closed(message: Any) -> None:
         raise OSError("connection closed")
 
-    run = StreamRun("s1", RunSpec.model_validate(robot({"kind": "constant"}, nexting("light", 0.5))))
-    run.link = WorkerLink("process", closed, run)
+    run = dead_stream_run(closed)
     reason = "killed by signal 11 (SIGSEGV)"
     later = threading.Timer(0.3, run.link.end, (reason,))
     later.start()
@@ -240,6 +248,31 @@ def test_a_push_between_the_connections_close_and_the_exit_code_names_the_signal
             run.push([{"observation": [0.0, 0.0], "action": 0}])
     finally:
         later.join(5.0)
+    assert reason in str(refused.value)
+
+
+def test_a_call_while_the_end_is_being_told_names_the_reason() -> None:
+    """`WorkerLink.end` marks the link dead, then tells its listener: a call that finds it dead in between waits
+    (`WorkerLink.gone`) and reads the state the end left, not the state before it."""
+    from horde.runs.errors import ConflictError
+
+    run = dead_stream_run(lambda message: None)
+    told = run.on_exit
+
+    def slowly(why: str) -> None:
+        time.sleep(0.3)
+        told(why)
+
+    run.on_exit = slowly
+    reason = "killed by signal 9 (SIGKILL)"
+    ending = threading.Thread(target=run.link.end, args=(reason,))
+    ending.start()
+    try:
+        wait_until(lambda: not run.link.alive, "the link marked dead", 5.0)
+        with pytest.raises(ConflictError) as refused:
+            run.push([{"observation": [0.0, 0.0], "action": 0}])
+    finally:
+        ending.join(5.0)
     assert reason in str(refused.value)
 
 

@@ -22,6 +22,7 @@ COMMAND_TIMEOUT = 600.0  # a call waits this long at most, however busy (and ali
 READY_TIMEOUT = 600.0  # building a run (compiling kernels on a cold cache included) may take this long
 STALL_SECONDS = 30.0  # a worker whose main loop has not moved for this long is reported (a setting)
 TICK = 0.25  # how often a waiting call looks at its worker (and the switchboard at every worker)
+END_WAIT = 3.0  # how long a caller that finds its worker gone waits for the end to be told (the exit code: <= 1 s)
 
 
 class WorkerGoneError(RunError):
@@ -109,6 +110,14 @@ class WorkerLink:
         except (OSError, EOFError, ValueError) as exc:
             raise WorkerGoneError(self.reason or f"its connection failed: {exc}") from None
 
+    def gone(self) -> bool:
+        """Whether the worker has ended; if so, once its listener has heard why (a bounded wait: `end` marks the link
+        dead before it tells the listener), so that the caller reads the state the end left."""
+        if self.alive:
+            return False
+        self.ended.wait(END_WAIT)
+        return True
+
     def call(self, command: m.Command, timeout: float = COMMAND_TIMEOUT,
              abandoned: Callable[[], bool] | None = None) -> tuple[m.Reply, Any]:  # fmt: skip
         """Send a command and wait for its reply: at most `timeout` seconds, and no longer than the worker keeps
@@ -116,7 +125,8 @@ class WorkerLink:
         (cancelled) reply.
 
         Raises:
-            WorkerGoneError: the worker ended before it answered.
+            WorkerGoneError: the worker ended before it answered (raised once its listener has heard why: a
+                connection closes up to a second before the worker's exit code is known, `executor.py`).
             BusyError: no answer within `timeout`, or the worker stopped moving.
         """
         future: Future[tuple[m.Reply, Any]] = Future()
@@ -125,7 +135,11 @@ class WorkerLink:
             self._calls[cid] = future
             self._commands[cid] = command
         try:
-            self.send(m.Call(cid, command))
+            try:
+                self.send(m.Call(cid, command))
+            except WorkerGoneError as exc:
+                self.ended.wait(END_WAIT)
+                raise WorkerGoneError(self.reason or str(exc)) from None
             deadline = time.monotonic() + timeout
             cancelled = False
             while True:

@@ -351,7 +351,7 @@ class LiveRun:
         link = self.link
         if self._closed:
             raise NotFoundError(f"run {self.id!r} has been deleted")
-        if link is None or not link.alive:
+        if link is None or link.gone():
             view = self.view
             raise ConflictError(f"cannot {action} run {self.id!r}: it is {view.status} ({view.message})")
         return link

@@ -38,7 +38,6 @@ from horde.worlds.phase_plane import Axis
 log = logging.getLogger(__name__)
 
 MAX_STREAM_RUNS = 16
-REASON_WAIT = 3.0  # seconds a failed call waits to learn why its worker ended
 __all__ = ["HISTORY", "MAX_RECORDS_PER_BATCH", "MAX_STREAM_RUNS", "PushResult", "StreamRun", "StreamRuns"]
 
 
@@ -84,31 +83,21 @@ class StreamRun:
 
     def _call(self, command: m.Command, action: str) -> Any:
         link = self.link
-        if link is None or not link.alive:
-            raise ConflictError(f"cannot {action} stream run {self.id!r}: it failed, {self._why(link)}; delete it")
+        if link is None or link.gone():
+            raise self._failed(action)
         try:
             reply, _ = link.call(command)
         except WorkerGoneError:
-            raise ConflictError(
-                f"cannot {action} stream run {self.id!r}: it failed, {self._why(link)}; delete it"
-            ) from None
+            raise self._failed(action) from None
         except BusyError as exc:
             raise ConflictError(f"cannot {action} stream run {self.id!r} now: {exc}") from None
         if reply.failure is not None:
             m.raise_failure(reply.failure)
         return reply.value
 
-    def _why(self, link: WorkerLink | None) -> str:
-        # A worker's connection closes up to a second before its exit code is known (executor.py), and the link
-        # marks it gone (with the reason) before it tells this run (`on_exit`): a call failing meanwhile waits
-        # for the end, bounded, and reads the reason from the link.
-        if link is not None:
-            link.ended.wait(REASON_WAIT)
-        if self.failed:
-            return self.failed
-        if link is not None and link.reason:
-            return f"its worker died ({link.reason})"
-        return "its worker ended"
+    def _failed(self, action: str) -> ConflictError:
+        why = self.failed or "its worker ended"
+        return ConflictError(f"cannot {action} stream run {self.id!r}: it failed, {why}; delete it")
 
     def status(self) -> PushResult:
         """The counters and predictions as the last batch left them."""
