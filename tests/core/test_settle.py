@@ -18,6 +18,8 @@ import numpy as np
 import pytest
 from tests.core.test_fast import assert_same
 
+from horde.core.learners import GQ_CODE
+from horde.core.policies import FIXED
 from horde.core.reference import ReferenceHorde
 from horde.core.simulation import Simulation
 from horde.runs import snapshot
@@ -47,11 +49,14 @@ FAMILIES: dict[str, list[dict[str, Any]]] = {
         {"name": "bump2", "learner": "etd", "policy": TARGET, "cumulant": {"sensor": "bump"}, "discount": 0.9,
          "reset": "episode"},
     ],
-    "gq": [  # action values: a fixed target (one class), greedy and softmax (a class each), one forgetting
+    "gq": [  # action values: a fixed target (one class), greedy (a block of one), two softmax demons in one block
+        # (a trace class each, decayed in the support pass), one of them forgetting
         {"name": "bump", "learner": "gq", "policy": TARGET, "cumulant": {"sensor": "bump"}, "discount": 0.9},
         {"name": "x", "learner": "gq", "policy": "greedy", "cumulant": {"sensor": "x"}, "discount": 0.5},
         {"name": "bump2", "learner": "gq", "policy": {"kind": "softmax", "temperature": 0.5},
          "cumulant": {"sensor": "bump"}, "discount": 0.9, "reset": "episode"},
+        {"name": "y2", "learner": "gq", "policy": {"kind": "softmax", "temperature": 2.0},
+         "cumulant": {"sensor": "y"}, "discount": 0.8},
     ],
     "true_online_td": [  # the walk pays along x_{t-1} too; two classes (alpha 0.2 and 0.1: a dutch trace holds it)
         {"name": "bump", "learner": "true_online_td", "policy": TARGET, "cumulant": {"sensor": "bump"},
@@ -114,6 +119,14 @@ def assert_weights(sim: Simulation, ref: ReferenceHorde) -> None:
         learner = ref.demons[name].spec.learner
         has_w = learner not in ("td", "etd", "true_online_td")
         assert not has_w or np.abs(ref.demons[name].w).max() > 1e-3, f"{name} learned a w"
+
+
+def test_gqs_family_holds_a_block_of_several_demons_over_their_own_values() -> None:
+    """(`bump2` and `y2`: a block of two trace classes, each demon's own, the form whose traces decay in GQ's support
+    pass, `gradient._classes_pass`; the other two are blocks of one demon.)"""
+    lay = Simulation(spec(10_000, "gq")).learner.engine.t.lay
+    own = [b for b in range(lay.learner.shape[0]) if lay.learner[b] == GQ_CODE and lay.policy[b] != FIXED]
+    assert sorted(int(lay.ncls[b]) for b in own) == [1, 2]
 
 
 def test_a_call_ends_owing_nothing(family: str) -> None:
