@@ -40,7 +40,8 @@ def above_cut(t, cut):
     """t where |t| >= cut, else 0 (a NaN too): `t if abs(t) >= cut else 0.0` as one select. Written in Python, the
     choice compiles to two branches, each storing its number, and a vectorized loop then stores through two masked
     stores (vmaskmovpd), which AMD's Zen cores run slowly: decaying a row of 2000 classes took 3.0 us, 0.6 as a
-    select (docs/performance.md, "Masked stores"). The same numbers to the bit."""
+    select (docs/performance.md, "Masked stores on AMD's cores"). The same numbers to the bit; every cut of a trace
+    entry takes it, so that the cut is written once."""
     return _select_above_cut(t, cut)  # type: ignore[call-arg]  # (mypy reads an intrinsic as its typing function)
 
 
@@ -111,7 +112,7 @@ def merge(b, lay, wts, scr, x_t, v_t, shift, keep_dropped):
             t = trace[voff + row] * decay[0]
             if on_x:
                 t += add[0] * value
-            trace[voff + row] = t if abs(t) >= cut else 0.0
+            trace[voff + row] = above_cut(t, cut)
             left = trace[voff + row] != 0.0
             rows_e[out] = trace[voff + row]  # the stored value
         else:

@@ -40,7 +40,7 @@ from numba import njit
 from horde.core.engine.layout import EV_ROWS, NO_NRT, OWED_ROWS
 from horde.core.engine.rows import add_row, at, dot, fold_floor, square
 from horde.core.engine.rows import td_error as td_error_at
-from horde.core.engine.traces import merge
+from horde.core.engine.traces import above_cut, merge
 from horde.core.engine.values import observe_range
 from horde.core.learners.tdrc import SCALE_FLOOR, move_scales
 
@@ -89,7 +89,7 @@ def _cell(ev, r, i0, value):
 def _new_trace(e_old, decay, add, f, cut, ev, r, i0):
     """e_t's value on a row as the merge will store it (`traces.merge`: decay, add, cut, the trace's dtype)."""
     t = e_old * decay + add * f
-    return _cell(ev, r, i0, t if abs(t) >= cut else 0.0)
+    return _cell(ev, r, i0, above_cut(t, cut))
 
 
 @njit(**NO_NRT, inline="always")
