@@ -147,7 +147,7 @@ def _adaptive_kernel(exp, autostep):
         per-demon arrays, is one tuple built before the loops: built per weight, it slowed the walk by 2 %.)"""
         meta, rate, dlv, largest = demons
         if not autostep:
-            a[at_] *= vector_exp(meta[d] * dlv[u] * p * h[at_])
+            a[at_] *= exp(meta[d] * dlv[u] * p * h[at_])
             return a[at_]
         sample = dlv[u] * p * h[at_]
         size = abs(sample)
