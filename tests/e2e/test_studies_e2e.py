@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 import pytest
 
 from horde.server import Settings
+from polling import wait_until
 
 from .conftest import ON_DASHBOARD, SHOTS, RunningServer, collect_errors, fill_and_press, serve_in_thread
 
@@ -161,6 +162,8 @@ def test_a_diverged_configuration_is_flagged_in_the_table_the_plots_and_the_curv
     panel = page.locator(".studies-panel")
     expect(panel.get_by_label("Study")).to_contain_text("classroom-offpolicy", timeout=TIMEOUT_MS)
     panel.get_by_label("Study").select_option(study_id)
+    # this study's section, not the last one's (the title names the scenario and the study's size)
+    expect(panel.locator("#study-title")).to_contain_text("4 configurations x 1 runs", timeout=TIMEOUT_MS)
     expect(panel.locator(".study-job .badge")).to_have_text("finished", timeout=90_000)
     rows = panel.locator("table.study-configs tbody tr")
     expect(rows).to_have_count(4)
@@ -181,3 +184,40 @@ def test_a_diverged_configuration_is_flagged_in_the_table_the_plots_and_the_curv
     page.evaluate("window.scrollTo(0, 0)")
     SHOTS.mkdir(parents=True, exist_ok=True)
     panel.screenshot(path=str(SHOTS / "study-diverged.png"))
+
+
+def test_choosing_another_study_hides_the_last_ones_progress_until_the_chosen_one_is_read(
+    page: Page, server: RunningServer
+) -> None:
+    """The studies list answers 2 s late here: in that time the panel shows no study's progress, where it used to
+    keep the last study's (its "finished" badge stood under the newly chosen study: what a browser test once read
+    as the new study's)."""
+    from playwright.sync_api import Route, expect
+
+    tiny = {"scenario": "classroom-offpolicy", "runs": 1, "measure": {"episodes": 2, "checkpoints": 1},
+            "axes": [{"path": "learning.alpha", "values": [0.1]}]}  # fmt: skip
+
+    def finished_study(runs: int) -> str:  # one study at a time: the next waits for this one
+        posted = server.client.post("/api/studies", json={**tiny, "runs": runs})
+        assert posted.status_code == 202, posted.text
+        study = posted.json()["id"]
+        wait_until(lambda: server.client.get(f"/api/studies/{study}").json()["status"] == "finished", "a tiny study")
+        return study
+
+    first, second = finished_study(1), finished_study(2)
+    panel = page.locator(".studies-panel")
+    expect(panel.get_by_label("Study").locator(f"option[value='{second}']")).to_have_count(1, timeout=TIMEOUT_MS)
+    panel.get_by_label("Study").select_option(first)
+    expect(panel.locator("#study-title")).to_contain_text("1 configurations x 1 runs", timeout=TIMEOUT_MS)
+    expect(panel.locator(".study-job .badge")).to_have_text("finished", timeout=90_000)
+
+    def late(route: Route) -> None:
+        page.wait_for_timeout(2000)
+        route.continue_()
+
+    page.route("**/api/studies", late)  # the list only: the chosen study's own read is /api/studies/<id>
+    panel.get_by_label("Study").select_option(second)
+    expect(panel.locator(".study-job .badge")).to_have_count(0, timeout=1500)
+    page.unroute("**/api/studies")
+    expect(panel.locator("#study-title")).to_contain_text("1 configurations x 2 runs", timeout=TIMEOUT_MS)
+    expect(panel.locator(".study-job .badge")).to_have_text("finished", timeout=90_000)

@@ -102,6 +102,8 @@ async function readStudy(shown: Shown, id: string): Promise<void> {
 function studyChoice(shown: Shown, studies: Study[]) {
   const choose = (event: Event) => {
     shown.id = (event.target as HTMLSelectElement).value || null;
+    // drawn at once: until the chosen study is read, the last one's progress and results must not stand under it
+    shown.draw();
     void shown.refresh();
   };
   return selectField(
