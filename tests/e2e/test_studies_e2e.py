@@ -189,9 +189,9 @@ def test_a_diverged_configuration_is_flagged_in_the_table_the_plots_and_the_curv
 def test_choosing_another_study_hides_the_last_ones_progress_until_the_chosen_one_is_read(
     page: Page, server: RunningServer
 ) -> None:
-    """The studies list answers 2 s late here: in that time the panel shows no study's progress, where it used to
-    keep the last study's (its "finished" badge stood under the newly chosen study: what a browser test once read
-    as the new study's)."""
+    """The studies list is held unanswered here after a choice: meanwhile the panel shows no study's progress, where
+    it used to keep the last study's (its "finished" badge stood under the newly chosen study: what a browser test
+    once read as the new study's)."""
     from playwright.sync_api import Route, expect
 
     tiny = {"scenario": "classroom-offpolicy", "runs": 1, "measure": {"episodes": 2, "checkpoints": 1},
@@ -211,13 +211,21 @@ def test_choosing_another_study_hides_the_last_ones_progress_until_the_chosen_on
     expect(panel.locator("#study-title")).to_contain_text("1 configurations x 1 runs", timeout=TIMEOUT_MS)
     expect(panel.locator(".study-job .badge")).to_have_text("finished", timeout=90_000)
 
-    def late(route: Route) -> None:
-        page.wait_for_timeout(2000)
-        route.continue_()
+    held: list[Route] = []  # no fixed delay: the list's answers wait until the check below has been made
+    released = False
 
-    page.route("**/api/studies", late)  # the list only: the chosen study's own read is /api/studies/<id>
+    def hold(route: Route) -> None:
+        if released:
+            route.continue_()
+        else:
+            held.append(route)
+
+    page.route("**/api/studies", hold)  # the list only: the chosen study's own read is /api/studies/<id>
     panel.get_by_label("Study").select_option(second)
-    expect(panel.locator(".study-job .badge")).to_have_count(0, timeout=1500)
+    expect(panel.locator(".study-job .badge")).to_have_count(0, timeout=TIMEOUT_MS)
+    released = True
+    for route in held:
+        route.continue_()
     page.unroute("**/api/studies")
     expect(panel.locator("#study-title")).to_contain_text("1 configurations x 2 runs", timeout=TIMEOUT_MS)
     expect(panel.locator(".study-job .badge")).to_have_text("finished", timeout=90_000)
