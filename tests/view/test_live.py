@@ -93,6 +93,20 @@ def test_one_refresh_draws_the_chosen_run(source: ManagerSource) -> None:
         view.stop()
 
 
+def test_the_default_lights_cast_no_shadow(source: ManagerSource) -> None:
+    """A shadow map costs a GPU-less browser a quarter of each frame, and nothing in the flat world casts one."""
+    view = started_by_hand(source)
+    try:
+        client = RawClient(view)
+        lights = wait_until(
+            lambda: [m for m in client.sent() if m["type"] == "EnableLightsMessage"], "the lights' message", 10.0
+        )
+        assert [(m["enabled"], m["cast_shadow"]) for m in lights] == [(True, False)]
+        client.close()
+    finally:
+        view.stop()
+
+
 def test_the_default_camera_looks_straight_down_with_y_up_and_the_tilt_keeps_z_up() -> None:
     world = load_scenario(SCENARIOS / "experiment1.toml").world
     top = camera.top_down(world)

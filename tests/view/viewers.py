@@ -13,6 +13,7 @@ from typing import Any
 
 import msgspec.msgpack
 import viser
+import zstandard
 from viser import _messages
 from websockets.exceptions import ConnectionClosed
 from websockets.sync.client import ClientConnection, connect
@@ -23,6 +24,7 @@ from horde.view.viewer import Viewer
 from polling import wait_until
 from serving import free_port
 
+MAX_KEPT = 1000  # messages a RawClient keeps
 CAMERA = _messages.ViewerCameraMessage(
     wxyz=(1.0, 0.0, 0.0, 0.0),
     position=(0.0, 0.0, 10.0),
@@ -49,6 +51,7 @@ class RawClient:
             open_timeout=10,
         )
         self.received = 0
+        self.messages: list[bytes] = []  # what the server sent, as sent (the first MAX_KEPT)
         self._reader = threading.Thread(target=self._read, daemon=True)
         self._reader.start()
         self.send(CAMERA)
@@ -61,10 +64,22 @@ class RawClient:
     def _read(self) -> None:
         try:
             while True:
-                self.socket.recv(timeout=60)
+                message = self.socket.recv(timeout=60)
+                if len(self.messages) < MAX_KEPT and isinstance(message, bytes):
+                    self.messages.append(message)
                 self.received += 1
         except (ConnectionClosed, TimeoutError, OSError):
             return
+
+    def sent(self) -> list[dict[str, Any]]:
+        """The messages the server sent this client (of those kept), each as its fields and `type`, decoded
+        from viser's wire format: two sizes, the zstd-compressed msgpack of the window, then binary buffers."""
+        decoded = []
+        for window in self.messages:
+            compressed = int.from_bytes(window[8:16], "little")
+            inner = zstandard.ZstdDecompressor().decompress(window[16 : 16 + compressed])
+            decoded.extend(msgspec.msgpack.decode(inner)["messages"])
+        return decoded
 
     def send(self, message: _messages.Message) -> None:
         self.socket.send(msgspec.msgpack.encode(message.as_serializable_dict()))

@@ -159,6 +159,9 @@ class LiveView:
         server = viser.ViserServer(host=self.host, port=self.requested_port, verbose=False)
         self._server = server
         server.scene.world_axes.visible = False
+        # Nothing in the view casts a shadow worth drawing (the world is flat and seen from above), while the
+        # default lights' shadow maps cost a browser without a GPU (software WebGL) about a quarter of each frame.
+        server.scene.configure_default_lights(cast_shadow=False)
         self._guard_connections(server)
         server.on_client_connect(self._add_viewer)
         server.on_client_disconnect(self._remove_viewer)
