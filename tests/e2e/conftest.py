@@ -112,9 +112,12 @@ def viser_view(page: Page, view_url: str, timeout: float = 60.0) -> Frame:
 
     Scrolled by the page's own scrollIntoView, not Playwright's, which first waits for the frame to stand still
     over two animation frames: once the view draws (software WebGL), a page gets a few frames a second, the
-    charts above the frame grow as readings arrive, and that wait ran out on a loaded machine."""
-    page.locator("iframe.viser-frame").evaluate("frame => frame.scrollIntoView({block: 'center'})")
+    charts above the frame grow as readings arrive, and that wait ran out on a loaded machine. The scroll too is
+    bounded by `timeout`, not the page's default: the view's frame shares the page's main thread, which the viser
+    client's start-up (its shaders compiled in software) held for more than 20 s in a loaded CI run."""
     deadline = time.monotonic() + timeout
+    scroll = "frame => frame.scrollIntoView({block: 'center'})"
+    page.locator("iframe.viser-frame").evaluate(scroll, timeout=timeout * 1000)
     while (frame := next((f for f in page.frames if f.url.startswith(view_url.rstrip("/"))), None)) is None:
         assert time.monotonic() < deadline, f"no frame of the page shows the live view at {view_url}"
         page.wait_for_timeout(100)  # (Playwright's events, a frame's navigation among them, arrive while it waits)

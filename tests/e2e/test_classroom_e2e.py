@@ -42,6 +42,7 @@ TOUR_DONE = "localStorage.setItem('horde-lab-tour-done', '1')"
 LARGE_TEXT = "localStorage.setItem('horde-lab-large-text', '1')"
 
 pytestmark = ON_DASHBOARD
+PAGE_TIMEOUT_MS = 60_000
 
 
 @pytest.fixture(scope="module")
@@ -79,7 +80,9 @@ def new_page(browser: Browser, width: int, height: int, *scripts: str) -> tuple[
     for script in scripts:
         context.add_init_script(script)
     page = context.new_page()
-    page.set_default_timeout(20_000)
+    # A wide page shows the live view at once: its software WebGL then holds the page's frames (and so
+    # Playwright's "stable" check) up for tens of seconds on a loaded two-core machine.
+    page.set_default_timeout(PAGE_TIMEOUT_MS)
 
     def from_the_dashboard(message: Any) -> bool:
         host = urlparse(page.main_frame.url).netloc
