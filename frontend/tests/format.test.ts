@@ -2,6 +2,7 @@ import { describe, expect, it } from "vitest";
 import {
   MISSING,
   formatCount,
+  formatCountOf,
   nameParts,
   formatEstimate,
   formatHz,
@@ -38,6 +39,13 @@ describe("counts, estimates, errors and speeds", () => {
   it("separates thousands", () => {
     expect(formatCount(12345)).toBe("12,345");
     expect(formatCount(null)).toBe(MISSING);
+  });
+  it("says one thing in the singular and any other count in the plural", () => {
+    expect(formatCountOf(1, "configuration")).toBe("1 configuration");
+    expect(formatCountOf(0, "run")).toBe("0 runs");
+    expect(formatCountOf(12345, "step")).toBe("12,345 steps");
+    expect(formatCountOf(2, "Monte-Carlo rollout")).toBe("2 Monte-Carlo rollouts");
+    expect(formatCountOf(3, "study", "studies")).toBe("3 studies");
   });
   it("writes a mean with its standard error", () => {
     expect(formatEstimate(39.0123, 0.21)).toBe("39.012 ± 0.210");

@@ -163,7 +163,7 @@ def test_a_diverged_configuration_is_flagged_in_the_table_the_plots_and_the_curv
     expect(panel.get_by_label("Study")).to_contain_text("classroom-offpolicy", timeout=TIMEOUT_MS)
     panel.get_by_label("Study").select_option(study_id)
     # this study's section, not the last one's (the title names the scenario and the study's size)
-    expect(panel.locator("#study-title")).to_contain_text("4 configurations x 1 runs", timeout=TIMEOUT_MS)
+    expect(panel.locator("#study-title")).to_contain_text("4 configurations x 1 run", timeout=TIMEOUT_MS)
     expect(panel.locator(".study-job .badge")).to_have_text("finished", timeout=90_000)
     rows = panel.locator("table.study-configs tbody tr")
     expect(rows).to_have_count(4)
@@ -208,7 +208,7 @@ def test_choosing_another_study_hides_the_last_ones_progress_until_the_chosen_on
     panel = page.locator(".studies-panel")
     expect(panel.get_by_label("Study").locator(f"option[value='{second}']")).to_have_count(1, timeout=TIMEOUT_MS)
     panel.get_by_label("Study").select_option(first)
-    expect(panel.locator("#study-title")).to_contain_text("1 configurations x 1 runs", timeout=TIMEOUT_MS)
+    expect(panel.locator("#study-title")).to_contain_text("1 configuration x 1 run", timeout=TIMEOUT_MS)
     expect(panel.locator(".study-job .badge")).to_have_text("finished", timeout=90_000)
 
     held: list[Route] = []  # no fixed delay: the list's answers wait until the check below has been made
@@ -230,10 +230,10 @@ def test_choosing_another_study_hides_the_last_ones_progress_until_the_chosen_on
     assert held, "the list's poll was not held"
     panel.get_by_label("Study").select_option(second)
     # the first study's section is gone (the second's shows only if the page had read it before, as it may have)
-    expect(panel.locator("#study-title", has_text="1 configurations x 1 runs")).to_have_count(0, timeout=TIMEOUT_MS)
+    expect(panel.locator("#study-title", has_text="1 configuration x 1 run")).to_have_count(0, timeout=TIMEOUT_MS)
     released = True
     for route in held:
         route.continue_()
     page.unroute("**/api/studies")
-    expect(panel.locator("#study-title")).to_contain_text("1 configurations x 2 runs", timeout=TIMEOUT_MS)
+    expect(panel.locator("#study-title")).to_contain_text("1 configuration x 2 runs", timeout=TIMEOUT_MS)
     expect(panel.locator(".study-job .badge")).to_have_text("finished", timeout=90_000)

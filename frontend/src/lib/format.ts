@@ -18,6 +18,11 @@ export function formatCount(value: number | null | undefined): string {
   return Math.round(value).toLocaleString("en-US");
 }
 
+/** A count and its noun, singular for one: "1 run", "12,345 steps", "2 configurations". */
+export function formatCountOf(value: number, one: string, many = `${one}s`): string {
+  return `${formatCount(value)} ${value === 1 ? one : many}`;
+}
+
 /** A Monte-Carlo mean with its standard error: "39.012 ± 0.210". */
 export function formatEstimate(mean: number | null | undefined, stderr: number | null | undefined, digits = 3): string {
   if (mean === null || mean === undefined || !Number.isFinite(mean)) return MISSING;

@@ -4,7 +4,7 @@
  * answer (GET /api/protocols/{id}), so that they are tested without a browser.
  */
 import type { Counts, DemonResult, Protocol } from "../api/types";
-import { MISSING, formatCount, formatEstimate, formatNumber, formatRelativeError } from "./format";
+import { MISSING, formatCount, formatCountOf, formatEstimate, formatNumber, formatRelativeError } from "./format";
 
 /** A duration for people: "0.4 s", "42 s", "2 min 05 s", "1 h 03 min". */
 export function formatDuration(seconds: number | null | undefined): string {
@@ -132,11 +132,9 @@ export function countsTable(results: readonly DemonResult[], thesis: Counts | nu
   return { demon: tested.name, rows };
 }
 
-const plural = (n: number, one: string, many = `${one}s`) => `${formatCount(n)} ${n === 1 ? one : many}`;
-
 /** What was run: "experiment3: 1 trial × 300 episodes (at most 100 steps each)". */
 export function protocolTitle(job: Pick<Protocol, "name" | "trials" | "episodes" | "max_steps">): string {
-  return `${job.name ?? "protocol"}: ${plural(job.trials, "trial")} × ${plural(job.episodes, "episode")} (at most ${plural(job.max_steps, "step")} each)`;
+  return `${job.name ?? "protocol"}: ${formatCountOf(job.trials, "trial")} × ${formatCountOf(job.episodes, "episode")} (at most ${formatCountOf(job.max_steps, "step")} each)`;
 }
 
 /** The line under the table: "8,981 steps in 0.4 s (20,505 steps/s); truth: 5,000 rollouts per trial". */
@@ -144,11 +142,11 @@ export function protocolSummary(job: Pick<Protocol, "steps" | "seconds" | "rollo
   const parts: string[] = [];
   if (job.steps !== null) {
     const speed = job.seconds ? ` (${formatCount(job.steps / job.seconds)} steps/s)` : "";
-    parts.push(`${plural(job.steps, "step")} in ${formatDuration(job.seconds)}${speed}`);
+    parts.push(`${formatCountOf(job.steps, "step")} in ${formatDuration(job.seconds)}${speed}`);
   }
   parts.push(
     job.rollouts > 0
-      ? `truth: ${plural(job.rollouts, "Monte-Carlo rollout")} per trial`
+      ? `truth: ${formatCountOf(job.rollouts, "Monte-Carlo rollout")} per trial`
       : "no Monte-Carlo truth (the scenario asks for 0 rollouts)",
   );
   return parts.join("; ");

@@ -13,6 +13,7 @@ import { keys, readNow, watchQuery } from "../app/queries";
 import { reads } from "../app/reads";
 import { mount } from "../app/view";
 import { api, errorMessage, unwrap } from "../api/client";
+import { formatCountOf } from "../lib/format";
 import { type Study, type StudyDetail, studyProgress } from "../lib/study";
 import { selectField } from "../ui/form";
 import { heading, host } from "../ui/html";
@@ -143,8 +144,8 @@ function jobSection(shown: Shown, detail: StudyDetail | undefined) {
     <div class="panel-head">
       <div class="job-title">
         <h3 id="study-title">
-          ${detail.name ?? detail.id}: ${detail.configurations} configurations x ${detail.runs} runs, ${detail.episodes}
-          episodes each
+          ${detail.name ?? detail.id}: ${formatCountOf(detail.configurations, "configuration")} x
+          ${formatCountOf(detail.runs, "run")}, ${formatCountOf(detail.episodes, "episode")} each
         </h3>
         <span class="badge status-${detail.status}">${detail.status}</span>
       </div>
