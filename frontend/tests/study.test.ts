@@ -8,6 +8,7 @@ import {
   sortConfigs,
   splitDiverged,
   studyProgress,
+  studySize,
 } from "../src/lib/study";
 import { ticks } from "../src/views/study-chart";
 
@@ -123,5 +124,12 @@ describe("ticks", () => {
     expect(ticks(0.21, 0.95, true)).toEqual([0.4, 0.6, 0.8]); // too few 1-2-5 steps: linear ones
     expect(ticks(0.001, 10, true)).toEqual([0.001, 0.01, 0.1, 1, 10]);
     expect(ticks(0, 100, false)).toEqual([0, 20, 40, 60, 80, 100]);
+  });
+});
+
+describe("studySize", () => {
+  it("counts configurations and runs, singular for one", () => {
+    expect(studySize({ configurations: 4, runs: 1 })).toBe("4 configurations x 1 run");
+    expect(studySize({ configurations: 1, runs: 2 })).toBe("1 configuration x 2 runs");
   });
 });

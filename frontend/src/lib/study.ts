@@ -4,6 +4,7 @@
  * neither on the x axis nor the grouping one), as `horde study --plots` draws them.
  */
 import type { Band, Study, StudyConfig, StudyDetail, StudyIn } from "../api/types";
+import { formatCountOf } from "./format";
 
 export type { Band, Study, StudyConfig, StudyDetail, StudyIn };
 export type AxisValue = number | string | boolean;
@@ -140,6 +141,11 @@ export function splitDiverged(configs: readonly StudyConfig[]): { kept: StudyCon
 /** At most `limit` configurations for the learning-curve chart: the best ones, best first. */
 export function bestConfigs(configs: readonly StudyConfig[], limit: number): StudyConfig[] {
   return sortConfigs(configs, "error").slice(0, limit);
+}
+
+/** A study's size: "4 configurations x 1 run". */
+export function studySize(study: Pick<Study, "configurations" | "runs">): string {
+  return `${formatCountOf(study.configurations, "configuration")} x ${formatCountOf(study.runs, "run")}`;
 }
 
 /** "12 of 40 tasks" and "about 1 min left" for a study's progress. */

@@ -15,9 +15,8 @@ import { reads } from "../app/reads";
 import { mount } from "../app/view";
 import { api, errorMessage, unwrap } from "../api/client";
 import type { LabExperiment, RunTemplate, StudyDetail, StudyIn } from "../api/types";
-import { formatCountOf } from "../lib/format";
 import { setupProblems } from "../lib/lab";
-import { studyProgress } from "../lib/study";
+import { studyProgress, studySize } from "../lib/study";
 import { heading, host } from "../ui/html";
 import type { Scope } from "../ui/scope";
 import { StudyResults } from "./study-results";
@@ -173,8 +172,7 @@ function figureSection(lab: Lab, figure: Figure, detail: StudyDetail | undefined
     </div>
     <p class="lab-caption">${figure.caption}</p>
     <p class="hint" ?hidden=${!detail}>
-      This run: ${detail ? formatCountOf(detail.configurations, "configuration") : ""} x
-      ${detail ? formatCountOf(detail.runs, "run") : ""} (the caption says the figure's set-up as shipped).
+      This run: ${detail ? studySize(detail) : ""} (the caption says the figure's set-up as shipped).
     </p>
     <progress max=${Math.max(1, detail?.tasks ?? 1)} .value=${detail?.tasks_done ?? 0}></progress>
     <p class="progress-text">${progress?.counted ?? ""}</p>

@@ -14,7 +14,7 @@ import { reads } from "../app/reads";
 import { mount } from "../app/view";
 import { api, errorMessage, unwrap } from "../api/client";
 import { formatCountOf } from "../lib/format";
-import { type Study, type StudyDetail, studyProgress } from "../lib/study";
+import { type Study, type StudyDetail, studyProgress, studySize } from "../lib/study";
 import { selectField } from "../ui/form";
 import { heading, host } from "../ui/html";
 import type { Scope } from "../ui/scope";
@@ -144,8 +144,7 @@ function jobSection(shown: Shown, detail: StudyDetail | undefined) {
     <div class="panel-head">
       <div class="job-title">
         <h3 id="study-title">
-          ${detail.name ?? detail.id}: ${formatCountOf(detail.configurations, "configuration")} x
-          ${formatCountOf(detail.runs, "run")}, ${formatCountOf(detail.episodes, "episode")} each
+          ${detail.name ?? detail.id}: ${studySize(detail)}, ${formatCountOf(detail.episodes, "episode")} each
         </h3>
         <span class="badge status-${detail.status}">${detail.status}</span>
       </div>
