@@ -224,12 +224,106 @@ def test_true_online_gtds_w_pass_reads_what_the_next_step_needs_less_what_the_cu
     assert checked > 600 and cut_steps > 20, (checked, cut_steps)
 
 
+def _bold_tidbd() -> RunSpec:
+    """TIDBD demons, some bold (meta step sizes 0.2 and 0.4; one keeps its weights across episodes), whose meta steps'
+    arguments |mu delta phi h| go beyond 1/16, where the walk's polynomial exp stops (`adaptive.large_meta_steps`),
+    and which stay finite for 300 steps (a meta step size of 0.3 or a cumulant of 2 diverges here)."""
+    data = spec().model_dump(by_alias=True)
+    bold = {"learner": "td", "step_size": "tidbd", "meta_step": 0.2, "policy": FIXED, "cumulant": 1, "discount": 0.9}
+    data["demons"] = [d for d in data["demons"] if d["name"] in ("base", "tidbd", "tidbd_b")] + [
+        {**bold, "name": "bold"},
+        {**bold, "name": "bold_kept", "reset": "never", "discount": 0.8},
+        {**bold, "name": "bold_b", "cumulant": -1, "discount": 0.5, "meta_step": 0.4},
+    ]
+    return RunSpec.model_validate(data)
+
+
+def _tidbd_blocks(sim: Simulation) -> list[int]:
+    return [b for b, block in enumerate(sim.learner.engine.horde.blocks) if block.step_size == "tidbd"]
+
+
+def test_tidbd_takes_its_larger_meta_steps_apart_and_equals_the_reference() -> None:
+    """TIDBD's walk takes exp as a polynomial good to 1/16; a demon whose largest |phi h| over x_t's rows, times
+    |mu delta|, may reach beyond takes its meta steps apart with the full exp (`adaptive.large_meta_steps`). The
+    largest |phi h| comes from the last step's walk, which reads it over x_tp1's rows after they moved
+    (`Online.w_read[0]`), or is read afresh where that does not hold: the first step, an episode's start. After
+    every step it equals the largest |phi h| over the new state's rows; the engine equals the oracle to 1e-9 over
+    steps where some demons went each way, across episodes."""
+    run = _bold_tidbd()
+    sim = Simulation(run, cut=0.0)
+    ref = ReferenceHorde(run)
+    engine, names = sim.learner.engine, sim.world.sensor_names
+    t = engine.t
+    ref.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
+    (b,) = _tidbd_blocks(sim)
+    lo, db = int(t.lay.block_lo[b]), int(t.lay.block_hi[b] - t.lay.block_lo[b])
+    meta = t.onl.meta[lo : lo + db].copy()
+    apart = walked = episodes = 0
+    for step in range(1, 301):
+        largest, ok = t.onl.w_read[0, lo : lo + db].copy(), int(t.onl.w_read_ok[b])
+        result = sim.step()
+        sensors = sim.sensors
+        ref.learn(result.action, sim.behaviour_probability, float(sensors[0]), float(sensors[1]),
+                  dict(zip(names, sensors.tolist(), strict=True)), result.terminated)  # fmt: skip
+        if result.done:
+            episodes += 1
+            ref.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
+        compare(sim, ref, step, 1e-9)
+        if ok:
+            beyond = np.abs(meta * t.dem.delta[lo : lo + db]) * largest > SMALL_EXP
+            apart += int(beyond.sum())
+            walked += int((~beyond & (t.dem.delta[lo : lo + db] != 0.0)).sum())
+        if not result.done:
+            x = t.coded.features[0, : t.coded.counts[0]]
+            v = t.coded.values[0, : t.coded.counts[0]]
+            h = engine.weights(t.wts.w, b)
+            np.testing.assert_array_equal(t.onl.w_read[0, lo : lo + db], np.abs(v[:, None] * h[x]).max(axis=0))
+        else:
+            assert t.onl.w_read_ok[b] == 0, "a new episode's first step reads the largest |phi h| afresh"
+    assert not sim.horde_state.diverged.any()
+    assert episodes >= 3 and apart > 50 and walked > 500, (episodes, apart, walked)
+
+
+def test_tidbds_meta_steps_beyond_the_polynomials_reach_take_the_full_exp() -> None:
+    """The oracle's comparison above cannot tell the walk's polynomial from exp below arguments of about 0.7 (its
+    remainder there is under 1e-9): here h is loaded large (10 for one demon, -10 for another: arguments of
+    several units), and at each of three steps every step size of x_t's rows is alpha exp(mu delta phi h), from
+    the step's own TD error, the h and alpha before it, to 1e-13 (a degree-9 polynomial at 2 is 1e-4 off). The
+    first step counts the largest |phi h| afresh (a load), the next two take what the walk read."""
+    sim = Simulation(_bold_tidbd(), cut=0.0)
+    sim.run(20)
+    engine, state = sim.learner.engine, sim.horde_state
+    for name, value in (("bold", 10.0), ("bold_b", -10.0)):
+        sim.horde.demon_arrays(state, name)[1][:] = value
+    sim.horde_state = state
+    t = engine.t
+    largest_argument = 0.0
+    for _ in range(3):
+        x = t.coded.features[0, : t.coded.counts[0]].copy()
+        v = t.coded.values[0, : t.coded.counts[0]].copy()
+        before = {n: (sim.step_sizes(n), sim.horde.demon_arrays(sim.horde_state, n)[1].copy())
+                  for n in ("tidbd", "bold", "bold_kept", "bold_b")}  # fmt: skip
+        assert not sim.step().done
+        for name, (alphas, h) in before.items():
+            slot = int(sim.horde.demon_slot[sim.horde.index[name]])
+            argument = t.onl.meta[slot] * t.dem.delta[slot] * v * h[x]
+            largest_argument = max(largest_argument, float(np.abs(argument).max()))
+            expected = alphas.copy()
+            expected[x] = alphas[x] * np.exp(argument)
+            np.testing.assert_allclose(sim.step_sizes(name), expected, rtol=1e-13, atol=0, err_msg=name)
+    assert largest_argument > 1.0, largest_argument
+    assert not sim.horde_state.diverged.any()
+
+
 @pytest.mark.parametrize("load", ["horde_state", "learner_state"])
-def test_a_state_loaded_into_a_running_true_online_gtd_is_read_afresh(load: str) -> None:
-    """A running engine whose weights (`horde_state`) or traces (`learner_state`) are put back from 50 steps
-    before goes on as a new engine given the same state does, to the last bit: what its last w pass read for the
-    next step no longer holds, and the next step reads w afresh."""
-    run = _gtd_demons()
+@pytest.mark.parametrize("learner", ["true_online_gtd", "tidbd"])
+def test_a_state_loaded_into_a_running_engine_is_read_afresh(learner: str, load: str) -> None:
+    """A running engine whose weights (`horde_state`) or traces and step sizes (`learner_state`) are put back from
+    50 steps before goes on as a new engine given the same state does, to the last bit: what its last walk read
+    for the next step (true online GTD's w . e_grad and w . x; TIDBD's largest |phi h|, which chooses each demon's
+    exp) no longer holds, and the next step reads it afresh."""
+    run = _gtd_demons() if learner == "true_online_gtd" else _bold_tidbd()
+    blocks = _gtd_blocks if learner == "true_online_gtd" else _tidbd_blocks
     sim = Simulation(run, cut=0.0)
     sim.run(150)
     earlier = sim.horde_state if load == "horde_state" else sim.learner_state()
@@ -246,9 +340,11 @@ def test_a_state_loaded_into_a_running_true_online_gtd_is_read_afresh(load: str)
     fresh.rng.bit_generator.state = sim.rng.bit_generator.state
     sim.run(100)
     fresh.run(100)
-    for b in _gtd_blocks(sim):
-        np.testing.assert_array_equal(fresh.learner.engine.weights(fresh.learner.engine.t.wts.w, b),
-                                      sim.learner.engine.weights(sim.learner.engine.t.wts.w, b))  # fmt: skip
+    ours, theirs = sim.learner.engine, fresh.learner.engine
+    for b in blocks(sim):
+        for flat in ("theta", "w"):
+            np.testing.assert_array_equal(theirs.weights(getattr(theirs.t.wts, flat), b),
+                                          ours.weights(getattr(ours.t.wts, flat), b))  # fmt: skip
     np.testing.assert_array_equal(fresh.readout().prediction, sim.readout().prediction)
 
 

@@ -302,7 +302,7 @@ class Engine:
         t.dem.cumulant[:] = state.cumulant[slot]
         t.dem.diverged[:] = state.diverged[slot]
         t.wts.owed[:] = 0.0  # a state's theta owes nothing (the loop pays all before it returns)
-        t.onl.w_read_ok[:] = 0  # its w and features are new: true online GTD's next step reads w afresh
+        t.onl.w_read_ok[:] = 0  # its w and features are new: true online GTD's and TIDBD's next step read w afresh
         if world_state is not None:
             self.set_world_state(world_state)
 

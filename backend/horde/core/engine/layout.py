@@ -233,7 +233,8 @@ class Online(NamedTuple):
     trace2: np.ndarray  # true online GTD: per block [2, rows, C_b] at 2 voff: e_grad, then e_w
     support2: np.ndarray  # true online GTD: per block at toff, the sorted rows where e_grad or e_w is non-zero
     nnz2: np.ndarray  # [B] how many
-    w_read: np.ndarray  # [3, D] true online GTD: w . e_grad_{t-1}, w . x_t (the last w pass read them), w . e_grad_t
+    w_read: np.ndarray  # [3, D] true online GTD: w . e_grad_{t-1}, w . x_t (the last w pass read them), w . e_grad_t;
+    # TIDBD (h in w): [0] the largest |phi h| over x_t's rows, which the last walk read at x_tp1 (`adaptive`)
     w_read_ok: np.ndarray  # [B] 1 where the last step's w pass left w_read for this step (0: read it afresh)
     step_a: np.ndarray  # adaptive TD: per-weight step sizes, as theta (before the scale)
     step_v: np.ndarray  # autostep's normaliser v, as theta

@@ -22,12 +22,14 @@ theta moves; for TIDBD, which has no M, and for a run of Autostep demons whose M
 bound from each demon's largest step size, `Online.step_max`, which the kernels keep as they move step sizes,
 as |the meta step's argument| <= mu) the meta step and the update go in one walk (`fused_columns`, the same
 operations in the same order: the same numbers). Autostep's exp is a polynomial when the block's meta step
-sizes allow (`exp_tiny`, `exp_small`), chosen once per block, and `engine.fast_exp.vector_exp` otherwise, as
-TIDBD's always (an exp whose loops vectorize: `math.exp` is a call per weight); `_adaptive_kernel` compiles the
-kernel once per kind of exp.
+sizes allow (`exp_tiny`, `exp_small`), chosen once per block, and `engine.fast_exp.vector_exp` otherwise (an exp
+whose loops vectorize: `math.exp` is a call per weight); `_adaptive_kernel` compiles the kernel once per kind of
+exp. TIDBD's walk takes `exp_small`: the few demons whose arguments may reach beyond 1/16 (each demon's largest
+|phi h| over x_t's rows, which the last step's walk read over x_tp1's, `Online.w_read[0]`) take their meta steps
+apart with `vector_exp` before it (`large_meta_steps`).
 
-Why one module of about 460 lines: the kernel factory is the three passes written once, with their numpy form
-and registration beside them.
+Why one module of about 550 lines: the kernel factory is the three passes written once, with their numpy form
+and registration beside them, and TIDBD's meta steps taken apart.
 """
 
 from __future__ import annotations
@@ -37,7 +39,7 @@ import math
 import numpy as np
 from numba import njit
 
-from horde.core.engine.fast_exp import TAYLOR, taylor, vector_exp
+from horde.core.engine.fast_exp import INVERSE_FACTORIAL, TAYLOR, fma, taylor, vector_exp
 from horde.core.engine.layout import NO_NRT
 from horde.core.engine.rows import add_row, at, walk
 from horde.core.engine.traces import merge
@@ -98,6 +100,9 @@ def prepare(code, b, lay, wts, cls, onl, stp, scr):
         scr.decay[c] = cls.gamma[coff + c] * lay.lam[b] * rho
         scr.add[c] = rho
     class_bounds(b, lay, onl)
+    if code == TIDBD_CODE and onl.w_read_ok[b] == 0:
+        count_largest_products(b, lay, wts, onl, stp.x_t, stp.v_t)
+        onl.w_read_ok[b] = 1
     kept, _ = merge(b, lay, wts, scr, stp.x_t, stp.v_t, 0, False)
     scr.counts[0] = kept
     bound = 0.0  # the largest meta step size of the block: which exp its meta steps take (one kind for the block)
@@ -146,8 +151,8 @@ def _adaptive_kernel(exp, autostep):
         (`Online.step_max`); TIDBD's: alpha_i *= exp(mu delta phi_i h_i). Returns the new alpha_i. (`demons`, the
         per-demon arrays, is one tuple built before the loops: built per weight, it slowed the walk by 2 %.)"""
         meta, rate, dlv, largest = demons
-        if not autostep:
-            a[at_] *= exp(meta[d] * dlv[u] * p * h[at_])
+        if not autostep:  # (TIDBD's meta is per column: 0 where `large_meta_steps` took the demon's meta steps)
+            a[at_] *= exp(meta[u] * dlv[u] * p * h[at_])
             return a[at_]
         sample = dlv[u] * p * h[at_]
         size = abs(sample)
@@ -186,7 +191,8 @@ def _adaptive_kernel(exp, autostep):
         a, v, meta, bounds, inv_tau = onl.step_a, onl.step_v, onl.meta, onl.bounds, 1.0 / onl.tau
         rate, dlv, acc, largest = scr.work[5], scr.work[6], scr.values[0], onl.step_max
         x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
-        vectors, demons = (theta, h, a, v), (meta, rate, dlv, largest)
+        vectors, demons = (theta, h, a, v), (meta if autostep else scr.work[0], rate, dlv, largest)
+        next_h = scr.work[1]  # TIDBD: each demon's largest |phi' h| over x_tp1's rows, for the next step's exp
         s = j = m = 0  # positions in the support, x_t and x_tp1
         while True:
             row, in_support, on_x, on_next, s, j, m = walk(rows, kept, s, x_t, v_t, j, x_tp1, v_tp1, m)
@@ -203,6 +209,8 @@ def _adaptive_kernel(exp, autostep):
                         u = at(i)
                         learn_weight(base + u, u, at(lo + i), e, on_x, inv_tau, vectors, demons)
                         acc[u] += on_next * theta[base + u]  # (as stored: float32 rounds before it is read)
+                        if not autostep:
+                            next_h[u] = np.fmax(next_h[u], abs(on_next * h[base + u]))  # (`largest_product`)
                     continue
                 if on_x != 0.0 and e != 0.0:
                     for i in range(c0, c1):
@@ -216,8 +224,12 @@ def _adaptive_kernel(exp, autostep):
                     _trace_update(c0, c1, base, e, a, rate, dlv, theta, h)
                 if on_next != 0.0:
                     add_row(c0, c1, base, theta, acc, on_next)
+                    if not autostep:
+                        largest_product(c0, c1, base, h, on_next, next_h)
             if on_next != 0.0 and not learned:
                 add_row(i0, i1, base, theta, acc, on_next)
+                if not autostep:
+                    largest_product(i0, i1, base, h, on_next, next_h)
 
     @njit
     def _meta_steps(b, i0, i1, lay, wts, cls, onl, stp, scr):
@@ -312,13 +324,66 @@ def _adaptive_kernel(exp, autostep):
                 positive = max(effective[i], 0.0)
                 bound = rate[i] * (math.exp(meta[lo + i]) * upper * (1.0 + 1e-9) + positive + abs(effective[i]) * 1e-9)
                 fused = fused and bound <= 1.0
+        if not autostep:
+            large_meta_steps(b, i0, i1, lay, wts, onl, stp, scr)
         if fused:
             fused_columns(b, i0, i1, lay, wts, onl, stp, scr)
+            for i in range(i0 if not autostep else i1, i1):  # TIDBD: what the walk read for the next step
+                onl.w_read[0, lo + i] = scr.work[1, i]
             return
         _meta_steps(b, i0, i1, lay, wts, cls, onl, stp, scr)
         _update(b, i0, i1, lay, wts, onl, stp, scr)
 
     return adaptive_columns
+
+
+@njit(**NO_NRT)
+def large_meta_steps(b, i0, i1, lay, wts, onl, stp, scr):
+    """TIDBD's meta steps, alpha_i *= exp(mu delta phi_i h_i), taken here with `vector_exp` for block b's demons
+    i0 <= i < i1 whose arguments may reach beyond SMALL_EXP on the rows of x_t (about 1 % of the nexting demons,
+    spread over the block); the walk's exp, `exp_small`, takes the others'. What decides is each demon's largest
+    |phi_i h_i| over x_t's rows (`Online.w_read[0]`, read by the last step's walk or `count_largest_products`),
+    one number per demon, so that no weight's number depends on how the columns are split. scr.work[0] becomes
+    each column's meta step size for the walk: mu, or 0 where the meta steps were taken here (exp(0) is 1
+    exactly); scr.work[1], where the walk keeps the same largest product over x_tp1's rows for the next step,
+    starts at 0."""
+    lo, woff, db = lay.block_lo[b], lay.woff[b], lay.block_hi[b] - lay.block_lo[b]
+    h, a, meta, largest = wts.w, onl.step_a, onl.meta, onl.w_read[0]
+    dlv, walk_meta, next_largest = scr.work[6], scr.work[0], scr.work[1]
+    x_t, v_t = stp.x_t, stp.v_t
+    for i in range(i0, i1):
+        next_largest[i] = 0.0
+        mu = meta[lo + i]
+        if abs(mu * dlv[i]) * largest[lo + i] <= SMALL_EXP:  # (a NaN fails it)
+            walk_meta[i] = mu
+            continue
+        walk_meta[i] = 0.0
+        for j in range(x_t.shape[0]):
+            k = at(woff + x_t[j] * db + i)
+            if v_t[j] != 0.0:  # (as the walk: no meta step where x_t's value is 0)
+                a[k] *= vector_exp(mu * dlv[i] * v_t[j] * h[k])
+
+
+@njit(**NO_NRT)
+def count_largest_products(b, lay, wts, onl, x_t, v_t):
+    """Each of block b's TIDBD demons' largest |phi_i h_i| over the rows of x_t, read afresh (`large_meta_steps`)
+    where the last step's walk did not read it: at the first step, after an episode's start or a load."""
+    lo, woff, db = lay.block_lo[b], lay.woff[b], lay.block_hi[b] - lay.block_lo[b]
+    largest = onl.w_read[0]
+    for i in range(db):
+        largest[lo + i] = 0.0
+    for j in range(x_t.shape[0]):
+        base, p = at(woff + x_t[j] * db), v_t[j]
+        for i in range(db if p != 0.0 else 0):
+            largest[lo + i] = np.fmax(largest[lo + i], abs(p * wts.w[base + at(i)]))
+
+
+@njit(**NO_NRT, inline="always")
+def largest_product(c0, c1, base, h, value, largest):
+    """largest = max(largest, |value h|) over one run of columns of the row at base."""
+    for i in range(c0, c1):
+        u = at(i)
+        largest[u] = np.fmax(largest[u], abs(value * h[base + u]))  # (fmax, not max: see `meta_step`)
 
 
 @njit(**NO_NRT)
@@ -410,9 +475,15 @@ def _effective_run(c0, c1, base, coeff, a, effective):
 @njit(cache=True, inline="always")
 def exp_small(x):
     """exp(x) for |x| <= SMALL_EXP: its Taylor polynomial of degree 9 (the remainder is below 3e-19 relative,
-    far under the double's rounding), by Horner's rule in fused multiply-adds: fewer than `vector_exp`, which
-    reduces its argument first."""
-    return taylor(x, TAYLOR[-10:])
+    far under the double's rounding) in fused multiply-adds, fewer than `vector_exp`, which reduces its argument
+    first. As `fast_exp.reduced_exp`, 1 + x (1 + x (1/2 + x Q(x))) with the tail Q by Estrin's scheme: six
+    operations deep where Horner's rule is nine (TIDBD's walk waits on the chain: 4 % of its step)."""
+    c = INVERSE_FACTORIAL
+    x2 = x * x
+    # (mypy reads an intrinsic as its typing function: the ignore below)
+    low: float = fma(fma(c[6], x, c[5]), x2, fma(c[4], x, c[3]))  # type: ignore[call-arg]
+    tail = fma(fma(c[9], x, c[8]), x2 * x2 * x, fma(c[7], x2 * x2, low))
+    return fma(fma(fma(tail, x, c[2]), x, c[1]), x, c[0])
 
 
 @njit(cache=True, inline="always")
@@ -425,7 +496,7 @@ def exp_tiny(x):
 _autostep_tiny = _adaptive_kernel(exp_tiny, True)
 _autostep_small = _adaptive_kernel(exp_small, True)
 _autostep_any = _adaptive_kernel(vector_exp, True)
-_tidbd = _adaptive_kernel(vector_exp, False)
+_tidbd = _adaptive_kernel(exp_small, False)  # (its demons with larger arguments: `large_meta_steps`)
 
 
 @njit(**NO_NRT)

@@ -385,5 +385,5 @@ def _togtd_weights(b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
 @njit(**NO_NRT)
 def episode_start(onl):
     """An episode starts: x_t is the new episode's first state, and weights may have been forgotten: the first
-    step reads w afresh."""
+    step reads w afresh (true online GTD's w_read, TIDBD's largest |phi h|: `Online.w_read_ok`)."""
     onl.w_read_ok[:] = 0
