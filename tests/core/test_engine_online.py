@@ -286,19 +286,22 @@ def test_tidbd_takes_its_larger_meta_steps_apart_and_equals_the_reference() -> N
 
 def test_tidbds_meta_steps_beyond_the_polynomials_reach_take_the_full_exp() -> None:
     """The oracle's comparison above cannot tell the walk's polynomial from exp below arguments of about 0.7 (its
-    remainder there is under 1e-9): here h is loaded large (10 for one demon, -10 for another: arguments of
-    several units), and at each of three steps every step size of x_t's rows is alpha exp(mu delta phi h), from
-    the step's own TD error, the h and alpha before it, to 1e-13 (a degree-9 polynomial at 2 is 1e-4 off). The
-    first step counts the largest |phi h| afresh (a load), the next two take what the walk read."""
+    remainder there is under 1e-9): here h is loaded large (+-10 for the bold demons, 40 and -60 for the two gentle
+    ones, whose h was too small for any argument beyond 1/16 before: arguments of several units), and at each of
+    three steps every step size of x_t's rows is alpha exp(mu delta phi h), from the step's own TD error, the h and
+    alpha before it, to 1e-13 (a degree-9 polynomial is 2e-12 off at 0.3, 1e-4 at 2). The first step counts the
+    largest |phi h| afresh (a load: what the last walk read is of the h before it), the next two take what the
+    walk read."""
     sim = Simulation(_bold_tidbd(), cut=0.0)
     sim.run(20)
     engine, state = sim.learner.engine, sim.horde_state
-    for name, value in (("bold", 10.0), ("bold_b", -10.0)):
+    loaded = {"tidbd": 40.0, "tidbd_b": -60.0, "bold": 10.0, "bold_b": -10.0}
+    for name, value in loaded.items():
         sim.horde.demon_arrays(state, name)[1][:] = value
     sim.horde_state = state
     t = engine.t
     largest_argument = 0.0
-    for _ in range(3):
+    for step in range(3):
         x = t.coded.features[0, : t.coded.counts[0]].copy()
         v = t.coded.values[0, : t.coded.counts[0]].copy()
         before = {n: (sim.step_sizes(n), sim.horde.demon_arrays(sim.horde_state, n)[1].copy())
@@ -308,6 +311,8 @@ def test_tidbds_meta_steps_beyond_the_polynomials_reach_take_the_full_exp() -> N
             slot = int(sim.horde.demon_slot[sim.horde.index[name]])
             argument = t.onl.meta[slot] * t.dem.delta[slot] * v * h[x]
             largest_argument = max(largest_argument, float(np.abs(argument).max()))
+            if step == 0 and name in ("tidbd", "tidbd_b"):
+                assert np.abs(argument).max() > 0.3, (name, argument)  # (the polynomial is off by over 1e-13)
             expected = alphas.copy()
             expected[x] = alphas[x] * np.exp(argument)
             np.testing.assert_allclose(sim.step_sizes(name), expected, rtol=1e-13, atol=0, err_msg=name)
