@@ -326,7 +326,8 @@ def test_a_state_loaded_into_a_running_engine_is_read_afresh(learner: str, load:
     """A running engine whose weights (`horde_state`) or traces and step sizes (`learner_state`) are put back from
     50 steps before goes on as a new engine given the same state does, to the last bit: what its last walk read
     for the next step (true online GTD's w . e_grad and w . x; TIDBD's largest |phi h|, which chooses each demon's
-    exp) no longer holds, and the next step reads it afresh."""
+    exp, after a horde state: a learner state leaves h as it was) no longer holds, and the next step reads it
+    afresh."""
     run = _gtd_demons() if learner == "true_online_gtd" else _bold_tidbd()
     blocks = _gtd_blocks if learner == "true_online_gtd" else _tidbd_blocks
     sim = Simulation(run, cut=0.0)

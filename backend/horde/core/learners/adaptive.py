@@ -477,7 +477,7 @@ def exp_small(x):
     """exp(x) for |x| <= SMALL_EXP: its Taylor polynomial of degree 9 (the remainder is below 3e-19 relative,
     far under the double's rounding) in fused multiply-adds, fewer than `vector_exp`, which reduces its argument
     first. As `fast_exp.reduced_exp`, 1 + x (1 + x (1/2 + x Q(x))) with the tail Q by Estrin's scheme: six
-    operations deep where Horner's rule is nine (TIDBD's walk waits on the chain: 4 % of its step)."""
+    operations deep where Horner's rule is nine (TIDBD's walk waits on the chain: 6 % of its step)."""
     c = INVERSE_FACTORIAL
     x2 = x * x
     # (mypy reads an intrinsic as its typing function: the ignore below)
