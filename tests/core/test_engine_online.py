@@ -95,9 +95,11 @@ def compare(sim: Simulation, ref: ReferenceHorde, step: int, tolerance: float) -
     return largest
 
 
-def replay(run: RunSpec, cut: float, steps: int) -> tuple[Simulation, ReferenceHorde, int]:
+def replay(run: RunSpec, cut: float, steps: int, watch: Any = None) -> tuple[Simulation, ReferenceHorde, int]:
     """The engine's own transitions replayed into ReferenceHorde, compared at every step (1e-9 with the cut
-    at 0, 1e-5 with the default cut); returns the simulation, the oracle and the number of episodes."""
+    at 0, 1e-5 with the default cut); returns the simulation, the oracle and the number of episodes. `watch`,
+    if given, is called with the simulation before each step and returns what to call with the step's result
+    after it."""
     sim = Simulation(run, cut=cut)
     ref = ReferenceHorde(run)
     names = sim.world.sensor_names
@@ -105,6 +107,7 @@ def replay(run: RunSpec, cut: float, steps: int) -> tuple[Simulation, ReferenceH
     tolerance = 1e-9 if cut == 0.0 else 1e-5
     episodes = 0
     for step in range(1, steps + 1):
+        after = watch(sim) if watch is not None else None
         result = sim.step()
         sensors = sim.sensors
         ref.learn(result.action, sim.behaviour_probability, float(sensors[0]), float(sensors[1]),
@@ -113,6 +116,8 @@ def replay(run: RunSpec, cut: float, steps: int) -> tuple[Simulation, ReferenceH
             episodes += 1
             ref.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
         compare(sim, ref, step, tolerance)
+        if after is not None:
+            after(result)
     return sim, ref, episodes
 
 
@@ -249,37 +254,33 @@ def test_tidbd_takes_its_larger_meta_steps_apart_and_equals_the_reference() -> N
     (`Online.w_read[0]`), or is read afresh where that does not hold: the first step, an episode's start. After
     every step it equals the largest |phi h| over the new state's rows; the engine equals the oracle to 1e-9 over
     steps where some demons went each way, across episodes."""
-    run = _bold_tidbd()
-    sim = Simulation(run, cut=0.0)
-    ref = ReferenceHorde(run)
-    engine, names = sim.learner.engine, sim.world.sensor_names
-    t = engine.t
-    ref.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
-    (b,) = _tidbd_blocks(sim)
-    lo, db = int(t.lay.block_lo[b]), int(t.lay.block_hi[b] - t.lay.block_lo[b])
-    meta = t.onl.meta[lo : lo + db].copy()
-    apart = walked = episodes = 0
-    for step in range(1, 301):
-        largest, ok = t.onl.w_read[0, lo : lo + db].copy(), int(t.onl.w_read_ok[b])
-        result = sim.step()
-        sensors = sim.sensors
-        ref.learn(result.action, sim.behaviour_probability, float(sensors[0]), float(sensors[1]),
-                  dict(zip(names, sensors.tolist(), strict=True)), result.terminated)  # fmt: skip
-        if result.done:
-            episodes += 1
-            ref.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
-        compare(sim, ref, step, 1e-9)
-        if ok:
-            beyond = np.abs(meta * t.dem.delta[lo : lo + db]) * largest > SMALL_EXP
-            apart += int(beyond.sum())
-            walked += int((~beyond & (t.dem.delta[lo : lo + db] != 0.0)).sum())
-        if not result.done:
+    counts = {"apart": 0, "walked": 0}
+
+    def watch(sim: Simulation) -> Any:
+        engine = sim.learner.engine
+        t = engine.t
+        (b,) = _tidbd_blocks(sim)
+        lo, db = int(t.lay.block_lo[b]), int(t.lay.block_hi[b] - t.lay.block_lo[b])
+        meta, largest, ok = t.onl.meta[lo : lo + db], t.onl.w_read[0, lo : lo + db].copy(), int(t.onl.w_read_ok[b])
+
+        def after(result: Any) -> None:
+            delta = t.dem.delta[lo : lo + db]
+            if ok:
+                beyond = np.abs(meta * delta) * largest > SMALL_EXP
+                counts["apart"] += int(beyond.sum())
+                counts["walked"] += int((~beyond & (delta != 0.0)).sum())
+            if result.done:
+                assert t.onl.w_read_ok[b] == 0, "a new episode's first step reads the largest |phi h| afresh"
+                return
             x = t.coded.features[0, : t.coded.counts[0]]
             v = t.coded.values[0, : t.coded.counts[0]]
             h = engine.weights(t.wts.w, b)
             np.testing.assert_array_equal(t.onl.w_read[0, lo : lo + db], np.abs(v[:, None] * h[x]).max(axis=0))
-        else:
-            assert t.onl.w_read_ok[b] == 0, "a new episode's first step reads the largest |phi h| afresh"
+
+        return after
+
+    sim, _, episodes = replay(_bold_tidbd(), 0.0, 300, watch)
+    apart, walked = counts["apart"], counts["walked"]
     assert not sim.horde_state.diverged.any()
     assert episodes >= 3 and apart > 50 and walked > 500, (episodes, apart, walked)
 

@@ -328,8 +328,9 @@ def _adaptive_kernel(exp, autostep):
             large_meta_steps(b, i0, i1, lay, wts, onl, stp, scr)
         if fused:
             fused_columns(b, i0, i1, lay, wts, onl, stp, scr)
-            for i in range(i0 if not autostep else i1, i1):  # TIDBD: what the walk read for the next step
-                onl.w_read[0, lo + i] = scr.work[1, i]
+            if not autostep:  # TIDBD: what the walk read for the next step
+                for i in range(i0, i1):
+                    onl.w_read[0, lo + i] = scr.work[1, i]
             return
         _meta_steps(b, i0, i1, lay, wts, cls, onl, stp, scr)
         _update(b, i0, i1, lay, wts, onl, stp, scr)
