@@ -17,11 +17,10 @@ import numpy as np
 import pytest
 
 from horde.core.engine.layout import PARALLEL_MIN
-from horde.core.reference import ReferenceHorde
 from horde.core.simulation import Simulation
 from horde.spec import RunSpec
 
-from .test_threads import on_1_2_3_threads, tiles_spec
+from .test_threads import on_1_2_3_threads, threaded_run_against_the_oracle, tiles_spec
 
 
 def onl(sim: Simulation) -> Any:
@@ -81,29 +80,10 @@ def test_thread_count_does_not_change_a_single_bit(spec: RunSpec) -> None:
 
 @pytest.mark.slow
 def test_threaded_blocks_equal_the_oracle(spec: RunSpec) -> None:
-    """Twelve demons spread over the blocks, replayed into ReferenceHorde from the threaded run's own
-    transitions: predictions equal to 1e-9 with the trace cut at 0 (while the oracle's stay finite: TIDBD,
+    """Twelve demons spread over the blocks, replayed into the oracle from the threaded run's own transitions (TIDBD,
     without Autostep's bound, may diverge on these cumulants, and the engine then freezes the demon)."""
-    sim = Simulation(spec, np.random.default_rng(5), cut=0.0)
-    sim.threads = 2
-    picked = np.linspace(0, len(spec.demons) - 1, 12).astype(np.int64)
-    data = spec.model_dump(by_alias=True)
-    data["demons"] = [data["demons"][i] for i in picked]
-    reference = ReferenceHorde(RunSpec.model_validate(data))
-    names = sim.world.sensor_names
-    reference.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
-    for step in range(120):
-        result = sim.step()
-        sensors = sim.sensors
-        reference.learn(result.action, sim.behaviour_probability, float(sensors[0]), float(sensors[1]),
-                        dict(zip(names, sensors.tolist(), strict=True)), result.terminated)  # fmt: skip
-        if result.done:
-            reference.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
-        ours = sim.prediction_array()[picked]
-        theirs = np.array([reference.demons[spec.demons[i].name].prediction for i in picked])
-        live = np.isfinite(theirs)  # a demon the oracle lets diverge, the engine freezes (README)
-        np.testing.assert_allclose(ours[live], theirs[live], rtol=1e-9, atol=1e-9, err_msg=f"step {step}")
-    assert live.sum() >= 10, "most of the picked demons stayed finite: the comparison covered them"
+    live = threaded_run_against_the_oracle(spec, 12)
+    assert live >= 10, "most of the picked demons stayed finite: the comparison covered them"
 
 
 @pytest.mark.slow

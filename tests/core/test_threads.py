@@ -1,9 +1,10 @@
 """A run's threads: the same numbers whatever their count, and cores yielded to the other runs.
 
-Blocks of at least `engine.layout.PARALLEL_MIN` demons split their demons into runs of columns learned by
-threads (`engine.step.columns_on_threads`); every number is computed by the same operations in the same
-order whatever the split, so the state after many steps must be equal to the last bit for 1, 2 and 3
-threads. `horde.core.threads` gives each run the process's cores divided among the runs learning.
+Blocks of at least `engine.layout.PARALLEL_MIN` demons split their demons into runs of columns learned by threads
+(`engine.step.columns_on_threads`; a TD block walks two fixed halves of its rows, a thread each); every number is
+computed by the same operations in the same order whatever the split, so the state after many steps must be equal to the
+last bit for 1, 2 and 3 threads. `horde.core.threads` gives each run the process's cores divided among the runs
+learning.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ import pytest
 
 from horde.core import threads
 from horde.core.engine.layout import PARALLEL_MIN
+from horde.core.reference import ReferenceHorde
 from horde.core.simulation import Simulation
 from horde.spec import RunSpec
 
@@ -83,6 +85,33 @@ def on_1_2_3_threads(spec: RunSpec) -> tuple[Simulation, list[Simulation]]:
     return one, others
 
 
+def threaded_run_against_the_oracle(spec: RunSpec, count: int, steps: int = 120, threads: int = 2) -> int:
+    """`count` demons spread over the spec's blocks, replayed into ReferenceHorde (which has no threads) from a run
+    on `threads` threads: predictions equal to 1e-9 with the trace cut at 0, at every step. How many of them the oracle
+    kept finite at the end (a demon the oracle lets diverge, the engine freezes: README)."""
+    sim = Simulation(spec, np.random.default_rng(5), cut=0.0)
+    sim.threads = threads
+    picked = np.linspace(0, len(spec.demons) - 1, count).astype(np.int64)
+    data = spec.model_dump(by_alias=True)
+    data["demons"] = [data["demons"][i] for i in picked]
+    reference = ReferenceHorde(RunSpec.model_validate(data))
+    names = sim.world.sensor_names
+    reference.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
+    live = np.ones(count, bool)
+    for step in range(steps):
+        result = sim.step()
+        sensors = sim.sensors
+        reference.learn(result.action, sim.behaviour_probability, float(sensors[0]), float(sensors[1]),
+                        dict(zip(names, sensors.tolist(), strict=True)), result.terminated)  # fmt: skip
+        if result.done:
+            reference.observe(*sim.position, dict(zip(names, sim.start_sensors.tolist(), strict=True)))
+        ours = sim.prediction_array()[picked]
+        theirs = np.array([reference.demons[spec.demons[i].name].prediction for i in picked])
+        live = np.isfinite(theirs)
+        np.testing.assert_allclose(ours[live], theirs[live], rtol=1e-9, atol=1e-9, err_msg=f"step {step}")
+    return int(live.sum())
+
+
 @pytest.mark.slow
 def test_thread_count_does_not_change_a_single_bit(spec: RunSpec) -> None:
     one, others = on_1_2_3_threads(spec)
@@ -102,6 +131,17 @@ def test_thread_count_does_not_change_a_single_bit_in_float32(spec: RunSpec) -> 
     data["learning"]["dtype"] = "float32"
     one, _ = on_1_2_3_threads(RunSpec.model_validate(data))
     assert all(theta.dtype == np.float32 for theta in one.horde_state.theta)
+
+
+@pytest.mark.slow
+def test_threaded_blocks_equal_the_oracle(spec: RunSpec) -> None:
+    """The wide TD block walks its rows in two halves (`td_pass.walk_half`) and adds the halves' sums after; GTD's
+    and GQ's blocks split their columns. Four threads: each half of TD's rows in two runs of columns, the split that
+    a machine of four cores takes (the thread-count tests cover one to three). 15 demons of the three blocks against
+    the oracle."""
+    blocks = Simulation(spec).horde.blocks
+    assert any(block.learner == "td" and block.size >= PARALLEL_MIN for block in blocks), "a TD block walks in halves"
+    assert threaded_run_against_the_oracle(spec, 15, threads=4) == 15
 
 
 def test_small_hordes_take_one_thread() -> None:

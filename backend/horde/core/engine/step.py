@@ -2,13 +2,13 @@
 stage, group by group, block by block (DESIGN sections 4 to 6).
 
 Per group: its stage's question program gives every demon's cumulant, outcome and continuation at s_{t+1}
-(`questions.evaluate_nodes`, once per stage); its active features at s_{t+1} are coded (`features.code`);
-each trace class's continuation and importance ratio rho_t = pi(a_t | s_t) / b(a_t | s_t) are set; then every
-block learns with its learner's kernel (`horde.core.learners`: prepare, columns, finish), a block of at least
-PARALLEL_MIN demons on `threads` threads (`columns_on_threads`, the one helper that splits a block's columns
-over threads: the same numbers to the last bit whatever the count). Then divergence (`freeze_diverged`, the one
-rule: a demon whose TD error, prediction or action values are non-finite or beyond MAX_MAGNITUDE is marked
-diverged, frozen and its weights set to 0, so that the demons reading its prediction go on) and RUPEE / UDE.
+(`questions.evaluate_nodes`, once per stage); its active features at s_{t+1} are coded (`features.code`); each trace
+class's continuation and importance ratio rho_t = pi(a_t | s_t) / b(a_t | s_t) are set; then every block learns with its
+learner's kernel (`horde.core.learners`: prepare, columns, finish), a block of at least PARALLEL_MIN demons on `threads`
+threads (`columns_on_threads`, the one helper that splits a block's columns, or a TD block's two halves of rows, over
+threads: the same numbers to the last bit whatever the count). Then divergence (`freeze_diverged`, the one rule: a demon
+whose TD error, prediction or action values are non-finite or beyond MAX_MAGNITUDE is marked diverged, frozen and its
+weights set to 0, so that the demons reading its prediction go on) and RUPEE / UDE.
 
 An episode start (`observe`) zeroes the traces, makes the demons that forget their weights do so, and reads
 every demon's values, policy and prediction at the first state. `settle` pays the corrections the gradient
@@ -36,22 +36,26 @@ METRICS = -1  # `columns_on_threads`: the metrics' columns, not a learner's
 
 
 @njit(cache=True, parallel=True, **WITH_NRT)  # prange allocates: NRT on (a caller without it passes its flag down)
-def columns_on_threads(threads, code_, b, lay, wts, dem, cls, onl, met, stp, scr):
-    """Block b's columns (its demons) split into `threads` runs, each learned by `learners.columns` (code_ a
-    learner's) or `metrics.columns` (METRICS) on its own thread. Runs start at multiples of ALIGN numbers (a
-    cache line) within a row; each demon's numbers come from the same operations in the same order whatever
-    the split, so the result does not depend on the count, to the last bit. Every argument is a flat tuple of
-    arrays and numbers: numba hands those to its threads."""
+def columns_on_threads(threads, code_, halves, b, lay, wts, dem, cls, onl, met, stp, scr):
+    """Block b's columns (its demons) split into runs, each learned by `learners.columns` (code_ a learner's) or
+    `metrics.columns` (METRICS) on its own thread; with `halves` = 2, each run of columns walks each half of the
+    block's rows on a thread of its own (`learners.half`), threads // 2 runs of columns. Runs start at multiples of
+    ALIGN numbers (a cache line) within a row; each demon's numbers come from the same operations in the same order
+    whatever the split, so the result does not depend on the count, to the last bit. Every argument is a flat tuple
+    of arrays and numbers: numba hands those to its threads."""
     db = lay.block_hi[b] - lay.block_lo[b]
-    runs = min(threads, (db + ALIGN - 1) // ALIGN)
+    runs = min(max(1, threads // halves), (db + ALIGN - 1) // ALIGN)
     width = ((db + runs - 1) // runs + ALIGN - 1) // ALIGN * ALIGN
-    for t in prange(runs):
-        i0 = min(t * width, db)
+    for t in prange(halves * runs):
+        h, run = t // runs, t % runs
+        i0 = min(run * width, db)
         i1 = min(i0 + width, db)
         if code_ == METRICS:
             metrics.columns(b, i0, i1, lay, wts, dem, met, stp)
-        else:
+        elif halves == 1:
             learners.columns(code_, b, i0, i1, lay, wts, dem, cls, onl, stp, scr)
+        else:
+            learners.half(code_, h, b, i0, i1, lay, wts, stp, scr)
 
 
 @njit(**NO_NRT, inline="always")
@@ -61,10 +65,19 @@ def learn_block(b, t, stp, threads):
     code_ = lay.learner[b]
     learners.prepare(code_, b, lay, t.wts, t.dem, t.cls, t.onl, stp, t.scr)
     db = lay.block_hi[b] - lay.block_lo[b]
+    # (a number at run time: a literal 1 or 2 would compile the parallel helper once for each)
+    halves = 2 if learners.walks_in_halves(code_, db) else 1
+    if halves == 2:
+        learners.before_halves(code_, b, lay, t.wts, t.scr)
     if threads > 1 and db >= PARALLEL_MIN:
-        columns_on_threads(threads, code_, b, lay, t.wts, t.dem, t.cls, t.onl, t.met, stp, t.scr)
+        columns_on_threads(threads, code_, halves, b, lay, t.wts, t.dem, t.cls, t.onl, t.met, stp, t.scr)
+    elif halves == 2:  # one thread: the halves one after the other, the same operations
+        for h in range(2):
+            learners.half(code_, h, b, db - db, db, lay, t.wts, stp, t.scr)
     else:  # from db - db: 0 typed int64, as the threads' i0 is (a literal 0 would compile every kernel again)
         learners.columns(code_, b, db - db, db, lay, t.wts, t.dem, t.cls, t.onl, stp, t.scr)
+    if halves == 2:
+        learners.join_halves(code_, b, lay, t.wts, t.dem, t.cls, t.scr)
     learners.finish(code_, b, lay, t.wts, t.dem, t.cls, t.onl, stp, t.scr)
 
 
@@ -119,7 +132,7 @@ def group_metrics(g, t, stp, threads):
     for b in range(t.grp.block_lo[g], t.grp.block_hi[g]):
         db = lay.block_hi[b] - lay.block_lo[b]
         if threads > 1 and db >= PARALLEL_MIN:
-            columns_on_threads(threads, METRICS, b, lay, t.wts, t.dem, t.cls, t.onl, t.met, stp, t.scr)
+            columns_on_threads(threads, METRICS, 1, b, lay, t.wts, t.dem, t.cls, t.onl, t.met, stp, t.scr)
         else:  # from db - db: 0 typed int64, as in `learn_block`
             metrics.columns(b, db - db, db, lay, t.wts, t.dem, t.met, stp)
 

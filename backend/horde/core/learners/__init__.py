@@ -18,7 +18,8 @@ step calls through the dispatchers below for every block of that learner:
   x_t adds, the trace merge (`engine.traces.merge`), whatever else the block does once;
 * `columns(..., b, i0, i1, ...)`: demons i0 <= i < i1 learn the transition, touching only their columns (a
   block of at least `PARALLEL_MIN` demons splits them over threads: `engine.step.columns_on_threads`), and
-  store their values, policies and predictions at s_{t+1};
+  store their values, policies and predictions at s_{t+1}; a learner may instead walk a wide block's rows in two
+  halves (`walks_in_halves`, `half`, `join_halves`: TD's, `td_pass`), each half taking every column;
 * `finish(...)`: after every column learned (each class's continuation moves to s_{t+1}).
 
 A new learner is a new module (and its tests and oracle function in `reference.py`), imported here and
@@ -91,6 +92,31 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
         true_online.columns(code, b, i0, i1, lay, wts, dem, cls, stp, scr, onl)
     else:
         adaptive.columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr)
+
+
+@njit(**NO_NRT, inline="always")
+def walks_in_halves(code, db):
+    """Whether a block of this learner and db demons walks its rows in two halves (`half`, each on a thread of its
+    own when there are two), not its columns split: TD's and emphatic TD's wide blocks (`td_pass`)."""
+    return code in (TD_CODE, ETD_CODE) and td_pass.walks_in_halves(db)
+
+
+@njit(**NO_NRT, inline="always")
+def before_halves(code, b, lay, wts, scr):
+    """A block that walks in halves: what both halves need first (TD: what is owed, in the weights' dtype)."""
+    td_pass.owed_to_pay(b, 0, lay.block_hi[b] - lay.block_lo[b], lay, wts, scr, False)
+
+
+@njit(**NO_NRT, inline="always")
+def half(code, h, b, i0, i1, lay, wts, stp, scr):
+    """Block b's demons i0 <= i < i1 walk half h (0 or 1) of the block's rows."""
+    td_pass.walk_half(h, b, i0, i1, lay, wts, stp, scr)
+
+
+@njit(**NO_NRT, inline="always")
+def join_halves(code, b, lay, wts, dem, cls, scr):
+    """After both halves: the two halves' sums added in order, then the TD errors."""
+    td_pass.join_halves(b, lay, wts, dem, cls, scr)
 
 
 @njit(**NO_NRT, inline="always")
