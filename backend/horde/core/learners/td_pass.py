@@ -114,14 +114,16 @@ def walk(b, i0, i1, lay, wts, stp, scr, along_x):
     last step owes on the support (owed[0] e_{t-1}; `along_x`: and - owed[1] times x_{t-1}'s value, kept beside
     each support row) and sums the values at x_{t+1} from the paid rows (into scr.values[0])."""
     owed_to_pay(b, i0, i1, lay, wts, scr, along_x)
-    walk_rows(b, i0, i1, 0, wts.nnz[b], 0, stp.x_tp1.shape[0], lay, wts, stp, scr, scr.values[0], along_x)
+    rows = (np.int64(0), np.int64(wts.nnz[b]), np.int64(0), np.int64(stp.x_tp1.shape[0]))
+    walk_rows(b, i0, i1, rows, lay, wts, stp, scr, scr.values[0], along_x)
 
 
 @njit(**NO_NRT)
-def walk_rows(b, i0, i1, s0, s1, m0, m1, lay, wts, stp, scr, acc, along_x):
-    """`walk` over the support's rows s0 <= s < s1 and x_{t+1}'s rows m0 <= m < m1 (what it pays already in
-    scr.ev), the values summed into acc. Two rows in a row that are both paid and read go at once (TD's; true
-    online TD pays along x_{t-1} too, one row at a time)."""
+def walk_rows(b, i0, i1, rows, lay, wts, stp, scr, acc, along_x):
+    """`walk` over the support's rows s0 <= s < s1 and x_{t+1}'s rows m0 <= m < m1 (rows: (s0, s1, m0, m1); what
+    it pays already in scr.ev), the values summed into acc. Two rows in a row that are both paid and read go at once
+    (TD's; true online TD pays along x_{t-1} too, one row at a time)."""
+    s0, s1, m0, m1 = rows
     woff, voff, ncls, coff, toff = lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b], lay.toff[b]
     db = lay.block_hi[b] - lay.block_lo[b]
     theta, trace, support = wts.theta, wts.trace, wts.support
@@ -227,7 +229,8 @@ def _half_rows(h, b, lay, wts, stp):
 def walk_half(h, b, i0, i1, lay, wts, stp, scr):
     """Block b's demons i0 <= i < i1 walk half h of the rows (what they pay already in scr.ev: `owed_to_pay`)."""
     s0, s1, m0, m1 = _half_rows(h, b, lay, wts, stp)
-    walk_rows(b, i0, i1, s0, s1, m0, m1, lay, wts, stp, scr, scr.values[0] if h == 0 else scr.work[0], False)
+    rows = (np.int64(s0), np.int64(s1), np.int64(m0), np.int64(m1))
+    walk_rows(b, i0, i1, rows, lay, wts, stp, scr, scr.values[0] if h == 0 else scr.work[0], False)
 
 
 @njit(**NO_NRT)
