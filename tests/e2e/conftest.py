@@ -34,6 +34,10 @@ CHROMIUM_ARGS = [
     "--use-angle=swiftshader",
     "--enable-unsafe-swiftshader",
 ]
+# How long a page may take to show what the server already did (a step drawn, a button after a click): the CI
+# machine runs the browser beside two test processes and the fuzzer on two cores, and there a drawn step has
+# taken over 10 s. A wait ends as soon as its condition holds, so the bound costs nothing when the page is quick.
+PAGE_CATCHES_UP_MS = 60_000
 ROOT = Path(__file__).resolve().parents[2]
 DIST = ROOT / "frontend" / "dist"
 # A browser test module says `pytestmark = IN_BROWSER` (it opens pages of its own: viser, the API docs) or

@@ -1,7 +1,8 @@
 """Baird's counterexample in the browser, as a class sees it: scenarios/baird.toml launched from the dashboard's
-launcher at full speed; within seconds the demon table marks `td` diverged (and only it), its chart, ticked in
-the table, is drawn on a log scale that its caption names (GTD's is not), and the embedded live view draws the
-star. The page is saved as test-artifacts/screenshots/baird.png (`make screenshots` copies it to docs/)."""
+launcher at full speed; near step 10,000 (seconds on a quiet machine, a minute or more beside the other tests) the
+demon table marks `td` diverged (and only it), its chart, ticked in the table, is drawn on a log scale that its caption
+names (GTD's is not), and the embedded live view draws the star. The page is saved as
+test-artifacts/screenshots/baird.png (`make screenshots` copies it to docs/)."""
 
 from __future__ import annotations
 
@@ -50,7 +51,9 @@ def test_baird_launched_from_the_dashboard_marks_td_diverged_and_charts_it_on_a_
         rows = {name: page.locator(f'table.demon-table tr[data-demon="{name}"]') for name in ("td", "gtd")}
         rows["td"].get_by_label("Chart td").check()
         rows["gtd"].get_by_label("Chart gtd").check()
-        expect(rows["td"].locator(".tag.diverged"), "TD diverges within seconds").to_be_visible(timeout=60_000)
+        # The run's own pace: its worker is niced below the API and the other tests, so on a busy machine the
+        # 10,000 steps take minutes; the run's 12 episodes (about 12,000 steps) end after TD has diverged.
+        expect(rows["td"].locator(".tag.diverged"), "TD diverges near step 10,000").to_be_visible(timeout=300_000)
         expect(rows["gtd"].locator(".tag.diverged")).to_be_hidden()
         expect(page.locator('figure.chart[data-demon="td"] figcaption')).to_contain_text("log scale")
         expect(page.locator('figure.chart[data-demon="gtd"] figcaption')).not_to_contain_text("log scale")

@@ -22,6 +22,7 @@ from horde.server import Settings
 
 from .conftest import (
     ON_DASHBOARD,
+    PAGE_CATCHES_UP_MS,
     ROOT,
     SHOTS,
     RunningServer,
@@ -517,7 +518,7 @@ def test_help_tooltips_and_shortcuts(browser: Browser, server: RunningServer) ->
     counters = page.locator(f'li.run-item[data-run="{run_id}"]').get_by_test_id("run-counters")
     expect(counters, "the paused run's card caught up").to_contain_text(f"step {before:,} ·")
     page.keyboard.press("s")
-    expect(counters, "s steps the selected run").not_to_contain_text(f"step {before:,} ·", timeout=10_000)
+    expect(counters, "s steps the selected run").not_to_contain_text(f"step {before:,} ·", timeout=PAGE_CATCHES_UP_MS)
     assert server.client.get(f"/api/runs/{run_id}").json()["step"] > before
     page.keyboard.press(" ")
     page.locator(f'li.run-item[data-run="{run_id}"] .badge', has_text="running").wait_for()

@@ -17,7 +17,7 @@ from websockets.sync.client import connect
 from horde.server import Settings
 from polling import wait_until
 
-from .conftest import CHROMIUM, RunningServer, browser_page, free_port, serve_in_thread
+from .conftest import CHROMIUM, PAGE_CATCHES_UP_MS, RunningServer, browser_page, free_port, serve_in_thread
 
 TOKEN = "s3cret-token"
 AUTH = {"Authorization": f"Bearer {TOKEN}"}
@@ -68,21 +68,23 @@ def test_without_the_token_the_panel_changes_no_run(browser: Browser, server: Ru
         expect(page.get_by_text("Full speed")).to_have_count(0)
 
         tilt.click()  # what this browser sees is its own choice: no token needed
-        expect(page.get_by_role("button", name="Top-down 2-D")).to_be_visible(timeout=10_000)
+        expect(page.get_by_role("button", name="Top-down 2-D")).to_be_visible(timeout=PAGE_CATCHES_UP_MS)
 
         token = page.get_by_role("textbox").first  # the browser's own Token field
         token.fill("wrong")
         token.press("Enter")
-        expect(page.get_by_text("this token is not one of this server's").first).to_be_visible(timeout=10_000)
+        expect(page.get_by_text("this token is not one of this server's").first).to_be_visible(
+            timeout=PAGE_CATCHES_UP_MS
+        )
         expect(page.get_by_role("button", name="Play", exact=True)).to_have_count(0)
         assert api.get(f"/api/runs/{run}").json()["status"] == "created"
 
         token.fill(TOKEN)
         token.press("Enter")
         play = page.get_by_role("button", name="Play", exact=True)
-        expect(play).to_be_visible(timeout=10_000)
+        expect(play).to_be_visible(timeout=PAGE_CATCHES_UP_MS)
         play.click()
-        wait_until(lambda: api.get(f"/api/runs/{run}").json()["status"] == "running", "Play to start the run", 10)
+        wait_until(lambda: api.get(f"/api/runs/{run}").json()["status"] == "running", "Play to start the run", 60)
 
         # A second browser, without the token, still sees no commands.
         other = browser.new_page(viewport={"width": 960, "height": 600})

@@ -18,7 +18,7 @@ from horde.view import LiveView, ManagerSource
 from horde.view.scene import agent_radius
 from polling import wait_until
 
-from .conftest import AGENT_AT, IN_BROWSER, ROOT, SHOTS, browser_page, drawn_at, free_port
+from .conftest import AGENT_AT, IN_BROWSER, PAGE_CATCHES_UP_MS, ROOT, SHOTS, browser_page, drawn_at, free_port
 
 AGENT_POSITION = """() => {
     const node = window.__viserMutable?.nodeRefFromName?.["/agent"];
@@ -65,17 +65,17 @@ def test_the_agent_moves_in_the_browser_when_the_run_steps(
         for _ in range(30):
             before = source.snapshot(run).total_steps
             step.click()
-            wait_until(lambda b=before: source.snapshot(run).total_steps > b, "the Step button to step the run", 5.0)
+            wait_until(lambda b=before: source.snapshot(run).total_steps > b, "the Step button to step the run", 30.0)
             snap = source.snapshot(run)
             if (snap.x, snap.y) != (0.0, 0.0):
                 break
         assert (snap.x, snap.y) != (0.0, 0.0)
-        page.wait_for_function(AGENT_AT, arg=drawn_at(world, snap.x, snap.y), timeout=10_000)
+        page.wait_for_function(AGENT_AT, arg=drawn_at(world, snap.x, snap.y), timeout=PAGE_CATCHES_UP_MS)
 
         # Learn a while, so that the picture shows a value map worth seeing.
         source.step(run, 2000)
         snap = source.snapshot(run)
-        page.wait_for_function(AGENT_AT, arg=drawn_at(world, snap.x, snap.y), timeout=10_000)
+        page.wait_for_function(AGENT_AT, arg=drawn_at(world, snap.x, snap.y), timeout=PAGE_CATCHES_UP_MS)
         page.wait_for_timeout(1500)  # a value map refresh and a chart refresh
         for close in page.locator(".mantine-Notification-root button").all():
             close.click()  # the "software WebGL" notice of a GPU-less browser

@@ -14,6 +14,7 @@ from horde.scenarios import find_scenario
 from .conftest import (
     AGENT_AT,
     IN_BROWSER,
+    PAGE_CATCHES_UP_MS,
     ROOT,
     RunningServer,
     browser_page,
@@ -40,11 +41,11 @@ def test_a_run_stepped_over_rest_moves_the_agent_in_the_browser(browser: Browser
             if (agent["x"], agent["y"]) != (0.0, 0.0):
                 break
         assert (agent["x"], agent["y"]) != (0.0, 0.0)
-        page.wait_for_function(AGENT_AT, arg=drawn_at(world, agent["x"], agent["y"]), timeout=10_000)
+        page.wait_for_function(AGENT_AT, arg=drawn_at(world, agent["x"], agent["y"]), timeout=PAGE_CATCHES_UP_MS)
 
         # A few hundred more steps: the agent follows again, and the picture has a value map.
         agent = api.post(f"/api/runs/{run}/step", json={"steps": 300}).json()["agent"]
-        page.wait_for_function(AGENT_AT, arg=drawn_at(world, agent["x"], agent["y"]), timeout=10_000)
+        page.wait_for_function(AGENT_AT, arg=drawn_at(world, agent["x"], agent["y"]), timeout=PAGE_CATCHES_UP_MS)
         page.wait_for_timeout(1000)
         artifacts = ROOT / "test-artifacts"
         artifacts.mkdir(exist_ok=True)
