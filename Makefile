@@ -75,7 +75,7 @@ warm: $(INSTALLED)
 	$(BIN)/python -m horde.warm
 
 # The kernels compile in the background, one process a dtype, while the dashboard builds and the checks run
-# (they compile nothing): about four minutes of a core each on a fresh clone, side by side.
+# (they compile nothing): 4 to 11 minutes of a core each on a fresh clone, side by side, with the machine.
 test: $(INSTALLED)
 	$(BIN)/python -m horde.warm float64 & float64=$$!; \
 	$(BIN)/python -m horde.warm float32 & float32=$$!; \
