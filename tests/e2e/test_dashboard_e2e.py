@@ -24,6 +24,7 @@ from polling import wait_until
 
 from .conftest import (
     ON_DASHBOARD,
+    PAGE_CATCHES_UP_MS,
     SHOTS,
     collect_errors,
     fill_and_press,
@@ -33,7 +34,6 @@ from .conftest import (
 )
 
 VIEWPORT = {"width": 1280, "height": 800}
-TIMEOUT_MS = 15_000
 NUMBER = re.compile(r"^-?\d+(\.\d+)?(e[+-]\d+)?$")
 
 pytestmark = ON_DASHBOARD
@@ -97,7 +97,7 @@ def open_page(browser: Browser, console: Console) -> Iterator[Page]:
     """A fresh page whose console errors and uncaught exceptions go to `console`."""
     context = browser.new_context(viewport=VIEWPORT)
     page = context.new_page()
-    page.set_default_timeout(TIMEOUT_MS)
+    page.set_default_timeout(PAGE_CATCHES_UP_MS)
     console.errors = collect_errors(page)
     try:
         yield page

@@ -14,12 +14,11 @@ import pytest
 
 from horde.server import Settings
 
-from .conftest import ON_DASHBOARD, SHOTS, RunningServer, collect_errors, serve_in_thread
+from .conftest import ON_DASHBOARD, PAGE_CATCHES_UP_MS, SHOTS, RunningServer, collect_errors, serve_in_thread
 
 if TYPE_CHECKING:
     from playwright.sync_api import Browser
 
-TIMEOUT_MS = 20_000
 
 pytestmark = ON_DASHBOARD
 
@@ -38,7 +37,7 @@ def test_the_lab_runs_a_figure_and_draws_its_curves_with_bands(browser: Browser,
 
     context = browser.new_context(viewport={"width": 1440, "height": 1000})
     page = context.new_page()
-    page.set_default_timeout(TIMEOUT_MS)
+    page.set_default_timeout(PAGE_CATCHES_UP_MS)
     errors = collect_errors(page)
     try:
         page.goto(server.url)

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 from polling import wait_until
 from stream_specs import LIGHT_WHEEL, nexting, robot, tiled
 
-from .conftest import ON_DASHBOARD, SHOTS, RunningServer, page_viewer, viser_view
+from .conftest import ON_DASHBOARD, PAGE_CATCHES_UP_MS, SHOTS, RunningServer, page_viewer, viser_view
 
 if TYPE_CHECKING:
     from playwright.sync_api import Browser
@@ -50,24 +50,24 @@ def test_pushed_records_draw_the_strip_chart_and_the_phase_plane(server: Running
         page.on("pageerror", lambda e: errors.append(str(e)))
         page.goto(server.url)
         row = page.locator(f'li.run-item[data-stream="{stream}"]')
-        row.wait_for(timeout=15_000)
+        row.wait_for(timeout=PAGE_CATCHES_UP_MS)
         assert "300 records learned of 300 received" in row.inner_text()
         row.locator("button").click()
         strip = page.locator('[data-testid="stream-strip"]')
-        strip.wait_for(state="visible", timeout=15_000)
+        strip.wait_for(state="visible", timeout=PAGE_CATCHES_UP_MS)
         assert "predictions beside realised returns" in strip.locator("h2").inner_text()
         assert "Dashed black: the discounted return that actually followed" in strip.inner_text()
         canvas = 'figure[data-demon="light_g0.8"] canvas'
-        page.locator(canvas).wait_for(timeout=15_000)
-        page.wait_for_function(f"() => ({PIXELS_OF})([{canvas!r}, [0, 114, 178]]) > 50", timeout=15_000)
+        page.locator(canvas).wait_for(timeout=PAGE_CATCHES_UP_MS)
+        page.wait_for_function(f"() => ({PIXELS_OF})([{canvas!r}, [0, 114, 178]]) > 50", timeout=PAGE_CATCHES_UP_MS)
         assert page.evaluate(PIXELS_OF, [canvas, [17, 24, 39]]) > 50, "the realised return is drawn beside it"
         sensor_canvas = 'figure[data-sensor="light"] canvas'
-        page.locator(sensor_canvas).wait_for(timeout=15_000)
+        page.locator(sensor_canvas).wait_for(timeout=PAGE_CATCHES_UP_MS)
         caption = page.locator('figure[data-demon="light_g0.8"] figcaption')
-        caption.filter(has_text="mean |prediction − return|").wait_for(timeout=15_000)
+        caption.filter(has_text="mean |prediction − return|").wait_for(timeout=PAGE_CATCHES_UP_MS)
         # The stream's demon table: each demon's prediction at the last record, as the REST table says.
         table = page.locator('[data-testid="stream-demons"]')
-        table.locator('tr[data-demon="light_g0.8"]').wait_for(timeout=15_000)
+        table.locator('tr[data-demon="light_g0.8"]').wait_for(timeout=PAGE_CATCHES_UP_MS)
         rest = {d["name"]: d for d in api.get(f"/api/streams/{stream}/demons").json()}
         shown = table.locator('tr[data-demon="light_g0.8"] td').nth(1).inner_text()
         assert abs(float(shown) - rest["light_g0.8"]["prediction"]) < 1e-3, (shown, rest["light_g0.8"])
@@ -76,13 +76,15 @@ def test_pushed_records_draw_the_strip_chart_and_the_phase_plane(server: Running
         assert api.get(link).json()["learned"] == 300
         # More records arrive: the list and the chart follow.
         assert api.post(f"/api/streams/{stream}/records", json={"records": records(300, 200)}).status_code == 200
-        page.locator('[data-testid="stream-strip"] p.hint', has_text="500 records learned").wait_for(timeout=15_000)
+        page.locator('[data-testid="stream-strip"] p.hint', has_text="500 records learned").wait_for(
+            timeout=PAGE_CATCHES_UP_MS
+        )
         # The same embedded live view now draws the stream run's phase plane.
         viewer = page_viewer(page)  # the page tells the server its choice after the selection shows: poll
         wait_until(lambda: api.get("/api/view", params={"viewer": viewer}).json()["run"] == stream,
                    "selecting a stream run shows it in the live view", 15)  # fmt: skip
         frame = page.frame_locator("iframe.viser-frame")
-        frame.locator("body").wait_for(timeout=15_000)
+        frame.locator("body").wait_for(timeout=PAGE_CATCHES_UP_MS)
         viser = viser_view(page, api.get("/api/view").json()["url"])
         viser.wait_for_function(PHASE_MAP, timeout=60_000)  # a GPU-less client on a busy machine is slow
         SHOTS.mkdir(parents=True, exist_ok=True)

@@ -18,12 +18,19 @@ import pytest
 from horde.server import Settings
 from polling import wait_until
 
-from .conftest import ON_DASHBOARD, SHOTS, RunningServer, collect_errors, fill_and_press, serve_in_thread
+from .conftest import (
+    ON_DASHBOARD,
+    PAGE_CATCHES_UP_MS,
+    SHOTS,
+    RunningServer,
+    collect_errors,
+    fill_and_press,
+    serve_in_thread,
+)
 
 if TYPE_CHECKING:
     from playwright.sync_api import Browser, Page
 
-TIMEOUT_MS = 20_000
 
 pytestmark = ON_DASHBOARD
 
@@ -41,7 +48,7 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[RunningServer]:
 def page(browser: Browser, server: RunningServer) -> Iterator[Page]:
     context = browser.new_context(viewport={"width": 1280, "height": 900}, accept_downloads=True)
     page = context.new_page()
-    page.set_default_timeout(TIMEOUT_MS)
+    page.set_default_timeout(PAGE_CATCHES_UP_MS)
     errors = collect_errors(page)
     page.goto(server.url)
     page.get_by_role("heading", name="Horde Lab").wait_for()
@@ -95,11 +102,11 @@ def test_a_bad_axis_shows_the_servers_422_at_its_field(page: Page) -> None:
     panel = page.locator(".studies-panel")
     # the scenario list arrives after the page: launched before it, the 422 is the empty scenario's (seen
     # in a full CI run under load), not the axis's this test is about
-    expect(panel.get_by_label("Scenario")).not_to_have_value("", timeout=TIMEOUT_MS)
+    expect(panel.get_by_label("Scenario")).not_to_have_value("", timeout=PAGE_CATCHES_UP_MS)
     panel.get_by_label("Axis 1: field path").fill("learning.alfa")
     panel.get_by_role("button", name="Launch").click()
     error = panel.locator(".field", has=page.get_by_label("Axis 1: field path")).locator(".field-error")
-    expect(error).to_contain_text("learning.alfa", timeout=TIMEOUT_MS)
+    expect(error).to_contain_text("learning.alfa", timeout=PAGE_CATCHES_UP_MS)
     expect(error).to_contain_text("unknown path")
 
 
@@ -160,10 +167,10 @@ def test_a_diverged_configuration_is_flagged_in_the_table_the_plots_and_the_curv
     }
     study_id = server.client.post("/api/studies", json=study).json()["id"]
     panel = page.locator(".studies-panel")
-    expect(panel.get_by_label("Study")).to_contain_text("classroom-offpolicy", timeout=TIMEOUT_MS)
+    expect(panel.get_by_label("Study")).to_contain_text("classroom-offpolicy", timeout=PAGE_CATCHES_UP_MS)
     panel.get_by_label("Study").select_option(study_id)
     # this study's section, not the last one's (the title names the scenario and the study's size)
-    expect(panel.locator("#study-title")).to_contain_text("4 configurations x 1 run", timeout=TIMEOUT_MS)
+    expect(panel.locator("#study-title")).to_contain_text("4 configurations x 1 run", timeout=PAGE_CATCHES_UP_MS)
     expect(panel.locator(".study-job .badge")).to_have_text("finished", timeout=90_000)
     rows = panel.locator("table.study-configs tbody tr")
     expect(rows).to_have_count(4)
@@ -206,9 +213,11 @@ def test_choosing_another_study_hides_the_last_ones_progress_until_the_chosen_on
 
     first, second = finished_study(1), finished_study(2)
     panel = page.locator(".studies-panel")
-    expect(panel.get_by_label("Study").locator(f"option[value='{second}']")).to_have_count(1, timeout=TIMEOUT_MS)
+    expect(panel.get_by_label("Study").locator(f"option[value='{second}']")).to_have_count(
+        1, timeout=PAGE_CATCHES_UP_MS
+    )
     panel.get_by_label("Study").select_option(first)
-    expect(panel.locator("#study-title")).to_contain_text("1 configuration x 1 run", timeout=TIMEOUT_MS)
+    expect(panel.locator("#study-title")).to_contain_text("1 configuration x 1 run", timeout=PAGE_CATCHES_UP_MS)
     expect(panel.locator(".study-job .badge")).to_have_text("finished", timeout=90_000)
 
     held: list[Route] = []  # no fixed delay: the list's answers wait until the check below has been made
@@ -223,17 +232,20 @@ def test_choosing_another_study_hides_the_last_ones_progress_until_the_chosen_on
     page.route("**/api/studies", hold)  # the list only: the chosen study's own read is /api/studies/<id>
     # choose once a poll is held (the dashboard polls again only after the last answer): an answer still in flight
     # would read the chosen study and clear the last one's section, without the panel's own draw to thank for it
-    for _ in range(TIMEOUT_MS // 50):  # (the route's handler runs while Playwright waits: hence its wait, bounded)
+    # (the route's handler runs while Playwright waits: hence its wait, bounded)
+    for _ in range(PAGE_CATCHES_UP_MS // 50):
         if held:
             break
         page.wait_for_timeout(50)
     assert held, "the list's poll was not held"
     panel.get_by_label("Study").select_option(second)
     # the first study's section is gone (the second's shows only if the page had read it before, as it may have)
-    expect(panel.locator("#study-title", has_text="1 configuration x 1 run")).to_have_count(0, timeout=TIMEOUT_MS)
+    expect(panel.locator("#study-title", has_text="1 configuration x 1 run")).to_have_count(
+        0, timeout=PAGE_CATCHES_UP_MS
+    )
     released = True
     for route in held:
         route.continue_()
     page.unroute("**/api/studies")
-    expect(panel.locator("#study-title")).to_contain_text("1 configuration x 2 runs", timeout=TIMEOUT_MS)
+    expect(panel.locator("#study-title")).to_contain_text("1 configuration x 2 runs", timeout=PAGE_CATCHES_UP_MS)
     expect(panel.locator(".study-job .badge")).to_have_text("finished", timeout=90_000)
