@@ -1,7 +1,7 @@
 """A run's threads: the same numbers whatever their count, and cores yielded to the other runs.
 
 Blocks of at least `engine.layout.PARALLEL_MIN` demons split their demons into runs of columns learned by threads
-(`engine.step.columns_on_threads`; a TD block walks two fixed halves of its rows, a thread each); every number is
+(`engine.step.columns_on_threads`; a TD or GTD block walks two fixed halves of its rows, a thread each); every number is
 computed by the same operations in the same order whatever the split, so the state after many steps must be equal to the
 last bit for 1, 2 and 3 threads. `horde.core.threads` gives each run the process's cores divided among the runs
 learning.
@@ -18,7 +18,7 @@ import numba
 import numpy as np
 import pytest
 
-from horde.core import threads
+from horde.core import learners, threads
 from horde.core.engine.layout import PARALLEL_MIN
 from horde.core.reference import ReferenceHorde
 from horde.core.simulation import Simulation
@@ -135,13 +135,43 @@ def test_thread_count_does_not_change_a_single_bit_in_float32(spec: RunSpec) -> 
 
 @pytest.mark.slow
 def test_threaded_blocks_equal_the_oracle(spec: RunSpec) -> None:
-    """The wide TD block walks its rows in two halves (`td_pass.walk_half`) and adds the halves' sums after; GTD's
-    and GQ's blocks split their columns. Four threads: each half of TD's rows in two runs of columns, the split that
-    a machine of four cores takes (the thread-count tests cover one to three). 15 demons of the three blocks against
-    the oracle."""
-    blocks = Simulation(spec).horde.blocks
-    assert any(block.learner == "td" and block.size >= PARALLEL_MIN for block in blocks), "a TD block walks in halves"
+    """The wide TD and GTD blocks walk their rows in two halves (`td_pass.walk_half`, `gtd_pass.walk_half`) and add
+    the halves' sums after; GQ's block splits its columns. Four threads: each half of the rows in two runs of columns,
+    the split that a machine of four cores takes (the thread-count tests cover one to three). 15 demons of the three
+    blocks against the oracle."""
+    halves = {
+        block.learner for block in Simulation(spec).horde.blocks if learners.walks_in_halves(block.code, block.size)
+    }
+    assert halves == {"td", "gtd"}
     assert threaded_run_against_the_oracle(spec, 15, threads=4) == 15
+
+
+def gtd_family_spec() -> RunSpec:
+    """Three wide blocks of GTD's kernel in its other forms, about three fixed target policies: TDRC (its h kept
+    scaled), GTD2 (theta follows w) and the original GTD (theta follows u, kept scaled; lambda 0)."""
+    sensors = ["x", "y", "bump", "reward", "in:goal", "in:crit", "color:lamp"]
+    policies = ([0.4, 0.1, 0.1, 0.4], [0.1, 0.2, 0.3, 0.4], [0.25, 0.25, 0.25, 0.25])
+    demons: list[dict[str, Any]] = []
+    for i in range(D):
+        policy = {"kind": "fixed", "probabilities": policies[i % 3]}
+        cumulant = {"mul": [{"sensor": sensors[i % len(sensors)]}, 1 + i // 100]}
+        demons.append({"name": f"tdrc{i}", "learner": "tdrc", "discount": DISCOUNTS[i % 5], "lambda": 0.7,
+                       "policy": policy, "cumulant": cumulant})  # fmt: skip
+        demons.append({"name": f"gtd2_{i}", "learner": "gtd2", "discount": 0.9, "lambda": 0.5, "policy": policy,
+                       "cumulant": cumulant})  # fmt: skip
+        demons.append({"name": f"gtd1_{i}", "learner": "gtd1", "discount": 0.8, "policy": policy,
+                       "cumulant": cumulant})  # fmt: skip
+    return tiles_spec(demons)
+
+
+@pytest.mark.slow
+def test_gtd_kernels_other_forms_walk_in_halves_alike() -> None:
+    """TDRC's, GTD2's and the original GTD's wide blocks walk GTD's rows in halves, each form with what it owes and
+    how it keeps w: the same bits on 1, 2 and 3 threads, and 9 demons of the three equal to the oracle on two."""
+    spec = gtd_family_spec()
+    one, _ = on_1_2_3_threads(spec)
+    assert all(learners.walks_in_halves(block.code, block.size) for block in one.horde.blocks)
+    assert threaded_run_against_the_oracle(spec, 9) == 9
 
 
 def test_small_hordes_take_one_thread() -> None:

@@ -37,7 +37,7 @@ ALIGN = 8  # column runs start at multiples of 8 numbers (64 bytes, a cache line
 MAX_MAGNITUDE = 1e12
 FOREVER = 2**62  # "no limit" for step and episode counts
 OWED_ROWS = 5  # rows of `Weights.owed` at least (GTD's five numbers a demon owes, `learners.gtd_pass`)
-EV_ROWS = 12  # rows of `Scratch.ev` (`learners.gtd_pass`: what is owed in the weights' dtype, and eight cells)
+EV_ROWS = 20  # rows of `Scratch.ev` (`learners.gtd_pass`: what is owed in the weights' dtype, and 2 x 8 cells)
 
 
 class Layout(NamedTuple):
@@ -279,7 +279,8 @@ class Scratch(NamedTuple):
     ex: np.ndarray  # [A, dmax] e . x_bar(s_{t+1}, a) per demon
     ev: np.ndarray  # [EV_ROWS, dmax] in the weights' dtype: a support row's trace values spread over the demons (GQ),
     # what is owed as the one-pass kernels pay it (`td_pass`, `gtd_pass`)
-    sums: np.ndarray  # [3, dmax] in the weights' dtype: `gtd_pass`'s sums over a few rows (float64: work[1:4] itself)
+    sums: np.ndarray  # [6, dmax] in the weights' dtype: `gtd_pass`'s sums over a few rows, of each half (float64:
+    # work[1:7] itself)
 
 
 class Step(NamedTuple):

@@ -318,7 +318,7 @@ def _scratch(horde: Horde, lay: Layout, nodes: int) -> Scratch:
         counts=np.zeros(2, np.int64),
         ex=np.zeros((na, dmax)),
         ev=np.zeros((EV_ROWS, dmax), horde.dtype),  # trace values, what is owed: of the weights' dtype
-        sums=work[1:4] if horde.dtype == np.float64 else np.zeros((3, dmax), horde.dtype),
+        sums=work[1:7] if horde.dtype == np.float64 else np.zeros((6, dmax), horde.dtype),
     )
 
 

@@ -5,10 +5,10 @@ Per group: its stage's question program gives every demon's cumulant, outcome an
 (`questions.evaluate_nodes`, once per stage); its active features at s_{t+1} are coded (`features.code`); each trace
 class's continuation and importance ratio rho_t = pi(a_t | s_t) / b(a_t | s_t) are set; then every block learns with its
 learner's kernel (`horde.core.learners`: prepare, columns, finish), a block of at least PARALLEL_MIN demons on `threads`
-threads (`columns_on_threads`, the one helper that splits a block's columns, or a TD block's two halves of rows, over
-threads: the same numbers to the last bit whatever the count). Then divergence (`freeze_diverged`, the one rule: a demon
-whose TD error, prediction or action values are non-finite or beyond MAX_MAGNITUDE is marked diverged, frozen and its
-weights set to 0, so that the demons reading its prediction go on) and RUPEE / UDE.
+threads (`columns_on_threads`, the one helper that splits a block's columns, or a TD or GTD block's two halves of rows,
+over threads: the same numbers to the last bit whatever the count). Then divergence (`freeze_diverged`, the one rule: a
+demon whose TD error, prediction or action values are non-finite or beyond MAX_MAGNITUDE is marked diverged, frozen and
+its weights set to 0, so that the demons reading its prediction go on) and RUPEE / UDE.
 
 An episode start (`observe`) zeroes the traces, makes the demons that forget their weights do so, and reads
 every demon's values, policy and prediction at the first state. `settle` pays the corrections the gradient
@@ -77,7 +77,7 @@ def learn_block(b, t, stp, threads):
     else:  # from db - db: 0 typed int64, as the threads' i0 is (a literal 0 would compile every kernel again)
         learners.columns(code_, b, db - db, db, lay, t.wts, t.dem, t.cls, t.onl, stp, t.scr)
     if halves == 2:
-        learners.join_halves(code_, b, lay, t.wts, t.dem, t.cls, t.scr)
+        learners.join_halves(code_, b, lay, t.wts, t.dem, t.cls, stp, t.scr)
     learners.finish(code_, b, lay, t.wts, t.dem, t.cls, t.onl, stp, t.scr)
 
 

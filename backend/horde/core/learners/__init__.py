@@ -19,7 +19,8 @@ step calls through the dispatchers below for every block of that learner:
 * `columns(..., b, i0, i1, ...)`: demons i0 <= i < i1 learn the transition, touching only their columns (a
   block of at least `PARALLEL_MIN` demons splits them over threads: `engine.step.columns_on_threads`), and
   store their values, policies and predictions at s_{t+1}; a learner may instead walk a wide block's rows in two
-  halves (`walks_in_halves`, `half`, `join_halves`: TD's, `td_pass`), each half taking every column;
+  halves (`walks_in_halves`, `half`, `join_halves`: TD's, `td_pass`, and GTD's, `gtd_pass`), each half taking every
+  column;
 * `finish(...)`: after every column learned (each class's continuation moves to s_{t+1}).
 
 A new learner is a new module (and its tests and oracle function in `reference.py`), imported here and
@@ -78,14 +79,19 @@ def prepare(code, b, lay, wts, dem, cls, onl, stp, scr):
 
 
 @njit(**NO_NRT, inline="always")
+def _gtd_form(code):
+    """What theta follows in GTD's kernel (`gtd_pass`) for this learner. (A number at run time: numba compiles a copy
+    of a function for each literal argument.)"""
+    return FOLLOWS_W if code == GTD2_CODE else FOLLOWS_U if code == GTD1_CODE else FOLLOWS_DELTA
+
+
+@njit(**NO_NRT, inline="always")
 def columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
     """Block b's demons i0 <= i < i1 learn the transition (see the module)."""
     if code in (TD_CODE, ETD_CODE):  # emphatic TD is TD's kernel with the emphasis in its trace (`emphatic`)
         td_pass.columns(b, i0, i1, lay, wts, dem, cls, stp, scr)
     elif code in (GTD_CODE, TDRC_CODE, GTD2_CODE, GTD1_CODE):
-        # One call with a run-time number: numba compiles a copy of a function for each literal argument.
-        form = FOLLOWS_W if code == GTD2_CODE else FOLLOWS_U if code == GTD1_CODE else FOLLOWS_DELTA
-        gtd_pass.columns(b, i0, i1, lay, wts, dem, cls, stp, scr, form)
+        gtd_pass.columns(b, i0, i1, lay, wts, dem, cls, stp, scr, _gtd_form(code))
     elif code == GQ_CODE:
         gradient.columns(b, i0, i1, lay, wts, dem, cls, stp, scr)
     elif code in (TOTD_CODE, TOGTD_CODE):
@@ -97,26 +103,37 @@ def columns(code, b, i0, i1, lay, wts, dem, cls, onl, stp, scr):
 @njit(**NO_NRT, inline="always")
 def walks_in_halves(code, db):
     """Whether a block of this learner and db demons walks its rows in two halves (`half`, each on a thread of its
-    own when there are two), not its columns split: TD's and emphatic TD's wide blocks (`td_pass`)."""
-    return code in (TD_CODE, ETD_CODE) and td_pass.walks_in_halves(db)
+    own when there are two), not its columns split: the wide blocks of TD and emphatic TD (`td_pass`) and of GTD's
+    kernel (`gtd_pass`)."""
+    return code in (TD_CODE, ETD_CODE, GTD_CODE, TDRC_CODE, GTD2_CODE, GTD1_CODE) and td_pass.walks_in_halves(db)
 
 
 @njit(**NO_NRT, inline="always")
 def before_halves(code, b, lay, wts, scr):
-    """A block that walks in halves: what both halves need first (TD: what is owed, in the weights' dtype)."""
-    td_pass.owed_to_pay(b, 0, lay.block_hi[b] - lay.block_lo[b], lay, wts, scr, False)
+    """A block that walks in halves: what both halves need first (what is owed, in the weights' dtype; GTD's: and
+    both halves' sums at 0)."""
+    if code in (TD_CODE, ETD_CODE):
+        td_pass.owed_to_pay(b, 0, lay.block_hi[b] - lay.block_lo[b], lay, wts, scr, False)
+    else:
+        gtd_pass.before_halves(b, lay, wts, scr)
 
 
 @njit(**NO_NRT, inline="always")
 def half(code, h, b, i0, i1, lay, wts, stp, scr):
     """Block b's demons i0 <= i < i1 walk half h (0 or 1) of the block's rows."""
-    td_pass.walk_half(h, b, i0, i1, lay, wts, stp, scr)
+    if code in (TD_CODE, ETD_CODE):
+        td_pass.walk_half(h, b, i0, i1, lay, wts, stp, scr)
+    else:
+        gtd_pass.walk_half(h, b, i0, i1, lay, wts, stp, scr, _gtd_form(code))
 
 
 @njit(**NO_NRT, inline="always")
-def join_halves(code, b, lay, wts, dem, cls, scr):
-    """After both halves: the two halves' sums added in order, then the TD errors."""
-    td_pass.join_halves(b, lay, wts, dem, cls, scr)
+def join_halves(code, b, lay, wts, dem, cls, stp, scr):
+    """After both halves: the two halves' sums added in order, then the TD errors (and what GTD's kernel owes)."""
+    if code in (TD_CODE, ETD_CODE):
+        td_pass.join_halves(b, lay, wts, dem, cls, scr)
+    else:
+        gtd_pass.join_halves(b, lay, wts, dem, cls, stp, scr, _gtd_form(code))
 
 
 @njit(**NO_NRT, inline="always")

@@ -27,9 +27,11 @@ that still needed e_{t-1}), and the values at s_{t+1} come from the update's alg
 What is owed is paid (`settle`, through `learners.settle`) wherever something outside the walk reads theta or w:
 the end of a call of the loop, an episode's start, a freeze (`engine.step`). A frozen demon owes nothing.
 
-Within a row, each trace class's demons are one contiguous run of the row (`Layout.class_lo`, `class_hi`). In
-float32 the walk pays in float32 (what is owed and the row's numbers copied into the weights' dtype,
-`Scratch.ev`), and sums SUM_ROWS rows at a time in float32 before it adds them into float64 sums.
+A block of at least PARALLEL_MIN demons walks its rows in two halves instead, each taking every column (on two
+threads, a thread each; `walk_half`, `join_halves`), as TD's does (`td_pass`). Within a row, each trace class's demons
+are one contiguous run of the row (`Layout.class_lo`, `class_hi`). In float32 the walk pays in float32 (what is owed
+and the row's numbers copied into the weights' dtype, `Scratch.ev`), and sums SUM_ROWS rows at a time in float32
+before it adds them into float64 sums.
 """
 
 from __future__ import annotations
@@ -42,6 +44,7 @@ from horde.core.engine.rows import add_row, at, dot, fold_floor, square
 from horde.core.engine.rows import td_error as td_error_at
 from horde.core.engine.traces import above_cut, merge
 from horde.core.engine.values import observe_range
+from horde.core.learners.td_pass import half_start
 from horde.core.learners.tdrc import SCALE_FLOOR, move_scales
 
 FOLLOWS_DELTA, FOLLOWS_W, FOLLOWS_U = 0, 1, 2  # what theta follows besides the correction (see the module)
@@ -49,13 +52,15 @@ OWED_C, OWED_A, OWED_B, OWED_D, OWED_M = 0, 1, 2, 3, 4  # rows of `Weights.owed`
 NONE = np.int64(2**62)  # past every row: a walk's list that has ended
 # Scratch.ev's rows, in the weights' dtype: what is owed as the walk pays it (K: A or M, whichever the form
 # has; B, C, D), then cells of one number for a thread (at its first column) that round a row's numbers to the
-# weights' dtype (e_t's values, x_t's, x_{t-1}'s, x_{t+1}'s, of two rows).
-EV_K, EV_B, EV_C, EV_D, EV_CELLS = 0, 1, 2, 3, 4
-assert OWED_ROWS == 5 and EV_ROWS == EV_CELLS + 8
+# weights' dtype (e_t's values, x_t's, x_{t-1}'s, x_{t+1}'s, of two rows): eight rows for each half of a block
+# that walks in halves (`walk_half`), so that the two halves' threads never write one cache line.
+EV_K, EV_B, EV_C, EV_D, EV_CELLS, CELLS = 0, 1, 2, 3, 4, 8
+assert OWED_ROWS == 5 and EV_ROWS == EV_CELLS + 2 * CELLS
 # In float32 the walk's three sums (theta . x_{t+1}, w . x_t, w . e_t) are taken over SUM_ROWS rows at a time in
 # float32 (`Scratch.sums`), then added into the float64 sums (`_add_sums`): a sum of so few terms does not drift,
 # and per demon the float64 sums move twice a float32 weight's bytes (most of a float32 walk's, summed row by row).
-# In float64, `Scratch.sums` is the float64 sums themselves.
+# In float64, `Scratch.sums` is the float64 sums themselves. Half h of a walk in halves sums into rows 3 h to 3 h + 2
+# of `Scratch.sums` and into `Scratch.work[1 + 3 h]` to `work[3 + 3 h]` (the first half's are the block's sums).
 SUM_ROWS = 16
 
 
@@ -148,28 +153,30 @@ def _pay_two(theta, w, bases, c0, c1, own, sums, ev, acc):
 
 
 @njit(**NO_NRT)
-def _pay_rows(b, i0, i1, lay, wts, scr, r, x, q, g, two, form):
-    """Row r[0] (and r[1], `two`) of the walk, each class's run of columns i0 <= i < i1 (see `_pay_one`): x_t's
-    values x, x_{t-1}'s q, x_{t+1}'s g (pairs, float64; rounded to the weights' dtype here)."""
+def _pay_rows(b, i0, i1, lay, wts, scr, r, x, q, g, h, form):
+    """Row r[0] (and r[1], unless it is r[0] again) of the walk, each class's run of columns i0 <= i < i1 (see
+    `_pay_one`), summed into half h's sums: x_t's values x, x_{t-1}'s q, x_{t+1}'s g (pairs, float64; rounded to the
+    weights' dtype here, in half h's cells)."""
     lo, woff, voff, ncls, coff, cut = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b], lay.cut
     db = lay.block_hi[b] - lo
-    theta, w, trace, ev, acc = wts.theta, wts.w, wts.trace, scr.ev, scr.sums
+    theta, w, trace, ev, acc = wts.theta, wts.w, wts.trace, scr.ev, scr.sums[3 * h : 3 * h + 3]
+    cells = EV_CELLS + CELLS * h
     r0, r1 = r
     bases = (at(woff + r0 * db), at(woff + r1 * db))
-    f0, p0 = _cell(ev, EV_CELLS + 2, i0, x[0]), _cell(ev, EV_CELLS + 4, i0, q[0])
-    f1, p1 = _cell(ev, EV_CELLS + 3, i0, x[1]), _cell(ev, EV_CELLS + 5, i0, q[1])
-    g0, g1 = _cell(ev, EV_CELLS + 6, i0, g[0]), _cell(ev, EV_CELLS + 7, i0, g[1])
+    f0, p0 = _cell(ev, cells + 2, i0, x[0]), _cell(ev, cells + 4, i0, q[0])
+    f1, p1 = _cell(ev, cells + 3, i0, x[1]), _cell(ev, cells + 5, i0, q[1])
+    g0, g1 = _cell(ev, cells + 6, i0, g[0]), _cell(ev, cells + 7, i0, g[1])
     for c in range(ncls):
         c0 = max(lay.class_lo[coff + c], i0)
         c1 = min(lay.class_hi[coff + c], i1)
         if c0 >= c1:
             continue
         o0 = trace[voff + r0 * ncls + c]  # (a row off the last support has trace 0)
-        n0 = _new_trace(o0, scr.decay[c], scr.add[c], x[0], cut, ev, EV_CELLS, i0)
+        n0 = _new_trace(o0, scr.decay[c], scr.add[c], x[0], cut, ev, cells, i0)
         k0 = o0 if form == FOLLOWS_DELTA else p0
-        if two:
+        if r1 != r0:
             o1 = trace[voff + r1 * ncls + c]
-            n1 = _new_trace(o1, scr.decay[c], scr.add[c], x[1], cut, ev, EV_CELLS + 1, i0)
+            n1 = _new_trace(o1, scr.decay[c], scr.add[c], x[1], cut, ev, cells + 1, i0)
             k1 = o1 if form == FOLLOWS_DELTA else p1
             _pay_two(theta, w, bases, c0, c1, (k0, k1, o0, o1, f0, f1, p0, p1), (g0, g1, f0, f1, n0, n1), ev, acc)
         else:
@@ -177,33 +184,22 @@ def _pay_rows(b, i0, i1, lay, wts, scr, r, x, q, g, two, form):
 
 
 @njit(**NO_NRT, inline="always")
-def _add_sums(i0, i1, scr):
-    """float32: the walk's sums over its last rows (`Scratch.sums`) added into its float64 sums, and begun again."""
+def _add_sums(i0, i1, scr, h):
+    """float32: half h's sums over its last rows (`Scratch.sums`) added into its float64 sums, and begun again."""
     for r in range(3):
-        part, total = scr.sums[r], scr.work[1 + r]
+        part, total = scr.sums[3 * h + r], scr.work[1 + 3 * h + r]
         for i in range(i0, i1):
             u = at(i)
             total[u] += np.float64(part[u])
             part[u] = 0.0
 
 
-@njit(**NO_NRT)
-def columns(b, i0, i1, lay, wts, dem, cls, stp, scr, form):
-    """Block b's demons i0 <= i < i1 (see the module): one walk over the last support, x_t and x_{t+1} pays what
-    the last step owes and sums theta . x_{t+1}, w . x_t and w . e_t from the paid rows (the rows that pay, two at
-    a time); then the TD errors and what this step owes; x_t's rows left without a trace pay its terms along
-    x_t at once."""
-    if i0 >= i1:
-        return
-    lo, woff, voff, ncls, coff, toff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b], lay.toff[b]
-    db = lay.block_hi[b] - lo
-    theta, w, trace, support, support_f, old = wts.theta, wts.w, wts.trace, wts.support, wts.support_f, wts.nnz[b]
-    owed, ev, cut = wts.owed, scr.ev, lay.cut
-    acc_v, acc_wx, acc_we = scr.work[1], scr.work[2], scr.work[3]  # theta . x_{t+1}, w . x_t, w . e_t
-    part_v, in_float32 = scr.sums[0], theta.itemsize == 4  # (float32: theta . x_{t+1} over the last rows)
-    sum_rows = SUM_ROWS if in_float32 else NONE
-    x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
-    nt, k = x_t.shape[0], x_tp1.shape[0]
+@njit(**NO_NRT, inline="always")
+def _begin(b, i0, i1, lay, wts, scr, halves):
+    """Block b's demons i0 <= i < i1: what they owe, in the weights' dtype, as the walk pays it; the float64 sums of
+    the walk (of both halves, `halves` = 2) at 0. (float32's partial sums start at 0: allocated so, and every walk's
+    last `_add_sums` leaves its columns at 0.)"""
+    lo, owed, ev, work = lay.block_lo[b], wts.owed, scr.ev, scr.work
     owed_a, owed_b, owed_c, owed_d, owed_m = owed[OWED_A], owed[OWED_B], owed[OWED_C], owed[OWED_D], owed[OWED_M]
     pay_k, pay_b, pay_c, pay_d = ev[EV_K], ev[EV_B], ev[EV_C], ev[EV_D]
     for i in range(i0, i1):  # (rows and unsigned offsets: the per-demon loops vectorize, `rows.at`)
@@ -212,14 +208,24 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr, form):
         pay_b[u] = owed_b[d]
         pay_c[u] = owed_c[d]
         pay_d[u] = owed_d[d]
-        acc_v[u] = 0.0
-        acc_wx[u] = 0.0
-        acc_we[u] = 0.0
-    # (float32's partial sums start at 0: allocated so, and every walk's last `_add_sums` leaves its columns at 0)
+    for r in range(1, 1 + 3 * halves):
+        for i in range(i0, i1):
+            work[r, at(i)] = 0.0
+
+
+@njit(**NO_NRT)
+def _walk(b, i0, i1, rows, h, lay, wts, stp, scr, form):
+    """Block b's demons i0 <= i < i1 walk the last support's rows s0 <= s < s1, x_t's j0 <= j < j1 and x_{t+1}'s
+    m0 <= m < m1 (rows: (s0, s1, j0, j1, m0, m1)): each row paid and read (the rows that pay, two at a time), the sums
+    into half h's (see the module)."""
+    woff, toff = lay.woff[b], lay.toff[b]
+    db = lay.block_hi[b] - lay.block_lo[b]
+    theta, support, support_f, ev = wts.theta, wts.support, wts.support_f, scr.ev
+    part_v, in_float32 = scr.sums[3 * h], theta.itemsize == 4  # (float32: theta . x_{t+1} over the last rows)
+    sum_rows = SUM_ROWS if in_float32 else NONE
+    x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
+    s, old, j, nt, m, k = rows
     summed = 0  # rows in the partial sums
-    s = 0
-    j = 0
-    m = 0
     waiting = False  # a row that pays, held for its pair (r0: the row; x0, q0, g0: x_t's, x_{t-1}'s, x_{t+1}'s)
     r0 = np.int64(0)
     x0 = q0 = g0 = 0.0
@@ -233,7 +239,7 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr, form):
             x = v_t[j] if r_j == row else 0.0
             q = support_f[toff + s] if r_s == row else 0.0
             if waiting:
-                _pay_rows(b, i0, i1, lay, wts, scr, (r0, row), (x0, x), (q0, q), (g0, g), True, form)
+                _pay_rows(b, i0, i1, lay, wts, scr, (r0, row), (x0, x), (q0, q), (g0, g), h, form)
                 summed += 2
             else:
                 r0, x0, q0, g0 = row, x, q, g
@@ -241,17 +247,27 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr, form):
             s += 1 if r_s == row else 0
             j += 1 if r_j == row else 0
         elif g != 0.0:  # a row of x_{t+1} alone: theta read only (it owes nothing there)
-            add_row(i0, i1, at(woff + row * db), theta, part_v, _cell(ev, EV_CELLS + 6, i0, g))
+            add_row(i0, i1, at(woff + row * db), theta, part_v, _cell(ev, EV_CELLS + CELLS * h + 6, i0, g))
             summed += 1
         m += 1 if r_m == row else 0
         if summed >= sum_rows:
-            _add_sums(i0, i1, scr)
+            _add_sums(i0, i1, scr, h)
             summed = 0
     if waiting:
-        _pay_rows(b, i0, i1, lay, wts, scr, (r0, r0), (x0, x0), (q0, q0), (g0, g0), False, form)
+        _pay_rows(b, i0, i1, lay, wts, scr, (r0, r0), (x0, x0), (q0, q0), (g0, g0), h, form)
     if in_float32:
-        _add_sums(i0, i1, scr)
-    lam = lay.lam[b]
+        _add_sums(i0, i1, scr, h)
+
+
+@njit(**NO_NRT)
+def _owe(b, i0, i1, lay, wts, dem, cls, stp, scr, form):
+    """Block b's demons i0 <= i < i1, the walk's sums in scr.work[1:4]: the TD errors and what this step owes; x_t's
+    rows left without a trace pay its terms along x_t at once."""
+    lo, woff, voff, ncls, coff = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b]
+    db = lay.block_hi[b] - lo
+    theta, w, trace, owed, ev, cut, lam = wts.theta, wts.w, wts.trace, wts.owed, scr.ev, lay.cut, lay.lam[b]
+    owed_a, owed_b, owed_c, owed_d, owed_m = owed[OWED_A], owed[OWED_B], owed[OWED_C], owed[OWED_D], owed[OWED_M]
+    acc_v, acc_wx, acc_we = scr.work[1], scr.work[2], scr.work[3]  # theta . x_{t+1}, w . x_t, w . e_t
     q_t, values, scale_b, scale_d, scale_a = dem.q[:, 0], scr.values[0], scr.scales[0], scr.scales[1], scr.scales[2]
     for i in range(i0, i1):
         u, d = at(i), at(lo + i)
@@ -267,7 +283,8 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr, form):
         owed_m[d] = move * scr.add[lay.slot_class[d] - coff] if form == FOLLOWS_U else move  # (rho_t)
         owed_c[d] = a * g1 * (1.0 - lam) * acc_we[u] * scale_a[u] if a != 0.0 else 0.0
     # x_t's rows that the merge will leave without a trace (in no support next step): its terms along x_t now
-    for j in range(nt):
+    x_t, v_t = stp.x_t, stp.v_t
+    for j in range(x_t.shape[0]):
         row = x_t[j]
         f = v_t[j]
         left = False
@@ -281,6 +298,56 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr, form):
             u = at(i)
             w[base + u] -= f * owed_d[at(lo + i)]
             theta[base + u] += f * owed_m[at(lo + i)]
+
+
+@njit(**NO_NRT)
+def columns(b, i0, i1, lay, wts, dem, cls, stp, scr, form):
+    """Block b's demons i0 <= i < i1 (see the module): one walk over the last support, x_t and x_{t+1} pays what
+    the last step owes and sums theta . x_{t+1}, w . x_t and w . e_t from the paid rows; then the TD errors and what
+    this step owes."""
+    if i0 >= i1:
+        return
+    _begin(b, i0, i1, lay, wts, scr, 1)
+    rows = (np.int64(0), np.int64(wts.nnz[b]), np.int64(0), np.int64(stp.x_t.shape[0]), np.int64(0),
+            np.int64(stp.x_tp1.shape[0]))  # fmt: skip
+    _walk(b, i0, i1, rows, i0 - i0, lay, wts, stp, scr, form)  # (half 0, typed int64 as `walk_half`'s h)
+    _owe(b, i0, i1, lay, wts, dem, cls, stp, scr, form)
+
+
+# A wide block (`td_pass.walks_in_halves`) walks its rows in two halves, as TD's does: the last support's first half
+# of rows with x_t's and x_{t+1}'s rows below the second half's first row, and the rest; on two threads each half
+# takes every column (each thread streams whole rows), each summing its own sums, added in that order after both.
+
+
+@njit(**NO_NRT)
+def before_halves(b, lay, wts, scr):
+    """A block that walks in halves: what it owes in the weights' dtype, both halves' sums at 0 (`_begin`)."""
+    db = lay.block_hi[b] - lay.block_lo[b]
+    _begin(b, db - db, db, lay, wts, scr, 2)
+
+
+@njit(**NO_NRT)
+def walk_half(h, b, i0, i1, lay, wts, stp, scr, form):
+    """Block b's demons i0 <= i < i1 walk half h of the rows (see above)."""
+    kept, nt, k = np.int64(wts.nnz[b]), np.int64(stp.x_t.shape[0]), np.int64(stp.x_tp1.shape[0])
+    middle, first = half_start(b, lay, wts)
+    j_middle, m_middle = np.int64(np.searchsorted(stp.x_t, first)), np.int64(np.searchsorted(stp.x_tp1, first))
+    if h == 0:
+        rows = (kept - kept, middle, nt - nt, j_middle, k - k, m_middle)
+    else:
+        rows = (middle, kept, j_middle, nt, m_middle, k)
+    _walk(b, i0, i1, rows, h, lay, wts, stp, scr, form)
+
+
+@njit(**NO_NRT)
+def join_halves(b, lay, wts, dem, cls, stp, scr, form):
+    """After both halves: each demon's sums are the first half's plus the second's; then the TD errors and what
+    this step owes (`_owe`)."""
+    db = lay.block_hi[b] - lay.block_lo[b]
+    for r in range(1, 4):
+        for i in range(db):
+            scr.work[r, at(i)] += scr.work[r + 3, at(i)]
+    _owe(b, db - db, db, lay, wts, dem, cls, stp, scr, form)
 
 
 @njit(**NO_NRT, inline="always")

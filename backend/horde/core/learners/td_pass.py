@@ -209,27 +209,35 @@ def columns(b, i0, i1, lay, wts, dem, cls, stp, scr):
 
 @njit(**NO_NRT, inline="always")
 def walks_in_halves(db):
-    """Whether a TD block of db demons walks its rows in two halves (a block that may split over threads)."""
+    """Whether a block of db demons walks its rows in two halves (a block that may split over threads): TD's, and
+    GTD's (`gtd_pass.walk_half`)."""
     return db >= PARALLEL_MIN
+
+
+@njit(**NO_NRT, inline="always")
+def half_start(b, lay, wts):
+    """Where a block's second half of rows starts: (middle, first), the support's rows from middle on and every other
+    list's rows from first on (the support's row at middle; NONE when the support has no second half)."""
+    kept = np.int64(wts.nnz[b])
+    middle = kept // 2
+    return middle, wts.support[lay.toff[b] + middle] if middle < kept else NONE
 
 
 @njit(**NO_NRT, inline="always")
 def _half_rows(h, b, lay, wts, stp):
     """Half h's rows: (s0, s1, m0, m1), its support rows s0 <= s < s1 and x_{t+1}'s rows m0 <= m < m1."""
-    kept, k = wts.nnz[b], stp.x_tp1.shape[0]
-    middle = kept // 2
-    first = wts.support[lay.toff[b] + middle] if middle < kept else NONE  # the second half's first row
-    m_middle = np.searchsorted(stp.x_tp1, first)
+    kept, k = np.int64(wts.nnz[b]), np.int64(stp.x_tp1.shape[0])
+    middle, first = half_start(b, lay, wts)
+    m_middle = np.int64(np.searchsorted(stp.x_tp1, first))
     if h == 0:
-        return 0, middle, 0, m_middle
+        return kept - kept, middle, k - k, m_middle
     return middle, kept, m_middle, k
 
 
 @njit(**NO_NRT)
 def walk_half(h, b, i0, i1, lay, wts, stp, scr):
     """Block b's demons i0 <= i < i1 walk half h of the rows (what they pay already in scr.ev: `owed_to_pay`)."""
-    s0, s1, m0, m1 = _half_rows(h, b, lay, wts, stp)
-    rows = (np.int64(s0), np.int64(s1), np.int64(m0), np.int64(m1))
+    rows = _half_rows(h, b, lay, wts, stp)
     walk_rows(b, i0, i1, rows, lay, wts, stp, scr, scr.values[0] if h == 0 else scr.work[0], False)
 
 
