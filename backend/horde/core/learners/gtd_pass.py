@@ -32,6 +32,11 @@ threads, a thread each; `walk_half`, `join_halves`), as TD's does (`td_pass`). W
 are one contiguous run of the row (`Layout.class_lo`, `class_hi`). In float32 the walk pays in float32 (what is owed
 and the row's numbers copied into the weights' dtype, `Scratch.ev`), and sums SUM_ROWS rows at a time in float32
 before it adds them into float64 sums.
+
+Why one module of about 430 lines: the walk (whole or in halves), the merge's follow-up in `finish` and `settle` pay
+the same five numbers a demon, in the same order (a weight settled between calls must equal the one the walk would
+have paid, to the bit), and read the same `Scratch` rows; apart, each would have to be kept in step with the others
+by hand.
 """
 
 from __future__ import annotations
