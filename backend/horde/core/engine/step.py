@@ -33,6 +33,7 @@ from horde.core.policies import FIXED, OF, UNIFORM
 from horde.core.questions import evaluate_nodes
 
 METRICS = -1  # `columns_on_threads`: the metrics' columns, not a learner's
+RUN_AT_LEAST = 16  # `continuations_to_slots`: the classes' runs of demons are this long on average, or a look-up each
 
 
 @njit(cache=True, parallel=True, **WITH_NRT)  # prange allocates: NRT on (a caller without it passes its flag down)
@@ -111,9 +112,7 @@ def learn(t, action, b_prob, terminated, x, y, threads, with_metrics):
         for c in range(grp.class_lo[g], grp.class_hi[g]):
             for a in range(cls.pi.shape[1]):  # the Horde's actions (a given world may have other than four)
                 cls.pi[c, a] = cls.pi_given[c, a]
-        for s in range(grp.slot_lo[g], grp.slot_hi[g]):
-            dem.gamma[s] = cls.gamma_tp1[t.lay.slot_class[s]]
-            dem.cumulant[s] = dem.r[s]
+        continuations_to_slots(g, grp, t.lay, dem, cls)
         if any_diverged(g, grp, t.lay, dem):
             freeze_diverged(g, t, stp)
         if with_metrics:
@@ -191,14 +190,37 @@ def given_policies(g, grp, progs, dem, cls):
 
 @njit(**NO_NRT)
 def given_to_slots(g, grp, lay, dem, cls):
-    """Slots of given-policy blocks take their class's policy (a block of own-value demons sets its own)."""
+    """Slots of given-policy blocks take their class's policy (a block of own-value demons sets its own). A block's
+    demons lie in runs of one class each (`Layout.class_lo`): one policy a run, not one look-up a demon."""
     A = dem.pi.shape[1]
     for b in range(grp.block_lo[g], grp.block_hi[g]):
         if lay.policy[b] != FIXED:
             continue
-        for s in range(lay.block_lo[b], lay.block_hi[b]):
+        lo, coff = lay.block_lo[b], lay.coff[b]
+        for c in range(coff, coff + lay.ncls[b]):
             for a in range(A):
-                dem.pi[s, a] = cls.pi_given[lay.slot_class[s], a]
+                p = cls.pi_given[c, a]
+                for s in range(lo + lay.class_lo[c], lo + lay.class_hi[c]):
+                    dem.pi[s, a] = p
+
+
+@njit(**NO_NRT)
+def continuations_to_slots(g, grp, lay, dem, cls):
+    """Group g's slots after their step: each its class's continuation at s_{t+1} and its cumulant; a class's run of
+    demons at a time where the runs are long (`given_to_slots`), else a look-up a demon (a class a demon: GQ's own
+    values)."""
+    for b in range(grp.block_lo[g], grp.block_hi[g]):
+        lo, hi, coff = lay.block_lo[b], lay.block_hi[b], lay.coff[b]
+        if lay.ncls[b] * RUN_AT_LEAST > hi - lo:
+            for s in range(lo, hi):
+                dem.gamma[s] = cls.gamma_tp1[lay.slot_class[s]]
+                dem.cumulant[s] = dem.r[s]
+            continue
+        for c in range(coff, coff + lay.ncls[b]):
+            gamma = cls.gamma_tp1[c]
+            for s in range(lo + lay.class_lo[c], lo + lay.class_hi[c]):
+                dem.gamma[s] = gamma
+                dem.cumulant[s] = dem.r[s]
 
 
 @njit(**NO_NRT)
@@ -241,12 +263,18 @@ def slot_diverged(s, action_values, dem):
 
 @njit(**NO_NRT)
 def any_diverged(g, grp, lay, dem):
-    """Whether a demon of group g not yet marked has diverged (`slot_diverged`)."""
+    """Whether a demon of group g not yet marked has diverged (`slot_diverged`). A block of state values is looked at
+    whole, without a branch, so that the check of a step where none has (nearly every step) runs in vector lanes."""
+    found = False
     for b in range(grp.block_lo[g], grp.block_hi[g]):
-        for s in range(lay.block_lo[b], lay.block_hi[b]):
-            if not dem.diverged[s] and slot_diverged(s, lay.actions[b] > 1, dem):
-                return True
-    return False
+        if lay.actions[b] > 1:
+            for s in range(lay.block_lo[b], lay.block_hi[b]):
+                found |= slot_diverged(s, True, dem) & (not dem.diverged[s])
+            continue
+        for s in range(lay.block_lo[b], lay.block_hi[b]):  # `slot_diverged` of a state value, written out
+            finite = (abs(dem.delta[s]) <= MAX_MAGNITUDE) & (abs(dem.pred[s]) <= MAX_MAGNITUDE)
+            found |= (not finite) & (not dem.diverged[s])
+    return found
 
 
 @njit(**NO_NRT)

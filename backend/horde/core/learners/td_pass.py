@@ -81,6 +81,37 @@ def _pay_and_read_two(theta, bases, owed, e, c0, c1, acc, value):
 
 
 @njit(**NO_NRT, inline="always")
+def _pay_and_read_four(theta, bases, owed, e, c0, c1, acc, value):
+    """`_pay_and_read_two` on four rows at once, the first pair's sum added to acc before the second's as two calls
+    would: the same numbers to the last bit, with acc read and written once for the four rows and four rows'
+    streams in flight (docs/performance.md, "Four rows at once")."""
+    base0, base1, base2, base3 = bases
+    e0, e1, e2, e3 = e
+    value0, value1, value2, value3 = value
+    for i in range(c0, c1):
+        u = at(i)
+        paid0 = theta[base0 + u] + owed[u] * e0
+        paid1 = theta[base1 + u] + owed[u] * e1
+        paid2 = theta[base2 + u] + owed[u] * e2
+        paid3 = theta[base3 + u] + owed[u] * e3
+        theta[base0 + u] = paid0
+        theta[base1 + u] = paid1
+        theta[base2 + u] = paid2
+        theta[base3 + u] = paid3
+        acc[u] = (acc[u] + (value0 * paid0 + value1 * paid1)) + (value2 * paid2 + value3 * paid3)
+
+
+@njit(**NO_NRT, inline="always")
+def _paid_and_read(support, toff, s, s1, x_tp1, v_tp1, m, m1):
+    """How many of the walk's rows from the support's s and x_{t+1}'s m on, up to four, are both paid and read (each
+    the next row of both lists, with a value there), so that they go at once."""
+    n = 0
+    while n < 4 and s + n < s1 and m + n < m1 and x_tp1[m + n] == support[toff + s + n] and v_tp1[m + n] != 0.0:
+        n += 1
+    return n
+
+
+@njit(**NO_NRT, inline="always")
 def _pay_with_fix(theta, base, owed, e, fix, f, c0, c1):
     """theta pays owed[i] e - fix[i] f on the row at base (true online TD: f, x_{t-1}'s value there)."""
     for i in range(c0, c1):
@@ -121,8 +152,8 @@ def walk(b, i0, i1, lay, wts, stp, scr, along_x):
 @njit(**NO_NRT)
 def walk_rows(b, i0, i1, rows, lay, wts, stp, scr, acc, along_x):
     """`walk` over the support's rows s0 <= s < s1 and x_{t+1}'s rows m0 <= m < m1 (rows: (s0, s1, m0, m1); what
-    it pays already in scr.ev), the values summed into acc. Two rows in a row that are both paid and read go at once
-    (TD's; true online TD pays along x_{t-1} too, one row at a time)."""
+    it pays already in scr.ev), the values summed into acc. Four rows in a row that are all paid and read go at once,
+    else two (TD's; true online TD pays along x_{t-1} too, one row at a time)."""
     s0, s1, m0, m1 = rows
     woff, voff, ncls, coff, toff = lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b], lay.toff[b]
     db = lay.block_hi[b] - lay.block_lo[b]
@@ -139,20 +170,32 @@ def walk_rows(b, i0, i1, rows, lay, wts, stp, scr, acc, along_x):
         row = min(r_s, r_m)
         base = at(woff + row * db)
         value = v_tp1[m] if r_m == row else 0.0
-        if not along_x and value != 0.0 and r_s == row and s + 1 < s1 and m + 1 < m1:
+        together = 0 if along_x or r_s != row else _paid_and_read(support, toff, s, s1, x_tp1, v_tp1, m, m1)
+        if together == 4:  # the next four rows are paid and read: at once
+            rows4 = (row, support[toff + s + 1], support[toff + s + 2], support[toff + s + 3])
+            bases4 = (base, at(woff + rows4[1] * db), at(woff + rows4[2] * db), at(woff + rows4[3] * db))
+            values4 = (value, v_tp1[m + 1], v_tp1[m + 2], v_tp1[m + 3])
+            for c in range(ncls):
+                c0 = max(lay.class_lo[coff + c], i0)
+                c1 = min(lay.class_hi[coff + c], i1)
+                e4 = (trace[voff + rows4[0] * ncls + c], trace[voff + rows4[1] * ncls + c],
+                      trace[voff + rows4[2] * ncls + c], trace[voff + rows4[3] * ncls + c])  # fmt: skip
+                _pay_and_read_four(theta, bases4, pay, e4, c0, c1, acc, values4)
+            s += 4
+            m += 4
+            continue
+        if together >= 2:  # the next two rows: at once
             row1 = support[toff + s + 1]
-            value1 = v_tp1[m + 1] if x_tp1[m + 1] == row1 else 0.0
-            if value1 != 0.0:  # the next row is paid and read too: the two rows at once
-                bases = (base, at(woff + row1 * db))
-                tr0, tr1 = voff + row * ncls, voff + row1 * ncls
-                for c in range(ncls):
-                    c0 = max(lay.class_lo[coff + c], i0)
-                    c1 = min(lay.class_hi[coff + c], i1)
-                    e = (trace[tr0 + c], trace[tr1 + c])
-                    _pay_and_read_two(theta, bases, pay, e, c0, c1, acc, (value, value1))
-                s += 2
-                m += 2
-                continue
+            bases = (base, at(woff + row1 * db))
+            tr0, tr1 = voff + row * ncls, voff + row1 * ncls
+            for c in range(ncls):
+                c0 = max(lay.class_lo[coff + c], i0)
+                c1 = min(lay.class_hi[coff + c], i1)
+                e = (trace[tr0 + c], trace[tr1 + c])
+                _pay_and_read_two(theta, bases, pay, e, c0, c1, acc, (value, v_tp1[m + 1]))
+            s += 2
+            m += 2
+            continue
         if r_s == row:
             tr = voff + row * ncls
             f = wts.support_f[toff + s] if along_x else 0.0
@@ -182,13 +225,15 @@ def walk_rows(b, i0, i1, rows, lay, wts, stp, scr, acc, along_x):
 def errors(b, i0, i1, lay, wts, dem, cls, scr):
     """Block b's demons i0 <= i < i1, their values at x_{t+1} in scr.values[0]: the TD errors, and alpha delta
     owed for the next walk (0 for a frozen demon)."""
-    lo = lay.block_lo[b]
+    lo, coff = lay.block_lo[b], lay.coff[b]
     owed, acc = wts.owed[0], scr.values[0]
-    for i in range(i0, i1):
-        d = lo + i
-        dl = td_error_at(dem.r[d], dem.z[d], cls.gamma_tp1[lay.slot_class[d]], acc[i], dem.q[d, 0])
-        dem.delta[d] = dl
-        owed[d] = dem.alpha[d] * dl if dem.alpha[d] != 0.0 else 0.0  # a frozen demon stays exactly as it is
+    for c in range(coff, coff + lay.ncls[b]):  # a class's run of demons at a time: its continuation is one number
+        gamma_tp1 = cls.gamma_tp1[c]
+        for i in range(max(lay.class_lo[c], i0), min(lay.class_hi[c], i1)):
+            d = lo + i
+            dl = td_error_at(dem.r[d], dem.z[d], gamma_tp1, acc[i], dem.q[d, 0])
+            dem.delta[d] = dl
+            owed[d] = dem.alpha[d] * dl if dem.alpha[d] != 0.0 else 0.0  # a frozen demon stays exactly as it is
 
 
 @njit(**NO_NRT)
