@@ -28,6 +28,7 @@ import numpy as np
 import uvicorn
 
 from horde.server import Settings, create_app
+from horde.server.cli_serve import UVICORN_OPTIONS
 from horde.spec import RunSpec
 from horde.worlds.log_run import learn_log
 
@@ -80,7 +81,8 @@ def main() -> None:
             s.bind(("127.0.0.1", 0))
             port = int(s.getsockname()[1])
         app = create_app(Settings(data=Path(tmp) / "data", token=None, snapshot_every=3600.0))
-        server = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning"))
+        config = uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning", **UVICORN_OPTIONS)
+        server = uvicorn.Server(config)
         thread = threading.Thread(target=server.run, daemon=True)
         thread.start()
         while not server.started:

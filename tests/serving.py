@@ -14,6 +14,7 @@ import httpx
 import uvicorn
 
 from horde.server import Settings, create_app
+from horde.server.cli_serve import UVICORN_OPTIONS
 from polling import wait_until
 
 
@@ -33,11 +34,12 @@ class RunningServer:
 
 @contextmanager
 def serve_in_thread(settings: Settings, **config: Any) -> Iterator[RunningServer]:
-    """The real app (lifespan and all), served by uvicorn (with `config`, e.g. ws_max_size) in a background
-    thread on a free loopback port; stopped on the way out."""
+    """The real app (lifespan and all), served by uvicorn as `horde serve` serves it (and with `config`, e.g.
+    ws_max_size) in a background thread on a free loopback port; stopped on the way out."""
     port = free_port()
     app = create_app(settings)
-    server = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning", **config))
+    options = UVICORN_OPTIONS | config
+    server = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning", **options))
     thread = threading.Thread(target=server.run, name="uvicorn-test", daemon=True)
     thread.start()
 

@@ -51,7 +51,7 @@ def test_serve_prints_its_urls_and_warns_when_exposed(
     assert "Dashboard: http://127.0.0.1:9002/" in out.out
     assert "WARNING" not in out.err
     assert calls == [{"host": "127.0.0.1", "port": 9002, "log_level": "info", "log_config": log_config(),
-                      "ws_per_message_deflate": False}]  # fmt: skip
+                      "ws_per_message_deflate": False, "timeout_keep_alive": 75}]  # fmt: skip
 
     # Beyond loopback without a token: refused, unless asked for on purpose (then a warning).
     calls.clear()

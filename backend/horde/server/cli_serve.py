@@ -17,6 +17,18 @@ from horde.server.settings import Settings
 
 DEFAULT_VISER_PORT = 8080
 
+# How uvicorn serves the app, for `horde serve` and for the tests' servers alike.
+UVICORN_OPTIONS: dict[str, Any] = {
+    # The streams are small JSON messages to a dashboard on this machine or the LAN: compressing each one costs
+    # more CPU (taken from learning) than it saves.
+    "ws_per_message_deflate": False,
+    # An idle kept-alive connection is closed by the client, not by the server. uvicorn's own 5 s equals
+    # httpx's idle expiry: a script's request sent as the server closes its connection met a reset (seen in CI on a
+    # loaded machine, and made 9 times in 80 in a loop). With the server waiting longer, a client drops its idle
+    # connection first and opens a new one.
+    "timeout_keep_alive": 75,
+}
+
 
 def add_serve_arguments(parser: argparse.ArgumentParser) -> None:
     """--host, --port, --data (each defaults to its HORDE_* variable, then to the built-in default)."""
@@ -110,8 +122,6 @@ def serve(args: argparse.Namespace) -> int:
         port=settings.port,
         log_level=getattr(args, "log_level", "info"),
         log_config=log_config(),  # uvicorn's, with `?token=` hidden
-        # The streams are small JSON messages to a dashboard on this machine or the LAN: compressing each
-        # one costs more CPU (taken from learning) than it saves.
-        ws_per_message_deflate=False,
+        **UVICORN_OPTIONS,
     )
     return 0
