@@ -37,7 +37,7 @@ ALIGN = 8  # column runs start at multiples of 8 numbers (64 bytes, a cache line
 MAX_MAGNITUDE = 1e12
 FOREVER = 2**62  # "no limit" for step and episode counts
 OWED_ROWS = 5  # rows of `Weights.owed` at least (GTD's five numbers a demon owes, `learners.gtd_pass`)
-EV_ROWS = 20  # rows of `Scratch.ev` (`learners.gtd_pass`: what is owed in the weights' dtype, and 2 x 8 cells)
+EV_ROWS = 36  # rows of `Scratch.ev` (`learners.gtd_pass`: what is owed in the weights' dtype, and 2 x 16 cells)
 
 
 class Layout(NamedTuple):

@@ -33,7 +33,7 @@ are one contiguous run of the row (`Layout.class_lo`, `class_hi`). In float32 th
 and the row's numbers copied into the weights' dtype, `Scratch.ev`), and sums SUM_ROWS rows at a time in float32
 before it adds them into float64 sums.
 
-Why one module of about 430 lines: the walk (whole or in halves), the merge's follow-up in `finish` and `settle` pay
+Why one module of about 500 lines: the walk (whole or in halves), the merge's follow-up in `finish` and `settle` pay
 the same five numbers a demon, in the same order (a weight settled between calls must equal the one the walk would
 have paid, to the bit), and read the same `Scratch` rows; apart, each would have to be kept in step with the others
 by hand.
@@ -57,16 +57,17 @@ OWED_C, OWED_A, OWED_B, OWED_D, OWED_M = 0, 1, 2, 3, 4  # rows of `Weights.owed`
 NONE = np.int64(2**62)  # past every row: a walk's list that has ended
 # Scratch.ev's rows, in the weights' dtype: what is owed as the walk pays it (K: A or M, whichever the form
 # has; B, C, D), then cells of one number for a thread (at its first column) that round a row's numbers to the
-# weights' dtype (e_t's values, x_t's, x_{t-1}'s, x_{t+1}'s, of two rows): eight rows for each half of a block
-# that walks in halves (`walk_half`), so that the two halves' threads never write one cache line.
-EV_K, EV_B, EV_C, EV_D, EV_CELLS, CELLS = 0, 1, 2, 3, 4, 8
+# weights' dtype (of each of four rows: e_t's value, x_t's, x_{t-1}'s, x_{t+1}'s; `CELL_*`): sixteen rows for each
+# half of a block that walks in halves (`walk_half`), so that the two halves' threads never write one cache line.
+EV_K, EV_B, EV_C, EV_D, EV_CELLS, CELLS = 0, 1, 2, 3, 4, 16
+CELL_N, CELL_F, CELL_P, CELL_G = 0, 1, 2, 3  # a row's cells: cells + 4 k + CELL_* for the k-th of four rows
 assert OWED_ROWS == 5 and EV_ROWS == EV_CELLS + 2 * CELLS
 # In float32 the walk's three sums (theta . x_{t+1}, w . x_t, w . e_t) are taken over SUM_ROWS rows at a time in
 # float32 (`Scratch.sums`), then added into the float64 sums (`_add_sums`): a sum of so few terms does not drift,
 # and per demon the float64 sums move twice a float32 weight's bytes (most of a float32 walk's, summed row by row).
 # In float64, `Scratch.sums` is the float64 sums themselves. Half h of a walk in halves sums into rows 3 h to 3 h + 2
 # of `Scratch.sums` and into `Scratch.work[1 + 3 h]` to `work[3 + 3 h]` (the first half's are the block's sums).
-SUM_ROWS = 16
+SUM_ROWS = 32
 
 
 @njit(**NO_NRT, inline="always")
@@ -157,35 +158,88 @@ def _pay_two(theta, w, bases, c0, c1, own, sums, ev, acc):
         acc_we[u] += n0 * wv0 + n1 * wv1
 
 
+@njit(**NO_NRT, inline="always")
+def _pay_four(theta, w, bases, c0, c1, own, sums, ev, acc):
+    """`_pay_two` on four rows at once, the first pair's sums added before the second's as two calls would (the
+    same numbers to the last bit), with the sums read and written once for the four rows and four rows' streams
+    in flight (as TD's `td_pass._pay_and_read_four`). own = (k, o, f, p) and sums = (g, x, n), each of four rows."""
+    pay_k, pay_b, pay_c, pay_d = ev[EV_K], ev[EV_B], ev[EV_C], ev[EV_D]
+    acc_v, acc_wx, acc_we = acc[0], acc[1], acc[2]
+    (k0, k1, k2, k3), (o0, o1, o2, o3), (f0, f1, f2, f3), (p0, p1, p2, p3) = own
+    (g0, g1, g2, g3), (x0, x1, x2, x3), (n0, n1, n2, n3) = sums
+    base0, base1, base2, base3 = bases
+    for i in range(c0, c1):  # theta's rows, then w's (see `_pay_two`)
+        u = at(i)
+        th0 = theta[base0 + u] + pay_k[u] * k0 - pay_c[u] * f0
+        th1 = theta[base1 + u] + pay_k[u] * k1 - pay_c[u] * f1
+        th2 = theta[base2 + u] + pay_k[u] * k2 - pay_c[u] * f2
+        th3 = theta[base3 + u] + pay_k[u] * k3 - pay_c[u] * f3
+        theta[base0 + u] = th0
+        theta[base1 + u] = th1
+        theta[base2 + u] = th2
+        theta[base3 + u] = th3
+        acc_v[u] = (acc_v[u] + (g0 * th0 + g1 * th1)) + (g2 * th2 + g3 * th3)
+    for i in range(c0, c1):
+        u = at(i)
+        wv0 = w[base0 + u] + pay_b[u] * o0 - pay_d[u] * p0
+        wv1 = w[base1 + u] + pay_b[u] * o1 - pay_d[u] * p1
+        wv2 = w[base2 + u] + pay_b[u] * o2 - pay_d[u] * p2
+        wv3 = w[base3 + u] + pay_b[u] * o3 - pay_d[u] * p3
+        w[base0 + u] = wv0
+        w[base1 + u] = wv1
+        w[base2 + u] = wv2
+        w[base3 + u] = wv3
+        acc_wx[u] = (acc_wx[u] + (x0 * wv0 + x1 * wv1)) + (x2 * wv2 + x3 * wv3)
+        acc_we[u] = (acc_we[u] + (n0 * wv0 + n1 * wv1)) + (n2 * wv2 + n3 * wv3)
+
+
+@njit(**NO_NRT, inline="always")
+def _row_cells(ev, cells, i0, f, p, g):
+    """A row's x_t, x_{t-1} and x_{t+1} values in the weights' dtype (its cells from `cells` on)."""
+    return _cell(ev, cells + CELL_F, i0, f), _cell(ev, cells + CELL_P, i0, p), _cell(ev, cells + CELL_G, i0, g)
+
+
 @njit(**NO_NRT)
-def _pay_rows(b, i0, i1, lay, wts, scr, r, x, q, g, h, form):
-    """Row r[0] (and r[1], unless it is r[0] again) of the walk, each class's run of columns i0 <= i < i1 (see
-    `_pay_one`), summed into half h's sums: x_t's values x, x_{t-1}'s q, x_{t+1}'s g (pairs, float64; rounded to the
-    weights' dtype here, in half h's cells)."""
+def _pay_rows(b, i0, i1, lay, wts, scr, n, r, values, h, form):
+    """The walk's rows r[0] to r[n - 1] (n: 1, 2 or 4), each class's run of columns i0 <= i < i1 (see `_pay_one`),
+    summed into half h's sums; values = (x, q, g): x_t's values on the four rows, x_{t-1}'s, x_{t+1}'s (float64;
+    rounded to the weights' dtype here, in half h's cells)."""
     lo, woff, voff, ncls, coff, cut = lay.block_lo[b], lay.woff[b], lay.voff[b], lay.ncls[b], lay.coff[b], lay.cut
     db = lay.block_hi[b] - lo
     theta, w, trace, ev, acc = wts.theta, wts.w, wts.trace, scr.ev, scr.sums[3 * h : 3 * h + 3]
     cells = EV_CELLS + CELLS * h
-    r0, r1 = r
-    bases = (at(woff + r0 * db), at(woff + r1 * db))
-    f0, p0 = _cell(ev, cells + 2, i0, x[0]), _cell(ev, cells + 4, i0, q[0])
-    f1, p1 = _cell(ev, cells + 3, i0, x[1]), _cell(ev, cells + 5, i0, q[1])
-    g0, g1 = _cell(ev, cells + 6, i0, g[0]), _cell(ev, cells + 7, i0, g[1])
+    r0, r1, r2, r3 = r
+    x, q, g = values
+    bases = (at(woff + r0 * db), at(woff + r1 * db), at(woff + r2 * db), at(woff + r3 * db))
+    f0, p0, g0 = _row_cells(ev, cells, i0, x[0], q[0], g[0])
+    f1, p1, g1 = _row_cells(ev, cells + 4, i0, x[1], q[1], g[1])
+    f2, p2, g2 = _row_cells(ev, cells + 8, i0, x[2], q[2], g[2])
+    f3, p3, g3 = _row_cells(ev, cells + 12, i0, x[3], q[3], g[3])
     for c in range(ncls):
         c0 = max(lay.class_lo[coff + c], i0)
         c1 = min(lay.class_hi[coff + c], i1)
         if c0 >= c1:
             continue
+        decay, add = scr.decay[c], scr.add[c]
         o0 = trace[voff + r0 * ncls + c]  # (a row off the last support has trace 0)
-        n0 = _new_trace(o0, scr.decay[c], scr.add[c], x[0], cut, ev, cells, i0)
+        n0 = _new_trace(o0, decay, add, x[0], cut, ev, cells + CELL_N, i0)
         k0 = o0 if form == FOLLOWS_DELTA else p0
-        if r1 != r0:
-            o1 = trace[voff + r1 * ncls + c]
-            n1 = _new_trace(o1, scr.decay[c], scr.add[c], x[1], cut, ev, cells + 1, i0)
-            k1 = o1 if form == FOLLOWS_DELTA else p1
-            _pay_two(theta, w, bases, c0, c1, (k0, k1, o0, o1, f0, f1, p0, p1), (g0, g1, f0, f1, n0, n1), ev, acc)
-        else:
+        if n == 1:
             _pay_one(theta, w, bases[0], c0, c1, (k0, o0, f0, p0), (g0, f0, n0), ev, acc)
+            continue
+        o1 = trace[voff + r1 * ncls + c]
+        n1 = _new_trace(o1, decay, add, x[1], cut, ev, cells + 4 + CELL_N, i0)
+        k1 = o1 if form == FOLLOWS_DELTA else p1
+        if n == 2:
+            own2 = (k0, k1, o0, o1, f0, f1, p0, p1)
+            _pay_two(theta, w, (bases[0], bases[1]), c0, c1, own2, (g0, g1, f0, f1, n0, n1), ev, acc)
+            continue
+        o2, o3 = trace[voff + r2 * ncls + c], trace[voff + r3 * ncls + c]
+        n2 = _new_trace(o2, decay, add, x[2], cut, ev, cells + 8 + CELL_N, i0)
+        n3 = _new_trace(o3, decay, add, x[3], cut, ev, cells + 12 + CELL_N, i0)
+        k2, k3 = (o2, o3) if form == FOLLOWS_DELTA else (p2, p3)
+        own = ((k0, k1, k2, k3), (o0, o1, o2, o3), (f0, f1, f2, f3), (p0, p1, p2, p3))
+        _pay_four(theta, w, bases, c0, c1, own, ((g0, g1, g2, g3), (f0, f1, f2, f3), (n0, n1, n2, n3)), ev, acc)
 
 
 @njit(**NO_NRT, inline="always")
@@ -221,8 +275,8 @@ def _begin(b, i0, i1, lay, wts, scr, halves):
 @njit(**NO_NRT)
 def _walk(b, i0, i1, rows, h, lay, wts, stp, scr, form):
     """Block b's demons i0 <= i < i1 walk the last support's rows s0 <= s < s1, x_t's j0 <= j < j1 and x_{t+1}'s
-    m0 <= m < m1 (rows: (s0, s1, j0, j1, m0, m1)): each row paid and read (the rows that pay, two at a time), the sums
-    into half h's (see the module)."""
+    m0 <= m < m1 (rows: (s0, s1, j0, j1, m0, m1)): each row paid and read (the rows that pay, four at a time), the
+    sums into half h's (see the module)."""
     woff, toff = lay.woff[b], lay.toff[b]
     db = lay.block_hi[b] - lay.block_lo[b]
     theta, support, support_f, ev = wts.theta, wts.support, wts.support_f, scr.ev
@@ -231,9 +285,11 @@ def _walk(b, i0, i1, rows, h, lay, wts, stp, scr, form):
     x_t, v_t, x_tp1, v_tp1 = stp.x_t, stp.v_t, stp.x_tp1, stp.v_tp1
     s, old, j, nt, m, k = rows
     summed = 0  # rows in the partial sums
-    waiting = False  # a row that pays, held for its pair (r0: the row; x0, q0, g0: x_t's, x_{t-1}'s, x_{t+1}'s)
-    r0 = np.int64(0)
-    x0 = q0 = g0 = 0.0
+    # The rows that pay are held until there are four (then paid at once); waiting: how many are held, with each
+    # one's row, x_t's value, x_{t-1}'s and x_{t+1}'s.
+    waiting = 0
+    r0 = r1 = r2 = np.int64(0)
+    x0 = x1 = x2 = q0 = q1 = q2 = g0 = g1 = g2 = 0.0
     while s < old or j < nt or m < k:
         r_s = support[toff + s] if s < old else NONE
         r_j = x_t[j] if j < nt else NONE
@@ -243,23 +299,35 @@ def _walk(b, i0, i1, rows, h, lay, wts, stp, scr, form):
         if r_s == row or r_j == row:
             x = v_t[j] if r_j == row else 0.0
             q = support_f[toff + s] if r_s == row else 0.0
-            if waiting:
-                _pay_rows(b, i0, i1, lay, wts, scr, (r0, row), (x0, x), (q0, q), (g0, g), h, form)
-                summed += 2
+            if waiting == 3:
+                values4 = ((x0, x1, x2, x), (q0, q1, q2, q), (g0, g1, g2, g))
+                _pay_rows(b, i0, i1, lay, wts, scr, 4, (r0, r1, r2, row), values4, h, form)
+                summed += 4
+                waiting = 0
             else:
-                r0, x0, q0, g0 = row, x, q, g
-            waiting = not waiting
+                if waiting == 0:
+                    r0, x0, q0, g0 = row, x, q, g
+                elif waiting == 1:
+                    r1, x1, q1, g1 = row, x, q, g
+                else:
+                    r2, x2, q2, g2 = row, x, q, g
+                waiting += 1
             s += 1 if r_s == row else 0
             j += 1 if r_j == row else 0
         elif g != 0.0:  # a row of x_{t+1} alone: theta read only (it owes nothing there)
-            add_row(i0, i1, at(woff + row * db), theta, part_v, _cell(ev, EV_CELLS + CELLS * h + 6, i0, g))
+            add_row(i0, i1, at(woff + row * db), theta, part_v, _cell(ev, EV_CELLS + CELLS * h + CELL_G, i0, g))
             summed += 1
         m += 1 if r_m == row else 0
         if summed >= sum_rows:
             _add_sums(i0, i1, scr, h)
             summed = 0
-    if waiting:
-        _pay_rows(b, i0, i1, lay, wts, scr, (r0, r0), (x0, x0), (q0, q0), (g0, g0), h, form)
+    if waiting >= 2:  # the last rows held: a pair, then one
+        values2 = ((x0, x1, x1, x1), (q0, q1, q1, q1), (g0, g1, g1, g1))
+        _pay_rows(b, i0, i1, lay, wts, scr, 2, (r0, r1, r1, r1), values2, h, form)
+    if waiting % 2 == 1:  # (one held, or the third)
+        r_l, x_l, q_l, g_l = (r0, x0, q0, g0) if waiting == 1 else (r2, x2, q2, g2)
+        values1 = ((x_l, x_l, x_l, x_l), (q_l, q_l, q_l, q_l), (g_l, g_l, g_l, g_l))
+        _pay_rows(b, i0, i1, lay, wts, scr, 1, (r_l, r_l, r_l, r_l), values1, h, form)
     if in_float32:
         _add_sums(i0, i1, scr, h)
 
