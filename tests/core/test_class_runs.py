@@ -37,15 +37,21 @@ def _x_tp1(support: np.ndarray, rows: int, rng: np.random.Generator) -> tuple[np
     return x, v
 
 
-@pytest.mark.timeout(300)
-@pytest.mark.parametrize("dtype", ["float64", "float32"])
-def test_the_walk_pays_and_reads_runs_of_rows_as_the_plain_sums(dtype: str) -> None:
-    data = workloads.spec("nexting", 300, "td").model_dump(by_alias=True)  # five classes over 300 demons
+def nexting_engine(learner: str, dtype: str) -> Simulation:
+    """nexting's 300 demons (five trace classes) of `learner` in `dtype`, after 60 steps: traces on a support of some
+    500 rows."""
+    data = workloads.spec("nexting", 300, learner).model_dump(by_alias=True)
     data["learning"]["dtype"] = dtype
     sim = Simulation(RunSpec.model_validate(data), np.random.default_rng(0))
     sim.with_metrics = False
-    sim.run(60)  # traces on a support of some 500 rows
-    t = sim.learner.engine.t
+    sim.run(60)
+    return sim
+
+
+@pytest.mark.timeout(300)
+@pytest.mark.parametrize("dtype", ["float64", "float32"])
+def test_the_walk_pays_and_reads_runs_of_rows_as_the_plain_sums(dtype: str) -> None:
+    t = nexting_engine("td", dtype).learner.engine.t
     lay, wts = t.lay, t.wts
     lo, hi, woff, voff, toff = (int(a[0]) for a in (lay.block_lo, lay.block_hi, lay.woff, lay.voff, lay.toff))
     db, ncls, rows = hi - lo, int(lay.ncls[0]), int(lay.rows[0])

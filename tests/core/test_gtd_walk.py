@@ -8,13 +8,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from benchmarks import workloads
 
 from horde.core.engine.layout import Step
 from horde.core.engine.traces import above_cut
 from horde.core.learners import gtd_pass
-from horde.core.simulation import Simulation
-from horde.spec import RunSpec
+
+from .test_class_runs import nexting_engine
 
 
 def _rows(support: np.ndarray, rows: int, extra: int, rng: np.random.Generator) -> tuple[np.ndarray, ...]:
@@ -31,12 +30,7 @@ def _rows(support: np.ndarray, rows: int, extra: int, rng: np.random.Generator) 
 @pytest.mark.parametrize("dtype", ["float64", "float32"])
 @pytest.mark.parametrize("form", [gtd_pass.FOLLOWS_DELTA, gtd_pass.FOLLOWS_W])
 def test_the_walk_pays_and_reads_rows_as_the_plain_sums(dtype: str, form: int) -> None:
-    data = workloads.spec("nexting", 300, "gtd").model_dump(by_alias=True)  # five classes over 300 demons
-    data["learning"]["dtype"] = dtype
-    sim = Simulation(RunSpec.model_validate(data), np.random.default_rng(0))
-    sim.with_metrics = False
-    sim.run(60)  # traces on a support of some 500 rows
-    t = sim.learner.engine.t
+    t = nexting_engine("gtd", dtype).learner.engine.t
     lay, wts, scr = t.lay, t.wts, t.scr
     lo, hi, woff, voff, toff = (int(a[0]) for a in (lay.block_lo, lay.block_hi, lay.woff, lay.voff, lay.toff))
     db, ncls, rows, kept = hi - lo, int(lay.ncls[0]), int(lay.rows[0]), int(wts.nnz[0])
